@@ -1,0 +1,106 @@
+#include "cli/cli_common.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "formats/atomic_file.hpp"
+#include "formats/error.hpp"
+
+namespace pyramid::cli {
+
+int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count) {
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << app.get_name() << ": " << e.what() << "\n";
+        return kExitUsage;
+    }
+    try {
+        for (int i = 0; i < count; ++i) {
+            if (runners[i].app->parsed()) {
+                return runners[i].run();
+            }
+        }
+        std::cerr << app.get_name() << ": no command given (see --help)\n";
+        return kExitUsage;
+    } catch (const Error& e) {
+        std::cerr << app.get_name() << ": " << e.what() << "\n";
+    } catch (const std::exception& e) {
+        std::cerr << app.get_name() << ": " << e.what() << "\n";
+    }
+    return kExitFailure;
+}
+
+Progress::Progress(std::string label, int64_t total, bool quiet)
+    : label_(std::move(label)), total_(total > 0 ? total : 1), quiet_(quiet), tty_(isatty(2) != 0) {}
+
+Progress::~Progress() { finish(); }
+
+void Progress::advance(int64_t n) {
+    const int64_t done = done_.fetch_add(n) + n;
+    if (!quiet_) {
+        draw(done, false);
+    }
+}
+
+void Progress::finish() {
+    if (quiet_ || finished_) {
+        return;
+    }
+    draw(done_.load(), true);
+    finished_ = true;
+}
+
+void Progress::draw(int64_t done, bool final) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (finished_) {
+        return;
+    }
+    const int percent = static_cast<int>(done * 100 / total_);
+    const auto now = std::chrono::steady_clock::now();
+    if (tty_) {
+        if (!final && now - last_ < std::chrono::milliseconds(200)) {
+            return;
+        }
+        last_ = now;
+        std::fprintf(stderr, "\r%s: %3d%% (%lld/%lld)%s", label_.c_str(), percent, static_cast<long long>(done),
+                     static_cast<long long>(total_), final ? "\n" : "");
+    } else {
+        const int decile = percent / 10;
+        if (decile == lastDecile_ && !final) {
+            return;
+        }
+        if (final && decile == lastDecile_ && done < total_) {
+            return;
+        }
+        lastDecile_ = decile;
+        std::fprintf(stderr, "%s: %3d%% (%lld/%lld)\n", label_.c_str(), percent, static_cast<long long>(done),
+                     static_cast<long long>(total_));
+    }
+    std::fflush(stderr);
+}
+
+void writeJson(const nlohmann::json& json, const std::string& path) {
+    const std::string text = json.dump(2) + "\n";
+    if (path == "-") {
+        std::fwrite(text.data(), 1, text.size(), stdout);
+        std::fflush(stdout);
+        return;
+    }
+    AtomicFile out(path);
+    out.writeAt(0, text.data(), text.size());
+    out.commit();
+}
+
+} // namespace pyramid::cli

@@ -1,0 +1,60 @@
+// What every command shares: error reporting and exit codes, progress on stderr,
+// JSON output (to stdout or atomically to a file).
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace pyramid::cli {
+
+// Exit codes: 0 success, 1 the data or a file is bad (or a check/verify found a problem),
+// 2 the command line is wrong.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+// Parses argv into `app` and runs the runner of the (sub)command that was selected.
+// Errors thrown as pyramid::Error (or any std::exception) become one line on stderr,
+// "PROGRAM: MESSAGE", and exit code 1; command-line errors exit with 2.
+struct NamedRunner {
+    CLI::App* app;
+    CommandRunner run;
+};
+int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count);
+
+// Progress on stderr: "LABEL: 42% (1234/2938 tiles)". Redrawn in place on a terminal, a line
+// every 10% otherwise, nothing when quiet. Thread-safe.
+class Progress {
+public:
+    Progress(std::string label, int64_t total, bool quiet);
+    ~Progress();
+    void advance(int64_t n = 1);
+    void finish();
+
+private:
+    void draw(int64_t done, bool final);
+    std::string label_;
+    int64_t total_;
+    bool quiet_;
+    bool tty_;
+    std::atomic<int64_t> done_{0};
+    std::mutex mutex_;
+    std::chrono::steady_clock::time_point last_{};
+    int lastDecile_ = -1;
+    bool finished_ = false;
+};
+
+// Writes `json` (pretty, with a final newline) to `path` atomically; "-" means stdout.
+void writeJson(const nlohmann::json& json, const std::string& path);
+
+} // namespace pyramid::cli

@@ -1,0 +1,22 @@
+// The commands of the `pyramid` program. Each setup function declares its options on the
+// (sub)command it is given and returns the function that runs it once the command line is
+// parsed. preprocessDem and preprocessOrtho are the `dem` and `ortho` commands on their own.
+#pragma once
+#include <functional>
+
+namespace CLI {
+class App;
+}
+
+namespace pyramid::cli {
+
+using CommandRunner = std::function<int()>;
+
+CommandRunner setupInfoCommand(CLI::App& app);    // pyramid info FILE [--json]
+CommandRunner setupTileCommand(CLI::App& app);    // pyramid tile FILE LEVEL TX TY -o OUT
+CommandRunner setupCheckCommand(CLI::App& app);   // pyramid check FILE [--json]
+CommandRunner setupDemCommand(CLI::App& app);     // pyramid dem / preprocessDem
+CommandRunner setupOrthoCommand(CLI::App& app);   // pyramid ortho / preprocessOrtho
+CommandRunner setupVerifyCommand(CLI::App& app);  // pyramid verify FILE --source INPUT [--gl]
+
+} // namespace pyramid::cli

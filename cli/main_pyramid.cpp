@@ -1,0 +1,31 @@
+// `pyramid`: inspect, check, extract and verify pyramid files, and build them.
+#include <CLI/CLI.hpp>
+
+#include "cli/cli_common.hpp"
+
+int main(int argc, char** argv) {
+    using namespace pyramid::cli;
+    CLI::App app{"pyramid: build, inspect, check and verify Proland terrain pyramid files", "pyramid"};
+    app.set_version_flag("--version", PYRAMID_VERSION_TEXT);
+    app.require_subcommand(1);
+    struct Entry {
+        const char* name;
+        const char* help;
+        CommandRunner (*setup)(CLI::App&);
+    };
+    const Entry entries[] = {
+        {"info", "Print a pyramid file's header, levels and tiles", setupInfoCommand},
+        {"tile", "Extract one tile (reconstructed elevations, residuals or decoded pixels)", setupTileCommand},
+        {"check", "Validate a pyramid file and decode every tile", setupCheckCommand},
+        {"dem", "Build a residual (DEM) pyramid from a raster (same as preprocessDem)", setupDemCommand},
+        {"ortho", "Build ortho pyramids from imagery (same as preprocessOrtho)", setupOrthoCommand},
+        {"verify", "Rebuild every level and compare with the source (or CPU with GL)", setupVerifyCommand},
+    };
+    NamedRunner runners[std::size(entries)];
+    int count = 0;
+    for (const Entry& e : entries) {
+        CLI::App* sub = app.add_subcommand(e.name, e.help);
+        runners[count++] = NamedRunner{sub, e.setup(*sub)};
+    }
+    return runProgram(app, argc, argv, runners, count);
+}

@@ -1,0 +1,30 @@
+// Outputs appear atomically: data goes to a temporary file in the destination's directory
+// and is renamed onto the destination only by commit(). Destroyed before commit(), the
+// temporary is removed.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace pyramid {
+
+class AtomicFile {
+public:
+    explicit AtomicFile(const std::string& path); // throws Error("PATH: cannot create ...")
+    ~AtomicFile();
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    int fd() const { return fd_; }
+    const std::string& path() const { return path_; }
+    const std::string& temporaryPath() const { return tmp_; }
+    void writeAt(uint64_t offset, const void* data, size_t size); // throws on short writes
+    void commit(); // fsync, close, rename
+
+private:
+    std::string path_;
+    std::string tmp_;
+    int fd_ = -1;
+    bool committed_ = false;
+};
+
+} // namespace pyramid

@@ -1,0 +1,26 @@
+// DXT1 / DXT5 block streams (no container), as ortho files store them, through libsquish.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pyramid {
+
+enum class DxtFormat { Dxt1, Dxt5 };
+
+// Bytes of a width x height image: 8 (DXT1) or 16 (DXT5) per 4x4 block.
+size_t dxtBytes(int width, int height, DxtFormat format);
+
+// `pixels`: width x height x channels (1..4) bytes. 1-3 channels are expanded to RGB
+// (grey replicated) and encoded as DXT1, 4 channels must use DXT5.
+// quality: 0 = range fit (fast), 1 = cluster fit, 2 = iterative cluster fit (best).
+std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int height, int channels,
+                               DxtFormat format, int quality = 1);
+
+// Decodes to width x height x outChannels (3 for DXT1, 4 for DXT5) bytes.
+// Throws Error("WHERE: ...") if the blob does not have exactly dxtBytes() bytes.
+std::vector<uint8_t> decodeDxt(std::span<const uint8_t> blob, int width, int height, DxtFormat format,
+                               const std::string& where);
+
+} // namespace pyramid

@@ -1,0 +1,100 @@
+// Ortho pyramid files: the on-disk layout of doc/format.md, section "Ortho files".
+//
+//   header   int32 maxLevel, tileSize, channels, rootLevel, rootTx, rootTy, flags
+//   offsets  int64[2 * tileCount], relative to the end of this array
+//   tiles    one TIFF (one strip, 8 bits per sample) or one raw DXT block stream per tile
+//
+// flags bit 0: DXT tiles. flags bit 1: tiles have NO border (the original tools' meaning,
+// which is the opposite of their documentation); clear = a 2-pixel border on every side.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "formats/tile_table.hpp"
+
+namespace pyramid {
+
+struct OrthoHeader {
+    int32_t maxLevel = 0;
+    int32_t tileSize = 0;  // pixels per side without borders
+    int32_t channels = 0;  // 1..4 (DXT files: max(3, source channels))
+    int32_t rootLevel = 0;
+    int32_t rootTx = 0;
+    int32_t rootTy = 0;
+    uint32_t flags = 0;
+
+    static constexpr size_t kBytes = 28;
+    static constexpr uint32_t kFlagDxt = 1u;
+    static constexpr uint32_t kFlagNoBorder = 2u;
+
+    bool dxt() const { return (flags & kFlagDxt) != 0; }
+    int border() const { return (flags & kFlagNoBorder) ? 0 : 2; }
+    int tilePixels() const { return tileSize + 2 * border(); } // pixels per side as stored
+    int64_t tileCount() const;
+    int64_t tileIndex(int level, int tx, int ty) const;
+    bool contains(int level, int tx, int ty) const;
+    // Throws Error (prefixed with `where`) unless sane: 0 <= maxLevel <= 30,
+    // 1 <= tileSize <= 8192, 1 <= channels <= 4 (3 or 4 with DXT), tilePixels a multiple
+    // of 4 with DXT, root inside its level, only flag bits 0 and 1 set.
+    void validate(const std::string& where) const;
+};
+
+class OrthoFileReader {
+public:
+    static std::unique_ptr<OrthoFileReader> open(const std::string& path);
+    ~OrthoFileReader();
+
+    const std::string& path() const { return path_; }
+    const OrthoHeader& header() const { return header_; }
+    const TileTable& table() const { return *table_; }
+
+    // The stored bytes (a TIFF, or raw DXT1/DXT5 blocks ready for upload).
+    std::vector<uint8_t> readTileBytes(int level, int tx, int ty) const;
+    // Decoded pixels: tilePixels()^2 x channels() bytes, row 0 = bottom. DXT tiles are decoded
+    // to header().channels (3 for DXT1, 4 for DXT5).
+    std::vector<uint8_t> readTile(int level, int tx, int ty) const;
+
+private:
+    OrthoFileReader() = default;
+    std::string path_;
+    OrthoHeader header_;
+    std::unique_ptr<TileTable> table_;
+};
+
+enum class TiffCompression { None, Deflate, Lzw, Jpeg };
+
+struct OrthoTileEncoding {
+    TiffCompression compression = TiffCompression::Deflate; // TIFF files
+    int jpegQuality = 90;                                   // 1..100, with Jpeg
+    int dxtQuality = 1;                                     // 0 fastest .. 2 best (DXT files)
+};
+
+// Streaming, deduplicating, atomic writer: see ResidualFileWriter.
+class OrthoFileWriter {
+public:
+    OrthoFileWriter(const std::string& path, const OrthoHeader& header);
+    ~OrthoFileWriter();
+    OrthoFileWriter(const OrthoFileWriter&) = delete;
+    OrthoFileWriter& operator=(const OrthoFileWriter&) = delete;
+
+    const OrthoHeader& header() const { return header_; }
+    // `pixels`: tilePixels()^2 x channels bytes, row 0 = bottom. Encoded as a one-strip TIFF,
+    // or as DXT1 (channels <= 3) / DXT5 (4 channels) when the header says DXT.
+    void writeTile(int level, int tx, int ty, std::span<const uint8_t> pixels,
+                   const OrthoTileEncoding& encoding = {});
+    void writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob);
+    void commit();
+
+    uint64_t bytesWritten() const;
+    int64_t sharedTiles() const;
+
+private:
+    std::string path_;
+    OrthoHeader header_;
+    std::unique_ptr<TileTableWriter> table_;
+};
+
+} // namespace pyramid

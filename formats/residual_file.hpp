@@ -1,0 +1,97 @@
+// Residual (DEM) pyramid files: the on-disk layout of doc/format.md, section "Residual files".
+//
+//   header   int32 minLevel, maxLevel, tileSize, rootLevel, rootTx, rootTy; float32 scale
+//   offsets  uint32[2 * tileCount], relative to the end of this array
+//   tiles    one TIFF per tile (2 x 8-bit samples = little-endian int16 residuals)
+//
+// Levels, tx and ty here are relative to the file's root tile (rootLevel, rootTx, rootTy).
+// Tile arrays are row-major with row 0 = the tile's bottom row (j = 0), as stored.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "formats/tile_table.hpp"
+
+namespace pyramid {
+
+struct ResidualHeader {
+    int32_t minLevel = 0;
+    int32_t maxLevel = 0;   // absolute within the file (counted from its root), not minLevel-relative
+    int32_t tileSize = 0;   // samples per side without the 2-sample borders and the extra sample
+    int32_t rootLevel = 0;
+    int32_t rootTx = 0;
+    int32_t rootTy = 0;
+    float scale = 1.0f;     // height units per residual unit
+
+    static constexpr size_t kBytes = 28;
+
+    int64_t tileCount() const;
+    // Index into the offset table; levels below minLevel hold a single tile.
+    int64_t tileIndex(int level, int tx, int ty) const;
+    // Samples per side of a stored tile at `level`, borders included: (tileSize >> (minLevel-level)) + 5
+    // below minLevel, tileSize + 5 from minLevel on.
+    int tileSamples(int level) const;
+    // Tiles per side at `level` (1 below minLevel).
+    int64_t tilesPerSide(int level) const;
+    bool contains(int level, int tx, int ty) const;
+    // Throws Error (prefixed with `where`) unless every field is sane: non-negative levels,
+    // minLevel <= maxLevel <= 30, 1 <= tileSize <= 8192 and divisible by 2^minLevel,
+    // root coordinates inside their level, minLevel == 0 when rootLevel > 0, finite scale > 0.
+    void validate(const std::string& where) const;
+};
+
+// Thread-safe reader: opens the file once, validates the header and the whole offset table
+// against the file size, then serves tiles to any number of threads (positional reads).
+class ResidualFileReader {
+public:
+    static std::unique_ptr<ResidualFileReader> open(const std::string& path);
+    ~ResidualFileReader();
+
+    const std::string& path() const { return path_; }
+    const ResidualHeader& header() const { return header_; }
+    const TileTable& table() const { return *table_; }
+
+    // The stored TIFF bytes of a tile.
+    std::vector<uint8_t> readTileBytes(int level, int tx, int ty) const;
+    // The decoded residuals, tileSamples(level)^2 int16 values, row 0 = bottom.
+    std::vector<int16_t> readTile(int level, int tx, int ty) const;
+
+private:
+    ResidualFileReader() = default;
+    std::string path_;
+    ResidualHeader header_;
+    std::unique_ptr<TileTable> table_;
+};
+
+// Streaming writer. Tiles may be written in any order; each is appended to a temporary file
+// next to the destination as soon as it arrives, identical tiles share one byte range, and
+// commit() writes the offset table and renames the temporary onto `path` (atomic). A writer
+// destroyed without commit() removes its temporary: nothing half-written is ever left.
+class ResidualFileWriter {
+public:
+    ResidualFileWriter(const std::string& path, const ResidualHeader& header);
+    ~ResidualFileWriter();
+    ResidualFileWriter(const ResidualFileWriter&) = delete;
+    ResidualFileWriter& operator=(const ResidualFileWriter&) = delete;
+
+    const ResidualHeader& header() const { return header_; }
+    // Encodes tileSamples(level)^2 residuals (row 0 = bottom) as a Deflate TIFF and appends it.
+    void writeTile(int level, int tx, int ty, std::span<const int16_t> residuals);
+    // Appends an already encoded tile.
+    void writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob);
+    // Fails if any tile is missing or the data passed the 4 GiB limit of 32-bit offsets.
+    void commit();
+
+    uint64_t bytesWritten() const;
+    int64_t sharedTiles() const; // tiles that reused another tile's bytes
+
+private:
+    std::string path_;
+    ResidualHeader header_;
+    std::unique_ptr<TileTableWriter> table_;
+};
+
+} // namespace pyramid

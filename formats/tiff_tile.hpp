@@ -1,0 +1,43 @@
+// One-strip TIFF tiles encoded and decoded in memory through libtiff (no temporary files).
+// Pixel rows are in strip order: row 0 of the array is the first row of the strip, which
+// pyramid files use for the tile's bottom row (the tiles carry Orientation = bottom-left).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "formats/ortho_file.hpp" // TiffCompression
+
+namespace pyramid {
+
+struct TiffImage {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    int bitsPerSample = 0; // 8 or 16
+    bool signedSamples = false;
+    std::vector<uint8_t> pixels; // width * height * channels * bitsPerSample/8, native endian
+};
+
+// Encodes 8-bit pixels (channels 1..4; 3 and 4 as RGB, 1 and 2 as min-is-black).
+std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
+                                 TiffCompression compression, int jpegQuality = 90);
+
+// Decodes any one-strip (or multi-strip) contiguous TIFF of 8 or 16 bits per sample,
+// rejecting images larger than maxWidth x maxHeight before allocating anything.
+// `where` prefixes error messages (e.g. "DEM.dat: tile (3,1,0)").
+TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where);
+
+// Residual tiles: size x size int16 values stored as 2 samples x 8 bits (low byte, high byte),
+// Deflate, as the original tools write them.
+std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size);
+// Accepts the 2 x 8-bit layout and a genuine 1 x 16-bit layout; the image must be size x size.
+std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where);
+
+// Ortho tiles: exactly size x size x channels 8-bit samples (4-channel tiles without an
+// ExtraSamples tag are accepted, as the original tools write them).
+std::vector<uint8_t> decodeOrthoTiff(std::span<const uint8_t> blob, int size, int channels,
+                                     const std::string& where);
+
+} // namespace pyramid

@@ -1,0 +1,83 @@
+// The part that residual and ortho files share: a fixed header, an offset table of
+// 2 x tileCount offsets (uint32 for residual files, int64 for ortho files) relative to
+// the end of the table, then the tile bytes. Tile i is the byte range
+// [offsets[2i], offsets[2i+1]); several tiles may share a range (doc/format.md).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace pyramid {
+
+class TileTable {
+public:
+    struct Range {
+        uint64_t begin = 0; // relative to dataStart()
+        uint64_t end = 0;
+        uint64_t size() const { return end - begin; }
+    };
+
+    // Opens `path`, reads `tileCount` offset pairs of `offsetBytes` (4 or 8) starting at byte
+    // `tableStart`, and validates every pair against the file size before anything else is
+    // allocated or read: the table must fit in the file, begin <= end <= bytes of tile data.
+    // Throws Error("PATH: ...") otherwise.
+    static std::unique_ptr<TileTable> open(const std::string& path, uint64_t tableStart,
+                                           int64_t tileCount, int offsetBytes);
+    ~TileTable();
+    TileTable(const TileTable&) = delete;
+    TileTable& operator=(const TileTable&) = delete;
+
+    const std::string& path() const { return path_; }
+    int64_t tileCount() const { return static_cast<int64_t>(ranges_.size()); }
+    Range range(int64_t index) const { return ranges_.at(static_cast<size_t>(index)); }
+    uint64_t dataStart() const { return dataStart_; }
+    uint64_t fileSize() const { return fileSize_; }
+    // Number of distinct byte ranges (tiles sharing bytes count once).
+    int64_t distinctRanges() const;
+    // The bytes of tile `index` (positional read: safe from many threads at once).
+    // Throws Error for an empty range ("PATH: tile N is missing").
+    std::vector<uint8_t> read(int64_t index) const;
+    // Reads `size` bytes at absolute file offset `offset` (positional; used by header readers).
+    void readAt(uint64_t offset, void* out, size_t size) const;
+
+private:
+    TileTable() = default;
+    std::string path_;
+    int fd_ = -1;
+    uint64_t dataStart_ = 0;
+    uint64_t fileSize_ = 0;
+    std::vector<Range> ranges_;
+};
+
+// Streams a pyramid file to a temporary next to `path`: the header and a zeroed table
+// first, then each tile's bytes as they arrive (any order, from any thread: calls are
+// serialised). Identical blobs are stored once (content hash, confirmed byte for byte).
+// commit() checks that every tile was written, writes the table and renames the temporary
+// onto `path`. Destroyed without commit(), it removes the temporary.
+class TileTableWriter {
+public:
+    // `maxOffset` is the largest offset the table can hold (UINT32_MAX for residual files);
+    // passing it is an error naming `path`, never a wrap-around.
+    TileTableWriter(const std::string& path, std::span<const uint8_t> header, int64_t tileCount,
+                    int offsetBytes, uint64_t maxOffset);
+    ~TileTableWriter();
+    TileTableWriter(const TileTableWriter&) = delete;
+    TileTableWriter& operator=(const TileTableWriter&) = delete;
+
+    void write(int64_t index, std::span<const uint8_t> blob);
+    bool written(int64_t index) const;
+    void commit();
+
+    uint64_t bytesWritten() const; // tile bytes, shared tiles counted once
+    int64_t sharedTiles() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace pyramid

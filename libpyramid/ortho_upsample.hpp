@@ -1,0 +1,44 @@
+// The colour-residual upsample of doc/format.md ("Ortho residual arithmetic"): integer
+// arithmetic only, shared by the ortho encoder, the CPU ortho residual producer and GLSL.
+//
+// Tiles are (T+4) x (T+4) pixels of `channels` bytes, row-major, row 0 = bottom, 2-pixel
+// borders. Child pixel (x, y) of quadrant (tx%2, ty%2) is predicted from parent pixels
+// (bx, by) = ((x+1)/2 + rx, (y+1)/2 + ry) and (bx+1, by+1), rx = (tx%2) * T/2, with weights
+// 9, 3, 3, 1 out of 16 (the nearest parent pixel gets 9): along x, an even x weighs
+// (bx: 1, bx+1: 3) and an odd x (bx: 3, bx+1: 1); the same along y, tensor product.
+// prediction = (sum of weight * pixel) >> 4 (truncated; the sum is non-negative).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+namespace pyramid {
+
+// The prediction of one channel of child pixel (x, y).
+uint8_t predictOrtho(const uint8_t* parent, size_t parentRowBytes, int channels, int channel, int rx,
+                     int ry, int x, int y);
+
+// Decodes a stored colour residual against its prediction:
+// value = clamp(prediction + 2 * (stored - 128), 0, 255).
+inline uint8_t applyColourResidual(uint8_t prediction, uint8_t stored) {
+    const int v = static_cast<int>(prediction) + 2 * (static_cast<int>(stored) - 128);
+    return static_cast<uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+}
+
+// Encodes value against prediction: (value - prediction) / 2 + 128 (C division, truncation
+// toward zero), clamped to 0..255. `clamped` is set when the clamp changed the result.
+inline uint8_t encodeColourResidual(uint8_t value, uint8_t prediction, bool* clamped = nullptr) {
+    const int r = (static_cast<int>(value) - static_cast<int>(prediction)) / 2 + 128;
+    const int c = r < 0 ? 0 : (r > 255 ? 255 : r);
+    if (clamped) {
+        *clamped = (c != r);
+    }
+    return static_cast<uint8_t>(c);
+}
+
+// Rebuilds a whole child tile: out = applyColourResidual(predictOrtho(parent...), residual)
+// for every pixel and channel. `residual` and `out` are (T+4)^2 x channels bytes; pass
+// residual = nullptr for "no residual" (every stored value 128).
+void upsampleOrtho(const uint8_t* parent, int tileSize, int channels, int tx, int ty,
+                   const uint8_t* residual, uint8_t* out);
+
+} // namespace pyramid

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs the Debian packages libpyramid builds and tests with (needs root or sudo).
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config git
+  libtiff-dev zlib1g-dev libopenimageio-dev libopenexr-dev libsquish-dev libgeographiclib-dev
+  libcli11-dev nlohmann-json3-dev libgtest-dev
+  libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
+  openimageio-tools
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "installing: ${missing[*]}" >&2
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

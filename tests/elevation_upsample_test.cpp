@@ -1,0 +1,52 @@
+// The elevation upsample against values computed by hand from doc/format.md.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "libpyramid/elevation_upsample.hpp"
+
+namespace pyramid {
+namespace {
+
+TEST(ElevationUpsample, OneDimensionalFilterOrder) {
+    EXPECT_EQ(interpolate4(0.0f, 16.0f, 16.0f, 0.0f), 18.0f);   // ((16+16)*9 - 0)/16
+    EXPECT_EQ(interpolate4(1.0f, 2.0f, 3.0f, 4.0f), 2.5f);       // linear data stays linear
+    EXPECT_EQ(interpolate4(0.1f, 0.2f, 0.3f, 0.4f), ((0.2f + 0.3f) * 9.0f - (0.1f + 0.4f)) / 16.0f);
+}
+
+TEST(ElevationUpsample, CopiesEvenSamplesAndInterpolatesOthers) {
+    const int n = 4;       // child interior 4x4, tiles 9x9
+    const int side = n + 5;
+    std::vector<float> parent(side * side);
+    for (int j = 0; j < side; ++j) {
+        for (int i = 0; i < side; ++i) {
+            parent[i + j * side] = static_cast<float>(i * i + 10 * j); // quadratic in x, linear in y
+        }
+    }
+    std::vector<float> child(side * side, 0.0f);
+    const int px = quadrantOffset(1, n), py = quadrantOffset(0, n);
+    EXPECT_EQ(px, 3);
+    EXPECT_EQ(py, 1);
+    upsampleAndAdd(parent.data(), side, n, px, py, child.data(), side);
+    // Even (i, j): the parent sample (i/2+px, j/2+py).
+    EXPECT_EQ(child[2 + 4 * side], parent[(1 + 3) + (2 + 1) * side]);
+    // Odd i, even j: the cubic filter reproduces x^2 at the midpoint minus the filter's bias
+    // (-1,9,9,-1)/16 on x^2 at x = a+0.5 gives (a+0.5)^2 - 1/8 ... computed here directly.
+    const float* row = &parent[(0 + 1) * side];
+    EXPECT_EQ(child[1 + 0 * side], ((row[3] + row[4]) * 9.0f - (row[2] + row[5])) / 16.0f);
+    // Odd j, even i: linear in y, exact midpoint.
+    EXPECT_EQ(child[0 + 1 * side], parent[3 + 1 * side] + 5.0f);
+}
+
+TEST(ElevationUpsample, AddsResidualAfterPrediction) {
+    const int n = 2, side = n + 5;
+    std::vector<float> parent(side * side, 100.0f);
+    std::vector<float> child(side * side, 0.5f);
+    upsampleAndAdd(parent.data(), side, n, 1, 1, child.data(), side);
+    for (float v : child) {
+        EXPECT_EQ(v, 100.5f);
+    }
+}
+
+} // namespace
+} // namespace pyramid

@@ -1,0 +1,60 @@
+#include "tests/support/paths.hpp"
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace pyramid::test {
+
+std::string dataPath(const std::string& relative) { return std::string(PYRAMID_TEST_DATA) + "/" + relative; }
+std::string corpusPath(const std::string& relative) { return std::string(PYRAMID_TEST_CORPUS) + "/" + relative; }
+std::string samplePath(const std::string& relative) { return std::string(PYRAMID_SAMPLES) + "/" + relative; }
+std::string programPath(const std::string& name) { return std::string(PYRAMID_BIN_DIR) + "/" + name; }
+
+TempDir::TempDir() {
+    std::random_device rd;
+    const auto base = std::filesystem::temp_directory_path();
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        auto candidate = base / ("pyramid-test-" + std::to_string(rd()));
+        if (std::filesystem::create_directory(candidate)) {
+            path_ = candidate.string();
+            return;
+        }
+    }
+    throw std::runtime_error("cannot create a temporary directory");
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+}
+
+RunResult run(const std::string& commandLine) {
+    TempDir dir;
+    const std::string out = dir.file("stdout");
+    const std::string err = dir.file("stderr");
+    const std::string full = commandLine + " >" + out + " 2>" + err;
+    const int status = std::system(full.c_str());
+    RunResult r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readFile(out);
+    r.err = readFile(err);
+    return r;
+}
+
+bool fileExists(const std::string& path) { return std::filesystem::exists(path); }
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+} // namespace pyramid::test

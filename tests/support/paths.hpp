@@ -1,0 +1,37 @@
+// Where the tests find their data and the programs they run, and small helpers to run them.
+#pragma once
+#include <string>
+
+namespace pyramid::test {
+
+std::string dataPath(const std::string& relative);    // tests/data/RELATIVE
+std::string corpusPath(const std::string& relative);  // tests/corpus/RELATIVE
+std::string samplePath(const std::string& relative);  // samples/RELATIVE
+std::string programPath(const std::string& name);     // the built CLI program NAME
+
+// A fresh empty directory under the system temporary directory, removed at exit of scope.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::string& path() const { return path_; }
+    std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+private:
+    std::string path_;
+};
+
+struct RunResult {
+    int exitCode = -1;
+    std::string out; // stdout
+    std::string err; // stderr
+};
+// Runs a shell command line, capturing stdout and stderr.
+RunResult run(const std::string& commandLine);
+
+bool fileExists(const std::string& path);
+std::string readFile(const std::string& path);
+
+} // namespace pyramid::test
