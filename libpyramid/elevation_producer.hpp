@@ -1,0 +1,47 @@
+// The CPU elevation producer: upsample-and-add (doc/format.md, "Elevation arithmetic") from
+// the parent elevation tile and the residual tile, for elevation tiles of n = tileSize / 2^k
+// samples (+5) with the matching delta = minLevel - k, as the seeds' elevation producer does.
+// Produced tiles are kept in an LRU cache of bounded capacity. Thread-safe.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "libpyramid/residual_producer.hpp"
+
+namespace pyramid {
+
+struct ElevationTile {
+    int level = 0, tx = 0, ty = 0;
+    int size = 0;          // n + 5 samples per side
+    std::vector<float> zf; // size^2, row 0 = bottom: the upsample-and-add elevations
+    std::vector<float> zc; // coarse elevations: linear interpolation of the parent's zm on the
+                           // gridSize render grid (north-west to south-east diagonals)
+    std::vector<float> zm; // modified elevations (= zf: no layers)
+};
+
+struct ElevationProducerOptions {
+    int tileSize = 0;         // n, elevation samples per side without the +5; 0 = the residual tileSize
+    int gridSize = 0;         // render grid quads per side for zc; 0 = n
+    size_t cacheCapacity = 256; // tiles kept (LRU)
+};
+
+class ElevationProducer {
+public:
+    // `residuals` must have been built with delta = minLevel - log2(residual tileSize / n).
+    ElevationProducer(std::shared_ptr<const ResidualProducer> residuals, const ElevationProducerOptions& options);
+    ~ElevationProducer();
+
+    int tileSize() const; // n
+    int maxLevel() const; // deepest level with residuals
+    std::shared_ptr<const ElevationTile> tile(int level, int tx, int ty);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// delta = minLevel - k for elevation tiles of n = tileSize / 2^k; throws Error if n does not
+// divide tileSize by a power of two no larger than 2^minLevel.
+int elevationDelta(const ResidualHeader& header, int n);
+
+} // namespace pyramid

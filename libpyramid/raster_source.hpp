@@ -1,0 +1,52 @@
+// Raster input for the preprocessors, through OpenImageIO's ImageCache: any format OIIO
+// reads (GeoTIFF, PNG, EXR, ...), of any size, read by windows in bounded memory (the cache
+// holds at most `cacheMegabytes`) and from many threads at once.
+//
+// Coordinates are the file's: column x = 0 on the west/left, row y = 0 on the north/top.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace pyramid {
+
+enum class SampleType { UInt8, Int8, UInt16, Int16, UInt32, Int32, Float16, Float32, Float64, Other };
+
+struct RasterInfo {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    SampleType type = SampleType::Other;
+    std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any
+    std::string formatName;       // "tiff", "png", ...
+};
+
+class RasterSource {
+public:
+    // Throws Error("PATH: ...") when the file is missing, unreadable or not an image.
+    static std::unique_ptr<RasterSource> open(const std::string& path, int cacheMegabytes = 256);
+    ~RasterSource();
+    RasterSource(const RasterSource&) = delete;
+    RasterSource& operator=(const RasterSource&) = delete;
+
+    const std::string& path() const { return path_; }
+    const RasterInfo& info() const { return info_; }
+
+    // Reads columns [x0, x1) x rows [y0, y1) of channel `channel` as float32, row-major with
+    // row y0 first (north first). Integer samples are converted exactly (not normalised).
+    // Thread-safe.
+    void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
+    // Reads channels [c0, c1) of the window as uint16 (8-bit input is widened exactly, 0..255;
+    // 16-bit input is returned as is). Interleaved, north first. Thread-safe.
+    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
+
+private:
+    RasterSource() = default;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    std::string path_;
+    RasterInfo info_;
+};
+
+} // namespace pyramid

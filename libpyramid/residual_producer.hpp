@@ -1,0 +1,50 @@
+// The CPU residual producer of the seeds ("Residual producer"): serves residual tiles as
+// float32 (tileSize+5)^2 arrays, scaled to height units, from a main residual file and any
+// nested region files. Thread-safe.
+//
+// Quadtree coordinates (level, tx, ty) are the producer's; tile (level, tx, ty) is file tile
+// (level + delta, tx, ty) of the deepest file that holds it. With delta > 0 the root tile
+// (0, 0, 0) is the upsample-and-add of file levels 0..delta (doc/format.md). Tiles of levels
+// below the file's minLevel are smaller: they are returned in the lower-left corner of the
+// (tileSize+5)^2 array, the rest being zero.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "formats/residual_file.hpp"
+
+namespace pyramid {
+
+struct ResidualProducerOptions {
+    int delta = 0;      // 0 .. minLevel of the main file
+    float scale = 1.0f; // multiplies the files' own scale (float32 product, one rounding)
+};
+
+class ResidualProducer {
+public:
+    // `regions`: region files nested in the main file (each rooted at a tile of the main
+    // pyramid, minLevel 0, same tileSize). Region files nested in region files are found by
+    // their roots: a tile is served by the deepest file whose pyramid contains it.
+    ResidualProducer(const std::string& mainFile, const std::vector<std::string>& regions = {},
+                     const ResidualProducerOptions& options = {});
+    ~ResidualProducer();
+
+    const ResidualHeader& header() const; // the main file's
+    int tileSize() const;                 // residual tileSize (without the +5)
+    int delta() const;
+    int maxLevel() const;                 // deepest producer level any file holds
+    // True when some file holds the producer tile (level, tx, ty).
+    bool hasTile(int level, int tx, int ty) const;
+    // Samples per side of the data inside the returned array ((tileSize >> k) + 5).
+    int tileSamples(int level) const;
+    // The scaled residuals: float(r) * scale, (tileSize+5)^2 floats, row 0 = bottom.
+    // Throws Error if no file holds the tile.
+    std::vector<float> tile(int level, int tx, int ty) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace pyramid
