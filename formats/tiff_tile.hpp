@@ -40,4 +40,8 @@ std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size,
 std::vector<uint8_t> decodeOrthoTiff(std::span<const uint8_t> blob, int size, int channels,
                                      const std::string& where);
 
+// The compression of a TIFF blob, for reports: "deflate", "deflate-legacy" (code 32946),
+// "lzw", "jpeg", "none", "packbits", "compression-N", or "invalid".
+std::string describeTiff(std::span<const uint8_t> blob);
+
 } // namespace pyramid

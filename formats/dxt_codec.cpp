@@ -1,0 +1,85 @@
+#include "formats/dxt_codec.hpp"
+
+#include <squish.h>
+
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+int squishFlags(DxtFormat format, int quality) {
+    int flags = format == DxtFormat::Dxt1 ? squish::kDxt1 : squish::kDxt5;
+    if (quality <= 0) {
+        flags |= squish::kColourRangeFit;
+    } else if (quality == 1) {
+        flags |= squish::kColourClusterFit;
+    } else {
+        flags |= squish::kColourIterativeClusterFit;
+    }
+    return flags;
+}
+
+} // namespace
+
+size_t dxtBytes(int width, int height, DxtFormat format) {
+    const size_t blocks = static_cast<size_t>((width + 3) / 4) * static_cast<size_t>((height + 3) / 4);
+    return blocks * (format == DxtFormat::Dxt1 ? 8u : 16u);
+}
+
+std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int height, int channels,
+                               DxtFormat format, int quality) {
+    if (width < 1 || height < 1 || channels < 1 || channels > 4 ||
+        pixels.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels)) {
+        fail("", "DXT tile: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height) +
+                     "x" + std::to_string(channels));
+    }
+    if ((channels == 4) != (format == DxtFormat::Dxt5)) {
+        fail("", "DXT tile: " + std::to_string(channels) + " channels need " + (channels == 4 ? "DXT5" : "DXT1"));
+    }
+    // squish takes RGBA: grey is replicated into R, G and B; missing alpha is opaque.
+    const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
+    std::vector<uint8_t> rgba(count * 4);
+    for (size_t k = 0; k < count; ++k) {
+        const uint8_t* p = pixels.data() + k * static_cast<size_t>(channels);
+        uint8_t* q = rgba.data() + 4 * k;
+        if (channels <= 2) {
+            q[0] = q[1] = q[2] = p[0];
+            q[3] = 255;
+        } else {
+            q[0] = p[0];
+            q[1] = p[1];
+            q[2] = p[2];
+            q[3] = channels == 4 ? p[3] : 255;
+        }
+    }
+    std::vector<uint8_t> blocks(dxtBytes(width, height, format));
+    squish::CompressImage(rgba.data(), width, height, blocks.data(), squishFlags(format, quality));
+    return blocks;
+}
+
+std::vector<uint8_t> decodeDxt(std::span<const uint8_t> blob, int width, int height, DxtFormat format,
+                               const std::string& where) {
+    if (width < 1 || height < 1 || width > 65536 || height > 65536) {
+        fail(where, "invalid DXT tile size " + std::to_string(width) + "x" + std::to_string(height));
+    }
+    const size_t expected = dxtBytes(width, height, format);
+    if (blob.size() != expected) {
+        fail(where, "DXT tile of " + std::to_string(blob.size()) + " bytes, expected " + std::to_string(expected));
+    }
+    const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
+    std::vector<uint8_t> rgba(count * 4);
+    squish::DecompressImage(rgba.data(), width, height, blob.data(), squishFlags(format, 1));
+    if (format == DxtFormat::Dxt5) {
+        return rgba;
+    }
+    std::vector<uint8_t> rgb(count * 3);
+    for (size_t k = 0; k < count; ++k) {
+        rgb[3 * k] = rgba[4 * k];
+        rgb[3 * k + 1] = rgba[4 * k + 1];
+        rgb[3 * k + 2] = rgba[4 * k + 2];
+    }
+    return rgb;
+}
+
+} // namespace pyramid

@@ -1,0 +1,152 @@
+#include "formats/ortho_file.hpp"
+
+#include "formats/dxt_codec.hpp"
+#include "formats/error.hpp"
+#include "formats/header_bytes.hpp"
+#include "formats/tiff_tile.hpp"
+
+namespace pyramid {
+
+using detail::quadtreeTiles;
+
+namespace {
+constexpr int kMaxLevel = 30;
+constexpr int kMaxTileSize = 8192;
+
+std::string tileName(const std::string& path, int level, int tx, int ty) {
+    return path + ": tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")";
+}
+
+DxtFormat dxtFormatOf(const OrthoHeader& h) { return h.channels == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1; }
+} // namespace
+
+int64_t OrthoHeader::tileCount() const { return quadtreeTiles(maxLevel); }
+
+int64_t OrthoHeader::tileIndex(int level, int tx, int ty) const {
+    return tx + static_cast<int64_t>(ty) * (int64_t{1} << level) + ((int64_t{1} << (2 * level)) - 1) / 3;
+}
+
+bool OrthoHeader::contains(int level, int tx, int ty) const {
+    return level >= 0 && level <= maxLevel && tx >= 0 && ty >= 0 && tx < (int64_t{1} << level) &&
+           ty < (int64_t{1} << level);
+}
+
+void OrthoHeader::validate(const std::string& where) const {
+    if (maxLevel < 0 || maxLevel > kMaxLevel) {
+        fail(where, "invalid maxLevel " + std::to_string(maxLevel) + " (0 to 30 expected)");
+    }
+    if (tileSize < 1 || tileSize > kMaxTileSize) {
+        fail(where, "invalid tileSize " + std::to_string(tileSize) + " (1 to 8192 expected)");
+    }
+    if (channels < 1 || channels > 4) {
+        fail(where, "invalid channel count " + std::to_string(channels) + " (1 to 4 expected)");
+    }
+    if ((flags & ~(kFlagDxt | kFlagNoBorder)) != 0) {
+        fail(where, "unknown flags " + std::to_string(flags) + " (only bits 0 and 1 are defined)");
+    }
+    if (dxt() && channels < 3) {
+        fail(where, "DXT file with " + std::to_string(channels) + " channels (3 or 4 expected)");
+    }
+    if (dxt() && tilePixels() % 4 != 0) {
+        fail(where, "DXT tiles of " + std::to_string(tilePixels()) + " pixels (a multiple of 4 expected)");
+    }
+    if (rootLevel < 0 || rootLevel > kMaxLevel || rootTx < 0 || rootTy < 0 ||
+        rootTx >= (int64_t{1} << rootLevel) || rootTy >= (int64_t{1} << rootLevel)) {
+        fail(where, "invalid root tile (" + std::to_string(rootLevel) + "," + std::to_string(rootTx) + "," +
+                        std::to_string(rootTy) + ")");
+    }
+}
+
+std::unique_ptr<OrthoFileReader> OrthoFileReader::open(const std::string& path) {
+    std::unique_ptr<OrthoFileReader> reader(new OrthoFileReader());
+    reader->path_ = path;
+    auto probe = TileTable::open(path, OrthoHeader::kBytes, 0, 8);
+    uint8_t raw[OrthoHeader::kBytes];
+    probe->readAt(0, raw, sizeof raw);
+    OrthoHeader& h = reader->header_;
+    h.maxLevel = detail::loadI32(raw + 0);
+    h.tileSize = detail::loadI32(raw + 4);
+    h.channels = detail::loadI32(raw + 8);
+    h.rootLevel = detail::loadI32(raw + 12);
+    h.rootTx = detail::loadI32(raw + 16);
+    h.rootTy = detail::loadI32(raw + 20);
+    h.flags = detail::loadU32(raw + 24);
+    h.validate(path);
+    reader->table_ = TileTable::open(path, OrthoHeader::kBytes, h.tileCount(), 8);
+    return reader;
+}
+
+OrthoFileReader::~OrthoFileReader() = default;
+
+std::vector<uint8_t> OrthoFileReader::readTileBytes(int level, int tx, int ty) const {
+    if (!header_.contains(level, tx, ty)) {
+        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                        ") in this file");
+    }
+    return table_->read(header_.tileIndex(level, tx, ty));
+}
+
+std::vector<uint8_t> OrthoFileReader::readTile(int level, int tx, int ty) const {
+    const std::vector<uint8_t> blob = readTileBytes(level, tx, ty);
+    const std::string where = tileName(path_, level, tx, ty);
+    const int size = header_.tilePixels();
+    if (header_.dxt()) {
+        return decodeDxt(blob, size, size, dxtFormatOf(header_), where);
+    }
+    return decodeOrthoTiff(blob, size, header_.channels, where);
+}
+
+OrthoFileWriter::OrthoFileWriter(const std::string& path, const OrthoHeader& header) : path_(path), header_(header) {
+    header_.validate(path);
+    std::vector<uint8_t> raw(OrthoHeader::kBytes);
+    detail::storeU32(raw.data() + 0, static_cast<uint32_t>(header_.maxLevel));
+    detail::storeU32(raw.data() + 4, static_cast<uint32_t>(header_.tileSize));
+    detail::storeU32(raw.data() + 8, static_cast<uint32_t>(header_.channels));
+    detail::storeU32(raw.data() + 12, static_cast<uint32_t>(header_.rootLevel));
+    detail::storeU32(raw.data() + 16, static_cast<uint32_t>(header_.rootTx));
+    detail::storeU32(raw.data() + 20, static_cast<uint32_t>(header_.rootTy));
+    detail::storeU32(raw.data() + 24, header_.flags);
+    table_ = std::make_unique<TileTableWriter>(path, raw, header_.tileCount(), 8, static_cast<uint64_t>(INT64_MAX));
+}
+
+OrthoFileWriter::~OrthoFileWriter() = default;
+
+void OrthoFileWriter::writeTile(int level, int tx, int ty, std::span<const uint8_t> pixels,
+                                const OrthoTileEncoding& encoding) {
+    const int size = header_.tilePixels();
+    if (header_.dxt()) {
+        // A DXT file's header says 3 channels for 1-3 channel sources: accept the source's own
+        // channel count, deduced from the buffer size.
+        const size_t area = static_cast<size_t>(size) * static_cast<size_t>(size);
+        const int channels = area ? static_cast<int>(pixels.size() / area) : 0;
+        if (channels < 1 || channels > 4 || pixels.size() != area * static_cast<size_t>(channels) ||
+            (channels == 4) != (header_.channels == 4)) {
+            fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                            "): pixel buffer does not match the file's tiles");
+        }
+        writeTileBytes(level, tx, ty, encodeDxt(pixels, size, size, channels, dxtFormatOf(header_), encoding.dxtQuality));
+        return;
+    }
+    if (pixels.size() != static_cast<size_t>(size) * static_cast<size_t>(size) * static_cast<size_t>(header_.channels)) {
+        fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                        "): pixel buffer does not match the file's tiles");
+    }
+    writeTileBytes(level, tx, ty,
+                   encodeTiff8(pixels, size, size, header_.channels, encoding.compression, encoding.jpegQuality));
+}
+
+void OrthoFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob) {
+    if (!header_.contains(level, tx, ty)) {
+        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                        ") in this pyramid");
+    }
+    table_->write(header_.tileIndex(level, tx, ty), blob);
+}
+
+void OrthoFileWriter::commit() { table_->commit(); }
+
+uint64_t OrthoFileWriter::bytesWritten() const { return table_->bytesWritten(); }
+
+int64_t OrthoFileWriter::sharedTiles() const { return table_->sharedTiles(); }
+
+} // namespace pyramid

@@ -1,0 +1,156 @@
+#include "formats/residual_file.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+#include "formats/error.hpp"
+#include "formats/header_bytes.hpp"
+#include "formats/tiff_tile.hpp"
+
+namespace pyramid {
+
+using detail::quadtreeTiles;
+
+namespace {
+constexpr int kMaxLevel = 30;
+constexpr int kMaxTileSize = 8192;
+
+std::string tileName(const std::string& path, int level, int tx, int ty) {
+    return path + ": tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")";
+}
+} // namespace
+
+int64_t ResidualHeader::tileCount() const { return minLevel + quadtreeTiles(maxLevel - minLevel); }
+
+int64_t ResidualHeader::tilesPerSide(int level) const {
+    return level < minLevel ? 1 : (int64_t{1} << (level - minLevel));
+}
+
+bool ResidualHeader::contains(int level, int tx, int ty) const {
+    if (level < 0 || level > maxLevel) {
+        return false;
+    }
+    const int64_t side = tilesPerSide(level);
+    return tx >= 0 && ty >= 0 && tx < side && ty < side;
+}
+
+int64_t ResidualHeader::tileIndex(int level, int tx, int ty) const {
+    if (level < minLevel) {
+        return level;
+    }
+    const int l = level - minLevel;
+    return minLevel + tx + static_cast<int64_t>(ty) * (int64_t{1} << l) + ((int64_t{1} << (2 * l)) - 1) / 3;
+}
+
+int ResidualHeader::tileSamples(int level) const {
+    return (level < minLevel ? (tileSize >> (minLevel - level)) : tileSize) + 5;
+}
+
+void ResidualHeader::validate(const std::string& where) const {
+    if (minLevel < 0 || maxLevel < minLevel || maxLevel > kMaxLevel) {
+        fail(where, "invalid levels (minLevel " + std::to_string(minLevel) + ", maxLevel " + std::to_string(maxLevel) +
+                        "; 0 <= minLevel <= maxLevel <= 30 expected)");
+    }
+    if (tileSize < 1 || tileSize > kMaxTileSize) {
+        fail(where, "invalid tileSize " + std::to_string(tileSize) + " (1 to 8192 expected)");
+    }
+    if (minLevel > 13 || (tileSize % (1 << minLevel)) != 0) {
+        fail(where, "tileSize " + std::to_string(tileSize) + " is not divisible by 2^minLevel (minLevel " +
+                        std::to_string(minLevel) + ")");
+    }
+    if (rootLevel < 0 || rootLevel > kMaxLevel || rootTx < 0 || rootTy < 0 ||
+        rootTx >= (int64_t{1} << rootLevel) || rootTy >= (int64_t{1} << rootLevel)) {
+        fail(where, "invalid root tile (" + std::to_string(rootLevel) + "," + std::to_string(rootTx) + "," +
+                        std::to_string(rootTy) + ")");
+    }
+    if (rootLevel > 0 && minLevel != 0) {
+        fail(where, "a region file (rootLevel > 0) must have minLevel 0, not " + std::to_string(minLevel));
+    }
+    if (!std::isfinite(scale) || scale <= 0.0f) {
+        fail(where, "invalid scale " + std::to_string(scale) + " (a finite positive number expected)");
+    }
+}
+
+std::unique_ptr<ResidualFileReader> ResidualFileReader::open(const std::string& path) {
+    std::unique_ptr<ResidualFileReader> reader(new ResidualFileReader());
+    reader->path_ = path;
+    // Read the header through a table of zero tiles: the same open/size checks apply.
+    auto probe = TileTable::open(path, ResidualHeader::kBytes, 0, 4);
+    uint8_t raw[ResidualHeader::kBytes];
+    probe->readAt(0, raw, sizeof raw);
+    ResidualHeader& h = reader->header_;
+    h.minLevel = detail::loadI32(raw + 0);
+    h.maxLevel = detail::loadI32(raw + 4);
+    h.tileSize = detail::loadI32(raw + 8);
+    h.rootLevel = detail::loadI32(raw + 12);
+    h.rootTx = detail::loadI32(raw + 16);
+    h.rootTy = detail::loadI32(raw + 20);
+    h.scale = detail::loadF32(raw + 24);
+    h.validate(path);
+    reader->table_ = TileTable::open(path, ResidualHeader::kBytes, h.tileCount(), 4);
+    return reader;
+}
+
+ResidualFileReader::~ResidualFileReader() = default;
+
+std::vector<uint8_t> ResidualFileReader::readTileBytes(int level, int tx, int ty) const {
+    if (!header_.contains(level, tx, ty)) {
+        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                        ") in this file");
+    }
+    return table_->read(header_.tileIndex(level, tx, ty));
+}
+
+std::vector<int16_t> ResidualFileReader::readTile(int level, int tx, int ty) const {
+    const std::vector<uint8_t> blob = readTileBytes(level, tx, ty);
+    return decodeResidualTiff(blob, header_.tileSamples(level), tileName(path_, level, tx, ty));
+}
+
+namespace {
+std::vector<uint8_t> packHeader(const ResidualHeader& h) {
+    std::vector<uint8_t> raw(ResidualHeader::kBytes);
+    detail::storeU32(raw.data() + 0, static_cast<uint32_t>(h.minLevel));
+    detail::storeU32(raw.data() + 4, static_cast<uint32_t>(h.maxLevel));
+    detail::storeU32(raw.data() + 8, static_cast<uint32_t>(h.tileSize));
+    detail::storeU32(raw.data() + 12, static_cast<uint32_t>(h.rootLevel));
+    detail::storeU32(raw.data() + 16, static_cast<uint32_t>(h.rootTx));
+    detail::storeU32(raw.data() + 20, static_cast<uint32_t>(h.rootTy));
+    detail::storeF32(raw.data() + 24, h.scale);
+    return raw;
+}
+} // namespace
+
+ResidualFileWriter::ResidualFileWriter(const std::string& path, const ResidualHeader& header)
+    : path_(path), header_(header) {
+    header_.validate(path);
+    const std::vector<uint8_t> raw = packHeader(header_);
+    table_ = std::make_unique<TileTableWriter>(path, raw, header_.tileCount(), 4, UINT32_MAX);
+}
+
+ResidualFileWriter::~ResidualFileWriter() = default;
+
+void ResidualFileWriter::writeTile(int level, int tx, int ty, std::span<const int16_t> residuals) {
+    const int size = header_.tileSamples(level);
+    if (residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
+        fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                        ") needs " + std::to_string(size) + "x" + std::to_string(size) + " residuals");
+    }
+    const std::vector<uint8_t> blob = encodeResidualTiff(residuals, size);
+    writeTileBytes(level, tx, ty, blob);
+}
+
+void ResidualFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob) {
+    if (!header_.contains(level, tx, ty)) {
+        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                        ") in this pyramid");
+    }
+    table_->write(header_.tileIndex(level, tx, ty), blob);
+}
+
+void ResidualFileWriter::commit() { table_->commit(); }
+
+uint64_t ResidualFileWriter::bytesWritten() const { return table_->bytesWritten(); }
+
+int64_t ResidualFileWriter::sharedTiles() const { return table_->sharedTiles(); }
+
+} // namespace pyramid

@@ -1,0 +1,369 @@
+#include "formats/tiff_tile.hpp"
+
+#include <tiffio.h>
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+// A TIFF "file" in memory. Reads serve from `data`; writes grow `out`.
+struct MemoryStream {
+    const uint8_t* data = nullptr;
+    size_t size = 0;
+    std::vector<uint8_t>* out = nullptr;
+    uint64_t pos = 0;
+    std::string firstError; // libtiff's first error message, reported in ours
+};
+
+tmsize_t streamRead(thandle_t h, void* buf, tmsize_t n) {
+    auto* s = static_cast<MemoryStream*>(h);
+    const size_t available = s->out ? s->out->size() : s->size;
+    const uint8_t* base = s->out ? s->out->data() : s->data;
+    if (n < 0 || s->pos >= available) {
+        return 0;
+    }
+    const size_t count = std::min(static_cast<size_t>(n), static_cast<size_t>(available - s->pos));
+    std::memcpy(buf, base + s->pos, count);
+    s->pos += count;
+    return static_cast<tmsize_t>(count);
+}
+
+tmsize_t streamWrite(thandle_t h, void* buf, tmsize_t n) {
+    auto* s = static_cast<MemoryStream*>(h);
+    if (!s->out || n < 0) {
+        return -1;
+    }
+    const size_t end = static_cast<size_t>(s->pos) + static_cast<size_t>(n);
+    if (end > s->out->size()) {
+        s->out->resize(end);
+    }
+    std::memcpy(s->out->data() + s->pos, buf, static_cast<size_t>(n));
+    s->pos = end;
+    return n;
+}
+
+toff_t streamSeek(thandle_t h, toff_t offset, int whence) {
+    auto* s = static_cast<MemoryStream*>(h);
+    const uint64_t size = s->out ? s->out->size() : s->size;
+    uint64_t base = 0;
+    if (whence == SEEK_CUR) {
+        base = s->pos;
+    } else if (whence == SEEK_END) {
+        base = size;
+    }
+    s->pos = base + offset;
+    return s->pos;
+}
+
+int streamClose(thandle_t) { return 0; }
+
+toff_t streamSize(thandle_t h) {
+    auto* s = static_cast<MemoryStream*>(h);
+    return s->out ? s->out->size() : s->size;
+}
+
+int noMap(thandle_t, void**, toff_t*) { return 0; }
+void noUnmap(thandle_t, void*, toff_t) {}
+
+// libtiff reports through these per-handle handlers (thread-safe: no global state). Warnings,
+// such as the missing ExtraSamples tag of the original 4-channel tiles, are dropped; the first
+// error is kept for our own message.
+int onError(TIFF*, void* user, const char*, const char* fmt, va_list ap) {
+    auto* s = static_cast<MemoryStream*>(user);
+    if (s->firstError.empty()) {
+        char buf[256];
+        std::vsnprintf(buf, sizeof buf, fmt, ap);
+        s->firstError = buf;
+        std::replace(s->firstError.begin(), s->firstError.end(), '\n', ' ');
+    }
+    return 1;
+}
+
+int onWarning(TIFF*, void*, const char*, const char*, va_list) { return 1; }
+
+// Owns a TIFF handle over a MemoryStream.
+class TiffHandle {
+public:
+    TiffHandle(MemoryStream& stream, const char* mode, tmsize_t maxAlloc) {
+        TIFFOpenOptions* opts = TIFFOpenOptionsAlloc();
+        TIFFOpenOptionsSetErrorHandlerExtR(opts, onError, &stream);
+        TIFFOpenOptionsSetWarningHandlerExtR(opts, onWarning, &stream);
+        TIFFOpenOptionsSetMaxSingleMemAlloc(opts, maxAlloc);
+        tif_ = TIFFClientOpenExt("tile", mode, &stream, streamRead, streamWrite, streamSeek, streamClose,
+                                 streamSize, noMap, noUnmap, opts);
+        TIFFOpenOptionsFree(opts);
+    }
+    ~TiffHandle() {
+        if (tif_) {
+            TIFFClose(tif_);
+        }
+    }
+    TiffHandle(const TiffHandle&) = delete;
+    TiffHandle& operator=(const TiffHandle&) = delete;
+    TIFF* get() const { return tif_; }
+    void close() {
+        if (tif_) {
+            TIFFClose(tif_);
+            tif_ = nullptr;
+        }
+    }
+
+private:
+    TIFF* tif_ = nullptr;
+};
+
+std::string withCause(const std::string& what, const MemoryStream& s) {
+    return s.firstError.empty() ? what : what + " (" + s.firstError + ")";
+}
+
+uint16_t compressionCode(TiffCompression c) {
+    switch (c) {
+    case TiffCompression::None:
+        return COMPRESSION_NONE;
+    case TiffCompression::Deflate:
+        return COMPRESSION_ADOBE_DEFLATE;
+    case TiffCompression::Lzw:
+        return COMPRESSION_LZW;
+    case TiffCompression::Jpeg:
+        return COMPRESSION_JPEG;
+    }
+    return COMPRESSION_NONE;
+}
+
+// Encodes one strip of `bits`-bit samples.
+std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
+                                 uint16_t photometric, bool extraSample, TiffCompression compression,
+                                 int jpegQuality) {
+    if (compression == TiffCompression::Jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
+        fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
+                     std::to_string(bits) + " bits");
+    }
+    std::vector<uint8_t> out;
+    out.reserve(bytes / 2 + 256);
+    MemoryStream stream;
+    stream.out = &out;
+    TiffHandle tif(stream, "w", 0);
+    if (!tif.get()) {
+        fail("", withCause("cannot create an in-memory TIFF", stream));
+    }
+    TIFF* t = tif.get();
+    TIFFSetField(t, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(width));
+    TIFFSetField(t, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(height));
+    TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, static_cast<uint16_t>(bits));
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, static_cast<uint16_t>(channels));
+    TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, photometric);
+    TIFFSetField(t, TIFFTAG_ORIENTATION, ORIENTATION_BOTLEFT);
+    TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, static_cast<uint32_t>(height));
+    TIFFSetField(t, TIFFTAG_COMPRESSION, compressionCode(compression));
+    if (extraSample) {
+        // The channel beyond grey or RGB is unspecified data (coverage, alpha...).
+        const uint16_t extra = EXTRASAMPLE_UNSPECIFIED;
+        TIFFSetField(t, TIFFTAG_EXTRASAMPLES, 1, &extra);
+    }
+    if (compression == TiffCompression::Jpeg) {
+        TIFFSetField(t, TIFFTAG_JPEGQUALITY, std::clamp(jpegQuality, 1, 100));
+    }
+    if (compression == TiffCompression::Deflate) {
+        TIFFSetField(t, TIFFTAG_ZIPQUALITY, 6);
+    }
+    if (TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes)) < 0) {
+        fail("", withCause("cannot encode a TIFF tile", stream));
+    }
+    if (!TIFFWriteDirectory(t)) {
+        fail("", withCause("cannot finish a TIFF tile", stream));
+    }
+    tif.close();
+    return out;
+}
+
+} // namespace
+
+std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
+                                 TiffCompression compression, int jpegQuality) {
+    if (channels < 1 || channels > 4 || width < 1 || height < 1 ||
+        pixels.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels)) {
+        fail("", "TIFF tile: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height) +
+                     "x" + std::to_string(channels));
+    }
+    const uint16_t photometric = channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK;
+    return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric,
+                       channels == 2 || channels == 4, compression, jpegQuality);
+}
+
+TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where) {
+    if (blob.size() < 8) {
+        fail(where, "not a TIFF (" + std::to_string(blob.size()) + " bytes)");
+    }
+    MemoryStream stream;
+    stream.data = blob.data();
+    stream.size = blob.size();
+    const size_t maxBytes = static_cast<size_t>(maxWidth) * static_cast<size_t>(maxHeight) * 8u;
+    // 'm': no memory mapping; 'h': read the header only, so that nothing big is read before
+    // the dimensions are checked.
+    TiffHandle tif(stream, "rm", static_cast<tmsize_t>(std::max<size_t>(maxBytes, 1u << 20)));
+    TIFF* t = tif.get();
+    if (!t) {
+        fail(where, withCause("not a readable TIFF", stream));
+    }
+    uint32_t width = 0, height = 0;
+    uint16_t bits = 0, channels = 1, planar = PLANARCONFIG_CONTIG, format = SAMPLEFORMAT_UINT, compression = 0;
+    TIFFGetField(t, TIFFTAG_IMAGEWIDTH, &width);
+    TIFFGetField(t, TIFFTAG_IMAGELENGTH, &height);
+    TIFFGetFieldDefaulted(t, TIFFTAG_BITSPERSAMPLE, &bits);
+    TIFFGetFieldDefaulted(t, TIFFTAG_SAMPLESPERPIXEL, &channels);
+    TIFFGetFieldDefaulted(t, TIFFTAG_PLANARCONFIG, &planar);
+    TIFFGetFieldDefaulted(t, TIFFTAG_SAMPLEFORMAT, &format);
+    TIFFGetFieldDefaulted(t, TIFFTAG_COMPRESSION, &compression);
+    if (width == 0 || height == 0 || width > static_cast<uint32_t>(maxWidth) ||
+        height > static_cast<uint32_t>(maxHeight)) {
+        fail(where, "TIFF of " + std::to_string(width) + "x" + std::to_string(height) + " pixels, expected at most " +
+                        std::to_string(maxWidth) + "x" + std::to_string(maxHeight));
+    }
+    if (bits != 8 && bits != 16) {
+        fail(where, "TIFF with " + std::to_string(bits) + " bits per sample (8 or 16 expected)");
+    }
+    if (channels < 1 || channels > 4) {
+        fail(where, "TIFF with " + std::to_string(channels) + " samples per pixel (1 to 4 expected)");
+    }
+    if (planar != PLANARCONFIG_CONTIG && channels > 1) {
+        fail(where, "TIFF with separate colour planes (contiguous samples expected)");
+    }
+    if (format != SAMPLEFORMAT_UINT && format != SAMPLEFORMAT_INT) {
+        fail(where, "TIFF with floating-point or complex samples (integers expected)");
+    }
+    if (TIFFIsTiled(t)) {
+        fail(where, "tiled TIFF (strips expected)");
+    }
+    if (compression != COMPRESSION_NONE && compression != COMPRESSION_ADOBE_DEFLATE &&
+        compression != COMPRESSION_DEFLATE && compression != COMPRESSION_LZW &&
+        compression != COMPRESSION_JPEG && compression != COMPRESSION_PACKBITS) {
+        fail(where, "TIFF compression " + std::to_string(compression) + " is not supported");
+    }
+    if (compression == COMPRESSION_JPEG) {
+        // Decode JPEG data as stored (YCbCr converted to RGB by the codec).
+        uint16_t photometric = 0;
+        TIFFGetFieldDefaulted(t, TIFFTAG_PHOTOMETRIC, &photometric);
+        if (photometric == PHOTOMETRIC_YCBCR) {
+            TIFFSetField(t, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
+        }
+    }
+    TiffImage image;
+    image.width = static_cast<int>(width);
+    image.height = static_cast<int>(height);
+    image.channels = channels;
+    image.bitsPerSample = bits;
+    image.signedSamples = (format == SAMPLEFORMAT_INT);
+    const size_t rowBytes = static_cast<size_t>(width) * channels * (bits / 8);
+    image.pixels.assign(rowBytes * height, 0);
+    const uint32_t strips = TIFFNumberOfStrips(t);
+    uint32_t rowsPerStrip = height;
+    TIFFGetFieldDefaulted(t, TIFFTAG_ROWSPERSTRIP, &rowsPerStrip);
+    rowsPerStrip = std::min(std::max<uint32_t>(rowsPerStrip, 1u), height);
+    const uint32_t expectedStrips = (height + rowsPerStrip - 1) / rowsPerStrip;
+    if (strips != expectedStrips) {
+        fail(where, "TIFF strip count " + std::to_string(strips) + " does not match its size");
+    }
+    size_t filled = 0;
+    for (uint32_t s = 0; s < strips; ++s) {
+        const uint32_t rows = std::min(rowsPerStrip, height - s * rowsPerStrip);
+        const size_t want = rows * rowBytes;
+        const tmsize_t got = TIFFReadEncodedStrip(t, s, image.pixels.data() + filled, static_cast<tmsize_t>(want));
+        if (got < 0 || static_cast<size_t>(got) != want) {
+            fail(where, withCause("truncated or corrupt TIFF data (strip " + std::to_string(s) + ")", stream));
+        }
+        filled += want;
+    }
+    if (!stream.firstError.empty()) {
+        fail(where, "corrupt TIFF (" + stream.firstError + ")");
+    }
+    return image;
+}
+
+std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size) {
+    if (size < 1 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
+        fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
+    }
+    // Two 8-bit samples per pixel: the low and the high byte of the int16, with no ExtraSamples
+    // tag, exactly as the original tools write them.
+    std::vector<uint8_t> bytes(residuals.size() * 2);
+    for (size_t k = 0; k < residuals.size(); ++k) {
+        const auto v = static_cast<uint16_t>(residuals[k]);
+        bytes[2 * k] = static_cast<uint8_t>(v & 0xffu);
+        bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
+    }
+    return encodeStrip(bytes.data(), bytes.size(), size, size, 2, 8, PHOTOMETRIC_MINISBLACK, false,
+                       TiffCompression::Deflate, 0);
+}
+
+std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {
+    const TiffImage image = decodeTiff(blob, size, size, where);
+    if (image.width != size || image.height != size) {
+        fail(where, "residual tile of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                        " samples, expected " + std::to_string(size) + "x" + std::to_string(size));
+    }
+    std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
+    if (image.bitsPerSample == 8 && image.channels == 2) {
+        for (size_t k = 0; k < out.size(); ++k) {
+            const auto v = static_cast<uint16_t>(image.pixels[2 * k] | (image.pixels[2 * k + 1] << 8));
+            out[k] = static_cast<int16_t>(v);
+        }
+    } else if (image.bitsPerSample == 16 && image.channels == 1) {
+        std::memcpy(out.data(), image.pixels.data(), out.size() * sizeof(int16_t));
+    } else {
+        fail(where, "residual tile with " + std::to_string(image.channels) + " x " +
+                        std::to_string(image.bitsPerSample) + "-bit samples (2 x 8 or 1 x 16 expected)");
+    }
+    return out;
+}
+
+std::vector<uint8_t> decodeOrthoTiff(std::span<const uint8_t> blob, int size, int channels, const std::string& where) {
+    TiffImage image = decodeTiff(blob, size, size, where);
+    if (image.width != size || image.height != size) {
+        fail(where, "ortho tile of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                        " pixels, expected " + std::to_string(size) + "x" + std::to_string(size));
+    }
+    if (image.bitsPerSample != 8 || image.channels != channels) {
+        fail(where, "ortho tile with " + std::to_string(image.channels) + " x " + std::to_string(image.bitsPerSample) +
+                        "-bit samples, expected " + std::to_string(channels) + " x 8");
+    }
+    return std::move(image.pixels);
+}
+
+std::string describeTiff(std::span<const uint8_t> blob) {
+    MemoryStream stream;
+    stream.data = blob.data();
+    stream.size = blob.size();
+    TiffHandle tif(stream, "rm", 1 << 20);
+    if (!tif.get()) {
+        return "invalid";
+    }
+    uint16_t compression = 0;
+    TIFFGetFieldDefaulted(tif.get(), TIFFTAG_COMPRESSION, &compression);
+    switch (compression) {
+    case COMPRESSION_NONE:
+        return "none";
+    case COMPRESSION_ADOBE_DEFLATE:
+        return "deflate";
+    case COMPRESSION_DEFLATE: // 32946, the legacy code of the original tools
+        return "deflate-legacy";
+    case COMPRESSION_LZW:
+        return "lzw";
+    case COMPRESSION_JPEG:
+        return "jpeg";
+    case COMPRESSION_PACKBITS:
+        return "packbits";
+    default:
+        return "compression-" + std::to_string(compression);
+    }
+}
+
+} // namespace pyramid

@@ -1,0 +1,243 @@
+#include "formats/tile_table.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <string_view>
+
+#include "formats/atomic_file.hpp"
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+void readFully(int fd, uint64_t offset, void* out, size_t size, const std::string& path) {
+    char* p = static_cast<char*>(out);
+    while (size > 0) {
+        const ssize_t n = ::pread(fd, p, size, static_cast<off_t>(offset));
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            fail(path, n < 0 ? std::string("read failed: ") + std::strerror(errno) : "unexpected end of file");
+        }
+        p += n;
+        size -= static_cast<size_t>(n);
+        offset += static_cast<uint64_t>(n);
+    }
+}
+
+uint64_t loadLittleEndian(const uint8_t* p, int bytes) {
+    uint64_t v = 0;
+    for (int k = bytes - 1; k >= 0; --k) {
+        v = (v << 8) | p[k];
+    }
+    return v;
+}
+
+void storeLittleEndian(uint8_t* p, uint64_t v, int bytes) {
+    for (int k = 0; k < bytes; ++k) {
+        p[k] = static_cast<uint8_t>(v >> (8 * k));
+    }
+}
+
+} // namespace
+
+std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tableStart, int64_t tileCount,
+                                           int offsetBytes) {
+    std::unique_ptr<TileTable> table(new TileTable());
+    table->path_ = path;
+    table->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (table->fd_ < 0) {
+        fail(path, std::string("cannot open: ") + std::strerror(errno));
+    }
+    struct stat st {};
+    if (::fstat(table->fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+        fail(path, "not a regular file");
+    }
+    table->fileSize_ = static_cast<uint64_t>(st.st_size);
+    const uint64_t pairBytes = 2u * static_cast<uint64_t>(offsetBytes);
+    // The table must fit in the file before anything is allocated for it.
+    if (tileCount < 0 || table->fileSize_ < tableStart ||
+        static_cast<uint64_t>(tileCount) > (table->fileSize_ - tableStart) / pairBytes) {
+        fail(path, "file of " + std::to_string(table->fileSize_) + " bytes is too short for its header and offset table of " +
+                       std::to_string(tileCount) + " tiles");
+    }
+    const uint64_t tableBytes = static_cast<uint64_t>(tileCount) * pairBytes;
+    table->dataStart_ = tableStart + tableBytes;
+    const uint64_t dataBytes = table->fileSize_ - table->dataStart_;
+    std::vector<uint8_t> raw(tableBytes);
+    readFully(table->fd_, tableStart, raw.data(), raw.size(), path);
+    table->ranges_.resize(static_cast<size_t>(tileCount));
+    for (int64_t i = 0; i < tileCount; ++i) {
+        const uint8_t* p = raw.data() + static_cast<size_t>(i) * pairBytes;
+        uint64_t begin = loadLittleEndian(p, offsetBytes);
+        uint64_t end = loadLittleEndian(p + offsetBytes, offsetBytes);
+        if (offsetBytes == 8 && (static_cast<int64_t>(begin) < 0 || static_cast<int64_t>(end) < 0)) {
+            fail(path, "negative offset for tile " + std::to_string(i));
+        }
+        if (begin > end) {
+            fail(path, "offsets of tile " + std::to_string(i) + " are reversed (" + std::to_string(begin) + " > " +
+                           std::to_string(end) + ")");
+        }
+        if (end > dataBytes) {
+            fail(path, "tile " + std::to_string(i) + " ends at byte " + std::to_string(end) +
+                           " past the end of the tile data (" + std::to_string(dataBytes) + " bytes)");
+        }
+        table->ranges_[static_cast<size_t>(i)] = Range{begin, end};
+    }
+    return table;
+}
+
+TileTable::~TileTable() {
+    if (fd_ >= 0) {
+        ::close(fd_);
+    }
+}
+
+int64_t TileTable::distinctRanges() const {
+    std::vector<std::pair<uint64_t, uint64_t>> seen;
+    seen.reserve(ranges_.size());
+    for (const Range& r : ranges_) {
+        seen.emplace_back(r.begin, r.end);
+    }
+    std::sort(seen.begin(), seen.end());
+    return static_cast<int64_t>(std::unique(seen.begin(), seen.end()) - seen.begin());
+}
+
+std::vector<uint8_t> TileTable::read(int64_t index) const {
+    if (index < 0 || index >= tileCount()) {
+        fail(path_, "tile index " + std::to_string(index) + " out of range");
+    }
+    const Range r = ranges_[static_cast<size_t>(index)];
+    if (r.size() == 0) {
+        fail(path_, "tile " + std::to_string(index) + " is missing (empty byte range)");
+    }
+    std::vector<uint8_t> bytes(r.size());
+    readFully(fd_, dataStart_ + r.begin, bytes.data(), bytes.size(), path_);
+    return bytes;
+}
+
+void TileTable::readAt(uint64_t offset, void* out, size_t size) const { readFully(fd_, offset, out, size, path_); }
+
+// ---------------------------------------------------------------------------------------------
+
+struct TileTableWriter::Impl {
+    AtomicFile file;
+    uint64_t tableStart = 0;
+    int offsetBytes = 4;
+    uint64_t maxOffset = 0;
+    std::vector<TileTable::Range> ranges;
+    std::vector<bool> written;
+    std::unordered_multimap<size_t, int64_t> byHash; // content hash -> a tile holding those bytes
+    uint64_t dataEnd = 0;
+    int64_t shared = 0;
+    std::mutex mutex;
+
+    explicit Impl(const std::string& path) : file(path) {}
+
+    bool sameBytes(const TileTable::Range& r, std::span<const uint8_t> blob) {
+        if (r.size() != blob.size()) {
+            return false;
+        }
+        std::vector<uint8_t> stored(r.size());
+        readFully(file.fd(), tableStart + ranges.size() * 2u * offsetBytes + r.begin, stored.data(), stored.size(),
+                  file.path());
+        return std::memcmp(stored.data(), blob.data(), blob.size()) == 0;
+    }
+};
+
+TileTableWriter::TileTableWriter(const std::string& path, std::span<const uint8_t> header, int64_t tileCount,
+                                 int offsetBytes, uint64_t maxOffset)
+    : impl_(std::make_unique<Impl>(path)) {
+    if (tileCount <= 0 || tileCount > (int64_t{1} << 40)) {
+        fail(path, "invalid tile count " + std::to_string(tileCount));
+    }
+    impl_->tableStart = header.size();
+    impl_->offsetBytes = offsetBytes;
+    impl_->maxOffset = maxOffset;
+    impl_->ranges.resize(static_cast<size_t>(tileCount));
+    impl_->written.assign(static_cast<size_t>(tileCount), false);
+    impl_->file.writeAt(0, header.data(), header.size());
+}
+
+TileTableWriter::~TileTableWriter() = default;
+
+void TileTableWriter::write(int64_t index, std::span<const uint8_t> blob) {
+    Impl& w = *impl_;
+    std::lock_guard<std::mutex> lock(w.mutex);
+    if (index < 0 || index >= static_cast<int64_t>(w.ranges.size())) {
+        fail(w.file.path(), "tile index " + std::to_string(index) + " out of range");
+    }
+    if (w.written[static_cast<size_t>(index)]) {
+        fail(w.file.path(), "tile " + std::to_string(index) + " written twice");
+    }
+    if (blob.empty()) {
+        fail(w.file.path(), "tile " + std::to_string(index) + " is empty");
+    }
+    const size_t hash = std::hash<std::string_view>{}(
+        std::string_view(reinterpret_cast<const char*>(blob.data()), blob.size()));
+    auto [first, last] = w.byHash.equal_range(hash);
+    for (auto it = first; it != last; ++it) {
+        const TileTable::Range r = w.ranges[static_cast<size_t>(it->second)];
+        if (w.sameBytes(r, blob)) {
+            w.ranges[static_cast<size_t>(index)] = r;
+            w.written[static_cast<size_t>(index)] = true;
+            ++w.shared;
+            return;
+        }
+    }
+    const uint64_t begin = w.dataEnd;
+    const uint64_t end = begin + blob.size();
+    if (end > w.maxOffset) {
+        fail(w.file.path(), "tile data passes " + std::to_string(w.maxOffset) +
+                                " bytes, the limit of this file's offsets (split the pyramid into region files)");
+    }
+    const uint64_t tableBytes = w.ranges.size() * 2u * static_cast<uint64_t>(w.offsetBytes);
+    w.file.writeAt(w.tableStart + tableBytes + begin, blob.data(), blob.size());
+    w.dataEnd = end;
+    w.ranges[static_cast<size_t>(index)] = TileTable::Range{begin, end};
+    w.written[static_cast<size_t>(index)] = true;
+    w.byHash.emplace(hash, index);
+}
+
+bool TileTableWriter::written(int64_t index) const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return index >= 0 && index < static_cast<int64_t>(impl_->written.size()) &&
+           impl_->written[static_cast<size_t>(index)];
+}
+
+void TileTableWriter::commit() {
+    Impl& w = *impl_;
+    std::lock_guard<std::mutex> lock(w.mutex);
+    for (size_t i = 0; i < w.written.size(); ++i) {
+        if (!w.written[i]) {
+            fail(w.file.path(), "tile " + std::to_string(i) + " was never written");
+        }
+    }
+    std::vector<uint8_t> table(w.ranges.size() * 2u * static_cast<size_t>(w.offsetBytes));
+    for (size_t i = 0; i < w.ranges.size(); ++i) {
+        uint8_t* p = table.data() + i * 2u * static_cast<size_t>(w.offsetBytes);
+        storeLittleEndian(p, w.ranges[i].begin, w.offsetBytes);
+        storeLittleEndian(p + w.offsetBytes, w.ranges[i].end, w.offsetBytes);
+    }
+    w.file.writeAt(w.tableStart, table.data(), table.size());
+    w.file.commit();
+}
+
+uint64_t TileTableWriter::bytesWritten() const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->dataEnd;
+}
+
+int64_t TileTableWriter::sharedTiles() const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->shared;
+}
+
+} // namespace pyramid
