@@ -81,8 +81,8 @@ void Progress::draw(int64_t done, bool final) {
         if (decile == lastDecile_ && !final) {
             return;
         }
-        if (final && decile == lastDecile_ && done < total_) {
-            return;
+        if (final && decile == lastDecile_) {
+            return; // this line is already on screen
         }
         lastDecile_ = decile;
         std::fprintf(stderr, "%s: %3d%% (%lld/%lld)\n", label_.c_str(), percent, static_cast<long long>(done),

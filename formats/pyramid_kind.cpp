@@ -1,0 +1,39 @@
+#include "formats/pyramid_kind.hpp"
+
+#include "formats/error.hpp"
+#include "formats/ortho_file.hpp"
+#include "formats/residual_file.hpp"
+
+namespace pyramid {
+
+namespace {
+// The part of an error message after "PATH: ".
+std::string reason(const Error& e, const std::string& path) {
+    const std::string what = e.what();
+    return what.rfind(path + ": ", 0) == 0 ? what.substr(path.size() + 2) : what;
+}
+} // namespace
+
+PyramidKind detectPyramidKind(const std::string& path) {
+    std::string asResidual, asOrtho;
+    try {
+        ResidualFileReader::open(path);
+        return PyramidKind::Residual;
+    } catch (const Error& e) {
+        asResidual = reason(e, path);
+    }
+    try {
+        OrthoFileReader::open(path);
+        return PyramidKind::Ortho;
+    } catch (const Error& e) {
+        asOrtho = reason(e, path);
+    }
+    if (asResidual == asOrtho) {
+        fail(path, asResidual);
+    }
+    fail(path, "not a residual pyramid file (" + asResidual + ") nor an ortho pyramid file (" + asOrtho + ")");
+}
+
+const char* kindName(PyramidKind kind) { return kind == PyramidKind::Residual ? "residual" : "ortho"; }
+
+} // namespace pyramid

@@ -1,0 +1,186 @@
+#include "libpyramid/dem_sampling.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+DemGeometry makeDemGeometry(int width, int height, int64_t N, bool stretch, const std::string& where) {
+    if (width < 2 || height < 2) {
+        fail(where, "input of " + std::to_string(width) + "x" + std::to_string(height) +
+                        " samples is too small (2x2 at least)");
+    }
+    DemGeometry g;
+    g.N = N;
+    g.width = width;
+    g.height = height;
+    if (stretch) {
+        g.lx = width - 1;
+        g.ly = height - 1;
+    } else {
+        g.lx = g.ly = std::max(width, height) - 1;
+    }
+    return g;
+}
+
+std::string DemGeometry::describe() const {
+    if (exact()) {
+        return "input samples are the finest grid samples (no resampling)";
+    }
+    std::string s = "bilinear resampling of " + std::to_string(width) + "x" + std::to_string(height) +
+                    " input samples onto " + std::to_string(N + 1) + "x" + std::to_string(N + 1) + " finest samples";
+    if (lx == ly && (width != height)) {
+        s += "; aspect ratio kept, input at the north-west corner, the rest filled as nodata";
+    } else if (lx != ly || width != height) {
+        s += "; width and height stretched independently";
+    }
+    return s;
+}
+
+DemSampler::DemSampler(const RasterSource& source, const DemGeometry& geometry, int band, std::optional<double> nodata)
+    : source_(source), geometry_(geometry), band_(band), nodata_(nodata) {
+    if (band < 0 || band >= source.info().channels) {
+        fail(source.path(), "no band " + std::to_string(band + 1) + " (the input has " +
+                                std::to_string(source.info().channels) + ")");
+    }
+}
+
+namespace {
+
+// One axis of the mapping: input index and weight of the next sample for each grid position.
+struct AxisTap {
+    int64_t index = 0;   // first input sample
+    double frac = 0.0;   // weight of index + 1
+    bool inside = true;  // false beyond the input
+};
+
+std::vector<AxisTap> axisTaps(int64_t first, int64_t stride, int64_t count, bool flip, int64_t N, int64_t L,
+                              int extent) {
+    std::vector<AxisTap> taps(static_cast<size_t>(count));
+    for (int64_t k = 0; k < count; ++k) {
+        int64_t p = first + k * stride;
+        if (flip) {
+            p = N - p;
+        }
+        // Exact rational position p * L / N: integer part and remainder.
+        const int64_t num = p * L;
+        AxisTap& t = taps[static_cast<size_t>(k)];
+        t.index = num / N;
+        t.frac = static_cast<double>(num % N) / static_cast<double>(N);
+        t.inside = t.index < extent - 1 || (t.index == extent - 1 && t.frac == 0.0);
+        if (t.index >= extent - 1) {
+            t.index = std::min<int64_t>(t.index, extent - 1);
+        }
+    }
+    return taps;
+}
+
+} // namespace
+
+void DemSampler::sample(SourceGrid& grid) const {
+    if (grid.stride > 1 && grid.ny > 1) {
+        // Sparse rows: read two input rows per grid row rather than the whole window.
+        const size_t count = static_cast<size_t>(grid.nx) * static_cast<size_t>(grid.ny);
+        std::vector<float> height(count);
+        std::vector<uint8_t> valid(count);
+        for (int64_t j = 0; j < grid.ny; ++j) {
+            SourceGrid row;
+            row.x0 = grid.x0;
+            row.y0 = grid.y0 + j * grid.stride;
+            row.stride = grid.stride;
+            row.nx = grid.nx;
+            row.ny = 1;
+            sample(row);
+            std::copy(row.height.begin(), row.height.end(), height.begin() + j * grid.nx);
+            std::copy(row.valid.begin(), row.valid.end(), valid.begin() + j * grid.nx);
+        }
+        grid.height = std::move(height);
+        grid.valid = std::move(valid);
+        return;
+    }
+    const DemGeometry& g = geometry_;
+    const std::vector<AxisTap> xs = axisTaps(grid.x0, grid.stride, grid.nx, false, g.N, g.lx, g.width);
+    const std::vector<AxisTap> ys = axisTaps(grid.y0, grid.stride, grid.ny, true, g.N, g.ly, g.height);
+    const size_t count = static_cast<size_t>(grid.nx) * static_cast<size_t>(grid.ny);
+    grid.height.assign(count, 0.0f);
+    grid.valid.assign(count, 0);
+    // The input window these taps touch.
+    int64_t cx0 = g.width, cx1 = -1, ry0 = g.height, ry1 = -1;
+    for (const AxisTap& t : xs) {
+        if (t.inside) {
+            cx0 = std::min(cx0, t.index);
+            cx1 = std::max(cx1, std::min<int64_t>(t.index + (t.frac > 0.0 ? 1 : 0), g.width - 1));
+        }
+    }
+    for (const AxisTap& t : ys) {
+        if (t.inside) {
+            ry0 = std::min(ry0, t.index);
+            ry1 = std::max(ry1, std::min<int64_t>(t.index + (t.frac > 0.0 ? 1 : 0), g.height - 1));
+        }
+    }
+    if (cx1 < cx0 || ry1 < ry0) {
+        return; // entirely outside the input: all nodata
+    }
+    const int64_t ww = cx1 - cx0 + 1;
+    const int64_t wh = ry1 - ry0 + 1;
+    std::vector<float> window(static_cast<size_t>(ww * wh));
+    source_.readFloat(static_cast<int>(cx0), static_cast<int>(ry0), static_cast<int>(cx1 + 1),
+                      static_cast<int>(ry1 + 1), band_, window.data());
+    const bool nanNodata = nodata_ && std::isnan(*nodata_);
+    const float nodataValue = nodata_ ? static_cast<float>(*nodata_) : 0.0f;
+    // Reads input (column c, row r): false for nodata; NaN that is not nodata is an error.
+    auto at = [&](int64_t c, int64_t r, double& v) {
+        const float s = window[static_cast<size_t>((c - cx0) + (r - ry0) * ww)];
+        if (std::isnan(s)) {
+            if (nanNodata) {
+                return false;
+            }
+            fail(source_.path(), "NaN height at column " + std::to_string(c) + ", row " + std::to_string(r) +
+                                     " (declare it with --nodata nan to treat it as missing)");
+        }
+        if (nodata_ && !nanNodata && s == nodataValue) {
+            return false;
+        }
+        v = s;
+        return true;
+    };
+    for (int64_t j = 0; j < grid.ny; ++j) {
+        const AxisTap& ty = ys[static_cast<size_t>(j)];
+        if (!ty.inside) {
+            continue;
+        }
+        for (int64_t i = 0; i < grid.nx; ++i) {
+            const AxisTap& tx = xs[static_cast<size_t>(i)];
+            if (!tx.inside) {
+                continue;
+            }
+            double v00 = 0, v10 = 0, v01 = 0, v11 = 0;
+            bool ok = at(tx.index, ty.index, v00);
+            if (ok && tx.frac > 0.0) {
+                ok = at(tx.index + 1, ty.index, v10);
+            }
+            if (ok && ty.frac > 0.0) {
+                ok = at(tx.index, ty.index + 1, v01);
+                if (ok && tx.frac > 0.0) {
+                    ok = at(tx.index + 1, ty.index + 1, v11);
+                }
+            }
+            if (!ok) {
+                continue;
+            }
+            double h = v00;
+            if (tx.frac > 0.0 || ty.frac > 0.0) {
+                const double top = v00 + (v10 - v00) * tx.frac;
+                const double bottom = v01 + (v11 - v01) * tx.frac;
+                h = top + (bottom - top) * ty.frac;
+            }
+            const size_t k = static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(grid.nx);
+            grid.height[k] = static_cast<float>(h);
+            grid.valid[k] = 1;
+        }
+    }
+}
+
+} // namespace pyramid

@@ -1,0 +1,173 @@
+#include "libpyramid/raster_source.hpp"
+
+#include <OpenImageIO/imagecache.h>
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+SampleType sampleTypeOf(OIIO::TypeDesc t) {
+    switch (t.basetype) {
+    case OIIO::TypeDesc::UINT8:
+        return SampleType::UInt8;
+    case OIIO::TypeDesc::INT8:
+        return SampleType::Int8;
+    case OIIO::TypeDesc::UINT16:
+        return SampleType::UInt16;
+    case OIIO::TypeDesc::INT16:
+        return SampleType::Int16;
+    case OIIO::TypeDesc::UINT32:
+        return SampleType::UInt32;
+    case OIIO::TypeDesc::INT32:
+        return SampleType::Int32;
+    case OIIO::TypeDesc::HALF:
+        return SampleType::Float16;
+    case OIIO::TypeDesc::FLOAT:
+        return SampleType::Float32;
+    case OIIO::TypeDesc::DOUBLE:
+        return SampleType::Float64;
+    default:
+        return SampleType::Other;
+    }
+}
+
+// The nodata value a file declares: GDAL's GDAL_NODATA TIFF tag (text), as OIIO exposes it.
+std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
+    for (const char* name : {"GDAL_NODATA", "tiff:GDAL_NODATA", "oiio:nodata", "nodata"}) {
+        const OIIO::ParamValue* p = spec.find_attribute(name);
+        if (!p) {
+            continue;
+        }
+        if (p->type() == OIIO::TypeString) {
+            const std::string text = p->get_string();
+            if (text == "nan" || text == "NaN" || text == "-nan") {
+                return std::numeric_limits<double>::quiet_NaN();
+            }
+            try {
+                return std::stod(text);
+            } catch (const std::exception&) {
+                continue;
+            }
+        }
+        return static_cast<double>(p->get_float());
+    }
+    return std::nullopt;
+}
+
+} // namespace
+
+struct RasterSource::Impl {
+    OIIO::ImageCache* cache = nullptr;
+    OIIO::ustring name;
+
+    ~Impl() {
+        if (cache) {
+            OIIO::ImageCache::destroy(cache);
+        }
+    }
+};
+
+std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        fail(path, "no such file");
+    }
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        fail(path, "not a regular file");
+    }
+    std::unique_ptr<RasterSource> source(new RasterSource());
+    source->path_ = path;
+    source->impl_ = std::make_unique<Impl>();
+    Impl& impl = *source->impl_;
+    // A private cache: its memory budget is ours, and scanline files are read in bands of
+    // rows (autotile) rather than whole, so that inputs larger than memory stream through.
+    impl.cache = OIIO::ImageCache::create(false);
+    impl.cache->attribute("max_memory_MB", static_cast<float>(cacheMegabytes));
+    impl.cache->attribute("autotile", 256);
+    impl.cache->attribute("autoscanline", 1);
+    impl.cache->attribute("forcefloat", 0);
+    impl.cache->attribute("max_open_files", 16);
+    impl.name = OIIO::ustring(path);
+    OIIO::ImageSpec spec;
+    if (!impl.cache->get_imagespec(impl.name, spec)) {
+        std::string why = impl.cache->geterror();
+        if (why.empty()) {
+            why = "not an image OpenImageIO can read";
+        }
+        const auto nl = why.find('\n');
+        fail(path, "cannot read: " + why.substr(0, nl));
+    }
+    if (spec.depth > 1) {
+        fail(path, "volume images are not supported");
+    }
+    RasterInfo& info = source->info_;
+    info.width = spec.width;
+    info.height = spec.height;
+    info.channels = spec.nchannels;
+    info.type = sampleTypeOf(spec.format);
+    info.nodata = declaredNodata(spec);
+    OIIO::ustring format;
+    if (impl.cache->get_image_info(impl.name, 0, 0, OIIO::ustring("fileformat"), OIIO::TypeString, &format)) {
+        info.formatName = format.string();
+    }
+    if (info.width < 1 || info.height < 1 || info.channels < 1) {
+        fail(path, "empty image");
+    }
+    return source;
+}
+
+RasterSource::~RasterSource() = default;
+
+namespace {
+void checkWindow(const std::string& path, const RasterInfo& info, int x0, int y0, int x1, int y1) {
+    if (x0 < 0 || y0 < 0 || x1 > info.width || y1 > info.height || x0 >= x1 || y0 >= y1) {
+        fail(path, "window [" + std::to_string(x0) + "," + std::to_string(x1) + ")x[" + std::to_string(y0) + "," +
+                       std::to_string(y1) + ") outside the image");
+    }
+}
+} // namespace
+
+void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    checkWindow(path_, info_, x0, y0, x1, y1);
+    if (channel < 0 || channel >= info_.channels) {
+        fail(path_, "no channel " + std::to_string(channel));
+    }
+    if (!impl_->cache->get_pixels(impl_->name, 0, 0, x0, x1, y0, y1, 0, 1, channel, channel + 1, OIIO::TypeFloat, out)) {
+        std::string why = impl_->cache->geterror();
+        fail(path_, "read failed: " + why.substr(0, why.find('\n')));
+    }
+}
+
+void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    checkWindow(path_, info_, x0, y0, x1, y1);
+    if (c0 < 0 || c1 > info_.channels || c0 >= c1) {
+        fail(path_, "channels [" + std::to_string(c0) + "," + std::to_string(c1) + ") outside the image");
+    }
+    // OIIO converts integer types to UINT16 by normalisation (v8 * 257); 8-bit input is
+    // widened to its plain value 0..255 instead, as documented.
+    const bool eightBit = info_.type == SampleType::UInt8 || info_.type == SampleType::Int8;
+    const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0);
+    if (eightBit) {
+        std::vector<uint8_t> bytes(count);
+        if (!impl_->cache->get_pixels(impl_->name, 0, 0, x0, x1, y0, y1, 0, 1, c0, c1, OIIO::TypeDesc::UINT8,
+                                      bytes.data())) {
+            std::string why = impl_->cache->geterror();
+            fail(path_, "read failed: " + why.substr(0, why.find('\n')));
+        }
+        for (size_t k = 0; k < count; ++k) {
+            out[k] = bytes[k];
+        }
+        return;
+    }
+    if (!impl_->cache->get_pixels(impl_->name, 0, 0, x0, x1, y0, y1, 0, 1, c0, c1, OIIO::TypeDesc::UINT16, out)) {
+        std::string why = impl_->cache->geterror();
+        fail(path_, "read failed: " + why.substr(0, why.find('\n')));
+    }
+}
+
+} // namespace pyramid

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The demo: installs what is missing, builds, turns the sample data in samples/ into pyramids
+# under out/, and verifies them.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+bash scripts/build.sh
+bin=${PYRAMID_BUILD_DIR:-build}/cli
+mkdir -p out
+
+echo "== preprocessDem: samples/dem.tif -> out/DEM.dat"
+"$bin/preprocessDem" samples/dem.tif -o out/DEM.dat --report out/DEM.json
+"$bin/pyramid" verify out/DEM.dat --source samples/dem.tif
+"$bin/pyramid" check out/DEM.dat
