@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
+#include <mutex>
 
 #include "formats/error.hpp"
 
@@ -59,6 +60,29 @@ std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
     return std::nullopt;
 }
 
+// One cache for the whole process, never destroyed: OIIO keeps per-thread state keyed by the
+// cache, which a destroyed-and-recreated cache would find stale in long-lived worker threads.
+OIIO::ImageCache* processCache(int cacheMegabytes) {
+    static OIIO::ImageCache* cache = [] {
+        OIIO::ImageCache* c = OIIO::ImageCache::create(true);
+        // Scanline files are read in bands of rows (autotile) rather than whole, so that
+        // inputs larger than memory stream through.
+        c->attribute("autotile", 256);
+        c->attribute("autoscanline", 1);
+        c->attribute("forcefloat", 0);
+        c->attribute("max_open_files", 64);
+        return c;
+    }();
+    static std::mutex mutex;
+    static int budget = 0;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (cacheMegabytes > budget) {
+        budget = cacheMegabytes;
+        cache->attribute("max_memory_MB", static_cast<float>(budget));
+    }
+    return cache;
+}
+
 } // namespace
 
 struct RasterSource::Impl {
@@ -67,7 +91,7 @@ struct RasterSource::Impl {
 
     ~Impl() {
         if (cache) {
-            OIIO::ImageCache::destroy(cache);
+            cache->invalidate(name); // close the file and drop its tiles
         }
     }
 };
@@ -84,14 +108,7 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     source->path_ = path;
     source->impl_ = std::make_unique<Impl>();
     Impl& impl = *source->impl_;
-    // A private cache: its memory budget is ours, and scanline files are read in bands of
-    // rows (autotile) rather than whole, so that inputs larger than memory stream through.
-    impl.cache = OIIO::ImageCache::create(false);
-    impl.cache->attribute("max_memory_MB", static_cast<float>(cacheMegabytes));
-    impl.cache->attribute("autotile", 256);
-    impl.cache->attribute("autoscanline", 1);
-    impl.cache->attribute("forcefloat", 0);
-    impl.cache->attribute("max_open_files", 16);
+    impl.cache = processCache(cacheMegabytes);
     impl.name = OIIO::ustring(path);
     OIIO::ImageSpec spec;
     if (!impl.cache->get_imagespec(impl.name, spec)) {

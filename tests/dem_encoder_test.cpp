@@ -1,0 +1,230 @@
+// preprocessDem as a library: closed-loop reconstruction equals the CPU producer bit for bit,
+// the error bound holds at every level, output is identical for any thread count, overflow is
+// detected, non-square and nodata inputs are handled.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <tuple>
+
+#include "formats/error.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/dem_encoder.hpp"
+#include "libpyramid/dem_verify.hpp"
+#include "libpyramid/elevation_producer.hpp"
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+using Recon = std::map<std::tuple<int, int, int>, std::vector<float>>;
+
+DemEncodeOptions smallOptions() {
+    DemEncodeOptions o;
+    o.tileSize = 8;
+    o.rootTileSize = 4; // minLevel 1
+    return o;
+}
+
+// 257 x 257 samples: N = 256 = 4 << 6, so maxLevel 6 and, with minLevel 1, more levels than
+// one in-memory pass: the subtree pass runs too.
+struct Fixture {
+    test::TempDir dir;
+    std::string input = dir.file("dem.tif");
+    std::vector<float> heights = test::syntheticHeights(257, 257);
+    Fixture() { test::writeFloatRaster(input, 257, 257, heights); }
+};
+
+TEST(DemEncoder, ReconstructionEqualsProducerBitForBit) {
+    Fixture f;
+    Recon recon;
+    DemEncodeOptions o = smallOptions();
+    o.scale = 0.25;
+    o.reconstruction = [&](int l, int tx, int ty, const std::vector<float>& z) { recon[{l, tx, ty}] = z; };
+    const std::string out = f.dir.file("DEM.dat");
+    const DemReport report = encodeDem(f.input, out, o);
+    EXPECT_EQ(report.header.maxLevel, 6);
+    EXPECT_EQ(report.header.minLevel, 1);
+    EXPECT_EQ(report.sampling, "input samples are the finest grid samples (no resampling)");
+    ASSERT_EQ(static_cast<int64_t>(recon.size()), report.tiles);
+    const ResidualHeader h = report.header;
+    for (int l = 0; l <= h.maxLevel; ++l) {
+        const int delta = std::min(l, h.minLevel);
+        ResidualProducerOptions ro;
+        ro.delta = delta;
+        auto residuals = std::make_shared<ResidualProducer>(out, std::vector<std::string>{}, ro);
+        ElevationProducerOptions eo;
+        eo.tileSize = h.tileSize >> (h.minLevel - delta);
+        ElevationProducer producer(residuals, eo);
+        const int side = l < h.minLevel ? 1 : 1 << (l - h.minLevel);
+        for (int ty = 0; ty < side; ++ty) {
+            for (int tx = 0; tx < side; ++tx) {
+                const auto tile = producer.tile(l - delta, tx, ty);
+                const std::vector<float>& mine = recon.at({l, tx, ty});
+                ASSERT_EQ(mine.size(), tile->zf.size());
+                ASSERT_EQ(std::memcmp(mine.data(), tile->zf.data(), mine.size() * sizeof(float)), 0)
+                    << "tile (" << l << "," << tx << "," << ty << ")";
+            }
+        }
+    }
+}
+
+TEST(DemEncoder, ErrorBoundAtEveryLevelAndFinestLevelIsTheInput) {
+    Fixture f;
+    DemEncodeOptions o = smallOptions();
+    o.scale = 0.1;
+    Recon recon;
+    o.reconstruction = [&](int l, int tx, int ty, const std::vector<float>& z) {
+        if (l == 6) {
+            recon[{l, tx, ty}] = z;
+        }
+    };
+    const DemReport report = encodeDem(f.input, f.dir.file("DEM.dat"), o);
+    for (const DemLevelReport& l : report.levels) {
+        EXPECT_GT(l.samples, 0);
+        EXPECT_LE(l.maxError, 0.05 + 1e-3) << "level " << l.level;
+    }
+    EXPECT_EQ(report.levels.back().samples, 257 * 257);
+    // Finest sample (x, y) is input column x, row 256 - y.
+    const int S = 8 + 5;
+    for (int ty = 0; ty < 32; ty += 7) {
+        for (int tx = 0; tx < 32; tx += 5) {
+            const auto& z = recon.at({6, tx, ty});
+            for (int j = 2; j <= 10; ++j) {
+                for (int i = 2; i <= 10; ++i) {
+                    const int x = tx * 8 + i - 2, y = ty * 8 + j - 2;
+                    const float src = f.heights[static_cast<size_t>(x + (256 - y) * 257)];
+                    ASSERT_NEAR(z[static_cast<size_t>(i + j * S)], src, 0.05 + 1e-3);
+                }
+            }
+        }
+    }
+    const DemVerifyReport verify = verifyDem(f.dir.file("DEM.dat"), f.input, {});
+    EXPECT_TRUE(verify.ok());
+    ASSERT_EQ(verify.levels.size(), report.levels.size());
+    for (size_t l = 0; l < verify.levels.size(); ++l) {
+        EXPECT_EQ(verify.levels[l].maxError, report.levels[l].maxError);
+        EXPECT_EQ(verify.levels[l].samples, report.levels[l].samples);
+    }
+}
+
+TEST(DemEncoder, IdenticalBytesForAnyThreadCount) {
+    Fixture f;
+    DemEncodeOptions o = smallOptions();
+    o.threads = 1;
+    encodeDem(f.input, f.dir.file("one.dat"), o);
+    o.threads = 2;
+    encodeDem(f.input, f.dir.file("two.dat"), o);
+    o.threads = 3;
+    encodeDem(f.input, f.dir.file("three.dat"), o);
+    const std::string one = test::readFile(f.dir.file("one.dat"));
+    EXPECT_GT(one.size(), 1000u);
+    EXPECT_EQ(one, test::readFile(f.dir.file("two.dat")));
+    EXPECT_EQ(one, test::readFile(f.dir.file("three.dat")));
+}
+
+TEST(DemEncoder, OverflowIsAnErrorOrChoosesAScale) {
+    test::TempDir dir;
+    std::vector<float> heights = test::syntheticHeights(65, 65, 60000.0f);
+    test::writeFloatRaster(dir.file("high.tif"), 65, 65, heights);
+    DemEncodeOptions o = smallOptions();
+    o.scale = 1.0;
+    try {
+        encodeDem(dir.file("high.tif"), dir.file("DEM.dat"), o);
+        FAIL() << "no overflow reported";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("overflow"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("--scale"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.file("DEM.dat")));
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 1); // only the input
+    o.autoScale = true;
+    const DemReport report = encodeDem(dir.file("high.tif"), dir.file("DEM.dat"), o);
+    const double s = report.header.scale;
+    EXPECT_GT(s, 1.0);
+    // A 1-2-5 step; the next smaller one would have overflowed.
+    const double mantissa = s / std::pow(10.0, std::floor(std::log10(s)));
+    EXPECT_TRUE(std::fabs(mantissa - 1) < 1e-9 || std::fabs(mantissa - 2) < 1e-9 || std::fabs(mantissa - 5) < 1e-9);
+    for (const DemLevelReport& l : report.levels) {
+        EXPECT_LE(l.maxAbsResidual, 32767);
+        EXPECT_LE(l.maxError, s / 2 + 0.01);
+    }
+    EXPECT_TRUE(verifyDem(dir.file("DEM.dat"), dir.file("high.tif"), {}).ok());
+}
+
+TEST(DemEncoder, NonSquareInputKeepsItsAspectRatio) {
+    test::TempDir dir;
+    const int w = 130, h = 70;
+    test::writeFloatRaster(dir.file("wide.tif"), w, h, test::syntheticHeights(w, h));
+    DemEncodeOptions o = smallOptions();
+    const DemReport report = encodeDem(dir.file("wide.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.header.maxLevel, 6); // 130 samples across: 4 << 5 + 1 = 129 is one short
+    EXPECT_NE(report.sampling.find("aspect ratio kept"), std::string::npos);
+    // The input spans the 257 finest samples across and 69 * 256 / 129 rows of them: the
+    // southern rest is filled.
+    EXPECT_GT(report.nodataFilled, 257 * 100);
+    EXPECT_TRUE(verifyDem(dir.file("DEM.dat"), dir.file("wide.tif"), {}).ok());
+    o.stretch = true;
+    const DemReport stretched = encodeDem(dir.file("wide.tif"), dir.file("S.dat"), o);
+    EXPECT_EQ(stretched.nodataFilled, 0);
+    DemVerifyOptions vo;
+    vo.stretch = true;
+    EXPECT_TRUE(verifyDem(dir.file("S.dat"), dir.file("wide.tif"), vo).ok());
+}
+
+TEST(DemEncoder, NodataHolesAreFilledSmoothly) {
+    test::TempDir dir;
+    const int w = 129;
+    std::vector<float> heights = test::syntheticHeights(w, w, 200.0f);
+    float validMin = 1e30f, validMax = -1e30f;
+    int hole = 0;
+    for (int y = 0; y < w; ++y) {
+        for (int x = 0; x < w; ++x) {
+            float& v = heights[static_cast<size_t>(x + y * w)];
+            if ((x - 60) * (x - 60) + (y - 50) * (y - 50) < 15 * 15) {
+                v = -32768.0f;
+                ++hole;
+            } else {
+                validMin = std::min(validMin, v);
+                validMax = std::max(validMax, v);
+            }
+        }
+    }
+    test::writeFloatRaster(dir.file("holes.tif"), w, w, heights);
+    DemEncodeOptions o = smallOptions();
+    o.nodata = -32768.0;
+    float low = 1e30f, high = -1e30f;
+    o.reconstruction = [&](int l, int, int, const std::vector<float>& z) {
+        if (l == 5) {
+            for (float v : z) {
+                low = std::min(low, v);
+                high = std::max(high, v);
+            }
+        }
+    };
+    const DemReport report = encodeDem(dir.file("holes.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.nodataFilled, hole);
+    const float range = validMax - validMin;
+    EXPECT_GT(low, validMin - 0.25f * range);
+    EXPECT_LT(high, validMax + 0.25f * range);
+    DemVerifyOptions vo;
+    vo.nodata = -32768.0;
+    EXPECT_TRUE(verifyDem(dir.file("DEM.dat"), dir.file("holes.tif"), vo).ok());
+}
+
+TEST(DemEncoder, OddSizesResample) {
+    test::TempDir dir;
+    test::writeFloatRaster(dir.file("odd.tif"), 101, 101, test::syntheticHeights(101, 101));
+    DemEncodeOptions o = smallOptions();
+    const DemReport report = encodeDem(dir.file("odd.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.header.maxLevel, 5); // 4 << 5 + 1 = 129 >= 101
+    EXPECT_NE(report.sampling.find("bilinear"), std::string::npos);
+    EXPECT_EQ(report.nodataFilled, 0);
+    EXPECT_TRUE(verifyDem(dir.file("DEM.dat"), dir.file("odd.tif"), {}).ok());
+}
+
+} // namespace
+} // namespace pyramid
