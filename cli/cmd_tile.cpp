@@ -1,13 +1,160 @@
+// `pyramid tile FILE LEVEL TX TY -o OUT [--residual]`: one tile out of a pyramid file.
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <random>
+
 #include <CLI/CLI.hpp>
 
 #include "cli/cli_common.hpp"
+#include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/ortho_file.hpp"
+#include "formats/pyramid_kind.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/elevation_producer.hpp"
 
 namespace pyramid::cli {
 
+namespace {
+
+// A tile as rows of samples, row 0 = the tile's bottom row (the stored order).
+struct TileData {
+    int side = 0;
+    int channels = 1;
+    OIIO::TypeDesc type;
+    std::vector<uint8_t> bytes;
+};
+
+std::string extensionOf(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) {
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+    return ext;
+}
+
+// Raw files keep the stored order (row 0 = bottom); images are written north-up.
+void writeTile(const TileData& tile, const std::string& path) {
+    const std::string ext = extensionOf(path);
+    const bool isFloat = tile.type == OIIO::TypeFloat;
+    const bool isInt16 = tile.type == OIIO::TypeDesc::INT16;
+    const bool isByte = tile.type == OIIO::TypeDesc::UINT8;
+    if (ext == ".f32" || ext == ".i16" || ext == ".u8") {
+        const bool matches = (ext == ".f32" && isFloat) || (ext == ".i16" && isInt16) || (ext == ".u8" && isByte);
+        if (!matches) {
+            fail(path, std::string("this tile holds ") + (isFloat ? "float32 (.f32)" : isInt16 ? "int16 (.i16)" : "bytes (.u8)") +
+                           " samples, not what " + ext + " holds");
+        }
+        AtomicFile out(path);
+        out.writeAt(0, tile.bytes.data(), tile.bytes.size());
+        out.commit();
+        return;
+    }
+    if (ext != ".tif" && ext != ".tiff" && ext != ".exr" && ext != ".png") {
+        fail(path, "unknown output extension '" + ext + "' (.f32, .i16, .u8, .tif, .exr or .png)");
+    }
+    if (ext == ".png" && !isByte) {
+        fail(path, "PNG holds 8-bit images only; use .tif or .exr for elevations and residuals");
+    }
+    const size_t rowBytes = static_cast<size_t>(tile.side) * tile.channels * tile.type.size();
+    std::vector<uint8_t> flipped(tile.bytes.size());
+    for (int j = 0; j < tile.side; ++j) {
+        std::copy_n(&tile.bytes[static_cast<size_t>(j) * rowBytes], rowBytes,
+                    &flipped[static_cast<size_t>(tile.side - 1 - j) * rowBytes]);
+    }
+    // The image goes to a temporary with the same extension, renamed into place when complete.
+    const std::filesystem::path target(path);
+    const std::string tmp = (target.parent_path() / ("." + target.stem().string() + ".tmp-" +
+                                                     std::to_string(std::random_device{}()) + ext)).string();
+    OIIO::TypeDesc fileType = tile.type;
+    if (ext == ".exr" && !isFloat) {
+        fileType = OIIO::TypeFloat; // exact for int16 and byte values
+    }
+    auto out = OIIO::ImageOutput::create(tmp);
+    OIIO::ImageSpec spec(tile.side, tile.side, tile.channels, fileType);
+    if (!out || !out->open(tmp, spec) || !out->write_image(tile.type, flipped.data()) || !out->close()) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        fail(path, "cannot write the image" + std::string(out ? ": " + out->geterror() : ""));
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        fail(path, "cannot move the image into place");
+    }
+}
+
+TileData residualTile(const std::string& file, int level, int tx, int ty, bool raw) {
+    const auto reader = ResidualFileReader::open(file);
+    if (!reader->header().contains(level, tx, ty)) {
+        fail(file, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+    }
+    TileData t;
+    t.side = reader->header().tileSamples(level);
+    if (raw) {
+        const std::vector<int16_t> r = reader->readTile(level, tx, ty);
+        t.type = OIIO::TypeDesc::INT16;
+        t.bytes.resize(r.size() * sizeof(int16_t));
+        std::memcpy(t.bytes.data(), r.data(), t.bytes.size());
+        return t;
+    }
+    const FileLevelProducer producer = makeFileLevelProducer(file, level, 16);
+    const auto tile = producer.fileTile(level, tx, ty);
+    t.type = OIIO::TypeFloat;
+    t.bytes.resize(tile->zf.size() * sizeof(float));
+    std::memcpy(t.bytes.data(), tile->zf.data(), t.bytes.size());
+    return t;
+}
+
+TileData orthoTile(const std::string& file, int level, int tx, int ty) {
+    const auto reader = OrthoFileReader::open(file);
+    TileData t;
+    t.side = reader->header().tilePixels();
+    t.channels = reader->header().channels;
+    t.type = OIIO::TypeDesc::UINT8;
+    t.bytes = reader->readTile(level, tx, ty);
+    return t;
+}
+
+} // namespace
+
 CommandRunner setupTileCommand(CLI::App& app) {
-    (void)app;
-    return [] () -> int { fail("tile", "not implemented yet"); };
+    struct Args {
+        std::string file, output;
+        int level = 0, tx = 0, ty = 0;
+        bool residual = false;
+    };
+    auto a = std::make_shared<Args>();
+    app.add_option("FILE", a->file, "Residual (DEM) or ortho pyramid file")->required();
+    app.add_option("LEVEL", a->level, "Tile level in the file (0 = the file's root)")->required();
+    app.add_option("TX", a->tx, "Tile column, 0 = west")->required();
+    app.add_option("TY", a->ty, "Tile row, 0 = south")->required();
+    app.add_option("-o,--output", a->output,
+                   "Output: .f32/.i16/.u8 raw little-endian, row 0 = the tile's bottom row; .tif/.exr/.png "
+                   "images, north up")
+        ->required();
+    app.add_flag("--residual", a->residual, "Residual files: the stored int16 residuals instead of the elevations");
+    app.footer("A residual file gives the reconstructed elevations of file tile (LEVEL, TX, TY), (size+5)^2 float32 "
+               "samples with their borders, exactly as the CPU elevation producer rebuilds them; an ortho file gives "
+               "the decoded tile, pixels^2 x channels bytes.");
+    return [a]() {
+        TileData tile;
+        if (detectPyramidKind(a->file) == PyramidKind::Residual) {
+            tile = residualTile(a->file, a->level, a->tx, a->ty, a->residual);
+        } else {
+            if (a->residual) {
+                fail("--residual", "applies to residual (DEM) files only");
+            }
+            tile = orthoTile(a->file, a->level, a->tx, a->ty);
+        }
+        writeTile(tile, a->output);
+        return kExitOk;
+    };
 }
 
 } // namespace pyramid::cli

@@ -17,33 +17,6 @@ bool DemVerifyReport::ok() const {
     return std::all_of(levels.begin(), levels.end(), [](const DemVerifyLevel& l) { return l.beyondBound == 0; });
 }
 
-namespace {
-
-// The producer that rebuilds file level l as whole tiles: n = tileSize from minLevel on (delta =
-// minLevel, producer level l - minLevel), and for a level below minLevel the root tile of the
-// producer whose tiles are that level's size (delta = l).
-struct LevelProducer {
-    std::shared_ptr<ElevationProducer> producer;
-    int producerLevel = 0;
-    int n = 0;
-};
-
-LevelProducer producerFor(const std::string& file, const ResidualHeader& h, int l) {
-    LevelProducer p;
-    const int delta = std::min(l, h.minLevel);
-    p.n = h.tileSize >> (h.minLevel - delta);
-    p.producerLevel = l - delta;
-    ResidualProducerOptions ro;
-    ro.delta = delta;
-    auto residuals = std::make_shared<ResidualProducer>(file, std::vector<std::string>{}, ro);
-    ElevationProducerOptions eo;
-    eo.tileSize = p.n;
-    eo.cacheCapacity = 64;
-    p.producer = std::make_shared<ElevationProducer>(residuals, eo);
-    return p;
-}
-
-} // namespace
 
 DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath, const DemVerifyOptions& options) {
     const auto reader = ResidualFileReader::open(file);
@@ -68,8 +41,8 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
     report.scale = h.scale;
     report.bound = h.scale / 2.0;
     for (int l = 0; l <= M; ++l) {
-        const LevelProducer lp = producerFor(file, h, l);
-        const int side = 1 << lp.producerLevel;
+        const FileLevelProducer lp = makeFileLevelProducer(file, l);
+        const int side = 1 << (l - lp.delta);
         const int64_t count = static_cast<int64_t>(side) * side;
         const int64_t Nl = R << l;
         struct TileResult {
@@ -79,7 +52,7 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
         std::vector<TileResult> results(static_cast<size_t>(count));
         parallelFor(count, threads, [&](int64_t k) {
             const int tx = static_cast<int>(k % side), ty = static_cast<int>(k / side);
-            const auto tile = lp.producer->tile(lp.producerLevel, tx, ty);
+            const auto tile = lp.fileTile(l, tx, ty);
             const int S = lp.n + 5;
             // The samples this tile owns: [t*n, t*n + n), plus the map's last row and column.
             SourceGrid grid;

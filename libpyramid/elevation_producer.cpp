@@ -137,6 +137,24 @@ ElevationProducer::ElevationProducer(std::shared_ptr<const ResidualProducer> res
 
 ElevationProducer::~ElevationProducer() = default;
 
+FileLevelProducer makeFileLevelProducer(const std::string& file, int fileLevel, size_t cacheCapacity) {
+    auto header = ResidualFileReader::open(file)->header();
+    if (fileLevel < 0 || fileLevel > header.maxLevel) {
+        fail(file, "no level " + std::to_string(fileLevel) + " (levels 0.." + std::to_string(header.maxLevel) + ")");
+    }
+    FileLevelProducer p;
+    p.delta = std::min(fileLevel, header.minLevel);
+    p.n = header.tileSize >> (header.minLevel - p.delta);
+    ResidualProducerOptions ro;
+    ro.delta = p.delta;
+    auto residuals = std::make_shared<ResidualProducer>(file, std::vector<std::string>{}, ro);
+    ElevationProducerOptions eo;
+    eo.tileSize = p.n;
+    eo.cacheCapacity = cacheCapacity;
+    p.producer = std::make_shared<ElevationProducer>(residuals, eo);
+    return p;
+}
+
 int ElevationProducer::tileSize() const { return impl_->n; }
 int ElevationProducer::maxLevel() const { return impl_->residuals->maxLevel(); }
 

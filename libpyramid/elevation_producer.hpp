@@ -40,6 +40,19 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// Elevation tiles that coincide with the tiles of one file level, to rebuild a file tile by
+// tile: n = the file's tile intervals at `fileLevel`, delta = min(fileLevel, minLevel), and file
+// tile (fileLevel, tx, ty) is producer tile (fileLevel - delta, tx, ty).
+struct FileLevelProducer {
+    std::shared_ptr<ElevationProducer> producer;
+    int delta = 0;
+    int n = 0;
+    std::shared_ptr<const ElevationTile> fileTile(int fileLevel, int tx, int ty) const {
+        return producer->tile(fileLevel - delta, tx, ty);
+    }
+};
+FileLevelProducer makeFileLevelProducer(const std::string& file, int fileLevel, size_t cacheCapacity = 64);
+
 // delta = minLevel - k for elevation tiles of n = tileSize / 2^k; throws Error if n does not
 // divide tileSize by a power of two no larger than 2^minLevel.
 int elevationDelta(const ResidualHeader& header, int n);

@@ -52,17 +52,11 @@ TEST(DemEncoder, ReconstructionEqualsProducerBitForBit) {
     ASSERT_EQ(static_cast<int64_t>(recon.size()), report.tiles);
     const ResidualHeader h = report.header;
     for (int l = 0; l <= h.maxLevel; ++l) {
-        const int delta = std::min(l, h.minLevel);
-        ResidualProducerOptions ro;
-        ro.delta = delta;
-        auto residuals = std::make_shared<ResidualProducer>(out, std::vector<std::string>{}, ro);
-        ElevationProducerOptions eo;
-        eo.tileSize = h.tileSize >> (h.minLevel - delta);
-        ElevationProducer producer(residuals, eo);
+        const FileLevelProducer producer = makeFileLevelProducer(out, l);
         const int side = l < h.minLevel ? 1 : 1 << (l - h.minLevel);
         for (int ty = 0; ty < side; ++ty) {
             for (int tx = 0; tx < side; ++tx) {
-                const auto tile = producer.tile(l - delta, tx, ty);
+                const auto tile = producer.fileTile(l, tx, ty);
                 const std::vector<float>& mine = recon.at({l, tx, ty});
                 ASSERT_EQ(mine.size(), tile->zf.size());
                 ASSERT_EQ(std::memcmp(mine.data(), tile->zf.data(), mine.size() * sizeof(float)), 0)
