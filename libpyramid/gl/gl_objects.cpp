@@ -33,6 +33,15 @@ void checkGl(const std::string& where) {
     }
 }
 
+GLenum pixelFormat(int channels, bool integer) {
+    static constexpr GLenum kNormalized[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+    static constexpr GLenum kInteger[4] = {GL_RED_INTEGER, GL_RG_INTEGER, GL_RGB_INTEGER, GL_RGBA_INTEGER};
+    if (channels < 1 || channels > 4) {
+        fail("GL", "unsupported channel count " + std::to_string(channels));
+    }
+    return (integer ? kInteger : kNormalized)[channels - 1];
+}
+
 GlProgram::GlProgram(const std::string& name, const std::string& computeSource) : name_(name) {
     const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
     const char* text = computeSource.c_str();
@@ -97,6 +106,27 @@ void GlTexture::upload(GLenum format, GLenum type, const void* pixels) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, format, type, pixels);
     checkGl("texture upload");
+}
+
+void GlTexture::uploadCompressed(const void* blocks, size_t bytes) {
+    glBindTexture(GL_TEXTURE_2D, id_);
+    GLint format = 0;
+    glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+    glCompressedTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, static_cast<GLenum>(format),
+                              static_cast<GLsizei>(bytes), blocks);
+    checkGl("compressed texture upload");
+}
+
+std::vector<uint8_t> GlTexture::readCompressed() const {
+    glBindTexture(GL_TEXTURE_2D, id_);
+    GLint bytes = 0;
+    glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_COMPRESSED_IMAGE_SIZE, &bytes);
+    checkGl("compressed texture size");
+    std::vector<uint8_t> blocks(static_cast<size_t>(bytes > 0 ? bytes : 0));
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetCompressedTexImage(GL_TEXTURE_2D, 0, blocks.data());
+    checkGl("compressed texture read-back");
+    return blocks;
 }
 
 void GlTexture::read(GLenum format, GLenum type, void* out) const {

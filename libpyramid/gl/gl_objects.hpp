@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "libpyramid/gl/gl_api.hpp"
 
@@ -11,6 +12,10 @@ namespace pyramid {
 
 // Throws Error("GL WHERE: error 0x...") if glGetError reports an error.
 void checkGl(const std::string& where);
+
+// The pixel-transfer format of 1..4 byte channels: GL_RED .. GL_RGBA, or GL_RED_INTEGER ..
+// GL_RGBA_INTEGER for integer textures.
+GLenum pixelFormat(int channels, bool integer);
 
 // A linked compute program. Throws Error("GL NAME: ...") with the first line of the compile or
 // link log on failure.
@@ -49,6 +54,10 @@ public:
     void bind(GLuint unit) const;
     // Uploads width x height pixels of `format` / `type`, tightly packed, row 0 first.
     void upload(GLenum format, GLenum type, const void* pixels);
+    // Uploads a compressed image of the texture's compressed internal format.
+    void uploadCompressed(const void* blocks, size_t bytes);
+    // The compressed image as the driver holds it (glGetCompressedTexImage).
+    std::vector<uint8_t> readCompressed() const;
     // Reads the whole level back, tightly packed, to `out` (which must hold it all).
     void read(GLenum format, GLenum type, void* out) const;
 

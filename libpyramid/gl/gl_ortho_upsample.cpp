@@ -40,16 +40,6 @@ void main() {
 
 } // namespace
 
-GLenum integerPixelFormat(int channels) {
-    switch (channels) {
-    case 1: return GL_RED_INTEGER;
-    case 2: return GL_RG_INTEGER;
-    case 3: return GL_RGB_INTEGER;
-    case 4: return GL_RGBA_INTEGER;
-    default: fail("GL ortho", "unsupported channel count " + std::to_string(channels));
-    }
-}
-
 GlOrthoUpsampler::GlOrthoUpsampler() : program_(std::make_unique<GlProgram>("ortho upsample", kOrthoKernel)) {}
 
 GlOrthoUpsampler::~GlOrthoUpsampler() = default;
@@ -74,7 +64,7 @@ void GlOrthoUpsampler::run(const GlTexture& parent, int tileSize, int tx, int ty
 std::vector<uint8_t> GlOrthoUpsampler::upsample(const std::vector<uint8_t>& parent, int tileSize, int channels,
                                                 int tx, int ty, const std::vector<uint8_t>& residual) const {
     const int side = tileSize + 4;
-    const GLenum format = integerPixelFormat(channels);
+    const GLenum format = pixelFormat(channels, true);
     GlTexture parentTexture(GL_RGBA8UI, side, side);
     parentTexture.upload(format, GL_UNSIGNED_BYTE, parent.data());
     GlTexture residualTexture(GL_RGBA8UI, side, side);

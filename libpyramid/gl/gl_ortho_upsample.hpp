@@ -11,9 +11,6 @@
 
 namespace pyramid {
 
-// The pixel-transfer format of `channels` (1..4) unsigned integer channels.
-GLenum integerPixelFormat(int channels);
-
 class GlOrthoUpsampler {
 public:
     GlOrthoUpsampler(); // compiles the shader: needs a current context
