@@ -1,0 +1,166 @@
+// The programs as a user runs them: exit codes, one-line errors, JSON, no half-written output.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+using test::programPath;
+using test::run;
+
+std::string shellQuoted(const std::string& s) { return "'" + s + "'"; }
+
+size_t lines(const std::string& s) { return static_cast<size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(PyramidInfo, DescribesTheOriginalFiles) {
+    const auto r = run(programPath("pyramid") + " info --json " + shellQuoted(test::dataPath("proland/DEM.dat")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["kind"], "residual");
+    EXPECT_EQ(j["header"]["min_level"], 3);
+    EXPECT_EQ(j["header"]["tile_size"], 192);
+    EXPECT_EQ(j["tiles"], 24);
+    EXPECT_EQ(j["encodings"]["deflate-legacy"], 24);
+    EXPECT_EQ(j["levels"][5]["tiles"], 16);
+    EXPECT_EQ(j["levels"][0]["tile_side"], 29);
+    const auto o = nlohmann::json::parse(run(programPath("pyramid") + " info --json " +
+                                             shellQuoted(test::dataPath("proland/RGB.dat"))).out);
+    EXPECT_EQ(o["kind"], "ortho");
+    EXPECT_EQ(o["header"]["border"], 2);
+    EXPECT_EQ(o["header"]["channels"], 4);
+}
+
+TEST(PyramidCheck, PassesGoodFilesAndFailsBrokenOnes) {
+    for (const char* f : {"proland/DEM.dat", "proland/RGB.dat"}) {
+        const auto r = run(programPath("pyramid") + " check --json " + shellQuoted(test::dataPath(f)));
+        EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+        EXPECT_TRUE(nlohmann::json::parse(r.out)["ok"].get<bool>());
+    }
+    test::TempDir dir;
+    std::string bytes = test::readFile(test::dataPath("proland/DEM.dat"));
+    bytes[28 + 8 * 24 + 200] ^= 0x5a; // corrupt the root tile's compressed data
+    {
+        std::FILE* f = std::fopen(dir.file("bad.dat").c_str(), "wb");
+        std::fwrite(bytes.data(), 1, bytes.size(), f);
+        std::fclose(f);
+    }
+    const auto r = run(programPath("pyramid") + " check " + shellQuoted(dir.file("bad.dat")));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.out.find("tile (0,0,0)"), std::string::npos) << r.out;
+}
+
+TEST(PyramidTile, WritesReconstructedAndRawTiles) {
+    test::TempDir dir;
+    const std::string dem = shellQuoted(test::dataPath("proland/DEM.dat"));
+    auto r = run(programPath("pyramid") + " tile " + dem + " 0 0 0 -o " + shellQuoted(dir.file("root.f32")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string f32 = test::readFile(dir.file("root.f32"));
+    ASSERT_EQ(f32.size(), 29u * 29u * 4u);
+    float first;
+    std::memcpy(&first, f32.data(), 4);
+    EXPECT_EQ(first, 1400.0f * 0.1f);
+    r = run(programPath("pyramid") + " tile " + dem + " 5 3 3 --residual -o " + shellQuoted(dir.file("r.i16")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(test::readFile(dir.file("r.i16")).size(), 197u * 197u * 2u);
+    r = run(programPath("pyramid") + " tile " + dem + " 5 3 3 -o " + shellQuoted(dir.file("z.tif")));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(test::fileExists(dir.file("z.tif")));
+    r = run(programPath("pyramid") + " tile " + shellQuoted(test::dataPath("proland/RGB.dat")) + " 1 1 0 -o " +
+            shellQuoted(dir.file("rgb.u8")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(test::readFile(dir.file("rgb.u8")).size(), 196u * 196u * 4u);
+    // Mismatched output types and absent tiles: one line, exit 1, nothing written.
+    r = run(programPath("pyramid") + " tile " + dem + " 0 0 0 -o " + shellQuoted(dir.file("z.png")));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    r = run(programPath("pyramid") + " tile " + dem + " 2 1 0 -o " + shellQuoted(dir.file("none.f32")));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_FALSE(test::fileExists(dir.file("z.png")));
+    EXPECT_FALSE(test::fileExists(dir.file("none.f32")));
+}
+
+class PreprocessDemCli : public ::testing::Test {
+protected:
+    test::TempDir dir;
+    std::string input = dir.file("dem.tif");
+    void SetUp() override { test::writeFloatRaster(input, 65, 65, test::syntheticHeights(65, 65)); }
+
+    // Runs preprocessDem expecting failure: exit code `code`, one line on stderr mentioning
+    // `mention`, and no file left in the output directory.
+    void expectFailure(const std::string& args, int code, const std::string& mention) {
+        const std::string outDir = dir.file("out");
+        std::filesystem::create_directories(outDir);
+        const auto r = run(programPath("preprocessDem") + " " + args + " -o " + shellQuoted(outDir + "/DEM.dat"));
+        EXPECT_EQ(r.exitCode, code) << args << "\n" << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
+        EXPECT_NE(r.err.find(mention), std::string::npos) << args << "\n" << r.err;
+        EXPECT_TRUE(std::filesystem::is_empty(outDir)) << args;
+    }
+};
+
+TEST_F(PreprocessDemCli, BuildsVerifiesAndReports) {
+    const std::string out = dir.file("DEM.dat");
+    auto r = run(programPath("preprocessDem") + " " + shellQuoted(input) + " -o " + shellQuoted(out) +
+                 " --tile-size 16 --root-tile-size 4 --scale 0.5 --quiet --report " + shellQuoted(dir.file("r.json")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, ""); // --quiet
+    const auto report = nlohmann::json::parse(test::readFile(dir.file("r.json")));
+    EXPECT_EQ(report["header"]["max_level"], 4);
+    EXPECT_EQ(report["header"]["scale"], 0.5);
+    for (const auto& l : report["levels"]) {
+        EXPECT_LE(l["max_error"].get<double>(), 0.25 + 1e-3);
+    }
+    r = run(programPath("pyramid") + " verify --json " + shellQuoted(out) + " --source " + shellQuoted(input));
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    EXPECT_TRUE(nlohmann::json::parse(r.out)["ok"].get<bool>());
+    r = run(programPath("pyramid") + " check " + shellQuoted(out));
+    EXPECT_EQ(r.exitCode, 0) << r.out;
+    // Progress and a summary on stderr without --quiet; the same bytes again.
+    r = run(programPath("pyramid") + " dem " + shellQuoted(input) + " -o " + shellQuoted(dir.file("again.dat")) +
+            " --tile-size 16 --root-tile-size 4 --scale 0.5 --threads 1");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("100%"), std::string::npos) << r.err;
+    EXPECT_EQ(test::readFile(out), test::readFile(dir.file("again.dat")));
+}
+
+TEST_F(PreprocessDemCli, VerifyFailsAgainstTheWrongSource) {
+    const std::string out = dir.file("DEM.dat");
+    ASSERT_EQ(run(programPath("preprocessDem") + " -q " + shellQuoted(input) + " -o " + shellQuoted(out)).exitCode, 0);
+    std::vector<float> other = test::syntheticHeights(65, 65);
+    other[65 * 30 + 30] += 10.0f;
+    test::writeFloatRaster(dir.file("other.tif"), 65, 65, other);
+    const auto r = run(programPath("pyramid") + " verify " + shellQuoted(out) + " --source " + shellQuoted(dir.file("other.tif")));
+    EXPECT_EQ(r.exitCode, 1) << r.out;
+    EXPECT_NE(r.out.find("BEYOND BOUND"), std::string::npos) << r.out;
+}
+
+TEST_F(PreprocessDemCli, BadInputFailsCleanly) {
+    expectFailure(shellQuoted(dir.file("missing.tif")), 1, "missing.tif: no such file");
+    {
+        std::FILE* f = std::fopen(dir.file("junk.tif").c_str(), "wb");
+        std::fputs("this is not an image", f);
+        std::fclose(f);
+    }
+    expectFailure(shellQuoted(dir.file("junk.tif")), 1, "junk.tif");
+    std::vector<float> withNan = test::syntheticHeights(65, 65);
+    withNan[65 * 10 + 20] = std::nanf("");
+    test::writeFloatRaster(dir.file("nan.tif"), 65, 65, withNan);
+    expectFailure(shellQuoted(dir.file("nan.tif")), 1, "NaN height at column 20, row 10");
+    expectFailure(shellQuoted(input) + " --tile-size 100 --root-tile-size 24", 1, "--root-tile-size");
+    expectFailure(shellQuoted(input) + " --scale 0", 1, "--scale");
+    expectFailure(shellQuoted(input) + " --band 2", 1, "--band");
+    expectFailure(shellQuoted(input) + " --no-such-option", 2, "no-such-option");
+}
+
+} // namespace
+} // namespace pyramid
