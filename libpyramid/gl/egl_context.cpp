@@ -69,7 +69,6 @@ EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
         unavailable("no display initialises on the surfaceless, device or default platform");
     }
     if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) {
-        eglTerminate(impl_->display);
         unavailable("the EGL driver offers no desktop OpenGL");
     }
     // No surface is ever drawn to: a context without a config where the driver allows it.
@@ -78,28 +77,26 @@ EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
         const EGLint wanted[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
         EGLint count = 0;
         if (eglChooseConfig(impl_->display, wanted, &config, 1, &count) != EGL_TRUE || count < 1) {
-            eglTerminate(impl_->display);
-            unavailable("no OpenGL config");
+                unavailable("no OpenGL config");
         }
     }
     const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3,
                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     impl_->context = eglCreateContext(impl_->display, config, EGL_NO_CONTEXT, attributes);
     if (impl_->context == EGL_NO_CONTEXT) {
-        eglTerminate(impl_->display);
         unavailable("no OpenGL 4.3 core context");
     }
     if (eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context) != EGL_TRUE) {
         eglDestroyContext(impl_->display, impl_->context);
-        eglTerminate(impl_->display);
         unavailable("the context cannot be made current without a surface");
     }
 }
 
 EglContext::~EglContext() {
     eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    // The display is left initialised: EGL hands every context of the process the same display,
+    // and terminating it would invalidate the others.
     eglDestroyContext(impl_->display, impl_->context);
-    eglTerminate(impl_->display);
 }
 
 void EglContext::makeCurrent() const {

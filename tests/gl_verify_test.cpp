@@ -1,0 +1,140 @@
+// verifyOnGl, the library side of `pyramid verify FILE --gl`: the original tools' DEM.dat and
+// RGB.dat, a small residual pyramid with extreme residuals and an inexact scale written with
+// the formats writer, and a DXT ortho file; every tile compared, CPU against GPU.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+
+#include "formats/ortho_file.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/gl/gl_verify.hpp"
+#include "tests/support/gl_test_context.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+const GlVerifyPart* findPart(const GlVerifyReport& r, const std::string& what) {
+    for (const GlVerifyPart& p : r.parts) {
+        if (p.what == what) {
+            return &p;
+        }
+    }
+    return nullptr;
+}
+
+void expectExact(const GlVerifyReport& r, const std::string& what, int64_t tiles) {
+    const GlVerifyPart* p = findPart(r, what);
+    ASSERT_NE(p, nullptr) << what << " missing from the report of " << r.file;
+    EXPECT_EQ(p->tiles, tiles) << what;
+    EXPECT_EQ(p->differingTiles, 0) << what;
+    EXPECT_EQ(p->maxDifference, 0.0) << what;
+}
+
+TEST(GlVerify, UlpDistance) {
+    EXPECT_EQ(ulpDistance(1.0f, 1.0f), 0u);
+    EXPECT_EQ(ulpDistance(1.0f, std::nextafter(1.0f, 2.0f)), 1u);
+    EXPECT_EQ(ulpDistance(0.0f, -0.0f), 1u);
+    EXPECT_EQ(ulpDistance(-std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::denorm_min()), 3u);
+    EXPECT_EQ(ulpDistance(-1.0f, std::nextafter(-1.0f, -2.0f)), 1u);
+}
+
+TEST(GlVerify, OriginalDemEveryTileSize) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    const GlVerifyReport r = verifyOnGl(test::dataPath("proland/DEM.dat"));
+    EXPECT_TRUE(r.ok());
+    EXPECT_FALSE(r.renderer.empty());
+    ASSERT_EQ(r.parts.size(), 4u);
+    expectExact(r, "elevation n=192 delta=3", 1 + 4 + 16);
+    expectExact(r, "elevation n=96 delta=2", 1 + 4 + 16 + 64);
+    expectExact(r, "elevation n=48 delta=1", 341);
+    expectExact(r, "elevation n=24 delta=0", 1365);
+    EXPECT_EQ(toJson(r)["ok"], true);
+}
+
+TEST(GlVerify, MaxLevelLimitsTheWalk) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    GlVerifyOptions o;
+    o.maxLevel = 1;
+    const GlVerifyReport r = verifyOnGl(test::dataPath("proland/DEM.dat"), o);
+    expectExact(r, "elevation n=24 delta=0", 5);
+}
+
+TEST(GlVerify, OriginalOrthoAsTilesAndAsColourResiduals) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    const GlVerifyReport r = verifyOnGl(test::dataPath("proland/RGB.dat"));
+    EXPECT_TRUE(r.ok());
+    expectExact(r, "ortho tiles", 5);
+    expectExact(r, "colour residuals", 5);
+}
+
+TEST(GlVerify, SmallPyramidWithExtremeResiduals) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    test::TempDir dir;
+    ResidualHeader h;
+    h.minLevel = 2;
+    h.maxLevel = 3;
+    h.tileSize = 16;
+    h.scale = 0.37f; // inexact products
+    const std::string path = dir.file("small.dat");
+    {
+        ResidualFileWriter w(path, h);
+        std::mt19937 rng(3);
+        std::uniform_int_distribution<int> r(-32768, 32767);
+        for (int level = 0; level <= h.maxLevel; ++level) {
+            for (int64_t ty = 0; ty < h.tilesPerSide(level); ++ty) {
+                for (int64_t tx = 0; tx < h.tilesPerSide(level); ++tx) {
+                    std::vector<int16_t> samples(static_cast<size_t>(h.tileSamples(level) * h.tileSamples(level)));
+                    for (int16_t& s : samples) {
+                        s = static_cast<int16_t>(r(rng) % (level == 0 ? 32768 : 64));
+                    }
+                    samples[0] = 32767;
+                    samples[1] = -32768;
+                    w.writeTile(level, static_cast<int>(tx), static_cast<int>(ty), samples);
+                }
+            }
+        }
+        w.commit();
+    }
+    const GlVerifyReport r = verifyOnGl(path);
+    EXPECT_TRUE(r.ok());
+    expectExact(r, "elevation n=16 delta=2", 1 + 4);
+    expectExact(r, "elevation n=8 delta=1", 1 + 4 + 16);
+    expectExact(r, "elevation n=4 delta=0", 1 + 4 + 16 + 64);
+}
+
+TEST(GlVerify, DxtOrthoKeepsBlocksAndDecodesWithinTolerance) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    test::TempDir dir;
+    OrthoHeader h;
+    h.maxLevel = 1;
+    h.tileSize = 28;
+    h.channels = 4;
+    h.flags = OrthoHeader::kFlagDxt;
+    const std::string path = dir.file("dxt.dat");
+    {
+        OrthoFileWriter w(path, h);
+        for (int level = 0; level <= 1; ++level) {
+            for (int t = 0; t < (1 << (2 * level)); ++t) {
+                std::vector<uint8_t> pixels(32 * 32 * 4);
+                for (size_t k = 0; k < pixels.size(); ++k) {
+                    pixels[k] = static_cast<uint8_t>((k * 7 + static_cast<size_t>(t) * 13 + (k / 128) * 5) % 256);
+                }
+                w.writeTile(level, t % (1 << level), t >> level, pixels);
+            }
+        }
+        w.commit();
+    }
+    const GlVerifyReport r = verifyOnGl(path);
+    EXPECT_TRUE(r.ok());
+    expectExact(r, "dxt blocks", 5);
+    const GlVerifyPart* decoded = findPart(r, "dxt decoding");
+    ASSERT_NE(decoded, nullptr);
+    EXPECT_EQ(decoded->tiles, 5);
+    EXPECT_LE(decoded->maxDifference, kDxtDecodeTolerance);
+    EXPECT_EQ(findPart(r, "colour residuals"), nullptr); // DXT files hold no residuals
+}
+
+} // namespace
+} // namespace pyramid
