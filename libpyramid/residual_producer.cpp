@@ -4,70 +4,35 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/elevation_upsample.hpp"
+#include "libpyramid/region_lookup.hpp"
 
 namespace pyramid {
 
-namespace {
-
-// One file of the producer and where its pyramid sits in the absolute quadtree.
-struct PyramidSource {
-    std::unique_ptr<ResidualFileReader> reader;
-    float scale = 1.0f; // file scale x producer scale, one float32 rounding
-
-    // The file's own coordinates of absolute tile (level, tx, ty), if the file holds it.
-    bool locate(int level, int tx, int ty, int& relLevel, int& relTx, int& relTy) const {
-        const ResidualHeader& h = reader->header();
-        relLevel = level - h.rootLevel;
-        if (relLevel < 0 || relLevel > h.maxLevel) {
-            return false;
-        }
-        relTx = tx - (h.rootTx << relLevel);
-        relTy = ty - (h.rootTy << relLevel);
-        return h.contains(relLevel, relTx, relTy);
-    }
-};
-
-} // namespace
 
 struct ResidualProducer::Impl {
-    std::vector<PyramidSource> files; // main file first
+    std::vector<std::unique_ptr<ResidualFileReader>> files; // main file first
+    std::vector<float> scales;                               // file scale x producer scale
     int delta = 0;
     int tileSize = 0;
     int maxLevel = 0;
 
-    // The deepest file holding absolute tile (level, tx, ty); regions are more detailed than
-    // the pyramids they nest in, so a deeper root wins.
-    const PyramidSource* find(int level, int tx, int ty, int& rl, int& rx, int& ry) const {
-        const PyramidSource* best = nullptr;
-        int bestRoot = -1;
-        for (const PyramidSource& f : files) {
-            int l = 0, x = 0, y = 0;
-            if (f.locate(level, tx, ty, l, x, y) && f.reader->header().rootLevel > bestRoot) {
-                best = &f;
-                bestRoot = f.reader->header().rootLevel;
-                rl = l;
-                rx = x;
-                ry = y;
-            }
-        }
-        return best;
-    }
-
     // Scaled residuals of absolute file tile (level, tx, ty) into `out` (stride `stride`,
     // lower-left corner); returns the samples per side.
     int load(int level, int tx, int ty, float* out, size_t stride) const {
-        int rl = 0, rx = 0, ry = 0;
-        const PyramidSource* f = find(level, tx, ty, rl, rx, ry);
-        if (!f) {
-            fail(files.front().reader->path(), "no residual tile (" + std::to_string(level) + "," +
-                                                   std::to_string(tx) + "," + std::to_string(ty) + ") in any file");
+        RelativeTile rel;
+        const int k = deepestHolder(files, level, tx, ty, rel);
+        if (k < 0) {
+            fail(files.front()->path(), "no residual tile (" + std::to_string(level) + "," + std::to_string(tx) +
+                                            "," + std::to_string(ty) + ") in any file");
         }
-        const std::vector<int16_t> r = f->reader->readTile(rl, rx, ry);
-        const int s = f->reader->header().tileSamples(rl);
+        const ResidualFileReader& f = *files[static_cast<size_t>(k)];
+        const float scale = scales[static_cast<size_t>(k)];
+        const std::vector<int16_t> r = f.readTile(rel.level, rel.tx, rel.ty);
+        const int s = f.header().tileSamples(rel.level);
         for (int j = 0; j < s; ++j) {
             for (int i = 0; i < s; ++i) {
                 out[static_cast<size_t>(i) + static_cast<size_t>(j) * stride] =
-                    static_cast<float>(r[static_cast<size_t>(i + j * s)]) * f->scale;
+                    static_cast<float>(r[static_cast<size_t>(i + j * s)]) * scale;
             }
         }
         return s;
@@ -78,19 +43,17 @@ ResidualProducer::ResidualProducer(const std::string& mainFile, const std::vecto
                                    const ResidualProducerOptions& options)
     : impl_(std::make_unique<Impl>()) {
     auto addFile = [&](const std::string& path) {
-        PyramidSource f;
-        f.reader = ResidualFileReader::open(path);
-        f.scale = f.reader->header().scale * options.scale;
-        impl_->files.push_back(std::move(f));
+        impl_->files.push_back(ResidualFileReader::open(path));
+        impl_->scales.push_back(impl_->files.back()->header().scale * options.scale);
     };
     addFile(mainFile);
-    const ResidualHeader& main = impl_->files.front().reader->header();
+    const ResidualHeader& main = impl_->files.front()->header();
     if (main.rootLevel != 0) {
         fail(mainFile, "the main file of a residual producer must be rooted at tile (0,0,0)");
     }
     for (const std::string& region : regions) {
         addFile(region);
-        const ResidualHeader& h = impl_->files.back().reader->header();
+        const ResidualHeader& h = impl_->files.back()->header();
         if (h.tileSize != main.tileSize) {
             fail(region, "region tileSize " + std::to_string(h.tileSize) + " differs from the main file's " +
                              std::to_string(main.tileSize));
@@ -105,29 +68,28 @@ ResidualProducer::ResidualProducer(const std::string& mainFile, const std::vecto
     }
     impl_->delta = options.delta;
     impl_->tileSize = main.tileSize;
-    for (const PyramidSource& f : impl_->files) {
-        impl_->maxLevel = std::max(impl_->maxLevel, f.reader->header().rootLevel + f.reader->header().maxLevel);
+    for (const auto& f : impl_->files) {
+        impl_->maxLevel = std::max(impl_->maxLevel, f->header().rootLevel + f->header().maxLevel);
     }
     impl_->maxLevel -= impl_->delta;
 }
 
 ResidualProducer::~ResidualProducer() = default;
 
-const ResidualHeader& ResidualProducer::header() const { return impl_->files.front().reader->header(); }
+const ResidualHeader& ResidualProducer::header() const { return impl_->files.front()->header(); }
 int ResidualProducer::tileSize() const { return impl_->tileSize; }
 int ResidualProducer::delta() const { return impl_->delta; }
 int ResidualProducer::maxLevel() const { return impl_->maxLevel; }
 
 bool ResidualProducer::hasTile(int level, int tx, int ty) const {
-    int rl = 0, rx = 0, ry = 0;
-    return level >= 0 && impl_->find(level + impl_->delta, tx, ty, rl, rx, ry) != nullptr;
+    RelativeTile rel;
+    return level >= 0 && deepestHolder(impl_->files, level + impl_->delta, tx, ty, rel) >= 0;
 }
 
 int ResidualProducer::tileSamples(int level) const {
-    int rl = 0, rx = 0, ry = 0;
-    const int fileLevel = level + impl_->delta;
-    const PyramidSource* f = impl_->find(fileLevel, 0, 0, rl, rx, ry);
-    return f ? f->reader->header().tileSamples(rl) : impl_->tileSize + 5;
+    RelativeTile rel;
+    const int k = deepestHolder(impl_->files, level + impl_->delta, 0, 0, rel);
+    return k >= 0 ? impl_->files[static_cast<size_t>(k)]->header().tileSamples(rel.level) : impl_->tileSize + 5;
 }
 
 std::vector<float> ResidualProducer::tile(int level, int tx, int ty) const {

@@ -1,0 +1,32 @@
+// The CPU ortho producer of the seeds ("Ortho CPU producer"): tiles of a main ortho file and
+// of region files nested in it, decoded (pixels) or as stored (e.g. DXT blocks for a
+// compressed-texture upload). Thread-safe.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "formats/ortho_file.hpp"
+
+namespace pyramid {
+
+class OrthoProducer {
+public:
+    // Region files must have the main file's tile size, channels and flags.
+    explicit OrthoProducer(const std::string& mainFile, const std::vector<std::string>& regions = {});
+    ~OrthoProducer();
+
+    const OrthoHeader& header() const; // the main file's
+    int maxLevel() const;              // deepest level any file holds
+    bool hasTile(int level, int tx, int ty) const;
+    // tilePixels()^2 x channels bytes, row 0 = bottom (DXT tiles decoded to RGB or RGBA).
+    std::vector<uint8_t> tile(int level, int tx, int ty) const;
+    // The stored bytes: a TIFF, or the raw DXT1/DXT5 block stream.
+    std::vector<uint8_t> rawTile(int level, int tx, int ty) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace pyramid

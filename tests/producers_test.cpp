@@ -1,0 +1,208 @@
+// Producers over several files (a main pyramid and nested regions) and the colour-residual
+// producer, on small pyramids written here with hand-picked values.
+#include <gtest/gtest.h>
+
+#include "formats/error.hpp"
+#include "formats/ortho_file.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/elevation_producer.hpp"
+#include "libpyramid/elevation_upsample.hpp"
+#include "libpyramid/ortho_producer.hpp"
+#include "libpyramid/ortho_residual_producer.hpp"
+#include "libpyramid/ortho_upsample.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+// Residual tile whose every sample is `base + i + 3 j`.
+std::vector<int16_t> ramp(int size, int base) {
+    std::vector<int16_t> r(static_cast<size_t>(size) * size);
+    for (int j = 0; j < size; ++j) {
+        for (int i = 0; i < size; ++i) {
+            r[static_cast<size_t>(i + j * size)] = static_cast<int16_t>(base + i + 3 * j);
+        }
+    }
+    return r;
+}
+
+TEST(ResidualRegions, RegionTilesReplaceAndExtendTheMainPyramid) {
+    test::TempDir dir;
+    ResidualHeader main;
+    main.minLevel = 1;
+    main.maxLevel = 2;
+    main.tileSize = 4;
+    main.scale = 0.5f;
+    {
+        ResidualFileWriter w(dir.file("main.dat"), main);
+        w.writeTile(0, 0, 0, ramp(main.tileSamples(0), 100));
+        w.writeTile(1, 0, 0, ramp(9, 1));
+        for (int t = 0; t < 4; ++t) {
+            w.writeTile(2, t % 2, t / 2, ramp(9, 10 * t));
+        }
+        w.commit();
+    }
+    ResidualHeader region;
+    region.minLevel = 0;
+    region.maxLevel = 1;
+    region.tileSize = 4;
+    region.rootLevel = 2;
+    region.rootTx = 1;
+    region.rootTy = 1;
+    region.scale = 0.25f;
+    {
+        ResidualFileWriter w(dir.file("region.dat"), region);
+        w.writeTile(0, 0, 0, ramp(9, -7));
+        for (int t = 0; t < 4; ++t) {
+            w.writeTile(1, t % 2, t / 2, ramp(9, 50 + t));
+        }
+        w.commit();
+    }
+    ResidualProducerOptions ro;
+    ro.delta = 1; // elevation tiles of 4: minLevel - log2(4/4)
+    auto residuals = std::make_shared<ResidualProducer>(dir.file("main.dat"),
+                                                        std::vector<std::string>{dir.file("region.dat")}, ro);
+    EXPECT_EQ(residuals->maxLevel(), 2); // absolute level 3, producer level 3 - delta
+    EXPECT_TRUE(residuals->hasTile(1, 1, 1));
+    EXPECT_TRUE(residuals->hasTile(2, 3, 2));  // inside the region
+    EXPECT_FALSE(residuals->hasTile(2, 0, 0)); // beyond the main file, outside the region
+    // (2,1,1) comes from the region's root, at the region's scale.
+    const std::vector<float> r = residuals->tile(1, 1, 1);
+    EXPECT_EQ(r[0], -7.0f * 0.25f);
+    EXPECT_EQ(residuals->tile(1, 0, 1)[0], 20.0f * 0.5f); // main file, tile index 2
+    ElevationProducerOptions eo;
+    eo.tileSize = 4;
+    ElevationProducer producer(residuals, eo);
+    const auto parent = producer.tile(0, 0, 0);
+    const auto child = producer.tile(1, 1, 1);
+    std::vector<float> expected = residuals->tile(1, 1, 1);
+    upsampleAndAdd(parent->zf.data(), 9, 4, quadrantOffset(1, 4), quadrantOffset(1, 4), expected.data(), 9);
+    EXPECT_EQ(child->zf, expected);
+    // Outside the region, past the main file: no residual, a smooth continuation.
+    const auto smooth = producer.tile(2, 0, 0);
+    std::vector<float> zeros(81, 0.0f);
+    upsampleAndAdd(producer.tile(1, 0, 0)->zf.data(), 9, 4, 1, 1, zeros.data(), 9);
+    EXPECT_EQ(smooth->zf, zeros);
+    // Inside it: the region's level 1.
+    const auto deep = producer.tile(2, 3, 2);
+    std::vector<float> deepExpected = residuals->tile(2, 3, 2);
+    EXPECT_EQ(deepExpected[0], 51.0f * 0.25f); // region tile (1,1,0)
+    upsampleAndAdd(child->zf.data(), 9, 4, quadrantOffset(3, 4), quadrantOffset(2, 4), deepExpected.data(), 9);
+    EXPECT_EQ(deep->zf, deepExpected);
+}
+
+TEST(ResidualRegions, MismatchedRegionsAreRefused) {
+    test::TempDir dir;
+    ResidualHeader h;
+    h.minLevel = 0;
+    h.maxLevel = 0;
+    h.tileSize = 8;
+    {
+        ResidualFileWriter w(dir.file("main.dat"), h);
+        w.writeTile(0, 0, 0, ramp(13, 0));
+        w.commit();
+    }
+    h.rootLevel = 1;
+    h.tileSize = 4;
+    {
+        ResidualFileWriter w(dir.file("region.dat"), h);
+        w.writeTile(0, 0, 0, ramp(9, 0));
+        w.commit();
+    }
+    EXPECT_THROW(ResidualProducer(dir.file("main.dat"), {dir.file("region.dat")}), Error);
+}
+
+std::vector<uint8_t> solid(int side, int channels, uint8_t base) {
+    std::vector<uint8_t> p(static_cast<size_t>(side) * side * channels);
+    for (size_t k = 0; k < p.size(); ++k) {
+        p[k] = static_cast<uint8_t>(base + k % 7);
+    }
+    return p;
+}
+
+TEST(OrthoProducer, ServesMainAndRegionTiles) {
+    test::TempDir dir;
+    OrthoHeader h;
+    h.maxLevel = 1;
+    h.tileSize = 8;
+    h.channels = 3;
+    {
+        OrthoFileWriter w(dir.file("main.dat"), h);
+        for (int i = 0; i < 5; ++i) {
+            const int l = i == 0 ? 0 : 1;
+            w.writeTile(l, l ? (i - 1) % 2 : 0, l ? (i - 1) / 2 : 0, solid(12, 3, static_cast<uint8_t>(10 * i)));
+        }
+        w.commit();
+    }
+    OrthoHeader r = h;
+    r.rootLevel = 1;
+    r.rootTx = 1;
+    r.rootTy = 0;
+    {
+        OrthoFileWriter w(dir.file("region.dat"), r);
+        for (int i = 0; i < 5; ++i) {
+            const int l = i == 0 ? 0 : 1;
+            w.writeTile(l, l ? (i - 1) % 2 : 0, l ? (i - 1) / 2 : 0, solid(12, 3, static_cast<uint8_t>(100 + i)));
+        }
+        w.commit();
+    }
+    OrthoProducer p(dir.file("main.dat"), {dir.file("region.dat")});
+    EXPECT_EQ(p.maxLevel(), 2);
+    EXPECT_EQ(p.tile(1, 0, 0), solid(12, 3, 10));  // main
+    EXPECT_EQ(p.tile(1, 1, 0), solid(12, 3, 100)); // the region's root replaces main's (1,1,0)
+    EXPECT_EQ(p.tile(2, 3, 1), solid(12, 3, 104)); // region (1,1,1)
+    EXPECT_FALSE(p.hasTile(2, 0, 0));
+    EXPECT_THROW(p.tile(2, 0, 0), Error);
+    EXPECT_EQ(p.rawTile(0, 0, 0), OrthoFileReader::open(dir.file("main.dat"))->readTileBytes(0, 0, 0));
+}
+
+TEST(OrthoProducer, ReadsTheOriginalFile) {
+    OrthoProducer p(test::dataPath("proland/RGB.dat"));
+    const auto reader = OrthoFileReader::open(test::dataPath("proland/RGB.dat"));
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_EQ(p.tile(1, i % 2, i / 2), reader->readTile(1, i % 2, i / 2));
+    }
+}
+
+TEST(OrthoResidualProducer, RebuildsChildrenFromResiduals) {
+    test::TempDir dir;
+    OrthoHeader h;
+    h.maxLevel = 1;
+    h.tileSize = 4; // 8 x 8 pixels with borders
+    h.channels = 1;
+    std::vector<uint8_t> root(64);
+    for (int y = 0; y < 8; ++y) {
+        for (int x = 0; x < 8; ++x) {
+            root[static_cast<size_t>(x + 8 * y)] = static_cast<uint8_t>(16 * x + y);
+        }
+    }
+    std::vector<uint8_t> flat(64, 128);
+    std::vector<uint8_t> bumped = flat;
+    bumped[3 + 8 * 2] = 138; // +20 at child pixel (3, 2)
+    {
+        OrthoFileWriter w(dir.file("residuals.dat"), h);
+        w.writeTile(0, 0, 0, root);
+        w.writeTile(1, 0, 0, flat);
+        w.writeTile(1, 1, 0, bumped);
+        w.writeTile(1, 0, 1, flat);
+        w.writeTile(1, 1, 1, flat);
+        w.commit();
+    }
+    OrthoResidualProducer p(std::make_shared<OrthoProducer>(dir.file("residuals.dat")));
+    EXPECT_EQ(*p.tile(0, 0, 0), root);
+    const auto child = p.tile(1, 1, 0);
+    // Child (3, 2) of quadrant (1, 0): bx = (3+1)/2 + 2 = 4, by = (2+1)/2 + 0 = 1; odd x weighs
+    // (3, 1), even y weighs (1, 3): (1*(3*p(4,1) + 1*p(5,1)) + 3*(3*p(4,2) + 1*p(5,2))) >> 4.
+    auto p0 = [&](int x, int y) { return static_cast<unsigned>(root[static_cast<size_t>(x + 8 * y)]); };
+    const unsigned prediction = (1 * (3 * p0(4, 1) + p0(5, 1)) + 3 * (3 * p0(4, 2) + p0(5, 2))) >> 4;
+    EXPECT_EQ((*child)[3 + 8 * 2], prediction + 20);
+    EXPECT_EQ((*child)[2 + 8 * 2], predictOrtho(root.data(), 8, 1, 0, 2, 0, 2, 2));
+    // Beyond the file: "no residual" everywhere, the prediction alone.
+    const auto beyond = p.tile(2, 2, 0);
+    std::vector<uint8_t> expected(64);
+    upsampleOrtho(child->data(), 4, 1, 2, 0, nullptr, expected.data());
+    EXPECT_EQ(*beyond, expected);
+}
+
+} // namespace
+} // namespace pyramid
