@@ -1,4 +1,5 @@
 // `pyramid verify FILE --source INPUT`: rebuild every level and compare it with the source.
+// `pyramid verify FILE --gl`: produce every tile on the CPU and on the GPU and compare them.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -9,6 +10,9 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "libpyramid/dem_verify.hpp"
+#ifdef PYRAMID_WITH_GL
+#include "libpyramid/gl/gl_verify.hpp"
+#endif
 
 namespace pyramid::cli {
 
@@ -22,6 +26,7 @@ struct VerifyArgs {
     std::string nodata;
     bool stretch = false;
     int threads = 0;
+    bool gl = false;
 };
 
 int verifyResidual(const VerifyArgs& a) {
@@ -58,12 +63,34 @@ int verifyResidual(const VerifyArgs& a) {
     return report.ok() ? kExitOk : kExitFailure;
 }
 
+int verifyGl(const VerifyArgs& a) {
+#ifdef PYRAMID_WITH_GL
+    const GlVerifyReport report = verifyOnGl(a.file);
+    if (a.json) {
+        writeJson(toJson(report), "-");
+    } else {
+        std::printf("%s: CPU against GPU (%s)\n", a.file.c_str(), report.renderer.c_str());
+        for (const GlVerifyPart& p : report.parts) {
+            std::printf("  %-26s %7lld tiles %7lld differing  largest difference %g %s%s\n", p.what.c_str(),
+                        static_cast<long long>(p.tiles), static_cast<long long>(p.differingTiles), p.maxDifference,
+                        p.unit.c_str(), p.ok() ? "" : "  BEYOND TOLERANCE");
+        }
+        std::printf("%s\n", report.ok() ? "ok: CPU and GPU agree" : "FAILED: CPU and GPU differ");
+    }
+    return report.ok() ? kExitOk : kExitFailure;
+#else
+    fail(a.file, "--gl needs a build with the OpenGL producers (PYRAMID_WITH_GL)");
+#endif
+}
+
 } // namespace
 
 CommandRunner setupVerifyCommand(CLI::App& app) {
     auto args = std::make_shared<VerifyArgs>();
     app.add_option("FILE", args->file, "Pyramid file to verify")->required();
-    app.add_option("--source", args->source, "The raster the file was built from");
+    auto* source = app.add_option("--source", args->source, "The raster the file was built from");
+    app.add_flag("--gl", args->gl, "Produce every tile on the CPU and on the GPU (headless EGL) and compare them")
+        ->excludes(source);
     app.add_flag("--json", args->json, "Print the report as JSON");
     app.add_option("--band", args->band, "Band of the source holding the heights, from 1 (as preprocessDem)")
         ->capture_default_str();
@@ -71,6 +98,9 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     app.add_flag("--stretch", args->stretch, "The source was stretched (preprocessDem --stretch)");
     app.add_option("--threads", args->threads, "Worker threads (default: all cores)");
     return [args]() {
+        if (args->gl) {
+            return verifyGl(*args);
+        }
         switch (detectPyramidKind(args->file)) {
         case PyramidKind::Residual:
             return verifyResidual(*args);

@@ -53,6 +53,17 @@ TEST(GlVerify, OriginalDemEveryTileSize) {
     EXPECT_EQ(toJson(r)["ok"], true);
 }
 
+TEST(GlVerify, CommandLineReportsAndExitsZero) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    const test::RunResult r =
+        test::run(test::programPath("pyramid") + " verify " + test::dataPath("proland/DEM.dat") + " --gl --json");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["ok"], true);
+    EXPECT_EQ(j["parts"].size(), 4u);
+    EXPECT_EQ(j["parts"][3]["tiles"], 1365);
+}
+
 TEST(GlVerify, MaxLevelLimitsTheWalk) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     GlVerifyOptions o;
