@@ -1,7 +1,8 @@
 // The GL ortho producers: plain tiles of the original tools' RGB.dat sampled back unchanged,
 // DXT tiles uploaded as compressed textures whose bytes read back unchanged and whose GPU
 // decoding stays within the documented tolerance of the CPU decoder, and colour-residual tiles
-// rebuilt on the GPU bit for bit as the CPU arithmetic rebuilds them.
+// rebuilt on the GPU bit for bit as the CPU OrthoResidualProducer rebuilds them, also below the
+// file's deepest level.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +14,8 @@
 #include "formats/ortho_file.hpp"
 #include "libpyramid/gl/gl_ortho_producer.hpp"
 #include "libpyramid/gl/gl_ortho_residual_producer.hpp"
-#include "libpyramid/ortho_upsample.hpp"
+#include "libpyramid/ortho_producer.hpp"
+#include "libpyramid/ortho_residual_producer.hpp"
 #include "tests/support/gl_test_context.hpp"
 #include "tests/support/paths.hpp"
 
@@ -60,7 +62,7 @@ std::string writeOrtho(const test::TempDir& dir, int tileSize, int channels, uin
 TEST(GlOrthoProducer, PlainTilesOfTheOriginalFileSampleBackUnchanged) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     const std::string path = test::dataPath("proland/RGB.dat");
-    GlOrthoProducer gl(path);
+    GlOrthoProducer gl(std::make_shared<const OrthoProducer>(path));
     auto reader = OrthoFileReader::open(path);
     int tiles = 0;
     for (int level = 0; level <= reader->header().maxLevel; ++level) {
@@ -92,7 +94,7 @@ TEST(GlOrthoProducer, DxtTilesKeepTheirBytesAndDecodeWithinTolerance) {
         const std::string path = writeOrtho(dir, tileSize, channels, OrthoHeader::kFlagDxt, [&](int l, int x, int y) {
             return image(tileSize + 4, channels, l * 4 + x + 2 * y);
         });
-        GlOrthoProducer gl(path);
+        GlOrthoProducer gl(std::make_shared<const OrthoProducer>(path));
         auto reader = OrthoFileReader::open(path);
         const DxtFormat format = channels == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1;
         int worst = 0;
@@ -124,18 +126,6 @@ TEST(GlOrthoProducer, DxtTilesKeepTheirBytesAndDecodeWithinTolerance) {
     }
 }
 
-// The CPU reconstruction of a colour residual tile, by the reference arithmetic.
-std::vector<uint8_t> cpuColours(const OrthoFileReader& reader, int level, int tx, int ty) {
-    const std::vector<uint8_t> stored = reader.readTile(level, tx, ty);
-    if (level == 0) {
-        return stored;
-    }
-    const std::vector<uint8_t> parent = cpuColours(reader, level - 1, tx / 2, ty / 2);
-    std::vector<uint8_t> out(stored.size());
-    upsampleOrtho(parent.data(), reader.header().tileSize, reader.header().channels, tx, ty, stored.data(), out.data());
-    return out;
-}
-
 TEST(GlOrthoResidualProducer, ColourResidualsRebuildBitForBit) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     test::TempDir dir;
@@ -153,20 +143,32 @@ TEST(GlOrthoResidualProducer, ColourResidualsRebuildBitForBit) {
             }
             return p;
         });
-        GlOrthoResidualProducer gl(path);
+        auto residuals = std::make_shared<const OrthoProducer>(path);
+        GlOrthoResidualProducer gl(residuals);
+        OrthoResidualProducer cpu(residuals);
         auto reader = OrthoFileReader::open(path);
-        for (int level = 0; level <= 1; ++level) {
+        for (int level = 0; level <= 3; ++level) { // levels 2 and 3 have no residuals
             for (int ty = 0; ty < (1 << level); ++ty) {
                 for (int tx = 0; tx < (1 << level); ++tx) {
-                    const std::vector<uint8_t> expected = cpuColours(*reader, level, tx, ty);
-                    EXPECT_EQ(GlOrthoResidualProducer::read(*gl.tile(level, tx, ty)), expected)
+                    const std::vector<uint8_t> expected = *cpu.tile(level, tx, ty);
+                    ASSERT_EQ(GlOrthoResidualProducer::read(*gl.tile(level, tx, ty)), expected)
                         << "channels " << channels << " tile " << level << "," << tx << "," << ty;
-                    if (level > 0) {
+                    if (level == 1) {
                         EXPECT_NE(expected, reader->readTile(level, tx, ty)); // the parent contributed
                     }
                 }
             }
         }
+        // A hand-checked pixel: tile (1,0,0), pixel (2,2) channel 0 is predicted from parent
+        // pixels (1..2, 1..2) with weights 1, 3, 3, 9 (the nearest, (2,2), gets 9).
+        const std::vector<uint8_t> root = reader->readTile(0, 0, 0);
+        const std::vector<uint8_t> stored = reader->readTile(1, 0, 0);
+        auto at = [&](const std::vector<uint8_t>& t, int x, int y) {
+            return static_cast<int>(t[static_cast<size_t>((y * 32 + x) * channels)]);
+        };
+        const int prediction = (1 * at(root, 1, 1) + 3 * at(root, 2, 1) + 3 * at(root, 1, 2) + 9 * at(root, 2, 2)) >> 4;
+        const int value = std::clamp(prediction + 2 * (at(stored, 2, 2) - 128), 0, 255);
+        EXPECT_EQ(at(GlOrthoResidualProducer::read(*gl.tile(1, 0, 0)), 2, 2), value);
     }
 }
 
@@ -174,7 +176,7 @@ TEST(GlOrthoResidualProducer, RejectsDxtFiles) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     test::TempDir dir;
     const std::string path = writeOrtho(dir, 60, 3, OrthoHeader::kFlagDxt, [](int, int, int) { return image(64, 3, 1); });
-    EXPECT_THROW(GlOrthoResidualProducer{path}, Error);
+    EXPECT_THROW(GlOrthoResidualProducer{std::make_shared<const OrthoProducer>(path)}, Error);
 }
 
 } // namespace

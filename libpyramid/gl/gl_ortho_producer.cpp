@@ -33,19 +33,19 @@ GLenum normalizedInternalFormat(int channels) {
 } // namespace
 
 struct GlOrthoProducer::Impl {
-    std::unique_ptr<OrthoFileReader> reader;
+    std::shared_ptr<const OrthoProducer> tiles;
     TileCache<GlOrthoTile> cache;
     GlProgram sampler{"ortho sampling", kSampleKernel};
 
-    Impl(const std::string& file, size_t capacity) : reader(OrthoFileReader::open(file)), cache(capacity) {}
+    Impl(std::shared_ptr<const OrthoProducer> producer, size_t capacity) : tiles(std::move(producer)), cache(capacity) {}
 };
 
-GlOrthoProducer::GlOrthoProducer(const std::string& file, size_t cacheCapacity)
-    : impl_(std::make_unique<Impl>(file, cacheCapacity)) {}
+GlOrthoProducer::GlOrthoProducer(std::shared_ptr<const OrthoProducer> tiles, size_t cacheCapacity)
+    : impl_(std::make_unique<Impl>(std::move(tiles), cacheCapacity)) {}
 
 GlOrthoProducer::~GlOrthoProducer() = default;
 
-const OrthoHeader& GlOrthoProducer::header() const { return impl_->reader->header(); }
+const OrthoHeader& GlOrthoProducer::header() const { return impl_->tiles->header(); }
 
 std::shared_ptr<const GlOrthoTile> GlOrthoProducer::tile(int level, int tx, int ty) {
     if (auto hit = impl_->cache.find({level, tx, ty})) {
@@ -59,16 +59,16 @@ std::shared_ptr<const GlOrthoTile> GlOrthoProducer::tile(int level, int tx, int 
         tile = std::make_shared<GlOrthoTile>(GlOrthoTile{
             level, tx, ty, side, dxt5 ? 4 : 3, true,
             GlTexture(dxt5 ? GL_COMPRESSED_RGBA_S3TC_DXT5_EXT : GL_COMPRESSED_RGB_S3TC_DXT1_EXT, side, side)});
-        const std::vector<uint8_t> blocks = impl_->reader->readTileBytes(level, tx, ty);
+        const std::vector<uint8_t> blocks = impl_->tiles->rawTile(level, tx, ty);
         if (blocks.size() != dxtBytes(side, side, dxt5 ? DxtFormat::Dxt5 : DxtFormat::Dxt1)) {
-            fail(impl_->reader->path(), "DXT tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+            fail("GL ortho", "DXT tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
                                             std::to_string(ty) + ") has " + std::to_string(blocks.size()) + " bytes");
         }
         tile->texture.uploadCompressed(blocks.data(), blocks.size());
     } else {
         tile = std::make_shared<GlOrthoTile>(
             GlOrthoTile{level, tx, ty, side, h.channels, false, GlTexture(normalizedInternalFormat(h.channels), side, side)});
-        const std::vector<uint8_t> pixels = impl_->reader->readTile(level, tx, ty);
+        const std::vector<uint8_t> pixels = impl_->tiles->tile(level, tx, ty);
         tile->texture.upload(pixelFormat(h.channels, false), GL_UNSIGNED_BYTE, pixels.data());
     }
     return impl_->cache.insert({level, tx, ty}, std::move(tile));

@@ -1,5 +1,6 @@
-// Ortho tiles on the GPU, as the original OrthoGPUProducer holds them: tiles of a plain ortho
-// file uploaded as textures, TIFF tiles decoded on the CPU into GL_R8 .. GL_RGBA8 textures, DXT
+// Ortho tiles on the GPU, as the original OrthoGPUProducer holds them: the tiles of a CPU
+// OrthoProducer (a main file and its regions) uploaded as textures, TIFF tiles decoded on the
+// CPU into GL_R8 .. GL_RGBA8 textures, DXT
 // tiles uploaded unchanged as GL_COMPRESSED_RGB_S3TC_DXT1_EXT / GL_COMPRESSED_RGBA_S3TC_DXT5_EXT
 // textures (the GPU decodes them when sampling).
 //
@@ -8,11 +9,10 @@
 #pragma once
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
-#include "formats/ortho_file.hpp"
 #include "libpyramid/gl/gl_objects.hpp"
+#include "libpyramid/ortho_producer.hpp"
 
 namespace pyramid {
 
@@ -26,11 +26,11 @@ struct GlOrthoTile {
 
 class GlOrthoProducer {
 public:
-    explicit GlOrthoProducer(const std::string& file, size_t cacheCapacity = 256);
+    explicit GlOrthoProducer(std::shared_ptr<const OrthoProducer> tiles, size_t cacheCapacity = 256);
     ~GlOrthoProducer();
 
     const OrthoHeader& header() const;
-    // Throws Error if the file has no tile (level, tx, ty).
+    // Throws Error if no file has the tile (level, tx, ty).
     std::shared_ptr<const GlOrthoTile> tile(int level, int tx, int ty);
 
     // A DXT tile's blocks as the driver holds them (glGetCompressedTexImage): the file's

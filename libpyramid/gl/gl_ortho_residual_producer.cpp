@@ -1,5 +1,7 @@
 #include "libpyramid/gl/gl_ortho_residual_producer.hpp"
 
+#include <optional>
+
 #include "formats/error.hpp"
 #include "libpyramid/gl/gl_ortho_upsample.hpp"
 #include "libpyramid/tile_cache.hpp"
@@ -7,17 +9,18 @@
 namespace pyramid {
 
 struct GlOrthoResidualProducer::Impl {
-    std::unique_ptr<OrthoFileReader> reader;
+    std::shared_ptr<const OrthoProducer> residuals;
     TileCache<GlOrthoTile> cache;
     GlOrthoUpsampler upsampler;
 
-    Impl(const std::string& file, size_t capacity) : reader(OrthoFileReader::open(file)), cache(capacity) {}
+    Impl(std::shared_ptr<const OrthoProducer> producer, size_t capacity)
+        : residuals(std::move(producer)), cache(capacity) {}
 
     // The stored tile (colours at the root, residuals below) in an RGBA8UI texture.
     GlTexture upload(int level, int tx, int ty) const {
-        const OrthoHeader& h = reader->header();
+        const OrthoHeader& h = residuals->header();
         GlTexture texture(GL_RGBA8UI, h.tilePixels(), h.tilePixels());
-        const std::vector<uint8_t> stored = reader->readTile(level, tx, ty);
+        const std::vector<uint8_t> stored = residuals->tile(level, tx, ty);
         texture.upload(pixelFormat(h.channels, true), GL_UNSIGNED_BYTE, stored.data());
         return texture;
     }
@@ -26,39 +29,41 @@ struct GlOrthoResidualProducer::Impl {
         if (auto hit = cache.find({level, tx, ty})) {
             return hit;
         }
-        const OrthoHeader& h = reader->header();
-        if (!h.contains(level, tx, ty)) {
-            fail(reader->path(), "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                     std::to_string(ty) + ") in this file");
-        }
+        const OrthoHeader& h = residuals->header();
         const int side = h.tilePixels();
         std::shared_ptr<GlOrthoTile> tile;
         if (level == 0) {
-            tile = std::make_shared<GlOrthoTile>(GlOrthoTile{0, tx, ty, side, h.channels, false, upload(0, tx, ty)});
+            tile = std::make_shared<GlOrthoTile>(GlOrthoTile{0, 0, 0, side, h.channels, false, upload(0, 0, 0)});
         } else {
             const std::shared_ptr<const GlOrthoTile> parent = produce(level - 1, tx / 2, ty / 2);
-            const GlTexture residual = upload(level, tx, ty);
+            std::optional<GlTexture> residual;
+            if (residuals->hasTile(level, tx, ty)) {
+                residual.emplace(upload(level, tx, ty));
+            }
             tile = std::make_shared<GlOrthoTile>(
                 GlOrthoTile{level, tx, ty, side, h.channels, false, GlTexture(GL_RGBA8UI, side, side)});
-            upsampler.run(parent->texture, h.tileSize, tx, ty, &residual, tile->texture);
+            upsampler.run(parent->texture, h.tileSize, tx, ty, residual ? &*residual : nullptr, tile->texture);
         }
         return cache.insert({level, tx, ty}, std::move(tile));
     }
 };
 
-GlOrthoResidualProducer::GlOrthoResidualProducer(const std::string& file, size_t cacheCapacity)
-    : impl_(std::make_unique<Impl>(file, cacheCapacity)) {
-    const OrthoHeader& h = impl_->reader->header();
-    if (h.dxt() || h.border() != 2) {
-        fail(file, "colour residuals need TIFF tiles with 2-pixel borders");
+GlOrthoResidualProducer::GlOrthoResidualProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity)
+    : impl_(std::make_unique<Impl>(std::move(residuals), cacheCapacity)) {
+    const OrthoHeader& h = impl_->residuals->header();
+    if (h.dxt() || h.border() != 2 || h.tileSize % 2 != 0) {
+        fail("", "colour residual tiles must be TIFF tiles with 2-pixel borders and an even size");
     }
 }
 
 GlOrthoResidualProducer::~GlOrthoResidualProducer() = default;
 
-const OrthoHeader& GlOrthoResidualProducer::header() const { return impl_->reader->header(); }
+const OrthoHeader& GlOrthoResidualProducer::header() const { return impl_->residuals->header(); }
 
 std::shared_ptr<const GlOrthoTile> GlOrthoResidualProducer::tile(int level, int tx, int ty) {
+    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+        fail("", "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+    }
     return impl_->produce(level, tx, ty);
 }
 

@@ -6,7 +6,6 @@
 #include <functional>
 
 #include "formats/dxt_codec.hpp"
-#include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/elevation_producer.hpp"
@@ -14,7 +13,8 @@
 #include "libpyramid/gl/gl_elevation_producer.hpp"
 #include "libpyramid/gl/gl_ortho_producer.hpp"
 #include "libpyramid/gl/gl_ortho_residual_producer.hpp"
-#include "libpyramid/ortho_upsample.hpp"
+#include "libpyramid/ortho_producer.hpp"
+#include "libpyramid/ortho_residual_producer.hpp"
 
 namespace pyramid {
 
@@ -85,19 +85,22 @@ void verifyElevation(const std::string& path, const GlVerifyOptions& options, Gl
     }
 }
 
-void verifyOrthoTiles(const std::string& path, const OrthoFileReader& reader, const GlVerifyOptions& options,
+void verifyOrthoTiles(const std::shared_ptr<const OrthoProducer>& cpu, const GlVerifyOptions& options,
                       GlVerifyReport& report) {
-    const OrthoHeader& h = reader.header();
-    GlOrthoProducer gl(path, kCacheTiles);
+    const OrthoHeader& h = cpu->header();
+    GlOrthoProducer gl(cpu, kCacheTiles);
     GlVerifyPart bytes{"dxt blocks", "abs"};
     GlVerifyPart decoded{h.dxt() ? "dxt decoding" : "ortho tiles", "abs"};
     decoded.tolerance = h.dxt() ? kDxtDecodeTolerance : 0.0;
-    walk(0, 0, 0, lastLevel(h.maxLevel, options), [&](int level, int tx, int ty) {
+    walk(0, 0, 0, lastLevel(cpu->maxLevel(), options), [&](int level, int tx, int ty) {
+        if (!cpu->hasTile(level, tx, ty)) {
+            return;
+        }
         const auto t = gl.tile(level, tx, ty);
         if (h.dxt()) {
-            record(bytes, maxAbs(reader.readTileBytes(level, tx, ty), GlOrthoProducer::readCompressed(*t)));
+            record(bytes, maxAbs(cpu->rawTile(level, tx, ty), GlOrthoProducer::readCompressed(*t)));
         }
-        record(decoded, maxAbs(reader.readTile(level, tx, ty), gl.readPixels(*t)));
+        record(decoded, maxAbs(cpu->tile(level, tx, ty), gl.readPixels(*t)));
     });
     if (h.dxt()) {
         report.parts.push_back(bytes);
@@ -105,22 +108,13 @@ void verifyOrthoTiles(const std::string& path, const OrthoFileReader& reader, co
     report.parts.push_back(decoded);
 }
 
-void verifyColourResiduals(const std::string& path, const OrthoFileReader& reader, const GlVerifyOptions& options,
+void verifyColourResiduals(const std::shared_ptr<const OrthoProducer>& residuals, const GlVerifyOptions& options,
                            GlVerifyReport& report) {
-    const OrthoHeader& h = reader.header();
-    GlOrthoResidualProducer gl(path, kCacheTiles);
+    OrthoResidualProducer cpu(residuals, kCacheTiles);
+    GlOrthoResidualProducer gl(residuals, kCacheTiles);
     GlVerifyPart part{"colour residuals", "abs"};
-    // The CPU rebuild keeps the chain of ancestors' colours, indexed by level.
-    std::vector<std::vector<uint8_t>> chain(static_cast<size_t>(lastLevel(h.maxLevel, options)) + 1);
-    walk(0, 0, 0, lastLevel(h.maxLevel, options), [&](int level, int tx, int ty) {
-        std::vector<uint8_t>& colours = chain[static_cast<size_t>(level)];
-        colours = reader.readTile(level, tx, ty);
-        if (level > 0) {
-            const std::vector<uint8_t> stored = colours;
-            upsampleOrtho(chain[static_cast<size_t>(level) - 1].data(), h.tileSize, h.channels, tx, ty, stored.data(),
-                          colours.data());
-        }
-        record(part, maxAbs(colours, GlOrthoResidualProducer::read(*gl.tile(level, tx, ty))));
+    walk(0, 0, 0, lastLevel(residuals->maxLevel(), options), [&](int level, int tx, int ty) {
+        record(part, maxAbs(*cpu.tile(level, tx, ty), GlOrthoResidualProducer::read(*gl.tile(level, tx, ty))));
     });
     report.parts.push_back(part);
 }
@@ -151,10 +145,11 @@ GlVerifyReport verifyOnGl(const std::string& path, const GlVerifyOptions& option
     if (kind == PyramidKind::Residual) {
         verifyElevation(path, options, report);
     } else {
-        const auto reader = OrthoFileReader::open(path);
-        verifyOrthoTiles(path, *reader, options, report);
-        if (!reader->header().dxt() && reader->header().border() == 2) {
-            verifyColourResiduals(path, *reader, options, report);
+        const auto tiles = std::make_shared<const OrthoProducer>(path);
+        verifyOrthoTiles(tiles, options, report);
+        const OrthoHeader& h = tiles->header();
+        if (!h.dxt() && h.border() == 2 && h.tileSize % 2 == 0) {
+            verifyColourResiduals(tiles, options, report);
         }
     }
     return report;
