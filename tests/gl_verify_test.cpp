@@ -56,12 +56,16 @@ TEST(GlVerify, OriginalDemEveryTileSize) {
 TEST(GlVerify, CommandLineReportsAndExitsZero) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     const test::RunResult r =
-        test::run(test::programPath("pyramid") + " verify " + test::dataPath("proland/DEM.dat") + " --gl --json");
+        test::run(test::programPath("pyramid") + " verify " + test::dataPath("proland/RGB.dat") + " --gl --json");
     EXPECT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["ok"], true);
-    EXPECT_EQ(j["parts"].size(), 4u);
-    EXPECT_EQ(j["parts"][3]["tiles"], 1365);
+    ASSERT_EQ(j["parts"].size(), 2u);
+    EXPECT_EQ(j["parts"][1]["what"], "colour residuals");
+    EXPECT_EQ(j["parts"][1]["tiles"], 5);
+    const test::RunResult both = test::run(test::programPath("pyramid") + " verify " +
+                                           test::dataPath("proland/RGB.dat") + " --gl --source x.tif");
+    EXPECT_EQ(both.exitCode, 2) << both.err; // --gl compares CPU and GPU, not a source
 }
 
 TEST(GlVerify, MaxLevelLimitsTheWalk) {
