@@ -3,8 +3,6 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
-#include <vector>
-
 #include "libpyramid/gl/gl_api.hpp"
 
 namespace pyramid {
