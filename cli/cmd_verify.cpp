@@ -10,6 +10,7 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "libpyramid/dem_verify.hpp"
+#include "libpyramid/ortho_verify.hpp"
 #ifdef PYRAMID_WITH_GL
 #include "libpyramid/gl/gl_verify.hpp"
 #endif
@@ -26,6 +27,8 @@ struct VerifyArgs {
     std::string nodata;
     bool stretch = false;
     int threads = 0;
+    bool colourResiduals = false;
+    std::string colourSpace = "srgb";
     bool gl = false;
 };
 
@@ -83,6 +86,34 @@ int verifyGl(const VerifyArgs& a) {
 #endif
 }
 
+int verifyOrthoFile(const VerifyArgs& a) {
+    if (a.source.empty()) {
+        fail("--source", "verifying an ortho file needs the source image (--source INPUT)");
+    }
+    OrthoVerifyOptions o;
+    o.stretch = a.stretch;
+    o.threads = a.threads;
+    o.colourResiduals = a.colourResiduals;
+    if (a.colourSpace == "linear" || a.colourSpace == "none") {
+        o.colourSpace = ColourSpace::Linear;
+    } else if (a.colourSpace != "srgb") {
+        fail("--colour-space", "'" + a.colourSpace + "' is not srgb or linear");
+    }
+    const OrthoVerifyReport report = verifyOrtho(a.file, a.source, o);
+    if (a.json) {
+        writeJson(toJson(report), "-");
+    } else {
+        std::printf("%s against %s (%s)\n", a.file.c_str(), a.source.c_str(), report.mode.c_str());
+        for (const OrthoVerifyLevel& l : report.levels) {
+            std::printf("  level %2d: %6lld tiles  max error %3d  rms %-8.4g psnr %6.2f dB  %lld lossy tiles\n", l.level,
+                        static_cast<long long>(l.tiles), l.maxError, l.rmsError, l.psnr,
+                        static_cast<long long>(l.lossyTiles));
+        }
+        std::printf("%s\n", report.ok ? "ok" : "FAILED: lossless tiles differ from the source");
+    }
+    return report.ok ? kExitOk : kExitFailure;
+}
+
 } // namespace
 
 CommandRunner setupVerifyCommand(CLI::App& app) {
@@ -97,6 +128,10 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     app.add_option("--nodata", args->nodata, "Missing-height value of the source, as preprocessDem");
     app.add_flag("--stretch", args->stretch, "The source was stretched (preprocessDem --stretch)");
     app.add_option("--threads", args->threads, "Worker threads (default: all cores)");
+    app.add_flag("--colour-residuals", args->colourResiduals,
+                 "Ortho files: FILE holds colour residuals (residuals/RGB.dat); compare the rebuilt colours");
+    app.add_option("--colour-space", args->colourSpace, "Ortho files: the averaging of preprocessOrtho (srgb or linear)")
+        ->capture_default_str();
     return [args]() {
         if (args->gl) {
             return verifyGl(*args);
@@ -105,9 +140,9 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
         case PyramidKind::Residual:
             return verifyResidual(*args);
         case PyramidKind::Ortho:
-            break;
+            return verifyOrthoFile(*args);
         }
-        fail(args->file, "verifying ortho files against a source is not supported yet");
+        return kExitFailure;
     };
 }
 

@@ -1,0 +1,403 @@
+#include "libpyramid/ortho_encoder.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <tuple>
+
+#include "formats/dxt_codec.hpp"
+#include "formats/error.hpp"
+#include "formats/tiff_tile.hpp"
+#include "libpyramid/ortho_upsample.hpp"
+#include "libpyramid/parallel.hpp"
+
+namespace pyramid {
+
+namespace {
+
+struct TileStats {
+    int tiffMaxError = 0;
+    double dxtSquares = 0.0;
+    int64_t dxtSamples = 0;
+    int residualMaxError = 0;
+    double residualSquares = 0.0;
+    int64_t residualSamples = 0;
+    int64_t clamped = 0;
+};
+
+struct EncodedTile {
+    int level = 0, tx = 0, ty = 0;
+    std::vector<uint8_t> tiff, dxt, residual;
+    std::vector<uint8_t> recon; // colour-residual reconstruction, for the children
+    TileStats stats;
+};
+
+TiffCompression tiffCompression(TilePolicy p, bool edge, int channels) {
+    switch (p) {
+    case TilePolicy::Deflate:
+        return TiffCompression::Deflate;
+    case TilePolicy::Lzw:
+        return TiffCompression::Lzw;
+    case TilePolicy::Jpeg:
+        return TiffCompression::Jpeg;
+    case TilePolicy::None:
+        return TiffCompression::None;
+    case TilePolicy::Original:
+        // JPEG inside, Deflate on the pyramid's outer edge; JPEG cannot hold 2 or 4 channels.
+        return edge || channels == 2 || channels == 4 ? TiffCompression::Deflate : TiffCompression::Jpeg;
+    }
+    return TiffCompression::Deflate;
+}
+
+// The tile without its border when the output has none.
+std::vector<uint8_t> crop(const Image8& tile, int border) {
+    if (border == 2) {
+        return tile.pixels;
+    }
+    const int side = tile.width - 4;
+    std::vector<uint8_t> out(static_cast<size_t>(side) * side * tile.channels);
+    const size_t row = static_cast<size_t>(side) * tile.channels;
+    for (int y = 0; y < side; ++y) {
+        std::copy_n(tile.at(2, y + 2), row, &out[static_cast<size_t>(y) * row]);
+    }
+    return out;
+}
+
+// Grey, grey+alpha and RGB expanded as the DXT codec does (RGB, or RGBA for 4 channels).
+std::vector<uint8_t> expandForDxt(const std::vector<uint8_t>& pixels, int channels) {
+    if (channels >= 3) {
+        return pixels;
+    }
+    const size_t n = pixels.size() / static_cast<size_t>(channels);
+    std::vector<uint8_t> rgb(n * 3);
+    for (size_t k = 0; k < n; ++k) {
+        rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = pixels[k * static_cast<size_t>(channels)];
+    }
+    return rgb;
+}
+
+class Encoder {
+public:
+    Encoder(const OrthoLevels& levels, const OrthoEncodeOptions& o) : levels_(levels), o_(o) {
+        channels_ = levels.channels();
+        tileSize_ = levels.tileSize();
+        maxLevel_ = levels.maxLevel();
+    }
+
+    EncodedTile encode(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const {
+        EncodedTile e;
+        e.level = t.level;
+        e.tx = t.tx;
+        e.ty = t.ty;
+        const int outSide = tileSize_ + 2 * o_.border;
+        const std::vector<uint8_t> plain = crop(t.pixels, o_.border);
+        if (o_.writeTiff) {
+            const int last = (1 << t.level) - 1;
+            const bool edge = t.tx == 0 || t.ty == 0 || t.tx == last || t.ty == last;
+            const TiffCompression c = tiffCompression(o_.compression, edge, channels_);
+            e.tiff = encodeTiff8(plain, outSide, outSide, channels_, c, o_.jpegQuality);
+            if (c == TiffCompression::Jpeg) {
+                const std::vector<uint8_t> back = decodeOrthoTiff(e.tiff, outSide, channels_, "JPEG tile");
+                for (size_t k = 0; k < back.size(); ++k) {
+                    e.stats.tiffMaxError = std::max(e.stats.tiffMaxError, std::abs(back[k] - plain[k]));
+                }
+            }
+        }
+        if (o_.writeDxt) {
+            const DxtFormat format = channels_ == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1;
+            e.dxt = encodeDxt(plain, outSide, outSide, channels_, format, o_.dxtQuality);
+            const std::vector<uint8_t> back = decodeDxt(e.dxt, outSide, outSide, format, "DXT tile");
+            const std::vector<uint8_t> ref = expandForDxt(plain, channels_);
+            for (size_t k = 0; k < back.size(); ++k) {
+                const double d = static_cast<double>(back[k]) - static_cast<double>(ref[k]);
+                e.stats.dxtSquares += d * d;
+            }
+            e.stats.dxtSamples += static_cast<int64_t>(back.size());
+        }
+        if (o_.writeResiduals) {
+            encodeResidual(t, parentRecon, e);
+        }
+        return e;
+    }
+
+private:
+    // Closed loop: the stored residuals are decoded exactly as a reader will decode them, and
+    // the tile is rebuilt from them, before its children are predicted from it.
+    void encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedTile& e) const {
+        const int side = tileSize_ + 4;
+        const std::vector<uint8_t>& truth = t.pixels.pixels;
+        std::vector<uint8_t> stored(truth.size());
+        std::vector<uint8_t> predicted(truth.size());
+        if (t.level == 0) {
+            stored = truth;
+        } else {
+            const size_t rowBytes = static_cast<size_t>(side) * channels_;
+            const int rx = (t.tx & 1) * (tileSize_ / 2);
+            const int ry = (t.ty & 1) * (tileSize_ / 2);
+            for (int y = 0; y < side; ++y) {
+                for (int x = 0; x < side; ++x) {
+                    for (int c = 0; c < channels_; ++c) {
+                        const size_t k = static_cast<size_t>(y) * rowBytes + static_cast<size_t>(x * channels_ + c);
+                        predicted[k] = predictOrtho(parent->data(), rowBytes, channels_, c, rx, ry, x, y);
+                        bool clamped = false;
+                        stored[k] = encodeColourResidual(truth[k], predicted[k], &clamped);
+                        e.stats.clamped += clamped;
+                    }
+                }
+            }
+        }
+        const bool jpeg = o_.residualCompression == TilePolicy::Jpeg;
+        e.residual = encodeTiff8(stored, side, side, channels_, jpeg ? TiffCompression::Jpeg : TiffCompression::Deflate,
+                                 o_.jpegQuality);
+        const std::vector<uint8_t> decoded = jpeg ? decodeOrthoTiff(e.residual, side, channels_, "JPEG residual tile") : stored;
+        e.recon.resize(truth.size());
+        for (size_t k = 0; k < truth.size(); ++k) {
+            e.recon[k] = t.level == 0 ? decoded[k] : applyColourResidual(predicted[k], decoded[k]);
+            const int err = std::abs(static_cast<int>(e.recon[k]) - static_cast<int>(truth[k]));
+            e.stats.residualMaxError = std::max(e.stats.residualMaxError, err);
+            e.stats.residualSquares += static_cast<double>(err) * err;
+        }
+        e.stats.residualSamples += static_cast<int64_t>(truth.size());
+    }
+
+    const OrthoLevels& levels_;
+    const OrthoEncodeOptions& o_;
+    int channels_ = 0, tileSize_ = 0, maxLevel_ = 0;
+};
+
+struct LevelTotals {
+    int64_t tiles = 0;
+    TileStats s;
+};
+
+// Directories created for the outputs, removed again (when empty) if encoding fails.
+class CreatedDirectories {
+public:
+    void ensure(const std::filesystem::path& dir) {
+        std::vector<std::filesystem::path> missing;
+        for (auto p = dir; !p.empty() && !std::filesystem::exists(p); p = p.parent_path()) {
+            missing.push_back(p);
+        }
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) {
+            fail(dir.string(), "cannot create directory: " + ec.message());
+        }
+        created_.insert(created_.end(), missing.begin(), missing.end());
+    }
+    void keep() { created_.clear(); }
+    ~CreatedDirectories() {
+        for (const auto& p : created_) {
+            std::error_code ec;
+            std::filesystem::remove(p, ec); // only succeeds when empty
+        }
+    }
+
+private:
+    std::vector<std::filesystem::path> created_;
+};
+
+} // namespace
+
+OrthoReport encodeOrtho(const std::string& input, const std::string& directory, const OrthoEncodeOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    if (o.border != 0 && o.border != 2) {
+        fail("--border", std::to_string(o.border) + " is not 0 or 2");
+    }
+    if (!o.writeTiff && !o.writeDxt && !o.writeResiduals) {
+        fail("--outputs", "selects no output");
+    }
+    if (o.jpegQuality < 1 || o.jpegQuality > 100) {
+        fail("--jpeg-quality", std::to_string(o.jpegQuality) + " is not 1..100");
+    }
+    if (o.dxtQuality < 0 || o.dxtQuality > 2) {
+        fail("--dxt-quality", std::to_string(o.dxtQuality) + " is not 0, 1 or 2");
+    }
+    if (o.residualCompression != TilePolicy::Deflate && o.residualCompression != TilePolicy::Jpeg) {
+        fail("--residual-compression", "must be deflate or jpeg");
+    }
+    if (o.name.empty() || o.name.find('/') != std::string::npos) {
+        fail("--name", "'" + o.name + "' is not a plain file name");
+    }
+    const OrthoLevels levels(input, o.levels);
+    const int channels = levels.channels();
+    const int T = levels.tileSize();
+    if (o.compression == TilePolicy::Jpeg && o.writeTiff && channels != 1 && channels != 3) {
+        fail("--compression", "JPEG tiles hold 1 or 3 channels, the input has " + std::to_string(channels));
+    }
+    if (o.residualCompression == TilePolicy::Jpeg && o.writeResiduals && channels != 1 && channels != 3) {
+        fail("--residual-compression", "JPEG tiles hold 1 or 3 channels, the input has " + std::to_string(channels));
+    }
+    if (o.writeDxt && (T + 2 * o.border) % 4 != 0) {
+        fail("--tile-size", "DXT tiles need tile size + 2 x border to be a multiple of 4");
+    }
+
+    OrthoHeader base;
+    base.maxLevel = levels.maxLevel();
+    base.tileSize = T;
+    base.channels = channels;
+    base.flags = o.border == 0 ? OrthoHeader::kFlagNoBorder : 0u;
+    const std::filesystem::path dir(directory);
+    const std::string file = o.name + ".dat";
+    CreatedDirectories created;
+    std::unique_ptr<OrthoFileWriter> tiff, dxt, residual;
+    OrthoReport report;
+    report.input = input;
+    report.directory = directory;
+    if (o.writeTiff) {
+        created.ensure(dir);
+        tiff = std::make_unique<OrthoFileWriter>((dir / file).string(), base);
+        report.outputs.push_back((dir / file).string());
+    }
+    if (o.writeDxt) {
+        created.ensure(dir / "dxt");
+        OrthoHeader h = base;
+        h.channels = std::max(3, channels);
+        h.flags |= OrthoHeader::kFlagDxt;
+        dxt = std::make_unique<OrthoFileWriter>((dir / "dxt" / file).string(), h);
+        report.outputs.push_back((dir / "dxt" / file).string());
+    }
+    if (o.writeResiduals) {
+        created.ensure(dir / "residuals");
+        OrthoHeader h = base;
+        h.flags = 0; // colour residuals always carry their 2-pixel border
+        residual = std::make_unique<OrthoFileWriter>((dir / "residuals" / file).string(), h);
+        report.outputs.push_back((dir / "residuals" / file).string());
+    }
+
+    const Encoder encoder(levels, o);
+    const int threads = o.levels.threads > 0 ? o.levels.threads : omp_get_max_threads();
+    std::vector<LevelTotals> totals(static_cast<size_t>(levels.maxLevel()) + 1);
+    std::map<std::tuple<int, int, int>, std::vector<uint8_t>> shallowRecon; // levels 0..C
+    const int64_t total = levels.tileCount();
+    int64_t done = 0;
+    auto parentOf = [](const TrueTile& t) { return std::make_tuple(t.level - 1, t.tx / 2, t.ty / 2); };
+
+    levels.walk([&](std::vector<TileBatch>& group) {
+        std::vector<std::vector<EncodedTile>> results(group.size());
+        const bool oneLevel = group.size() == 1 && !group[0].empty() &&
+                              std::all_of(group[0].begin(), group[0].end(),
+                                          [&](const TrueTile& t) { return t.level == group[0][0].level; });
+        if (oneLevel) {
+            // A whole level: its tiles are independent given the previous level's reconstruction.
+            TileBatch& batch = group[0];
+            results[0].resize(batch.size());
+            parallelFor(static_cast<int64_t>(batch.size()), threads, [&](int64_t i) {
+                const TrueTile& t = batch[static_cast<size_t>(i)];
+                const std::vector<uint8_t>* parent = t.level ? &shallowRecon.at(parentOf(t)) : nullptr;
+                results[0][static_cast<size_t>(i)] = encoder.encode(t, parent);
+            });
+        } else {
+            // Subtrees: each in pre-order, its parents before its children.
+            parallelFor(static_cast<int64_t>(group.size()), threads, [&](int64_t i) {
+                std::map<std::tuple<int, int, int>, const std::vector<uint8_t>*> local;
+                auto& out = results[static_cast<size_t>(i)];
+                out.reserve(group[static_cast<size_t>(i)].size());
+                for (const TrueTile& t : group[static_cast<size_t>(i)]) {
+                    const auto key = parentOf(t);
+                    const auto it = local.find(key);
+                    const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon.at(key);
+                    out.push_back(encoder.encode(t, parent));
+                    local[{t.level, t.tx, t.ty}] = &out.back().recon;
+                }
+            });
+        }
+        for (auto& item : results) {
+            for (EncodedTile& e : item) {
+                if (tiff) {
+                    tiff->writeTileBytes(e.level, e.tx, e.ty, e.tiff);
+                }
+                if (dxt) {
+                    dxt->writeTileBytes(e.level, e.tx, e.ty, e.dxt);
+                }
+                if (residual) {
+                    residual->writeTileBytes(e.level, e.tx, e.ty, e.residual);
+                }
+                LevelTotals& lt = totals[static_cast<size_t>(e.level)];
+                lt.tiles += 1;
+                lt.s.tiffMaxError = std::max(lt.s.tiffMaxError, e.stats.tiffMaxError);
+                lt.s.dxtSquares += e.stats.dxtSquares;
+                lt.s.dxtSamples += e.stats.dxtSamples;
+                lt.s.residualMaxError = std::max(lt.s.residualMaxError, e.stats.residualMaxError);
+                lt.s.residualSquares += e.stats.residualSquares;
+                lt.s.residualSamples += e.stats.residualSamples;
+                lt.s.clamped += e.stats.clamped;
+                if (o.colourReconstruction && residual) {
+                    o.colourReconstruction(e.level, e.tx, e.ty, e.recon);
+                }
+                if (oneLevel) {
+                    shallowRecon[{e.level, e.tx, e.ty}] = std::move(e.recon);
+                }
+                if (o.progress) {
+                    o.progress(++done, total);
+                }
+            }
+        }
+    });
+    for (auto* w : {tiff.get(), dxt.get(), residual.get()}) {
+        if (w) {
+            w->commit();
+            report.bytes.push_back(std::filesystem::file_size(report.outputs[report.bytes.size()]));
+            report.sharedTiles.push_back(w->sharedTiles());
+        }
+    }
+    created.keep();
+    report.sampling = levels.sampling();
+    report.inputWidth = levels.inputWidth();
+    report.inputHeight = levels.inputHeight();
+    report.channels = channels;
+    report.tileSize = T;
+    report.maxLevel = levels.maxLevel();
+    report.border = o.border;
+    report.tiles = total;
+    report.threads = threads;
+    for (size_t l = 0; l < totals.size(); ++l) {
+        const TileStats& s = totals[l].s;
+        OrthoLevelReport r;
+        r.level = static_cast<int>(l);
+        r.tiles = totals[l].tiles;
+        r.tiffMaxError = s.tiffMaxError;
+        if (s.dxtSamples) {
+            const double mse = s.dxtSquares / static_cast<double>(s.dxtSamples);
+            r.dxtPsnr = mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0;
+        }
+        r.residualMaxError = s.residualMaxError;
+        r.residualRmsError = s.residualSamples ? std::sqrt(s.residualSquares / static_cast<double>(s.residualSamples)) : 0.0;
+        r.clampedResiduals = s.clamped;
+        report.levels.push_back(r);
+    }
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+nlohmann::json toJson(const OrthoReport& r) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const OrthoLevelReport& l : r.levels) {
+        levels.push_back({{"level", l.level},
+                          {"tiles", l.tiles},
+                          {"tiff_max_error", l.tiffMaxError},
+                          {"dxt_psnr_db", l.dxtPsnr},
+                          {"residual_max_error", l.residualMaxError},
+                          {"residual_rms_error", l.residualRmsError},
+                          {"clamped_residuals", l.clampedResiduals}});
+    }
+    return {{"input", {{"path", r.input}, {"width", r.inputWidth}, {"height", r.inputHeight}, {"channels", r.channels}}},
+            {"directory", r.directory},
+            {"outputs", r.outputs},
+            {"bytes", r.bytes},
+            {"shared_tiles", r.sharedTiles},
+            {"sampling", r.sampling},
+            {"tile_size", r.tileSize},
+            {"max_level", r.maxLevel},
+            {"border", r.border},
+            {"tiles", r.tiles},
+            {"levels", levels},
+            {"threads", r.threads},
+            {"seconds", r.seconds}};
+}
+
+} // namespace pyramid

@@ -1,0 +1,277 @@
+#include "libpyramid/ortho_levels.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "formats/error.hpp"
+#include "libpyramid/morton.hpp"
+#include "libpyramid/parallel.hpp"
+
+namespace pyramid {
+
+namespace {
+
+constexpr int kBorder = 2;
+constexpr int kSubtreeDepth = 4;
+
+// Input position of output pixel centres along one axis.
+struct Axis {
+    bool exact = false;
+    double scale = 1.0; // input pixels per output pixel
+    int input = 0;      // input pixels on this axis
+    bool flip = false;  // rows: output y = 0 is the input's last row
+    int64_t output = 0; // output pixels across (W)
+
+    // Input coordinate of output pixel p's centre, minus 0.5 (so that integers are centres).
+    double position(int64_t p) const {
+        const int64_t q = flip ? output - 1 - p : p;
+        return exact ? static_cast<double>(q) : (static_cast<double>(q) + 0.5) * scale - 0.5;
+    }
+    bool inside(double pos) const { return pos <= static_cast<double>(input) - 0.5; }
+};
+
+} // namespace
+
+struct OrthoLevels::Impl {
+    std::unique_ptr<RasterSource> source;
+    int T = 0, M = 0, C = 0, channels = 0;
+    bool sixteen = false;
+    Axis ax, ay;
+    ColourAverager averager{ColourSpace::Srgb, 1};
+    int threads = 1;
+    std::string sampling;
+
+    int64_t levelWidth(int l) const { return static_cast<int64_t>(T) << l; }
+
+    // Finest-level pixels [x0, x0+w) x [y0, y0+h) (y up), 8 bits.
+    Image8 sampleFinest(int64_t x0, int64_t y0, int w, int h) const {
+        Image8 out(w, h, channels);
+        std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
+        double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
+        for (int i = 0; i < w; ++i) {
+            px[static_cast<size_t>(i)] = ax.position(x0 + i);
+            if (ax.inside(px[static_cast<size_t>(i)])) {
+                minX = std::min(minX, px[static_cast<size_t>(i)]);
+                maxX = std::max(maxX, px[static_cast<size_t>(i)]);
+            }
+        }
+        for (int j = 0; j < h; ++j) {
+            py[static_cast<size_t>(j)] = ay.position(y0 + j);
+            if (ay.inside(py[static_cast<size_t>(j)])) {
+                minY = std::min(minY, py[static_cast<size_t>(j)]);
+                maxY = std::max(maxY, py[static_cast<size_t>(j)]);
+            }
+        }
+        if (minX > maxX || minY > maxY) {
+            return out; // beyond the input: zeros
+        }
+        const int cx0 = std::clamp(static_cast<int>(std::floor(minX)), 0, ax.input - 1);
+        const int cx1 = std::clamp(static_cast<int>(std::floor(maxX)) + 1, 0, ax.input - 1);
+        const int ry0 = std::clamp(static_cast<int>(std::floor(minY)), 0, ay.input - 1);
+        const int ry1 = std::clamp(static_cast<int>(std::floor(maxY)) + 1, 0, ay.input - 1);
+        const int ww = cx1 - cx0 + 1;
+        std::vector<uint16_t> window(static_cast<size_t>(ww) * static_cast<size_t>(ry1 - ry0 + 1) * channels);
+        source->readUInt16(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels, window.data());
+        auto sample = [&](int c, int r, int ch) {
+            return static_cast<double>(window[(static_cast<size_t>(r - ry0) * ww + static_cast<size_t>(c - cx0)) * channels +
+                                              static_cast<size_t>(ch)]);
+        };
+        const double full = sixteen ? 65535.0 : 255.0;
+        for (int j = 0; j < h; ++j) {
+            const double Y = py[static_cast<size_t>(j)];
+            if (!ay.inside(Y)) {
+                continue;
+            }
+            const double fy0 = std::floor(Y);
+            const double fy = Y - fy0;
+            const int r0 = std::clamp(static_cast<int>(fy0), 0, ay.input - 1);
+            const int r1 = std::clamp(static_cast<int>(fy0) + 1, 0, ay.input - 1);
+            uint8_t* row = out.at(0, j);
+            for (int i = 0; i < w; ++i) {
+                const double X = px[static_cast<size_t>(i)];
+                if (!ax.inside(X)) {
+                    continue;
+                }
+                const double fx0 = std::floor(X);
+                const double fx = X - fx0;
+                const int c0 = std::clamp(static_cast<int>(fx0), 0, ax.input - 1);
+                const int c1 = std::clamp(static_cast<int>(fx0) + 1, 0, ax.input - 1);
+                for (int ch = 0; ch < channels; ++ch) {
+                    double v = sample(c0, r0, ch);
+                    if (fx != 0.0 || fy != 0.0) {
+                        const double top = v + (sample(c1, r0, ch) - v) * fx;
+                        const double a = sample(c0, r1, ch);
+                        const double bottom = a + (sample(c1, r1, ch) - a) * fx;
+                        v = top + (bottom - top) * fy;
+                    }
+                    row[static_cast<size_t>(i * channels + ch)] = static_cast<uint8_t>(std::lround(v * 255.0 / full));
+                }
+            }
+        }
+        return out;
+    }
+
+    // Tile (l, tx, ty) with its border from `img`, whose pixel (0, 0) is level-l pixel (ox, oy).
+    TrueTile extract(const Image8& img, int64_t ox, int64_t oy, int l, int tx, int ty) const {
+        TrueTile t;
+        t.level = l;
+        t.tx = tx;
+        t.ty = ty;
+        const int side = T + 2 * kBorder;
+        t.pixels = Image8(side, side, channels);
+        const int64_t W = levelWidth(l);
+        for (int y = 0; y < side; ++y) {
+            const int64_t gy = std::clamp<int64_t>(static_cast<int64_t>(ty) * T + y - kBorder, 0, W - 1) - oy;
+            for (int x = 0; x < side; ++x) {
+                const int64_t gx = std::clamp<int64_t>(static_cast<int64_t>(tx) * T + x - kBorder, 0, W - 1) - ox;
+                std::copy_n(img.at(static_cast<int>(gx), static_cast<int>(gy)), channels, t.pixels.at(x, y));
+            }
+        }
+        return t;
+    }
+
+    void subtree(int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
+                 const std::vector<int64_t>& oy, TileBatch& out) const {
+        const size_t k = static_cast<size_t>(l - C - 1);
+        out.push_back(extract(imgs[k], ox[k], oy[k], l, tx, ty));
+        if (l < M) {
+            for (int c = 0; c < 4; ++c) {
+                subtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), imgs, ox, oy, out);
+            }
+        }
+    }
+};
+
+OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    if (o.tileSize < 2 || o.tileSize > 8192 || o.tileSize % 2 != 0) {
+        fail("--tile-size", std::to_string(o.tileSize) + " is not an even number from 2 to 8192");
+    }
+    m.source = RasterSource::open(input, o.cacheMegabytes);
+    const RasterInfo& info = m.source->info();
+    if (info.type != SampleType::UInt8 && info.type != SampleType::UInt16) {
+        fail(input, "imagery must have 8- or 16-bit unsigned samples");
+    }
+    if (info.channels > 4 && o.channels == 0) {
+        fail(input, std::to_string(info.channels) + " channels (1 to 4 expected; --channels selects the first ones)");
+    }
+    if (o.channels < 0 || o.channels > std::min(4, info.channels)) {
+        fail("--channels", std::to_string(o.channels) + " is not 1.." + std::to_string(std::min(4, info.channels)));
+    }
+    m.channels = o.channels ? o.channels : info.channels;
+    m.sixteen = info.type == SampleType::UInt16;
+    m.T = o.tileSize;
+    const int64_t longest = std::max(info.width, info.height);
+    m.M = o.maxLevel;
+    if (m.M < 0) {
+        m.M = 0;
+        while ((static_cast<int64_t>(m.T) << m.M) < longest) {
+            ++m.M;
+        }
+    }
+    if (m.M > 20) {
+        fail("--max-level", std::to_string(m.M) + " is beyond 20");
+    }
+    m.C = std::max(0, m.M - kSubtreeDepth);
+    const int64_t W = m.levelWidth(m.M);
+    m.ax.output = m.ay.output = W;
+    m.ax.input = info.width;
+    m.ay.input = info.height;
+    m.ay.flip = true;
+    if (info.width == W && info.height == W) {
+        m.ax.exact = m.ay.exact = true;
+        m.sampling = "input pixels are the finest level's pixels (no resampling)";
+    } else if (o.stretch) {
+        m.ax.scale = static_cast<double>(info.width) / static_cast<double>(W);
+        m.ay.scale = static_cast<double>(info.height) / static_cast<double>(W);
+        m.sampling = "bilinear resampling, width and height stretched independently onto " + std::to_string(W) + "x" +
+                     std::to_string(W) + " pixels";
+    } else {
+        m.ax.scale = m.ay.scale = static_cast<double>(longest) / static_cast<double>(W);
+        m.sampling = "bilinear resampling onto " + std::to_string(W) + "x" + std::to_string(W) +
+                     " pixels, aspect ratio kept" +
+                     (info.width != info.height ? ", input at the north-west corner, the rest black and transparent"
+                                                : "");
+    }
+    m.averager = ColourAverager(o.colourSpace, m.channels);
+    m.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+}
+
+OrthoLevels::~OrthoLevels() = default;
+
+int OrthoLevels::tileSize() const { return impl_->T; }
+int OrthoLevels::maxLevel() const { return impl_->M; }
+int OrthoLevels::channels() const { return impl_->channels; }
+int OrthoLevels::inputWidth() const { return impl_->source->info().width; }
+int OrthoLevels::inputHeight() const { return impl_->source->info().height; }
+const std::string& OrthoLevels::sampling() const { return impl_->sampling; }
+int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M + 1))) - 1) / 3; }
+
+void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume) const {
+    const Impl& m = *impl_;
+    // Pass 1: level C, one row at a time from a band of 2^(M-C) finest rows.
+    const int k = m.M - m.C;
+    const int64_t WC = m.levelWidth(m.C);
+    std::vector<Image8> levels(static_cast<size_t>(m.C) + 1);
+    Image8& levelC = levels[static_cast<size_t>(m.C)];
+    levelC = Image8(static_cast<int>(WC), static_cast<int>(WC), m.channels);
+    parallelFor(WC, m.threads, [&](int64_t row) {
+        Image8 band = m.sampleFinest(0, row << k, static_cast<int>(m.levelWidth(m.M)), 1 << k);
+        for (int r = 0; r < k; ++r) {
+            band = m.averager.reduce(band);
+        }
+        std::copy(band.pixels.begin(), band.pixels.end(), levelC.at(0, static_cast<int>(row)));
+    });
+    for (int l = m.C - 1; l >= 0; --l) {
+        levels[static_cast<size_t>(l)] = m.averager.reduce(levels[static_cast<size_t>(l) + 1]);
+    }
+    for (int l = 0; l <= m.C; ++l) {
+        const int side = 1 << l;
+        std::vector<TileBatch> group(1);
+        TileBatch& batch = group[0];
+        batch.resize(static_cast<size_t>(side) * side);
+        parallelFor(static_cast<int64_t>(batch.size()), m.threads, [&](int64_t i) {
+            const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(i));
+            batch[static_cast<size_t>(i)] = m.extract(levels[static_cast<size_t>(l)], 0, 0, l, static_cast<int>(tx),
+                                                      static_cast<int>(ty));
+        });
+        consume(group);
+    }
+    if (m.C == m.M) {
+        return;
+    }
+    // Pass 2: the subtrees of level C + 1, each from its own footprint of the input.
+    const int top = m.C + 1;
+    const int d = m.M - top;
+    const int64_t count = int64_t{1} << (2 * top);
+    const int64_t groupSize = std::max<int64_t>(4, 2 * m.threads);
+    for (int64_t first = 0; first < count; first += groupSize) {
+        std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, count - first)));
+        parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
+            const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(first + i));
+            const int64_t Wt = m.levelWidth(top);
+            const int64_t x0 = std::max<int64_t>(0, static_cast<int64_t>(tx) * m.T - kBorder);
+            const int64_t y0 = std::max<int64_t>(0, static_cast<int64_t>(ty) * m.T - kBorder);
+            const int64_t x1 = std::min<int64_t>(Wt, (static_cast<int64_t>(tx) + 1) * m.T + kBorder);
+            const int64_t y1 = std::min<int64_t>(Wt, (static_cast<int64_t>(ty) + 1) * m.T + kBorder);
+            // Images of levels top..M over the footprint, finest first, then reduced upwards.
+            std::vector<Image8> imgs(static_cast<size_t>(d) + 1);
+            std::vector<int64_t> ox(imgs.size()), oy(imgs.size());
+            imgs[static_cast<size_t>(d)] = m.sampleFinest(x0 << d, y0 << d, static_cast<int>((x1 - x0) << d),
+                                                          static_cast<int>((y1 - y0) << d));
+            for (int j = d; j >= 0; --j) {
+                ox[static_cast<size_t>(j)] = x0 << j;
+                oy[static_cast<size_t>(j)] = y0 << j;
+                if (j < d) {
+                    imgs[static_cast<size_t>(j)] = m.averager.reduce(imgs[static_cast<size_t>(j) + 1]);
+                }
+            }
+            m.subtree(top, static_cast<int>(tx), static_cast<int>(ty), imgs, ox, oy, group[static_cast<size_t>(i)]);
+        });
+        consume(group);
+    }
+}
+
+} // namespace pyramid

@@ -1,0 +1,76 @@
+// The true tiles of an ortho pyramid, computed from an input image in bounded memory
+// (doc/ortho-encoding.md): shared by preprocessOrtho and `pyramid verify`.
+//
+// Geometry. The finest level M is W = tileSize << M pixels across the root quad; its pixel
+// (x, y), y = 0 at the south, is input pixel (x, W - 1 - y) when the input is W x W pixels
+// (pixel exact). Otherwise the input is resampled bilinearly at pixel centres: input position
+// X = (x + 0.5) * s - 0.5, Y = (W - 1 - y + 0.5) * s - 0.5 with s = max(width, height) / W (aspect
+// kept, input at the north-west corner, pixels beyond it are 0 in every channel, i.e. black
+// and transparent) or, with stretching, s = width / W and height / W per axis. 16-bit input is
+// brought to 8 bits at the finest level: v8 = round(v16 * 255 / 65535).
+//
+// Levels. Level l < M is the 2x2 average of level l + 1 (colour_average.hpp). Tiles carry a
+// border of 2 pixels taken from the neighbouring tiles of the same level; beyond the map's edge
+// the edge pixels repeat.
+//
+// Order and memory. Levels 0..C (C = max(0, M - 4)) are built in memory in one streaming pass
+// over the input (bands of 2^(M-C) rows reduced as they are read). Deeper tiles come in
+// subtrees: for each tile of level C + 1 in Z order, its footprint is read from the input,
+// reduced level by level, and its subtree's tiles are produced depth first (pre-order).
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "libpyramid/colour_average.hpp"
+#include "libpyramid/raster_source.hpp"
+
+namespace pyramid {
+
+struct OrthoLevelsOptions {
+    int tileSize = 192;
+    int maxLevel = -1;    // -1: the smallest level whose width holds the input's longer side
+    int channels = 0;     // 0: every input channel (1..4), else the first `channels`
+    ColourSpace colourSpace = ColourSpace::Srgb;
+    bool stretch = false;
+    int threads = 0;
+    int cacheMegabytes = 256;
+};
+
+// One tile of the pyramid with a 2-pixel border: (tileSize + 4)^2 x channels, row 0 = south.
+struct TrueTile {
+    int level = 0, tx = 0, ty = 0;
+    Image8 pixels;
+};
+
+// A unit of work handed to the consumer: tiles in pyramid order, each tile after its parent
+// when both are in the same item.
+using TileBatch = std::vector<TrueTile>;
+
+class OrthoLevels {
+public:
+    OrthoLevels(const std::string& input, const OrthoLevelsOptions& options);
+    ~OrthoLevels();
+
+    int tileSize() const;
+    int maxLevel() const;
+    int channels() const;
+    int inputWidth() const;
+    int inputHeight() const;
+    const std::string& sampling() const; // the geometry rule applied, one sentence
+    int64_t tileCount() const;
+
+    // Calls `consume` with the whole pyramid, item by item: first one item per level 0..C (all
+    // of that level's tiles in Z order), then one item per level-(C+1) subtree (pre-order), in
+    // Z order. Items are computed in parallel in groups; `consume` receives each group (a
+    // vector of items in order) from the calling thread and may process them in parallel.
+    void walk(const std::function<void(std::vector<TileBatch>&)>& consume) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace pyramid
