@@ -164,3 +164,48 @@ TEST_F(PreprocessDemCli, BadInputFailsCleanly) {
 
 } // namespace
 } // namespace pyramid
+
+namespace pyramid {
+namespace {
+
+TEST(PreprocessOrthoCli, BuildsVerifiesAndFailsCleanly) {
+    test::TempDir dir;
+    std::vector<uint16_t> px(48 * 40 * 3);
+    for (size_t k = 0; k < px.size(); ++k) {
+        px[k] = static_cast<uint16_t>((k * 37) % 251);
+    }
+    test::writeImage(dir.file("in.png"), 48, 40, 3, px, false);
+    auto r = test::run(test::programPath("preprocessOrtho") + " '" + dir.file("in.png") + "' -o '" + dir.file("out") +
+                       "' --tile-size 16 --quiet --report '" + dir.file("r.json") + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto report = nlohmann::json::parse(test::readFile(dir.file("r.json")));
+    EXPECT_EQ(report["outputs"].size(), 3u);
+    EXPECT_EQ(report["max_level"], 2);
+    for (const char* f : {"/out/RGB.dat", "/out/dxt/RGB.dat", "/out/residuals/RGB.dat"}) {
+        EXPECT_EQ(test::run(test::programPath("pyramid") + " check '" + dir.path() + f + "'").exitCode, 0) << f;
+    }
+    r = test::run(test::programPath("pyramid") + " verify --json '" + dir.file("out/RGB.dat") + "' --source '" +
+                  dir.file("in.png") + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["levels"][2]["max_error"], 0);
+    r = test::run(test::programPath("pyramid") + " verify '" + dir.file("out/residuals/RGB.dat") + "' --source '" +
+                  dir.file("in.png") + "' --colour-residuals");
+    EXPECT_EQ(r.exitCode, 0) << r.out;
+    // A different source: the lossless file no longer matches.
+    px[100] ^= 0x40;
+    test::writeImage(dir.file("other.png"), 48, 40, 3, px, false);
+    r = test::run(test::programPath("pyramid") + " verify '" + dir.file("out/RGB.dat") + "' --source '" +
+                  dir.file("other.png") + "'");
+    EXPECT_EQ(r.exitCode, 1) << r.out;
+    // Bad input: one line, exit 1, no directory left behind.
+    for (const std::string args : {" --border 3", " --compression zip", " --outputs tiff,png", " --tile-size 7"}) {
+        r = test::run(test::programPath("preprocessOrtho") + " '" + dir.file("in.png") + "' -o '" + dir.file("bad") +
+                      "'" + args);
+        EXPECT_EQ(r.exitCode, 1) << args << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << r.err;
+        EXPECT_FALSE(test::fileExists(dir.file("bad"))) << args;
+    }
+}
+
+} // namespace
+} // namespace pyramid

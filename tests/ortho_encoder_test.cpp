@@ -1,0 +1,216 @@
+// preprocessOrtho as a library: lossless levels equal the input and the exact averages, DXT
+// within its error, colour residuals rebuilt bit for bit by the CPU producer, determinism,
+// borders, 16-bit input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <tuple>
+
+#include "formats/error.hpp"
+#include "formats/ortho_file.hpp"
+#include "libpyramid/ortho_encoder.hpp"
+#include "libpyramid/ortho_residual_producer.hpp"
+#include "libpyramid/ortho_verify.hpp"
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+// A smooth colour image with some texture, row 0 = north.
+std::vector<uint16_t> image(int w, int h, int channels, int maxValue) {
+    std::vector<uint16_t> v(static_cast<size_t>(w) * h * channels);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < channels; ++c) {
+                const double s = 0.5 + 0.45 * std::sin(x / (7.0 + c) + y / 11.0) * std::cos((x - y) / 13.0);
+                v[(static_cast<size_t>(y) * w + x) * channels + c] =
+                    static_cast<uint16_t>(std::lround(s * maxValue + ((x * 7 + y * 3 + c) % 5)));
+            }
+        }
+    }
+    return v;
+}
+
+OrthoEncodeOptions small() {
+    OrthoEncodeOptions o;
+    o.levels.tileSize = 16;
+    return o;
+}
+
+TEST(OrthoEncoder, LosslessLevelsAreTheInputAndItsAverages) {
+    test::TempDir dir;
+    const int W = 64; // 16 << 2: pixel exact, levels 0..2
+    const auto px = image(W, W, 3, 250);
+    test::writeImage(dir.file("in.png"), W, W, 3, px, false);
+    OrthoEncodeOptions o = small();
+    o.levels.colourSpace = ColourSpace::Linear;
+    o.writeDxt = o.writeResiduals = false;
+    const OrthoReport report = encodeOrtho(dir.file("in.png"), dir.file("out"), o);
+    EXPECT_EQ(report.maxLevel, 2);
+    EXPECT_EQ(report.sampling, "input pixels are the finest level's pixels (no resampling)");
+    const auto reader = OrthoFileReader::open(dir.file("out/RGB.dat"));
+    EXPECT_EQ(reader->header().flags, 0u);
+    EXPECT_EQ(reader->header().tilePixels(), 20);
+    auto input = [&](int x, int y, int c) { // pyramid coordinates, clamped at the edges
+        x = std::clamp(x, 0, W - 1);
+        y = std::clamp(y, 0, W - 1);
+        return static_cast<int>(px[(static_cast<size_t>(W - 1 - y) * W + x) * 3 + c]);
+    };
+    // Finest level: tile (2, 1, 2) pixel (i, j) is input pixel (16 + i - 2, 32 + j - 2).
+    const auto fine = reader->readTile(2, 1, 2);
+    for (int j = 0; j < 20; ++j) {
+        for (int i = 0; i < 20; ++i) {
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_EQ(fine[(static_cast<size_t>(j) * 20 + i) * 3 + c], input(16 + i - 2, 32 + j - 2, c));
+            }
+        }
+    }
+    // Level 1 pixel (x, y) of the level = (sum of the 2x2 input block + 2) / 4.
+    const auto mid = reader->readTile(1, 0, 1);
+    for (int j = 2; j < 18; ++j) {
+        for (int i = 2; i < 18; ++i) {
+            const int x = i - 2, y = 16 + j - 2;
+            for (int c = 0; c < 3; ++c) {
+                const int sum = input(2 * x, 2 * y, c) + input(2 * x + 1, 2 * y, c) + input(2 * x, 2 * y + 1, c) +
+                                input(2 * x + 1, 2 * y + 1, c);
+                ASSERT_EQ(mid[(static_cast<size_t>(j) * 20 + i) * 3 + c], (sum + 2) / 4);
+            }
+        }
+    }
+    OrthoVerifyOptions vo;
+    vo.colourSpace = ColourSpace::Linear;
+    EXPECT_TRUE(verifyOrtho(dir.file("out/RGB.dat"), dir.file("in.png"), vo).ok);
+}
+
+TEST(OrthoEncoder, SrgbAveragesLight) {
+    test::TempDir dir;
+    // Black and white stripes: the sRGB average of 0 and 255 is 188, not 128.
+    std::vector<uint16_t> px(32 * 32);
+    for (int y = 0; y < 32; ++y) {
+        for (int x = 0; x < 32; ++x) {
+            px[static_cast<size_t>(y * 32 + x)] = (x % 2) ? 255 : 0;
+        }
+    }
+    test::writeImage(dir.file("stripes.png"), 32, 32, 1, px, false);
+    OrthoEncodeOptions o = small();
+    o.writeDxt = o.writeResiduals = false;
+    encodeOrtho(dir.file("stripes.png"), dir.file("out"), o);
+    const auto root = OrthoFileReader::open(dir.file("out/RGB.dat"))->readTile(0, 0, 0);
+    EXPECT_EQ(root[5 + 5 * 20], 188);
+}
+
+TEST(OrthoEncoder, ColourResidualsRebuildBitForBit) {
+    for (const TilePolicy compression : {TilePolicy::Deflate, TilePolicy::Jpeg}) {
+        test::TempDir dir;
+        const auto px = image(100, 80, 3, 240);
+        test::writeImage(dir.file("in.png"), 100, 80, 3, px, false);
+        OrthoEncodeOptions o = small();
+        o.levels.tileSize = 8; // levels 0..4: both the in-memory levels and the subtrees
+        o.writeTiff = o.writeDxt = false;
+        o.residualCompression = compression;
+        std::map<std::tuple<int, int, int>, std::vector<uint8_t>> recon;
+        o.colourReconstruction = [&](int l, int tx, int ty, const std::vector<uint8_t>& r) { recon[{l, tx, ty}] = r; };
+        const OrthoReport report = encodeOrtho(dir.file("in.png"), dir.file("out"), o);
+        ASSERT_EQ(report.maxLevel, 4);
+        ASSERT_EQ(static_cast<int64_t>(recon.size()), report.tiles);
+        OrthoResidualProducer producer(std::make_shared<OrthoProducer>(dir.file("out/residuals/RGB.dat")));
+        for (const auto& [key, tile] : recon) {
+            const auto [l, tx, ty] = key;
+            ASSERT_EQ(*producer.tile(l, tx, ty), tile) << "tile (" << l << "," << tx << "," << ty << ")";
+        }
+        for (const OrthoLevelReport& l : report.levels) {
+            if (compression == TilePolicy::Deflate) {
+                EXPECT_LE(l.residualMaxError, 1); // residuals are stored in steps of 2
+            }
+        }
+    }
+}
+
+TEST(OrthoEncoder, IdenticalFilesForAnyThreadCount) {
+    test::TempDir dir;
+    test::writeImage(dir.file("in.png"), 90, 70, 4, image(90, 70, 4, 255), false);
+    OrthoEncodeOptions o = small();
+    o.levels.tileSize = 8;
+    o.levels.threads = 1;
+    encodeOrtho(dir.file("in.png"), dir.file("one"), o);
+    o.levels.threads = 2;
+    encodeOrtho(dir.file("in.png"), dir.file("two"), o);
+    for (const char* f : {"/RGB.dat", "/dxt/RGB.dat", "/residuals/RGB.dat"}) {
+        const std::string a = test::readFile(dir.file("one") + f);
+        EXPECT_GT(a.size(), 500u) << f;
+        EXPECT_EQ(a, test::readFile(dir.file("two") + f)) << f;
+    }
+}
+
+TEST(OrthoEncoder, DxtWithinItsErrorAndNoBorderFiles) {
+    test::TempDir dir;
+    test::writeImage(dir.file("in.png"), 64, 64, 3, image(64, 64, 3, 230), false);
+    OrthoEncodeOptions o = small();
+    o.border = 0;
+    o.writeResiduals = false;
+    const OrthoReport report = encodeOrtho(dir.file("in.png"), dir.file("out"), o);
+    for (const OrthoLevelReport& l : report.levels) {
+        EXPECT_GT(l.dxtPsnr, 22.0) << "level " << l.level; // three independent channels: hard for DXT1
+    }
+    const auto dxt = OrthoFileReader::open(dir.file("out/dxt/RGB.dat"));
+    EXPECT_EQ(dxt->header().flags, OrthoHeader::kFlagDxt | OrthoHeader::kFlagNoBorder);
+    EXPECT_EQ(dxt->header().channels, 3);
+    const auto tiff = OrthoFileReader::open(dir.file("out/RGB.dat"));
+    EXPECT_EQ(tiff->header().flags, OrthoHeader::kFlagNoBorder);
+    EXPECT_EQ(tiff->header().tilePixels(), 16);
+    // DXT1 keeps each 4x4 block within a colour line: on this smooth image, close to the source.
+    const auto a = tiff->readTile(2, 1, 1);
+    const auto b = dxt->readTile(2, 1, 1);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); ++k) {
+        ASSERT_LE(std::abs(a[k] - b[k]), 24) << k;
+    }
+    const OrthoVerifyReport v = verifyOrtho(dir.file("out/dxt/RGB.dat"), dir.file("in.png"), {});
+    EXPECT_TRUE(v.ok);
+    EXPECT_EQ(v.mode, "dxt");
+    // The PSNR the encoder states is what a reader gets.
+    ASSERT_EQ(v.levels.size(), report.levels.size());
+    for (size_t l = 0; l < v.levels.size(); ++l) {
+        EXPECT_NEAR(v.levels[l].psnr, report.levels[l].dxtPsnr, 1e-9);
+    }
+}
+
+TEST(OrthoEncoder, SixteenBitInputRoundsToEightBits) {
+    test::TempDir dir;
+    const auto px = image(32, 32, 1, 65000);
+    test::writeImage(dir.file("in16.tif"), 32, 32, 1, px, true);
+    OrthoEncodeOptions o = small();
+    o.writeDxt = o.writeResiduals = false;
+    encodeOrtho(dir.file("in16.tif"), dir.file("out"), o);
+    const auto fine = OrthoFileReader::open(dir.file("out/RGB.dat"))->readTile(1, 0, 0);
+    // Tile (1,0,0) pixel (i, j) is input pixel (i - 2, 31 - (j - 2)).
+    for (int j = 2; j < 18; ++j) {
+        for (int i = 2; i < 18; ++i) {
+            const int v16 = px[static_cast<size_t>((31 - (j - 2)) * 32 + (i - 2))];
+            ASSERT_EQ(fine[static_cast<size_t>(j * 20 + i)], static_cast<int>(std::lround(v16 * 255.0 / 65535.0)));
+        }
+    }
+}
+
+TEST(OrthoEncoder, BadInputWritesNothing) {
+    test::TempDir dir;
+    std::vector<float> f(16 * 16, 0.5f);
+    test::writeFloatRaster(dir.file("float.tif"), 16, 16, f);
+    EXPECT_THROW(encodeOrtho(dir.file("float.tif"), dir.file("out"), small()), Error);
+    EXPECT_THROW(encodeOrtho(dir.file("missing.png"), dir.file("out"), small()), Error);
+    test::writeImage(dir.file("rgba.png"), 32, 32, 4, image(32, 32, 4, 255), false);
+    OrthoEncodeOptions o = small();
+    o.compression = TilePolicy::Jpeg;
+    EXPECT_THROW(encodeOrtho(dir.file("rgba.png"), dir.file("out"), o), Error);
+    o = small();
+    o.border = 3;
+    EXPECT_THROW(encodeOrtho(dir.file("rgba.png"), dir.file("out"), o), Error);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
+}
+
+} // namespace
+} // namespace pyramid
