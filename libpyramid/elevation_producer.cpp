@@ -22,7 +22,7 @@ int elevationDelta(const ResidualHeader& header, int n) {
 
 namespace {
 
-// zc, the coarse elevation (doc/format.md, "Coarse elevations"): the parent tile's render mesh,
+// zc, the coarse elevation (doc/format.md, 3.1 "Coarse elevations"): the parent tile's render mesh,
 // a grid of gridSize quads over the parent quad with north-west to south-east diagonals,
 // evaluated at the child sample. Over the child quad that mesh has cells of c = 2n / gridSize
 // child samples. For interior sample u = i - 2, v = j - 2 (0..n):
