@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# preprocessOrtho against GDAL's COG writer on the same inputs: wall time, peak RSS and bytes.
+# A benchmark, run on demand (never a test); GDAL is only a peer here, not a dependency.
+#
+#   bench/ortho_bench.sh            results in $WORK (default /tmp/pyramid-ortho-bench)
+#
+# Environment: BUILD (a Release build directory, configured here if missing; default
+# build-release), WORK, SIZE (synthetic image side, default 8192), THREADS (default: all cores).
+#
+# Inputs: a deterministic synthetic SIZE x SIZE RGB image (bench/ortho_synthetic_image.cpp),
+# samples/bluemarble.png and a 5400x2700 upsampled copy of it. On the synthetic image
+# preprocessOrtho uses --tile-size 256 so that its finest level is the input's pixels, as in the
+# COG (no resampling, same pixel count apart from the 2-pixel tile borders); on the Blue Marble
+# inputs it uses the default 192-pixel tiles (resampled to 192 << maxLevel pixels).
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+BUILD=${BUILD:-$ROOT/build-release}
+WORK=${WORK:-/tmp/pyramid-ortho-bench}
+SIZE=${SIZE:-8192}
+THREADS=${THREADS:-$(nproc)}
+
+as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+need_package() { # command package
+    if ! command -v "$1" >/dev/null 2>&1; then
+        as_root apt-get install -y "$2" >/dev/null || { as_root apt-get update >/dev/null && as_root apt-get install -y "$2" >/dev/null; }
+    fi
+}
+need_package gdal_translate gdal-bin
+need_package oiiotool openimageio-tools
+[ -x /usr/bin/time ] || need_package /usr/bin/time time
+
+if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPYRAMID_WITH_GL=OFF >/dev/null
+fi
+cmake --build "$BUILD" -j"$(nproc)" --target preprocessOrtho >/dev/null
+ORTHO=$(find "$BUILD" -name preprocessOrtho -type f -perm -u+x | head -n 1)
+
+mkdir -p "$WORK"
+cd "$WORK"
+if [ ! -f "synthetic-$SIZE.tif" ]; then
+    g++ -std=c++20 -O2 "$ROOT/bench/ortho_synthetic_image.cpp" -o ortho_synthetic_image -lOpenImageIO -lOpenImageIO_Util
+    ./ortho_synthetic_image "synthetic-$SIZE.tif.part" "$SIZE"
+    mv "synthetic-$SIZE.tif.part" "synthetic-$SIZE.tif"
+fi
+cp -f "$ROOT/samples/bluemarble.png" bluemarble.png
+[ -f bluemarble-5400.png ] || oiiotool bluemarble.png --resize 5400x2700 -o bluemarble-5400.png
+
+RESULTS=$WORK/results.tsv
+printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\ttiles\n' >"$RESULTS"
+
+# run CASE TOOL OUTPUT COMMAND...: time and peak RSS of COMMAND, bytes of OUTPUT (file or dir).
+run() {
+    local case=$1 tool=$2 output=$3
+    shift 3
+    rm -rf "$output"
+    /usr/bin/time -v -o time.txt "$@" >run.log 2>&1 || { cat run.log; exit 1; }
+    local wall rss bytes tiles=-
+    wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + t[i]; print s}' time.txt)
+    rss=$(awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2 / 1024}' time.txt)
+    bytes=$(find "$output" -type f \( -name '*.dat' -o -name '*.tif' \) -printf '%s\n' | awk '{s += $1} END {print s}')
+    [ -f report.json ] && [ "$tool" = ours ] && tiles=$(jq .tiles report.json)
+    rm -f report.json
+    printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$case" "$tool" "$wall" "$rss" "$bytes" "$tiles" | tee -a "$RESULTS"
+}
+
+ours() { "$ORTHO" --quiet --threads "$THREADS" --report report.json "$@"; }
+cog() { # INPUT OUTPUT options...
+    local input=$1 output=$2
+    shift 2
+    gdal_translate -q -of COG -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS" "$@" "$input" "$output"
+}
+
+for input in "synthetic-$SIZE.tif" bluemarble.png bluemarble-5400.png; do
+    tile=()
+    [ "$input" = "synthetic-$SIZE.tif" ] && tile=(--tile-size 256)
+    run "$input deflate" ours out-ours ours "$input" -o out-ours --outputs tiff "${tile[@]}"
+    run "$input deflate" gdal out-cog.tif cog "$input" out-cog.tif -co COMPRESS=DEFLATE
+    run "$input jpeg90" ours out-ours ours "$input" -o out-ours --outputs tiff --compression jpeg --jpeg-quality 90 "${tile[@]}"
+    run "$input jpeg90" gdal out-cog.tif cog "$input" out-cog.tif -co COMPRESS=JPEG -co QUALITY=90
+    run "$input levels-only" ours out-ours ours "$input" -o out-ours --outputs tiff --compression none "${tile[@]}"
+    run "$input dxt" ours out-ours ours "$input" -o out-ours --outputs dxt "${tile[@]}"
+    run "$input all-three" ours out-ours ours "$input" -o out-ours "${tile[@]}"
+done
+rm -rf out-ours out-cog.tif
+
+# The summary: ours/GDAL wall-time ratios, and DXT throughput (tiles with their borders).
+echo
+awk -F'\t' '
+    NR == 1 { next }
+    {
+        key = $1 SUBSEP $2; wall[key] = $3; rss[key] = $4; bytes[key] = $5; tiles[key] = $6
+        if (!($1 in seen)) { seen[$1] = 1; order[++count] = $1 }
+    }
+    END {
+        printf "| case | ours s | GDAL s | ours/GDAL | ours RSS MB | GDAL RSS MB | ours bytes | GDAL bytes |\n"
+        printf "|---|---|---|---|---|---|---|---|\n"
+        for (i = 1; i <= count; ++i) {
+            c = order[i]; o = c SUBSEP "ours"; g = c SUBSEP "gdal"
+            if (!(g in wall)) continue
+            printf "| %s | %.2f | %.2f | %.2f | %d | %d | %d | %d |\n", c, wall[o], wall[g], wall[o] / wall[g], rss[o], rss[g], bytes[o], bytes[g]
+        }
+        printf "\n| case (ours only) | s | RSS MB | bytes | tiles | tiles/s | Mpixel/s |\n|---|---|---|---|---|---|---|\n"
+        for (i = 1; i <= count; ++i) {
+            c = order[i]; o = c SUBSEP "ours"
+            if ((c SUBSEP "gdal") in wall) continue
+            side = c ~ /^synthetic/ ? 260 : 196
+            printf "| %s | %.2f | %d | %d | %d | %.0f | %.1f |\n", c, wall[o], rss[o], bytes[o], tiles[o], tiles[o] / wall[o], tiles[o] * side * side / wall[o] / 1e6
+        }
+    }' "$RESULTS"
+echo
+echo "raw figures: $RESULTS"
