@@ -24,7 +24,7 @@ const std::array<uint32_t, 256>& decodeTable() {
 }
 
 // The 8-bit sRGB value whose linear value is nearest to `linear` (ties to the lower value).
-uint8_t encodeSrgb(uint32_t linear) {
+uint8_t nearestSrgb(uint32_t linear) {
     const auto& t = decodeTable();
     const auto it = std::lower_bound(t.begin(), t.end(), linear);
     if (it == t.begin()) {
@@ -37,6 +37,19 @@ uint8_t encodeSrgb(uint32_t linear) {
     const uint32_t above = *it - linear;
     const uint32_t below = linear - t[hi - 1];
     return static_cast<uint8_t>(below <= above ? hi - 1 : hi);
+}
+
+// nearestSrgb for every linear value 0..65535 (an average of four table entries never exceeds
+// 65535): one lookup per averaged sample instead of a binary search.
+const std::array<uint8_t, 65536>& encodeTable() {
+    static const std::array<uint8_t, 65536> table = [] {
+        std::array<uint8_t, 65536> t{};
+        for (uint32_t v = 0; v < t.size(); ++v) {
+            t[v] = nearestSrgb(v);
+        }
+        return t;
+    }();
+    return table;
 }
 
 } // namespace
@@ -56,7 +69,7 @@ uint8_t ColourAverager::average(int channel, uint8_t a, uint8_t b, uint8_t c, ui
     }
     const auto& t = decodeTable();
     const uint32_t sum = t[a] + t[b] + t[c] + t[d];
-    return encodeSrgb((sum + 2u) >> 2);
+    return encodeTable()[(sum + 2u) >> 2];
 }
 
 Image8 ColourAverager::reduce(const Image8& in) const {
