@@ -89,6 +89,13 @@ struct OrthoLevels::Impl {
             const int r0 = std::clamp(static_cast<int>(fy0), 0, ay.input - 1);
             const int r1 = std::clamp(static_cast<int>(fy0) + 1, 0, ay.input - 1);
             uint8_t* row = out.at(0, j);
+            if (ax.exact && !sixteen) {
+                // 8-bit input pixels are the finest pixels (every column inside the input): the
+                // interpolation and conversion below would give each sample unchanged.
+                const size_t first = (static_cast<size_t>(r0 - ry0) * ww + static_cast<size_t>(x0 - cx0)) * channels;
+                std::copy_n(&window[first], static_cast<size_t>(w) * channels, row);
+                continue;
+            }
             for (int i = 0; i < w; ++i) {
                 const double X = px[static_cast<size_t>(i)];
                 if (!ax.inside(X)) {
