@@ -40,8 +40,8 @@ mkdir -p "$WORK"
 cd "$WORK"
 if [ ! -f "synthetic-$SIZE.tif" ]; then
     g++ -std=c++20 -O2 "$ROOT/bench/ortho_synthetic_image.cpp" -o ortho_synthetic_image -lOpenImageIO -lOpenImageIO_Util
-    ./ortho_synthetic_image "synthetic-$SIZE.tif.part" "$SIZE"
-    mv "synthetic-$SIZE.tif.part" "synthetic-$SIZE.tif"
+    ./ortho_synthetic_image "synthetic-$SIZE.part.tif" "$SIZE"
+    mv "synthetic-$SIZE.part.tif" "synthetic-$SIZE.tif"
 fi
 cp -f "$ROOT/samples/bluemarble.png" bluemarble.png
 [ -f bluemarble-5400.png ] || oiiotool bluemarble.png --resize 5400x2700 -o bluemarble-5400.png
@@ -64,23 +64,19 @@ run() {
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$case" "$tool" "$wall" "$rss" "$bytes" "$tiles" | tee -a "$RESULTS"
 }
 
-ours() { "$ORTHO" --quiet --threads "$THREADS" --report report.json "$@"; }
-cog() { # INPUT OUTPUT options...
-    local input=$1 output=$2
-    shift 2
-    gdal_translate -q -of COG -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS" "$@" "$input" "$output"
-}
+OURS=("$ORTHO" --quiet --threads "$THREADS" --report report.json)
+COG=(gdal_translate -q -of COG -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
 
 for input in "synthetic-$SIZE.tif" bluemarble.png bluemarble-5400.png; do
     tile=()
     [ "$input" = "synthetic-$SIZE.tif" ] && tile=(--tile-size 256)
-    run "$input deflate" ours out-ours ours "$input" -o out-ours --outputs tiff "${tile[@]}"
-    run "$input deflate" gdal out-cog.tif cog "$input" out-cog.tif -co COMPRESS=DEFLATE
-    run "$input jpeg90" ours out-ours ours "$input" -o out-ours --outputs tiff --compression jpeg --jpeg-quality 90 "${tile[@]}"
-    run "$input jpeg90" gdal out-cog.tif cog "$input" out-cog.tif -co COMPRESS=JPEG -co QUALITY=90
-    run "$input levels-only" ours out-ours ours "$input" -o out-ours --outputs tiff --compression none "${tile[@]}"
-    run "$input dxt" ours out-ours ours "$input" -o out-ours --outputs dxt "${tile[@]}"
-    run "$input all-three" ours out-ours ours "$input" -o out-ours "${tile[@]}"
+    run "$input deflate" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff "${tile[@]}"
+    run "$input deflate" gdal out-cog.tif "${COG[@]}" -co COMPRESS=DEFLATE "$input" out-cog.tif
+    run "$input jpeg90" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff --compression jpeg --jpeg-quality 90 "${tile[@]}"
+    run "$input jpeg90" gdal out-cog.tif "${COG[@]}" -co COMPRESS=JPEG -co QUALITY=90 "$input" out-cog.tif
+    run "$input levels-only" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff --compression none "${tile[@]}"
+    run "$input dxt" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs dxt "${tile[@]}"
+    run "$input all-three" ours out-ours "${OURS[@]}" "$input" -o out-ours "${tile[@]}"
 done
 rm -rf out-ours out-cog.tif
 
