@@ -274,6 +274,11 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     }
     size_t filled = 0;
     for (uint32_t s = 0; s < strips; ++s) {
+        // libtiff only warns when StripOffsets has fewer entries than the image has strips,
+        // and would then read the missing strips from offset 0 (the TIFF header).
+        if (TIFFGetStrileOffset(t, s) == 0) {
+            fail(where, "TIFF strip " + std::to_string(s) + " has no data (StripOffsets too short)");
+        }
         const uint32_t rows = std::min(rowsPerStrip, height - s * rowsPerStrip);
         const size_t want = rows * rowBytes;
         const tmsize_t got = TIFFReadEncodedStrip(t, s, image.pixels.data() + filled, static_cast<tmsize_t>(want));
