@@ -1,0 +1,30 @@
+#!/bin/sh
+# Runs every fuzz target for SECONDS (default 60) seeded with the broken-file corpus and the
+# original tools' files. New inputs go to BUILD/fuzz-work/TARGET; crashes to BUILD/fuzz-work/.
+# Usage: fuzz/run.sh BUILD_DIR [SECONDS]   (BUILD_DIR configured with -DPYRAMID_BUILD_FUZZERS=ON)
+set -eu
+build=$(cd "$1" && pwd)
+seconds=${2:-60}
+src=$(cd "$(dirname "$0")/.." && pwd)
+corpus=$src/tests/corpus
+work=$build/fuzz-work
+
+run() {
+    target=$1
+    shift
+    mkdir -p "$work/$target"
+    # libFuzzer takes seed folders, not files: the original files are copied into the work folder.
+    for f in "$@"; do
+        [ -f "$f" ] && cp "$f" "$work/$target/"
+    done
+    echo "== $target ($seconds s)"
+    (cd "$work" && "$build/fuzz/$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+        -print_final_stats=1 "$work/$target" "$corpus/valid") 2>&1 | grep -E '^(stat::|==|Done|INFO: Seed|.*ERROR)' || true
+}
+
+run residual_file_fuzz "$src/tests/data/proland/DEM.dat" "$corpus"/residual/*.dat
+run ortho_file_fuzz "$src/tests/data/proland/RGB.dat" "$corpus"/ortho/*.dat
+run tiff_tile_fuzz "$corpus"/tiff/*.tif
+run dxt_tile_fuzz "$corpus"/dxt/*.bin
+ls "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* 2>/dev/null && exit 1
+echo "no crash, leak, timeout or out-of-memory"
