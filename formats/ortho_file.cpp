@@ -143,7 +143,21 @@ void OrthoFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const 
     table_->write(header_.tileIndex(level, tx, ty), blob);
 }
 
-void OrthoFileWriter::commit() { table_->commit(); }
+void OrthoFileWriter::commit() {
+    // The table would name a missing tile by its index only: name it by its coordinates.
+    for (int level = 0; level <= header_.maxLevel; ++level) {
+        const int side = static_cast<int>(int64_t{1} << level);
+        for (int ty = 0; ty < side; ++ty) {
+            for (int tx = 0; tx < side; ++tx) {
+                if (!table_->written(header_.tileIndex(level, tx, ty))) {
+                    fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                                    std::to_string(ty) + ") was never written");
+                }
+            }
+        }
+    }
+    table_->commit();
+}
 
 uint64_t OrthoFileWriter::bytesWritten() const { return table_->bytesWritten(); }
 

@@ -147,7 +147,21 @@ void ResidualFileWriter::writeTileBytes(int level, int tx, int ty, std::span<con
     table_->write(header_.tileIndex(level, tx, ty), blob);
 }
 
-void ResidualFileWriter::commit() { table_->commit(); }
+void ResidualFileWriter::commit() {
+    // The table would name a missing tile by its index only: name it by its coordinates.
+    for (int level = 0; level <= header_.maxLevel; ++level) {
+        const int side = static_cast<int>(header_.tilesPerSide(level));
+        for (int ty = 0; ty < side; ++ty) {
+            for (int tx = 0; tx < side; ++tx) {
+                if (!table_->written(header_.tileIndex(level, tx, ty))) {
+                    fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                                    std::to_string(ty) + ") was never written");
+                }
+            }
+        }
+    }
+    table_->commit();
+}
 
 uint64_t ResidualFileWriter::bytesWritten() const { return table_->bytesWritten(); }
 

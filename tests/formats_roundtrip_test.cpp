@@ -423,7 +423,7 @@ TEST(WriterGuarantees, CommitWithAMissingTileThrowsAndLeavesNothing) {
     {
         ResidualFileWriter writer(path, h);
         for (const TileId& t : residualTiles(h, 7)) {
-            if (!(t.level == 1 && t.tx == 0 && t.ty == 1)) { // tile index 1 + 0 + 2 = 3
+            if (!(t.level == 1 && t.tx == 0 && t.ty == 1)) {
                 writer.writeTile(t.level, t.tx, t.ty, residualsFor(h, t));
             }
         }
@@ -431,9 +431,40 @@ TEST(WriterGuarantees, CommitWithAMissingTileThrowsAndLeavesNothing) {
             writer.commit();
             ADD_FAILURE() << "commit() accepted a missing tile";
         } catch (const Error& e) {
-            EXPECT_EQ(std::string(e.what()), path + ": tile 3 was never written");
+            EXPECT_EQ(std::string(e.what()), path + ": tile (1,0,1) was never written");
         }
         EXPECT_FALSE(test::fileExists(path));
+    }
+    EXPECT_EQ(entriesIn(dir.path()), 0u);
+}
+
+TEST(WriterGuarantees, MissingTilesAreNamedByEveryWriter) {
+    test::TempDir dir;
+    OrthoHeader h;
+    h.maxLevel = 1;
+    h.tileSize = 4;
+    h.channels = 1;
+    {
+        OrthoFileWriter writer(dir.file("ortho.dat"), h);
+        writer.writeTile(0, 0, 0, smoothPixels(h.tilePixels(), 1, {0, 0, 0}));
+        writer.writeTile(1, 0, 0, smoothPixels(h.tilePixels(), 1, {1, 0, 0}));
+        try {
+            writer.commit();
+            ADD_FAILURE() << "commit() accepted missing tiles";
+        } catch (const Error& e) {
+            EXPECT_EQ(std::string(e.what()), dir.file("ortho.dat") + ": tile (1,1,0) was never written");
+        }
+    }
+    {
+        TileTableWriter writer(dir.file("table.dat"), std::vector<uint8_t>(4, 0), 3, 8, 1000);
+        writer.write(0, std::vector<uint8_t>(5, 1));
+        writer.write(2, std::vector<uint8_t>(5, 1));
+        try {
+            writer.commit();
+            ADD_FAILURE() << "commit() accepted a missing tile";
+        } catch (const Error& e) {
+            EXPECT_EQ(std::string(e.what()), dir.file("table.dat") + ": tile 1 was never written");
+        }
     }
     EXPECT_EQ(entriesIn(dir.path()), 0u);
 }
