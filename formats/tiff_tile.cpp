@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <limits>
 
 #include "formats/error.hpp"
@@ -199,7 +200,14 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
                        channels == 2 || channels == 4, compression, jpegQuality);
 }
 
-TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where) {
+namespace {
+
+// Checks an image's layout (size, samples) from its header fields, before any pixel is
+// allocated or decoded: a few hostile bytes must not cost more memory than the expected tile.
+using LayoutCheck = std::function<void(const TiffImage& header)>;
+
+TiffImage decodeChecked(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where,
+                        const LayoutCheck& checkLayout) {
     if (blob.size() < 8) {
         fail(where, "not a TIFF (" + std::to_string(blob.size()) + " bytes)");
     }
@@ -207,8 +215,8 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     stream.data = blob.data();
     stream.size = blob.size();
     const size_t maxBytes = static_cast<size_t>(maxWidth) * static_cast<size_t>(maxHeight) * 8u;
-    // 'm': no memory mapping; 'h': read the header only, so that nothing big is read before
-    // the dimensions are checked.
+    // 'm': no memory mapping. libtiff reads the directory only; strips are read on demand,
+    // after the dimensions and the layout are checked.
     TiffHandle tif(stream, "rm", static_cast<tmsize_t>(std::max<size_t>(maxBytes, 1u << 20)));
     TIFF* t = tif.get();
     if (!t) {
@@ -262,6 +270,9 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     image.channels = channels;
     image.bitsPerSample = bits;
     image.signedSamples = (format == SAMPLEFORMAT_INT);
+    if (checkLayout) {
+        checkLayout(image);
+    }
     const size_t rowBytes = static_cast<size_t>(width) * channels * (bits / 8);
     image.pixels.assign(rowBytes * height, 0);
     const uint32_t strips = TIFFNumberOfStrips(t);
@@ -293,6 +304,12 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     return image;
 }
 
+} // namespace
+
+TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where) {
+    return decodeChecked(blob, maxWidth, maxHeight, where, {});
+}
+
 std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size) {
     if (size < 1 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
         fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
@@ -310,36 +327,42 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
 }
 
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {
-    const TiffImage image = decodeTiff(blob, size, size, where);
-    if (image.width != size || image.height != size) {
-        fail(where, "residual tile of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                        " samples, expected " + std::to_string(size) + "x" + std::to_string(size));
-    }
+    const TiffImage image = decodeChecked(blob, size, size, where, [&](const TiffImage& header) {
+        if (header.width != size || header.height != size) {
+            fail(where, "residual tile of " + std::to_string(header.width) + "x" + std::to_string(header.height) +
+                            " samples, expected " + std::to_string(size) + "x" + std::to_string(size));
+        }
+        const bool twoBytes = header.bitsPerSample == 8 && header.channels == 2;
+        const bool oneShort = header.bitsPerSample == 16 && header.channels == 1;
+        if (!twoBytes && !oneShort) {
+            fail(where, "residual tile with " + std::to_string(header.channels) + " x " +
+                            std::to_string(header.bitsPerSample) + "-bit samples (2 x 8 or 1 x 16 expected)");
+        }
+    });
     std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
-    if (image.bitsPerSample == 8 && image.channels == 2) {
+    if (image.bitsPerSample == 8) {
         for (size_t k = 0; k < out.size(); ++k) {
             const auto v = static_cast<uint16_t>(image.pixels[2 * k] | (image.pixels[2 * k + 1] << 8));
             out[k] = static_cast<int16_t>(v);
         }
-    } else if (image.bitsPerSample == 16 && image.channels == 1) {
-        std::memcpy(out.data(), image.pixels.data(), out.size() * sizeof(int16_t));
     } else {
-        fail(where, "residual tile with " + std::to_string(image.channels) + " x " +
-                        std::to_string(image.bitsPerSample) + "-bit samples (2 x 8 or 1 x 16 expected)");
+        std::memcpy(out.data(), image.pixels.data(), out.size() * sizeof(int16_t));
     }
     return out;
 }
 
 std::vector<uint8_t> decodeOrthoTiff(std::span<const uint8_t> blob, int size, int channels, const std::string& where) {
-    TiffImage image = decodeTiff(blob, size, size, where);
-    if (image.width != size || image.height != size) {
-        fail(where, "ortho tile of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                        " pixels, expected " + std::to_string(size) + "x" + std::to_string(size));
-    }
-    if (image.bitsPerSample != 8 || image.channels != channels) {
-        fail(where, "ortho tile with " + std::to_string(image.channels) + " x " + std::to_string(image.bitsPerSample) +
-                        "-bit samples, expected " + std::to_string(channels) + " x 8");
-    }
+    TiffImage image = decodeChecked(blob, size, size, where, [&](const TiffImage& header) {
+        if (header.width != size || header.height != size) {
+            fail(where, "ortho tile of " + std::to_string(header.width) + "x" + std::to_string(header.height) +
+                            " pixels, expected " + std::to_string(size) + "x" + std::to_string(size));
+        }
+        if (header.bitsPerSample != 8 || header.channels != channels) {
+            fail(where, "ortho tile with " + std::to_string(header.channels) + " x " +
+                            std::to_string(header.bitsPerSample) + "-bit samples, expected " +
+                            std::to_string(channels) + " x 8");
+        }
+    });
     return std::move(image.pixels);
 }
 

@@ -233,6 +233,10 @@ def main():
          tiny_residual(tiff(9, 9, bps=16, strips=[bytes(162)], sample_format=3)), R, "floating-point")
     emit("residual/tile-3-samples.dat", tiny_residual(ortho_tiff(9, 3)), R, "3 x 8-bit samples")
     emit("residual/tile-1x8-bit.dat", tiny_residual(ortho_tiff(9, 1)), R, "1 x 8-bit samples")
+    # 8197 x 8197 x 4 x 16 bits (537 MB) declared in a few hundred bytes: rejected before allocation.
+    emit("residual/tile-huge-wrong-layout.dat",
+         pyramid(residual_header(0, 0, 8192), [tiff(8197, 8197, spp=4, bps=16, strips=[deflate(bytes(64))],
+                                                    compression=8)], "I"), R, "4 x 16-bit samples")
     truncated = residual_tiff(9)
     emit("residual/tile-strip-past-end.dat",
          tiny_residual(strip_past_end(9, 9, 2)), R, "truncated or corrupt")
@@ -293,6 +297,9 @@ def main():
          O, "32 bits per sample")
     emit("ortho/tile-16-bit.dat", tiny_ortho(tiff(4, 4, spp=3, bps=16, strips=[bytes(96)])), O,
          "3 x 16-bit samples, expected 3 x 8")
+    emit("ortho/tile-huge-wrong-layout.dat",
+         tiny_ortho(tiff(8196, 8196, spp=4, bps=16, strips=[deflate(bytes(64))], compression=8),
+                    ortho_header(0, 8192, 3, 0)), O, "4 x 16-bit samples, expected 3 x 8")
     emit("ortho/tile-1-channel.dat", tiny_ortho(ortho_tiff(4, 1)), O, "1 x 8-bit samples, expected 3 x 8")
     emit("ortho/tile-strip-past-end.dat", tiny_ortho(strip_past_end(4, 4, 3)), O,
          "truncated or corrupt")
