@@ -8,6 +8,10 @@ packages=(
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   openimageio-tools
 )
+# The fuzz targets (fuzz/README.md) build with clang, whose OpenMP needs libomp.
+if [ "${PYRAMID_BUILD_FUZZERS:-OFF}" = ON ]; then
+  packages+=(clang libclang-rt-14-dev libomp-dev)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
