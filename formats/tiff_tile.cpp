@@ -202,6 +202,21 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
 
 namespace {
 
+// The largest ratio of decoded to stored bytes a codec can reach, with margin: Deflate stops
+// at 1032:1, LZW (codes of 9 bits or more, strings of at most 4096 bytes) near 3641:1,
+// PackBits at 64:1, baseline or progressive JPEG (one Huffman bit at least per 8x8 block
+// and component, 4:2:0 subsampled) near 512:1.
+uint64_t maxExpansion(uint16_t compression) {
+    switch (compression) {
+    case COMPRESSION_NONE:
+        return 1;
+    case COMPRESSION_PACKBITS:
+        return 64;
+    default:
+        return 4096;
+    }
+}
+
 // Checks an image's layout (size, samples) from its header fields, before any pixel is
 // allocated or decoded: a few hostile bytes must not cost more memory than the expected tile.
 using LayoutCheck = std::function<void(const TiffImage& header)>;
@@ -274,7 +289,6 @@ TiffImage decodeChecked(std::span<const uint8_t> blob, int maxWidth, int maxHeig
         checkLayout(image);
     }
     const size_t rowBytes = static_cast<size_t>(width) * channels * (bits / 8);
-    image.pixels.assign(rowBytes * height, 0);
     const uint32_t strips = TIFFNumberOfStrips(t);
     uint32_t rowsPerStrip = height;
     TIFFGetFieldDefaulted(t, TIFFTAG_ROWSPERSTRIP, &rowsPerStrip);
@@ -283,6 +297,18 @@ TiffImage decodeChecked(std::span<const uint8_t> blob, int maxWidth, int maxHeig
     if (strips != expectedStrips) {
         fail(where, "TIFF strip count " + std::to_string(strips) + " does not match its size");
     }
+    // The stored bytes bound what they can decode to: a blob of a few hundred bytes claiming
+    // the largest tile is rejected before the pixels are allocated.
+    uint64_t storedBytes = 0;
+    for (uint32_t s = 0; s < strips; ++s) {
+        storedBytes += std::min<uint64_t>(TIFFGetStrileByteCount(t, s), blob.size());
+    }
+    const uint64_t imageBytes = static_cast<uint64_t>(rowBytes) * height;
+    if (storedBytes * maxExpansion(compression) < imageBytes) {
+        fail(where, "truncated or corrupt TIFF data (" + std::to_string(storedBytes) + " stored bytes cannot hold " +
+                        std::to_string(width) + "x" + std::to_string(height) + " pixels)");
+    }
+    image.pixels.assign(rowBytes * height, 0);
     size_t filled = 0;
     for (uint32_t s = 0; s < strips; ++s) {
         // libtiff only warns when StripOffsets has fewer entries than the image has strips,

@@ -237,6 +237,14 @@ def main():
     emit("residual/tile-huge-wrong-layout.dat",
          pyramid(residual_header(0, 0, 8192), [tiff(8197, 8197, spp=4, bps=16, strips=[deflate(bytes(64))],
                                                     compression=8)], "I"), R, "4 x 16-bit samples")
+    # The right layout for tileSize 8192 (8197 x 8197 x 2 x 8 bits, 134 MB) in a few dozen
+    # stored bytes, which no codec expands that far: rejected before allocation.
+    emit("residual/tile-huge-few-bytes.dat",
+         pyramid(residual_header(0, 0, 8192), [tiff(8197, 8197, spp=2, strips=[deflate(bytes(64))],
+                                                    compression=8)], "I"), R, "stored bytes cannot hold")
+    emit("residual/tile-huge-uncompressed-few-bytes.dat",
+         pyramid(residual_header(0, 0, 8192), [tiff(8197, 8197, spp=2, strips=[bytes(4096)])], "I"), R,
+         "stored bytes cannot hold")
     truncated = residual_tiff(9)
     emit("residual/tile-strip-past-end.dat",
          tiny_residual(strip_past_end(9, 9, 2)), R, "truncated or corrupt")

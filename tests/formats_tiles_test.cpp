@@ -1,0 +1,184 @@
+// Tile codecs on their own: the TIFF tags the original readers rely on, strip order, the
+// compression a blob reports, JPEG quality, and the DXT quality levels against libsquish.
+#include <gtest/gtest.h>
+#include <squish.h>
+#include <tiffio.h>
+
+#include <cstdio>
+
+#include "formats/dxt_codec.hpp"
+#include "formats/error.hpp"
+#include "formats/tiff_tile.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+// The tags of a blob, read with plain libtiff from a file (independently of formats/).
+struct Tags {
+    uint32_t width = 0, height = 0, rowsPerStrip = 0;
+    uint16_t bits = 0, samples = 0, compression = 0, photometric = 0, orientation = 0, extraCount = 0;
+    uint32_t strips = 0;
+};
+
+Tags tagsOf(const std::vector<uint8_t>& blob) {
+    test::TempDir dir;
+    const std::string path = dir.file("tile.tif");
+    FILE* f = std::fopen(path.c_str(), "wb");
+    EXPECT_NE(f, nullptr);
+    EXPECT_EQ(std::fwrite(blob.data(), 1, blob.size(), f), blob.size());
+    std::fclose(f);
+    Tags tags;
+    TIFF* t = TIFFOpen(path.c_str(), "r");
+    EXPECT_NE(t, nullptr);
+    TIFFGetField(t, TIFFTAG_IMAGEWIDTH, &tags.width);
+    TIFFGetField(t, TIFFTAG_IMAGELENGTH, &tags.height);
+    TIFFGetField(t, TIFFTAG_ROWSPERSTRIP, &tags.rowsPerStrip);
+    TIFFGetField(t, TIFFTAG_BITSPERSAMPLE, &tags.bits);
+    TIFFGetField(t, TIFFTAG_SAMPLESPERPIXEL, &tags.samples);
+    TIFFGetField(t, TIFFTAG_COMPRESSION, &tags.compression);
+    TIFFGetField(t, TIFFTAG_PHOTOMETRIC, &tags.photometric);
+    TIFFGetField(t, TIFFTAG_ORIENTATION, &tags.orientation);
+    uint16_t* extra = nullptr;
+    if (!TIFFGetField(t, TIFFTAG_EXTRASAMPLES, &tags.extraCount, &extra)) {
+        tags.extraCount = 0;
+    }
+    tags.strips = TIFFNumberOfStrips(t);
+    TIFFClose(t);
+    return tags;
+}
+
+std::vector<uint8_t> gradient(int size, int channels) {
+    std::vector<uint8_t> v(static_cast<size_t>(size) * size * channels);
+    for (size_t k = 0; k < v.size(); ++k) {
+        v[k] = static_cast<uint8_t>((k * 7 + (k / channels / size) * 3) & 0xff);
+    }
+    return v;
+}
+
+TEST(ResidualTiff, WrittenAsTheOriginalToolsWriteThem) {
+    const int size = 13;
+    std::vector<int16_t> residuals(size * size);
+    for (size_t k = 0; k < residuals.size(); ++k) {
+        residuals[k] = static_cast<int16_t>(static_cast<int>(k) * 397 - 30000);
+    }
+    const auto blob = encodeResidualTiff(residuals, size);
+    const Tags tags = tagsOf(blob);
+    EXPECT_EQ(tags.width, 13u);
+    EXPECT_EQ(tags.height, 13u);
+    EXPECT_EQ(tags.samples, 2);                           // low byte, high byte
+    EXPECT_EQ(tags.bits, 8);
+    EXPECT_EQ(tags.extraCount, 0);                        // no ExtraSamples tag
+    EXPECT_EQ(tags.compression, COMPRESSION_ADOBE_DEFLATE); // code 8
+    EXPECT_EQ(tags.photometric, PHOTOMETRIC_MINISBLACK);
+    EXPECT_EQ(tags.orientation, ORIENTATION_BOTLEFT);
+    EXPECT_EQ(tags.strips, 1u);
+    EXPECT_EQ(tags.rowsPerStrip, 13u);
+    EXPECT_EQ(describeTiff(blob), "deflate");
+
+    // Strip byte order: sample k is bytes 2k (low) and 2k+1 (high), row 0 first.
+    const TiffImage image = decodeTiff(blob, size, size, "t");
+    ASSERT_EQ(image.pixels.size(), residuals.size() * 2);
+    for (size_t k : {size_t{0}, size_t{1}, size_t{13}, residuals.size() - 1}) {
+        const auto v = static_cast<uint16_t>(residuals[k]);
+        EXPECT_EQ(image.pixels[2 * k], v & 0xff) << k;
+        EXPECT_EQ(image.pixels[2 * k + 1], v >> 8) << k;
+    }
+    EXPECT_EQ(decodeResidualTiff(blob, size, "t"), residuals);
+}
+
+TEST(ResidualTiff, WrongSizeIsAnErrorNamingTheTile) {
+    const auto blob = encodeResidualTiff(std::vector<int16_t>(9 * 9, 5), 9);
+    try {
+        decodeResidualTiff(blob, 13, "DEM.dat: tile (1,0,0)");
+        ADD_FAILURE() << "a 9x9 tile was accepted as 13x13";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()), "DEM.dat: tile (1,0,0): residual tile of 9x9 samples, expected 13x13");
+    }
+    EXPECT_THROW(decodeResidualTiff(blob, 7, "t"), Error); // larger than allowed: refused before decoding
+}
+
+TEST(OrthoTiff, TagsAndCompressionNames) {
+    struct Case {
+        int channels;
+        TiffCompression compression;
+        const char* name;
+        uint16_t photometric;
+        uint16_t extra;
+    };
+    for (const Case& c : {Case{1, TiffCompression::None, "none", PHOTOMETRIC_MINISBLACK, 0},
+                          Case{2, TiffCompression::Lzw, "lzw", PHOTOMETRIC_MINISBLACK, 1},
+                          Case{3, TiffCompression::Jpeg, "jpeg", PHOTOMETRIC_RGB, 0},
+                          Case{4, TiffCompression::Deflate, "deflate", PHOTOMETRIC_RGB, 1}}) {
+        SCOPED_TRACE(c.name);
+        const auto pixels = gradient(16, c.channels);
+        const auto blob = encodeTiff8(pixels, 16, 16, c.channels, c.compression, 90);
+        const Tags tags = tagsOf(blob);
+        EXPECT_EQ(describeTiff(blob), c.name);
+        EXPECT_EQ(tags.samples, c.channels);
+        EXPECT_EQ(tags.bits, 8);
+        EXPECT_EQ(tags.photometric, c.photometric);
+        EXPECT_EQ(tags.orientation, ORIENTATION_BOTLEFT);
+        EXPECT_EQ(tags.extraCount, c.extra);
+        EXPECT_EQ(tags.strips, 1u);
+        const auto decoded = decodeOrthoTiff(blob, 16, c.channels, "t");
+        if (c.compression != TiffCompression::Jpeg) {
+            EXPECT_EQ(decoded, pixels);
+        }
+        EXPECT_THROW(decodeOrthoTiff(blob, 16, c.channels == 4 ? 3 : c.channels + 1, "t"), Error);
+    }
+    EXPECT_EQ(describeTiff(std::vector<uint8_t>{1, 2, 3}), "invalid");
+}
+
+TEST(OrthoTiff, JpegQualityIsHonoured) {
+    std::vector<uint8_t> pixels(64 * 64 * 3);
+    for (size_t k = 0; k < pixels.size(); ++k) {
+        pixels[k] = static_cast<uint8_t>((k * 2654435761u) >> 24); // detail JPEG must spend bits on
+    }
+    const auto low = encodeTiff8(pixels, 64, 64, 3, TiffCompression::Jpeg, 20);
+    const auto high = encodeTiff8(pixels, 64, 64, 3, TiffCompression::Jpeg, 95);
+    EXPECT_LT(low.size() * 2, high.size()) << low.size() << " vs " << high.size();
+}
+
+// encodeDxt must hand libsquish exactly the flags of the quality level: its bytes equal a
+// direct squish::CompressImage call with those flags on the RGBA expansion of the pixels.
+TEST(Dxt, QualityLevelsMapToSquishFits) {
+    const int size = 8;
+    const auto rgb = gradient(size, 3);
+    std::vector<uint8_t> rgba;
+    for (size_t k = 0; k < rgb.size(); k += 3) {
+        rgba.insert(rgba.end(), {rgb[k], rgb[k + 1], rgb[k + 2], 255});
+    }
+    const int fits[] = {squish::kColourRangeFit, squish::kColourClusterFit, squish::kColourIterativeClusterFit};
+    std::vector<std::vector<uint8_t>> encoded;
+    for (int quality = 0; quality <= 2; ++quality) {
+        std::vector<uint8_t> reference(dxtBytes(size, size, DxtFormat::Dxt1));
+        squish::CompressImage(rgba.data(), size, size, reference.data(), squish::kDxt1 | fits[quality]);
+        encoded.push_back(encodeDxt(rgb, size, size, 3, DxtFormat::Dxt1, quality));
+        EXPECT_EQ(encoded.back(), reference) << "quality " << quality;
+    }
+    EXPECT_NE(encoded[0], encoded[1]); // the content tells the fits apart
+}
+
+TEST(Dxt, GreyIsReplicatedAndAlphaKeptInDxt5) {
+    const int size = 4;
+    const std::vector<uint8_t> grey(size * size, 200);
+    const auto rgb = decodeDxt(encodeDxt(grey, size, size, 1, DxtFormat::Dxt1), size, size, DxtFormat::Dxt1, "t");
+    ASSERT_EQ(rgb.size(), 16u * 3u);
+    for (uint8_t v : rgb) {
+        EXPECT_NEAR(v, 200, 3); // R, G and B all carry the grey (RGB565 precision)
+    }
+
+    std::vector<uint8_t> rgbaIn;
+    for (int k = 0; k < size * size; ++k) {
+        rgbaIn.insert(rgbaIn.end(), {10, 20, 30, 255});
+    }
+    const auto rgba = decodeDxt(encodeDxt(rgbaIn, size, size, 4, DxtFormat::Dxt5), size, size, DxtFormat::Dxt5, "t");
+    EXPECT_EQ(rgba.size(), 16u * 4u);
+    EXPECT_EQ(rgba[3], 255);
+    EXPECT_THROW(encodeDxt(rgbaIn, size, size, 4, DxtFormat::Dxt1), Error); // 4 channels need DXT5
+    EXPECT_THROW(encodeDxt(grey, size, size, 1, DxtFormat::Dxt5), Error);
+}
+
+} // namespace
+} // namespace pyramid
