@@ -63,6 +63,14 @@ void AtomicFile::commit() {
         fail(path_, std::string("cannot move output file into place: ") + std::strerror(errno));
     }
     committed_ = true;
+    // The rename itself survives a crash only once the directory entry is on disk.
+    const size_t slash = path_.rfind('/');
+    const std::string directory = slash == std::string::npos ? "." : (slash == 0 ? "/" : path_.substr(0, slash));
+    const int dirFd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dirFd >= 0) {
+        ::fsync(dirFd); // best effort: the file is complete and in place either way
+        ::close(dirFd);
+    }
 }
 
 } // namespace pyramid
