@@ -3,8 +3,10 @@
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imageio.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <mutex>
+#include <vector>
 
 #include "formats/error.hpp"
 
@@ -147,6 +149,22 @@ void checkWindow(const std::string& path, const RasterInfo& info, int x0, int y0
                        std::to_string(y1) + ") outside the image");
     }
 }
+
+// Reads a window of one channel in the file's own integer type T and converts each value to
+// float32 by value: OIIO's own conversion to float would normalise it (v / 255, v / 32767...).
+template <typename T>
+bool readIntegersAsFloat(OIIO::TypeDesc::BASETYPE type, OIIO::ImageCache* cache, OIIO::ustring name, int x0, int y0,
+                         int x1, int y1, int channel, float* out) {
+    const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0);
+    std::vector<T> values(count);
+    if (!cache->get_pixels(name, 0, 0, x0, x1, y0, y1, 0, 1, channel, channel + 1, type, values.data())) {
+        return false;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        out[k] = static_cast<float>(values[k]);
+    }
+    return true;
+}
 } // namespace
 
 void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
@@ -154,8 +172,34 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
     if (channel < 0 || channel >= info_.channels) {
         fail(path_, "no channel " + std::to_string(channel));
     }
-    if (!impl_->cache->get_pixels(impl_->name, 0, 0, x0, x1, y0, y1, 0, 1, channel, channel + 1, OIIO::TypeFloat, out)) {
-        std::string why = impl_->cache->geterror();
+    OIIO::ImageCache* cache = impl_->cache;
+    const OIIO::ustring name = impl_->name;
+    bool ok = false;
+    switch (info_.type) {
+    case SampleType::UInt8:
+        ok = readIntegersAsFloat<uint8_t>(OIIO::TypeDesc::UINT8, cache, name, x0, y0, x1, y1, channel, out);
+        break;
+    case SampleType::Int8:
+        ok = readIntegersAsFloat<int8_t>(OIIO::TypeDesc::INT8, cache, name, x0, y0, x1, y1, channel, out);
+        break;
+    case SampleType::UInt16:
+        ok = readIntegersAsFloat<uint16_t>(OIIO::TypeDesc::UINT16, cache, name, x0, y0, x1, y1, channel, out);
+        break;
+    case SampleType::Int16:
+        ok = readIntegersAsFloat<int16_t>(OIIO::TypeDesc::INT16, cache, name, x0, y0, x1, y1, channel, out);
+        break;
+    case SampleType::UInt32:
+        ok = readIntegersAsFloat<uint32_t>(OIIO::TypeDesc::UINT32, cache, name, x0, y0, x1, y1, channel, out);
+        break;
+    case SampleType::Int32:
+        ok = readIntegersAsFloat<int32_t>(OIIO::TypeDesc::INT32, cache, name, x0, y0, x1, y1, channel, out);
+        break;
+    default: // floating point: converted to float32 by value
+        ok = cache->get_pixels(name, 0, 0, x0, x1, y0, y1, 0, 1, channel, channel + 1, OIIO::TypeFloat, out);
+        break;
+    }
+    if (!ok) {
+        std::string why = cache->geterror();
         fail(path_, "read failed: " + why.substr(0, why.find('\n')));
     }
 }

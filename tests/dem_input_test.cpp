@@ -1,0 +1,200 @@
+// preprocessDem's input side: every sample type is read by value (never normalised), a
+// vertex-registered input is the finest grid sample for sample, NaN heights are an error unless
+// declared as nodata, and holes are filled from their surroundings.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "formats/error.hpp"
+#include "libpyramid/dem_encoder.hpp"
+#include "libpyramid/dem_sampling.hpp"
+#include "libpyramid/dem_verify.hpp"
+#include "libpyramid/raster_source.hpp"
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+// Writes `values` (one channel, row 0 = north) as `type` without any conversion by OIIO.
+template <typename T>
+void writeRaster(const std::string& path, int width, int height, const std::vector<T>& values) {
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out) << path;
+    const OIIO::ImageSpec spec(width, height, 1, OIIO::BaseTypeFromC<T>::value);
+    ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::BaseTypeFromC<T>::value, values.data())) << out->geterror();
+    ASSERT_TRUE(out->close());
+}
+
+// Values of T spread over most of its range, including negative ones for signed types.
+template <typename T>
+std::vector<T> spreadValues(int count, double low, double high) {
+    std::vector<T> v(static_cast<size_t>(count));
+    for (int k = 0; k < count; ++k) {
+        const double t = static_cast<double>((k * 7919) % count) / static_cast<double>(count - 1);
+        v[static_cast<size_t>(k)] = static_cast<T>(std::floor(low + (high - low) * t));
+    }
+    return v;
+}
+
+template <typename T>
+void expectReadByValue(const std::string& path, double low, double high, SampleType type) {
+    const int w = 23, h = 17;
+    const std::vector<T> values = spreadValues<T>(w * h, low, high);
+    writeRaster(path, w, h, values);
+    const auto source = RasterSource::open(path);
+    EXPECT_EQ(source->info().type, type) << path;
+    std::vector<float> read(static_cast<size_t>(w * h));
+    source->readFloat(0, 0, w, h, 0, read.data());
+    for (size_t k = 0; k < read.size(); ++k) {
+        ASSERT_EQ(read[k], static_cast<float>(values[k])) << path << " sample " << k;
+    }
+    // A window: columns 5..11, rows 3..9.
+    std::vector<float> window(7 * 7);
+    source->readFloat(5, 3, 12, 10, 0, window.data());
+    EXPECT_EQ(window[0], static_cast<float>(values[5 + 3 * w]));
+    EXPECT_EQ(window[48], static_cast<float>(values[11 + 9 * w]));
+}
+
+TEST(DemInput, EverySampleTypeIsReadByValue) {
+    test::TempDir dir;
+    expectReadByValue<uint8_t>(dir.file("u8.png"), 0, 255, SampleType::UInt8);
+    expectReadByValue<uint16_t>(dir.file("u16.png"), 0, 65535, SampleType::UInt16);
+    expectReadByValue<int16_t>(dir.file("i16.tif"), -32768, 32767, SampleType::Int16);
+    expectReadByValue<uint16_t>(dir.file("u16.tif"), 0, 65535, SampleType::UInt16);
+    expectReadByValue<int32_t>(dir.file("i32.tif"), -1e6, 1e6, SampleType::Int32);
+    expectReadByValue<double>(dir.file("f64.tif"), -500.25, 8848.5, SampleType::Float64);
+}
+
+TEST(DemInput, VertexRegisteredInputIsTheFinestGridSampleForSample) {
+    test::TempDir dir;
+    const int side = 33; // N = 32
+    const std::vector<float> heights = test::syntheticHeights(side, side);
+    test::writeFloatRaster(dir.file("dem.tif"), side, side, heights);
+    const auto source = RasterSource::open(dir.file("dem.tif"));
+    const DemGeometry g = makeDemGeometry(side, side, 32, false, "dem.tif");
+    ASSERT_TRUE(g.exact());
+    const DemSampler sampler(*source, g, 0, std::nullopt);
+    SourceGrid grid;
+    grid.nx = grid.ny = side;
+    sampler.sample(grid);
+    for (int y = 0; y < side; ++y) {
+        for (int x = 0; x < side; ++x) {
+            const size_t k = grid.index(x, y);
+            ASSERT_EQ(grid.valid[k], 1);
+            // Bit for bit: no interpolation arithmetic touches an exact-size input.
+            ASSERT_EQ(grid.height[k], heights[static_cast<size_t>(x + (32 - y) * side)]) << x << "," << y;
+        }
+    }
+    // A decimated grid (every 4th sample from (4, 8)) reads the same values.
+    SourceGrid coarse;
+    coarse.x0 = 4;
+    coarse.y0 = 8;
+    coarse.stride = 4;
+    coarse.nx = 7;
+    coarse.ny = 5;
+    sampler.sample(coarse);
+    for (int j = 0; j < 5; ++j) {
+        for (int i = 0; i < 7; ++i) {
+            const int x = 4 + 4 * i, y = 8 + 4 * j;
+            ASSERT_EQ(coarse.height[static_cast<size_t>(i + j * 7)], heights[static_cast<size_t>(x + (32 - y) * side)]);
+        }
+    }
+}
+
+TEST(DemInput, SixteenBitIntegerHeightsEncodeWithinHalfAStep) {
+    test::TempDir dir;
+    const int side = 65;
+    const std::vector<float> smooth = test::syntheticHeights(side, side, 3000.0f);
+    std::vector<int16_t> heights(smooth.size());
+    for (size_t k = 0; k < smooth.size(); ++k) {
+        heights[k] = static_cast<int16_t>(std::lround(smooth[k]) - 1500); // negative heights too
+    }
+    writeRaster(dir.file("i16.tif"), side, side, heights);
+    DemEncodeOptions o;
+    o.tileSize = 16;
+    o.rootTileSize = 4;
+    o.scale = 0.5;
+    const DemReport report = encodeDem(dir.file("i16.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.header.maxLevel, 4); // 4 << 4 = 64 intervals: exact
+    EXPECT_GT(report.levels.back().maxAbsResidual, 0);
+    for (const DemLevelReport& l : report.levels) {
+        EXPECT_LE(l.maxError, 0.25 + 1e-3) << "level " << l.level;
+    }
+    const DemVerifyReport verify = verifyDem(dir.file("DEM.dat"), dir.file("i16.tif"), {});
+    EXPECT_TRUE(verify.ok());
+    EXPECT_EQ(verify.levels.back().samples, side * side);
+}
+
+TEST(DemInput, NanIsAnErrorUnlessItIsTheNodataValue) {
+    test::TempDir dir;
+    const int side = 65;
+    std::vector<float> heights = test::syntheticHeights(side, side);
+    heights[static_cast<size_t>(9 + 30 * side)] = std::numeric_limits<float>::quiet_NaN();
+    heights[static_cast<size_t>(10 + 30 * side)] = std::numeric_limits<float>::quiet_NaN();
+    test::writeFloatRaster(dir.file("nan.tif"), side, side, heights);
+    DemEncodeOptions o;
+    o.tileSize = 16;
+    o.rootTileSize = 4;
+    try {
+        encodeDem(dir.file("nan.tif"), dir.file("DEM.dat"), o);
+        FAIL() << "NaN accepted";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("nan.tif"), std::string::npos) << what;
+        EXPECT_NE(what.find("NaN height at column"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    EXPECT_FALSE(test::fileExists(dir.file("DEM.dat")));
+    o.nodata = std::numeric_limits<double>::quiet_NaN();
+    const DemReport report = encodeDem(dir.file("nan.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.nodataFilled, 2);
+    EXPECT_EQ(report.levels.back().samples, side * side - 2);
+}
+
+TEST(DemInput, HolesAreFilledWithinTheSurroundingHeights) {
+    test::TempDir dir;
+    const int side = 129;
+    // A smooth bowl with a hole in its middle and another on the map's edge.
+    std::vector<float> heights(static_cast<size_t>(side * side));
+    int holes = 0;
+    for (int y = 0; y < side; ++y) {
+        for (int x = 0; x < side; ++x) {
+            const double dx = x - 64.0, dy = y - 64.0;
+            float v = static_cast<float>(100.0 + 0.02 * (dx * dx + dy * dy) + 3.0 * std::sin(0.2 * x));
+            if (dx * dx + dy * dy < 20.0 * 20.0 || (x > 100 && y < 30)) {
+                v = -9999.0f;
+                ++holes;
+            }
+            heights[static_cast<size_t>(x + y * side)] = v;
+        }
+    }
+    test::writeFloatRaster(dir.file("holes.tif"), side, side, heights);
+    DemEncodeOptions o;
+    o.tileSize = 16;
+    o.rootTileSize = 4;
+    o.scale = 0.1;
+    o.nodata = -9999.0;
+    float low = std::numeric_limits<float>::max();
+    o.reconstruction = [&](int, int, int, const std::vector<float>& z) {
+        for (float v : z) {
+            low = std::min(low, v);
+        }
+    };
+    const DemReport report = encodeDem(dir.file("holes.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.nodataFilled, holes);
+    EXPECT_EQ(report.levels.back().samples, side * side - holes);
+    // No -9999 cliff anywhere: the filled bowl stays above the lowest valid height (100 + the
+    // ripple's -3, at the hole's rim 108 - 3).
+    EXPECT_GT(low, 96.0f);
+}
+
+} // namespace
+} // namespace pyramid
