@@ -19,10 +19,29 @@ namespace pyramid {
 
 namespace {
 
-// Levels of one subtree read from the input at once (pass 3): a level-(C+1) tile's subtree
-// down to the finest level covers at most 2^(kSubtreeDepth-1) tiles per side at its last
-// level, i.e. a footprint of about 8 x 197 = 1576 samples per side for 192-tiles.
-constexpr int kSubtreeDepth = 4;
+// Subtrees encoded at once, in the memory estimate of cutLevel (a constant, not the thread
+// count: the cut decides the tile order in the file, which must not depend on the threads).
+constexpr int64_t kSubtreesInFlight = 4;
+
+// The cut-off level C: levels 0..C are encoded from a grid of every 2^(M-C)-th finest sample
+// held in memory, the deeper ones subtree by subtree from level-(C+1) footprints read on
+// demand. C minimises the samples held at once: the grid (counted twice: its heights and the
+// level-C reconstructions) plus kSubtreesInFlight footprints; C = M (everything in memory) is a
+// candidate too, and wins for small pyramids. Subtree roots need a quadrant parent: C >= minLevel.
+int cutLevel(int minLevel, int maxLevel, int tileSize, int64_t N) {
+    int best = maxLevel;
+    double bestSamples = static_cast<double>(N + 1) * static_cast<double>(N + 1);
+    for (int c = maxLevel - 1; c >= minLevel; --c) {
+        const double grid = static_cast<double>((N >> (maxLevel - c)) + 1);
+        const double footprint = static_cast<double>((static_cast<int64_t>(tileSize + 4) << (maxLevel - c - 1)) + 1);
+        const double samples = 2.0 * grid * grid + static_cast<double>(kSubtreesInFlight) * footprint * footprint;
+        if (samples < bestSamples) {
+            best = c;
+            bestSamples = samples;
+        }
+    }
+    return best;
+}
 
 struct Plan {
     ResidualHeader header;
@@ -423,7 +442,7 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
     plan.T = plan.header.tileSize;
     plan.R = plan.T >> plan.minLevel;
     plan.N = plan.levelIntervals(plan.M);
-    plan.C = plan.M - plan.minLevel > kSubtreeDepth ? plan.M - kSubtreeDepth : plan.M;
+    plan.C = cutLevel(plan.minLevel, plan.M, plan.T, plan.N);
     std::optional<double> nodata = options.nodata;
     if (!nodata && !options.ignoreDeclaredNodata) {
         nodata = source->info().nodata;
