@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -204,6 +205,13 @@ void fillRootNodata(const Plan& plan, SourceGrid& grid, const std::string& input
     }
 }
 
+// A number as messages print it: up to 6 significant digits, no trailing zeros.
+std::string numberText(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", x);
+    return text;
+}
+
 // The smallest 1, 2 or 5 x 10^k that is >= x.
 double niceCeil(double x) {
     if (!(x > 0.0)) {
@@ -218,10 +226,10 @@ double niceCeil(double x) {
     return 10.0 * p;
 }
 
-// x rounded up to 3 significant digits, for messages.
-double roundUp3(double x) {
+// x rounded up to 3 significant digits, as messages print it ("0.239", "1.25e+04").
+std::string roundUp3(double x) {
     const double p = std::pow(10.0, std::floor(std::log10(x)) - 2.0);
-    return std::ceil(x / p - 1e-9) * p;
+    return numberText(std::ceil(x / p - 1e-9) * p);
 }
 
 struct Overflow {
@@ -424,7 +432,7 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
 DemReport encodeDem(const std::string& input, const std::string& output, const DemEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     if (!options.autoScale && (!std::isfinite(options.scale) || options.scale <= 0.0)) {
-        fail("--scale", "must be a positive number, not " + std::to_string(options.scale));
+        fail("--scale", "must be a positive number, not " + numberText(options.scale));
     }
     auto source = RasterSource::open(input, options.cacheMegabytes);
     DemReport report;
@@ -494,9 +502,9 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
         if (overflow) {
             const double needed = scale * static_cast<double>(overflow->residual) / 32767.0;
             if (!options.autoScale || attempt >= 12) {
-                fail(input, "residuals overflow int16 at scale " + std::to_string(scale) + " (|residual| " +
+                fail(input, "residuals overflow int16 at scale " + numberText(scale) + " (|residual| " +
                                 std::to_string(overflow->residual) + " at level " + std::to_string(overflow->level) +
-                                "): use --scale " + std::to_string(roundUp3(needed)) + " or more, or --scale auto");
+                                "): use --scale " + roundUp3(needed) + " or more, or --scale auto");
             }
             scale = niceCeil(std::max(needed, scale * 1.000001));
             continue;
