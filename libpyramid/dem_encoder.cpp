@@ -106,14 +106,18 @@ EncodedTile encodeTile(const Plan& plan, int l, int tx, int ty, const std::vecto
     const int shift = plan.M - l;
     const double step = static_cast<double>(plan.scale);
     const int64_t ownX0 = static_cast<int64_t>(tx) * n, ownY0 = static_cast<int64_t>(ty) * n;
+    // Offsets in `src` of each column's sample (clamped to the map), computed once per tile.
+    std::vector<size_t> column(static_cast<size_t>(S));
+    for (int i = 0; i < S; ++i) {
+        column[static_cast<size_t>(i)] = src.index(std::clamp<int64_t>(ownX0 + i - 2, 0, Nl) << shift, src.y0);
+    }
     for (int j = 0; j < S; ++j) {
         const int64_t q = ownY0 + j - 2;
-        const int64_t fy = std::clamp<int64_t>(q, 0, Nl) << shift;
+        const size_t row = src.index(src.x0, std::clamp<int64_t>(q, 0, Nl) << shift);
         const bool ownedRow = (q >= ownY0 && q < ownY0 + n) || q == Nl;
         for (int i = 0; i < S; ++i) {
             const int64_t p = ownX0 + i - 2;
-            const int64_t fx = std::clamp<int64_t>(p, 0, Nl) << shift;
-            const size_t s = src.index(fx, fy);
+            const size_t s = row + column[static_cast<size_t>(i)];
             const size_t k = static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(S);
             const uint8_t valid = src.valid[s];
             int64_t r = 0;
@@ -343,17 +347,12 @@ private:
                 // Finest samples this subtree owns: [tx*T << d, (tx+1)*T << d), plus the map's edge.
                 const int64_t ox0 = static_cast<int64_t>(tx) * T << d, ox1 = (static_cast<int64_t>(tx) + 1) * T << d;
                 const int64_t oy0 = static_cast<int64_t>(ty) * T << d, oy1 = (static_cast<int64_t>(ty) + 1) * T << d;
+                const int64_t rowEnd = oy1 == plan_.N ? oy1 + 1 : oy1;
+                const int64_t columnEnd = ox1 == plan_.N ? ox1 + 1 : ox1;
                 int64_t missing = 0;
-                for (int64_t fy = oy0; fy <= std::min(oy1, plan_.N); ++fy) {
-                    if (fy == oy1 && oy1 != plan_.N) {
-                        break;
-                    }
-                    for (int64_t fx = ox0; fx <= std::min(ox1, plan_.N); ++fx) {
-                        if (fx == ox1 && ox1 != plan_.N) {
-                            break;
-                        }
-                        missing += footprint.valid[footprint.index(fx, fy)] == 0;
-                    }
+                for (int64_t fy = oy0; fy < rowEnd; ++fy) {
+                    const uint8_t* valid = footprint.valid.data() + footprint.index(ox0, fy);
+                    missing += std::count(valid, valid + (columnEnd - ox0), uint8_t{0});
                 }
                 filled[static_cast<size_t>(m - first)] = missing;
                 const std::vector<float>& parent = levelC[static_cast<size_t>((ty / 2) * cside + tx / 2)];
