@@ -438,6 +438,7 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
     report.input = input;
     report.output = output;
     report.inputInfo = source->info();
+    report.band = options.band;
     if (options.band < 0 || options.band >= source->info().channels) {
         fail("--band", std::to_string(options.band + 1) + " is not a band of " + input + " (it has " +
                            std::to_string(source->info().channels) + ")");
@@ -454,6 +455,7 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
     if (!nodata && !options.ignoreDeclaredNodata) {
         nodata = source->info().nodata;
     }
+    report.nodata = nodata;
     const DemGeometry geometry = makeDemGeometry(source->info().width, source->info().height, plan.N, options.stretch, input);
     report.sampling = geometry.describe();
     const DemSampler sampler(*source, geometry, options.band, nodata);
@@ -533,6 +535,11 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
 }
 
 nlohmann::json toJson(const DemReport& r) {
+    // JSON has no NaN: a NaN nodata value is written as the string "nan".
+    nlohmann::json nodataJson = nullptr;
+    if (r.nodata) {
+        nodataJson = std::isnan(*r.nodata) ? nlohmann::json("nan") : nlohmann::json(*r.nodata);
+    }
     nlohmann::json levels = nlohmann::json::array();
     for (const DemLevelReport& l : r.levels) {
         levels.push_back({{"level", l.level},
@@ -546,7 +553,10 @@ nlohmann::json toJson(const DemReport& r) {
                        {"width", r.inputInfo.width},
                        {"height", r.inputInfo.height},
                        {"channels", r.inputInfo.channels},
-                       {"format", r.inputInfo.formatName}}},
+                       {"type", sampleTypeName(r.inputInfo.type)},
+                       {"format", r.inputInfo.formatName},
+                       {"band", r.band + 1},
+                       {"nodata", nodataJson}}},
             {"output", r.output},
             {"sampling", r.sampling},
             {"header", {{"min_level", r.header.minLevel},

@@ -48,6 +48,8 @@ struct DemReport {
     std::string input;
     std::string output;
     RasterInfo inputInfo;
+    int band = 0;                 // 0-based, as DemEncodeOptions
+    std::optional<double> nodata; // the nodata value used (option or declared), if any
     std::string sampling;    // the geometry rule applied
     ResidualHeader header;
     int64_t tiles = 0;

@@ -39,6 +39,36 @@ SampleType sampleTypeOf(OIIO::TypeDesc t) {
     }
 }
 
+} // namespace
+
+const char* sampleTypeName(SampleType type) {
+    switch (type) {
+    case SampleType::UInt8:
+        return "uint8";
+    case SampleType::Int8:
+        return "int8";
+    case SampleType::UInt16:
+        return "uint16";
+    case SampleType::Int16:
+        return "int16";
+    case SampleType::UInt32:
+        return "uint32";
+    case SampleType::Int32:
+        return "int32";
+    case SampleType::Float16:
+        return "float16";
+    case SampleType::Float32:
+        return "float32";
+    case SampleType::Float64:
+        return "float64";
+    case SampleType::Other:
+        break;
+    }
+    return "other";
+}
+
+namespace {
+
 // The nodata value a file declares: GDAL's GDAL_NODATA TIFF tag (text), as OIIO exposes it.
 std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
     for (const char* name : {"GDAL_NODATA", "tiff:GDAL_NODATA", "oiio:nodata", "nodata"}) {

@@ -13,6 +13,9 @@ namespace pyramid {
 
 enum class SampleType { UInt8, Int8, UInt16, Int16, UInt32, Int32, Float16, Float32, Float64, Other };
 
+// "uint8", "int16", "float32", ...: for reports.
+const char* sampleTypeName(SampleType type);
+
 struct RasterInfo {
     int width = 0;
     int height = 0;

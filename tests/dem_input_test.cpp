@@ -124,6 +124,9 @@ TEST(DemInput, SixteenBitIntegerHeightsEncodeWithinHalfAStep) {
     o.scale = 0.5;
     const DemReport report = encodeDem(dir.file("i16.tif"), dir.file("DEM.dat"), o);
     EXPECT_EQ(report.header.maxLevel, 4); // 4 << 4 = 64 intervals: exact
+    const nlohmann::json json = toJson(report);
+    EXPECT_EQ(json["input"]["type"], "int16");
+    EXPECT_EQ(json["input"]["nodata"], nullptr);
     EXPECT_GT(report.levels.back().maxAbsResidual, 0);
     for (const DemLevelReport& l : report.levels) {
         EXPECT_LE(l.maxError, 0.25 + 1e-3) << "level " << l.level;
@@ -156,6 +159,7 @@ TEST(DemInput, NanIsAnErrorUnlessItIsTheNodataValue) {
     o.nodata = std::numeric_limits<double>::quiet_NaN();
     const DemReport report = encodeDem(dir.file("nan.tif"), dir.file("DEM.dat"), o);
     EXPECT_EQ(report.nodataFilled, 2);
+    EXPECT_EQ(toJson(report)["input"]["nodata"], "nan");
     EXPECT_EQ(report.levels.back().samples, side * side - 2);
 }
 
