@@ -2,8 +2,11 @@
 
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imageio.h>
+#include <tiffio.h>
 
+#include <cstdarg>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <vector>
@@ -69,7 +72,19 @@ const char* sampleTypeName(SampleType type) {
 
 namespace {
 
-// The nodata value a file declares: GDAL's GDAL_NODATA TIFF tag (text), as OIIO exposes it.
+// A nodata value written as text ("-9999", "nan"), as GDAL writes it.
+std::optional<double> parseNodata(const std::string& text) {
+    if (text == "nan" || text == "NaN" || text == "-nan") {
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+    try {
+        return std::stod(text);
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+// The nodata value a file declares through OpenImageIO's attributes, if any.
 std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
     for (const char* name : {"GDAL_NODATA", "tiff:GDAL_NODATA", "oiio:nodata", "nodata"}) {
         const OIIO::ParamValue* p = spec.find_attribute(name);
@@ -77,19 +92,55 @@ std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
             continue;
         }
         if (p->type() == OIIO::TypeString) {
-            const std::string text = p->get_string();
-            if (text == "nan" || text == "NaN" || text == "-nan") {
-                return std::numeric_limits<double>::quiet_NaN();
+            if (const std::optional<double> v = parseNodata(p->get_string())) {
+                return v;
             }
-            try {
-                return std::stod(text);
-            } catch (const std::exception&) {
-                continue;
-            }
+            continue;
         }
         return static_cast<double>(p->get_float());
     }
     return std::nullopt;
+}
+
+int ignoreTiffMessage(TIFF*, void*, const char*, const char*, va_list) { return 1; }
+
+// GDAL keeps a GeoTIFF's nodata value in its own ASCII tag (42113), which OpenImageIO does not
+// expose: read it with libtiff. Its warnings (GeoTIFF tags it does not know) are not shown.
+std::optional<double> geoTiffNodata(const std::string& path) {
+    TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
+    TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
+    TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
+    TIFF* tif = TIFFOpenExt(path.c_str(), "r", options);
+    TIFFOpenOptionsFree(options);
+    if (!tif) {
+        return std::nullopt;
+    }
+    // libtiff builds without the tag's definition keep it as an anonymous field, read with a
+    // count before the pointer.
+    std::optional<double> nodata;
+    const TIFFField* field = TIFFFindField(tif, TIFFTAG_GDAL_NODATA, TIFF_ANY);
+    const char* text = nullptr;
+    if (field && TIFFFieldDataType(field) == TIFF_ASCII) {
+        int found = 0;
+        size_t length = 0;
+        if (!TIFFFieldPassCount(field)) {
+            found = TIFFGetField(tif, TIFFTAG_GDAL_NODATA, &text);
+            length = text ? std::strlen(text) : 0;
+        } else if (TIFFFieldReadCount(field) == TIFF_VARIABLE2) {
+            uint32_t count = 0;
+            found = TIFFGetField(tif, TIFFTAG_GDAL_NODATA, &count, &text);
+            length = count;
+        } else {
+            uint16_t count = 0;
+            found = TIFFGetField(tif, TIFFTAG_GDAL_NODATA, &count, &text);
+            length = count;
+        }
+        if (found == 1 && text) {
+            nodata = parseNodata(std::string(text, strnlen(text, length)));
+        }
+    }
+    TIFFClose(tif);
+    return nodata;
 }
 
 // One cache for the whole process, never destroyed: OIIO keeps per-thread state keyed by the
@@ -163,6 +214,9 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     OIIO::ustring format;
     if (impl.cache->get_image_info(impl.name, 0, 0, OIIO::ustring("fileformat"), OIIO::TypeString, &format)) {
         info.formatName = format.string();
+    }
+    if (!info.nodata && info.formatName == "tiff") {
+        info.nodata = geoTiffNodata(path);
     }
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
         fail(path, "empty image");

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
+#include <tiffio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -161,6 +163,67 @@ TEST(DemInput, NanIsAnErrorUnlessItIsTheNodataValue) {
     EXPECT_EQ(report.nodataFilled, 2);
     EXPECT_EQ(toJson(report)["input"]["nodata"], "nan");
     EXPECT_EQ(report.levels.back().samples, side * side - 2);
+}
+
+// An int16 GeoTIFF as GDAL writes it with a declared nodata value (tag 42113, text).
+void writeGeoTiffWithNodata(const std::string& path, int side, const std::vector<int16_t>& values, const char* nodata) {
+    TIFF* tif = TIFFOpen(path.c_str(), "w");
+    ASSERT_NE(tif, nullptr);
+    if (!TIFFFindField(tif, TIFFTAG_GDAL_NODATA, TIFF_ANY)) {
+        static const TIFFFieldInfo gdalNodata = {TIFFTAG_GDAL_NODATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0,
+                                                 const_cast<char*>("GDALNoDataValue")};
+        ASSERT_EQ(TIFFMergeFieldInfo(tif, &gdalNodata, 1), 0);
+    }
+    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, side);
+    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, side);
+    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
+    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 16);
+    TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, SAMPLEFORMAT_INT);
+    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, side);
+    TIFFSetField(tif, TIFFTAG_GDAL_NODATA, nodata);
+    for (int y = 0; y < side; ++y) {
+        ASSERT_EQ(TIFFWriteScanline(tif, const_cast<int16_t*>(values.data() + y * side), static_cast<uint32_t>(y), 0), 1);
+    }
+    TIFFClose(tif);
+}
+
+TEST(DemInput, GeoTiffNodataIsUsedUnlessIgnored) {
+    test::TempDir dir;
+    const int side = 33;
+    std::vector<int16_t> heights(static_cast<size_t>(side * side));
+    int holes = 0;
+    for (int y = 0; y < side; ++y) {
+        for (int x = 0; x < side; ++x) {
+            const bool hole = x >= 10 && x < 14 && y >= 20 && y < 23;
+            heights[static_cast<size_t>(x + y * side)] = static_cast<int16_t>(hole ? -9999 : 300 + 2 * x - y);
+            holes += hole;
+        }
+    }
+    writeGeoTiffWithNodata(dir.file("nd.tif"), side, heights, "-9999");
+    const auto source = RasterSource::open(dir.file("nd.tif"));
+    ASSERT_TRUE(source->info().nodata.has_value());
+    EXPECT_EQ(*source->info().nodata, -9999.0);
+    DemEncodeOptions o;
+    o.tileSize = 8;
+    o.rootTileSize = 4;
+    float low = std::numeric_limits<float>::max();
+    o.reconstruction = [&](int, int, int, const std::vector<float>& z) {
+        low = std::min(low, *std::min_element(z.begin(), z.end()));
+    };
+    const DemReport report = encodeDem(dir.file("nd.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.nodataFilled, holes);
+    EXPECT_EQ(report.levels.back().samples, side * side - holes);
+    EXPECT_EQ(toJson(report)["input"]["nodata"], -9999.0);
+    // A plane, lowest valid height 300 - 32, rebuilt within scale/2: the hole takes the
+    // runtime's interpolation of the plane, nothing lower.
+    EXPECT_GE(low, 267.5f);
+    o.reconstruction = nullptr;
+    o.ignoreDeclaredNodata = true;
+    const DemReport raw = encodeDem(dir.file("nd.tif"), dir.file("RAW.dat"), o);
+    EXPECT_EQ(raw.nodataFilled, 0);
+    EXPECT_EQ(raw.levels.back().samples, side * side);
 }
 
 TEST(DemInput, HolesAreFilledWithinTheSurroundingHeights) {
