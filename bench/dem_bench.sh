@@ -8,8 +8,9 @@
 # Environment: BUILD (a Release build directory, configured here if missing; default
 # build-release), WORK, SIZE (synthetic DEM side, default 8193), THREADS (default: all cores).
 #
-# Inputs: a deterministic synthetic SIZE x SIZE float32 DEM (bench/dem_synthetic_heights.cpp)
-# and the real one in samples/dem.tif. Both tools keep every sample within 0.5 m: preprocessDem
+# Inputs: a deterministic synthetic SIZE x SIZE float32 DEM (bench/dem_synthetic_heights.cpp),
+# the real one in samples/dem.tif, and a larger real-ish one: a 641 x 641 cut of samples/srtm.png
+# (the Himalaya and the Tibetan plateau, red x 10000 / 255 metres) upsampled to 4097 x 4097. Both tools keep every sample within 0.5 m: preprocessDem
 # --scale 1 (error <= scale/2) and LERC with MAX_Z_ERROR=0.5. preprocessDem runs twice on the
 # synthetic DEM: with the default 192-tiles (the pyramid's finest level then has
 # (24 << 9) + 1 = 12289 samples per side, resampled, 2.25 times the input's samples) and with
@@ -46,6 +47,10 @@ if [ ! -f "synthetic-$SIZE.tif" ]; then
     mv "synthetic-$SIZE.part.tif" "synthetic-$SIZE.tif"
 fi
 cp -f "$ROOT/samples/dem.tif" dem.tif
+if [ ! -f srtm-4097.tif ]; then
+    oiiotool "$ROOT/samples/srtm.png" --ch R --cut 641x641+600+17 --resize 4097x4097 --mulc 10000 -d float -o srtm-4097.part.tif
+    mv srtm-4097.part.tif srtm-4097.tif
+fi
 
 RESULTS=$WORK/results.tsv
 printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\tinput_samples\tmax_error\n' >"$RESULTS"
@@ -74,20 +79,22 @@ run "$synthetic 128-tiles" ours "$synthetic" DEM.dat "${OURS[@]}" "$synthetic" -
 run "$synthetic" gdal "$synthetic" cog.tif "${COG[@]}" "$synthetic" cog.tif
 run "dem.tif 192-tiles" ours dem.tif DEM.dat "${OURS[@]}" dem.tif -o DEM.dat
 run "dem.tif" gdal dem.tif cog.tif "${COG[@]}" dem.tif cog.tif
+run "srtm-4097.tif 192-tiles" ours srtm-4097.tif DEM.dat "${OURS[@]}" srtm-4097.tif -o DEM.dat
+run "srtm-4097.tif" gdal srtm-4097.tif cog.tif "${COG[@]}" srtm-4097.tif cog.tif
 rm -f DEM.dat cog.tif report.json
 
 # The summary: each preprocessDem run against the GDAL run on the same input.
 echo
 awk -F'\t' '
     NR == 1 { next }
-    $2 == "gdal" { gwall[$1] = $3; grss[$1] = $4; gbits[$1] = 8 * $5 / $6; next }
+    $2 == "gdal" { gwall[$1] = $3; grss[$1] = $4; gbytes[$1] = $5; gbits[$1] = 8 * $5 / $6; next }
     { ours[++count] = $0 }
     END {
-        printf "| case | ours s | GDAL s | ours/GDAL | ours RSS MB | GDAL RSS MB | ours bits/sample | GDAL bits/sample | ours max error |\n"
-        printf "|---|---|---|---|---|---|---|---|---|\n"
+        printf "| case | ours s | GDAL s | ours/GDAL | ours RSS MB | GDAL RSS MB | ours bytes | GDAL bytes | ours bits/sample | GDAL bits/sample | ours max error |\n"
+        printf "|---|---|---|---|---|---|---|---|---|---|---|\n"
         for (i = 1; i <= count; ++i) {
             split(ours[i], f, "\t"); input = f[1]; sub(/ [0-9]+-tiles$/, "", input)
-            printf "| %s | %.2f | %.2f | %.2f | %d | %d | %.3f | %.3f | %s |\n", f[1], f[3], gwall[input], f[3] / gwall[input], f[4], grss[input], 8 * f[5] / f[6], gbits[input], f[7]
+            printf "| %s | %.2f | %.2f | %.2f | %d | %d | %d | %d | %.3f | %.3f | %s |\n", f[1], f[3], gwall[input], f[3] / gwall[input], f[4], grss[input], f[5], gbytes[input], 8 * f[5] / f[6], gbits[input], f[7]
         }
     }' "$RESULTS"
 echo
