@@ -20,6 +20,10 @@ namespace pyramid {
 
 namespace {
 
+// The most tiles one file may get. With the default 192-tiles and 24-sample root that allows
+// maxLevel 16: 1572864 intervals per side, the Earth's circumference at 25 m.
+constexpr int64_t kMaxTiles = int64_t{1} << 28;
+
 // Subtrees encoded at once, in the memory estimate of cutLevel (a constant, not the thread
 // count: the cut decides the tile order in the file, which must not depend on the threads).
 constexpr int64_t kSubtreesInFlight = 4;
@@ -419,12 +423,18 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
         fail("--max-level", std::to_string(maxLevel) + " is outside " + std::to_string(minLevel) +
                                 "..24 (the file needs at least minLevel = log2(tile size / root tile size) levels)");
     }
-    (void)where;
     ResidualHeader h;
     h.minLevel = minLevel;
     h.maxLevel = maxLevel;
     h.tileSize = o.tileSize;
     h.scale = static_cast<float>(o.scale);
+    // Every tile needs at least a shared blob's offsets and a hash in memory: a bound that keeps
+    // a mistyped --max-level from exhausting memory (8193 x 8193 samples make 5461 tiles).
+    if (h.tileCount() > kMaxTiles) {
+        fail(o.maxLevel < 0 ? where : std::string("--max-level"),
+             "maxLevel " + std::to_string(maxLevel) + " makes " + std::to_string(h.tileCount()) + " tiles, more than " +
+                 std::to_string(kMaxTiles) + " in one file");
+    }
     return h;
 }
 

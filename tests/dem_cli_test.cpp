@@ -113,6 +113,7 @@ TEST_F(DemCli, ImpossibleValuesFailOnOneLine) {
     expectError("--tile-size 16 --root-tile-size 6", "--root-tile-size");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 1", "--max-level");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 25", "--max-level");
+    expectError("--tile-size 16 --root-tile-size 4 --max-level 24", "tiles, more than");
     expectError("--scale -1", "--scale");
     expectError("--scale fine", "--scale");
     expectError("--nodata low", "--nodata");
