@@ -9,6 +9,7 @@
 #include "cli/cli_common.hpp"
 #include "formats/error.hpp"
 #include "libpyramid/dem_encoder.hpp"
+#include "libpyramid/dem_sampling.hpp"
 
 namespace pyramid::cli {
 
@@ -25,30 +26,6 @@ struct DemArgs {
     bool quiet = false;
     DemEncodeOptions options;
 };
-
-// "--nodata": a number, "nan", or "none" (ignore what the file declares).
-void parseNodata(const std::string& text, DemEncodeOptions& o) {
-    if (text.empty()) {
-        return;
-    }
-    if (text == "none") {
-        o.ignoreDeclaredNodata = true;
-        return;
-    }
-    if (text == "nan" || text == "NaN") {
-        o.nodata = std::nan("");
-        return;
-    }
-    try {
-        size_t used = 0;
-        o.nodata = std::stod(text, &used);
-        if (used != text.size()) {
-            throw std::invalid_argument(text);
-        }
-    } catch (const std::exception&) {
-        fail("--nodata", "'" + text + "' is not a number, nan or none");
-    }
-}
 
 void printSummary(const DemReport& r) {
     std::fprintf(stderr, "%s: %lld tiles (%lld shared), levels 0..%d of %d-tiles, scale %g, %.2f bits/sample, %.1f s\n",
@@ -112,7 +89,9 @@ CommandRunner setupDemCommand(CLI::App& app) {
             }
         }
         options.band = args->band - 1;
-        parseNodata(args->nodata, options);
+        const NodataChoice nodata = parseNodataChoice(args->nodata, "--nodata");
+        options.nodata = nodata.value;
+        options.ignoreDeclaredNodata = nodata.ignoreDeclared;
         if (options.threads < 0) {
             fail("--threads", "must be 0 (all cores) or more");
         }

@@ -1,6 +1,5 @@
 // `pyramid verify FILE --source INPUT`: rebuild every level and compare it with the source.
 // `pyramid verify FILE --gl`: produce every tile on the CPU and on the GPU and compare them.
-#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -9,6 +8,7 @@
 #include "cli/cli_common.hpp"
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "libpyramid/dem_sampling.hpp"
 #include "libpyramid/dem_verify.hpp"
 #include "libpyramid/ortho_verify.hpp"
 #ifdef PYRAMID_WITH_GL
@@ -40,17 +40,9 @@ int verifyResidual(const VerifyArgs& a) {
     o.band = a.band - 1;
     o.stretch = a.stretch;
     o.threads = a.threads;
-    if (a.nodata == "none") {
-        o.ignoreDeclaredNodata = true;
-    } else if (a.nodata == "nan" || a.nodata == "NaN") {
-        o.nodata = std::nan("");
-    } else if (!a.nodata.empty()) {
-        try {
-            o.nodata = std::stod(a.nodata);
-        } catch (const std::exception&) {
-            fail("--nodata", "'" + a.nodata + "' is not a number, nan or none");
-        }
-    }
+    const NodataChoice nodata = parseNodataChoice(a.nodata, "--nodata");
+    o.nodata = nodata.value;
+    o.ignoreDeclaredNodata = nodata.ignoreDeclared;
     const DemVerifyReport report = verifyDem(a.file, a.source, o);
     if (a.json) {
         writeJson(toJson(report), "-");

@@ -7,6 +7,29 @@
 
 namespace pyramid {
 
+NodataChoice parseNodataChoice(const std::string& text, const std::string& option) {
+    NodataChoice choice;
+    if (text.empty()) {
+        return choice;
+    }
+    if (text == "none") {
+        choice.ignoreDeclared = true;
+    } else if (text == "nan" || text == "NaN") {
+        choice.value = std::nan("");
+    } else {
+        size_t used = 0;
+        try {
+            choice.value = std::stod(text, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != text.size()) {
+            fail(option, "'" + text + "' is not a number, nan or none");
+        }
+    }
+    return choice;
+}
+
 DemGeometry makeDemGeometry(int width, int height, int64_t N, bool stretch, const std::string& where) {
     if (width < 2 || height < 2) {
         fail(where, "input of " + std::to_string(width) + "x" + std::to_string(height) +

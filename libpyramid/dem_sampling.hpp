@@ -21,6 +21,15 @@
 
 namespace pyramid {
 
+// The nodata value of a DEM source as preprocessDem's and `pyramid verify`'s --nodata give it:
+// a number, "nan", or "none" (ignore the value the file declares); empty: what the file declares.
+struct NodataChoice {
+    std::optional<double> value;
+    bool ignoreDeclared = false;
+};
+// Throws Error naming `option` when `text` is none of these.
+NodataChoice parseNodataChoice(const std::string& text, const std::string& option);
+
 struct DemGeometry {
     int64_t N = 0;  // finest intervals across the root quad
     int width = 0;  // input
