@@ -17,6 +17,7 @@ CommandRunner setupTileCommand(CLI::App& app);    // pyramid tile FILE LEVEL TX 
 CommandRunner setupCheckCommand(CLI::App& app);   // pyramid check FILE [--json]
 CommandRunner setupDemCommand(CLI::App& app);     // pyramid dem / preprocessDem
 CommandRunner setupOrthoCommand(CLI::App& app);   // pyramid ortho / preprocessOrtho
+CommandRunner setupSphereDemCommand(CLI::App& app);   // pyramid sphere-dem / preprocessSphericalDem
 CommandRunner setupVerifyCommand(CLI::App& app);  // pyramid verify FILE --source INPUT [--gl]
 
 } // namespace pyramid::cli

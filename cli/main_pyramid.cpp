@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
         {"check", "Validate a pyramid file and decode every tile", setupCheckCommand},
         {"dem", "Build a residual (DEM) pyramid from a raster (same as preprocessDem)", setupDemCommand},
         {"ortho", "Build ortho pyramids from imagery (same as preprocessOrtho)", setupOrthoCommand},
+        {"sphere-dem", "Build six cube-face DEM pyramids from a global map (same as preprocessSphericalDem)",
+         setupSphereDemCommand},
         {"verify", "Rebuild every level and compare with the source (or CPU with GL)", setupVerifyCommand},
     };
     NamedRunner runners[std::size(entries)];

@@ -56,7 +56,16 @@ struct SourceGrid {
     }
 };
 
-class DemSampler {
+// Where a residual pyramid's heights come from: fills grid.height and grid.valid for the
+// positions grid describes (allocating them). Thread-safe.
+class HeightSource {
+public:
+    virtual ~HeightSource() = default;
+    virtual void sample(SourceGrid& grid) const = 0;
+};
+
+// The heights of a planar raster.
+class DemSampler final : public HeightSource {
 public:
     // `nodata`: the value that marks missing samples (NaN allowed), or none. Any other NaN in
     // the input is an error.
@@ -65,7 +74,7 @@ public:
     const DemGeometry& geometry() const { return geometry_; }
     // Fills grid.height and grid.valid for the positions grid describes (allocates them).
     // Reads only the input window those positions need. Thread-safe.
-    void sample(SourceGrid& grid) const;
+    void sample(SourceGrid& grid) const override;
 
 private:
     const RasterSource& source_;

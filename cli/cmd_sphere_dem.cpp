@@ -1,0 +1,66 @@
+// `pyramid sphere-dem` / `preprocessSphericalDem`: a global elevation map in, six cube-face
+// residual pyramids out.
+#include <cstdio>
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/cli_common.hpp"
+#include "cli/dem_options.hpp"
+#include "cli/sphere_options.hpp"
+#include "libpyramid/sphere_dem_encoder.hpp"
+
+namespace pyramid::cli {
+
+CommandRunner setupSphereDemCommand(CLI::App& app) {
+    auto args = std::make_shared<DemArgs>();
+    auto sphere = std::make_shared<SphereArgs>();
+    auto heightScale = std::make_shared<std::string>("1");
+    auto name = std::make_shared<std::string>("DEM");
+    addDemOptions(app, args,
+                  "Equirectangular elevation map: column 0 at longitude -180 (or the extent's west), row 0 at the "
+                  "north; pixel centres");
+    app.add_option("-o,--output", args->output, "Directory to write NAME1.dat .. NAME6.dat into")->required();
+    addSphereOptions(app, sphere);
+    app.add_option("--height-scale", *heightScale,
+                   "Multiply every sample by this number or ratio (e.g. 10000/255 for heights stored as 8-bit red)")
+        ->capture_default_str();
+    app.add_option("--name", *name, "Base name of the files")->capture_default_str();
+    return [args, sphere, heightScale, name]() {
+        SphericalDemOptions options;
+        options.dem = resolveDemOptions(*args);
+        const SphereChoice choice = resolveSphereOptions(*sphere);
+        options.extent = choice.extent;
+        options.body = choice.body;
+        options.faces = choice.faces;
+        options.heightScale = parseRatio(*heightScale, "--height-scale");
+        options.name = *name;
+        std::unique_ptr<Progress> progress;
+        int64_t shown = 0;
+        options.dem.progress = [&](int64_t done, int64_t total) {
+            if (!progress) {
+                progress = std::make_unique<Progress>("preprocessSphericalDem", total, args->quiet);
+            }
+            progress->advance(done - shown);
+            shown = done;
+        };
+        const SphericalDemReport report = encodeSphericalDem(args->input, args->output, options);
+        if (progress) {
+            progress->finish();
+        }
+        if (!args->quiet) {
+            std::fprintf(stderr, "%s: %s\n", args->output.c_str(), report.body.c_str());
+            for (const SphericalDemFaceReport& f : report.faces) {
+                printDemSummary(f.dem);
+                std::fprintf(stderr, "  finest level: %.0f to %.0f m between samples\n", f.gsd.back().min,
+                             f.gsd.back().max);
+            }
+        }
+        if (!args->report.empty()) {
+            writeJson(toJson(report), args->report);
+        }
+        return kExitOk;
+    };
+}
+
+} // namespace pyramid::cli

@@ -1,0 +1,86 @@
+#include "cli/dem_options.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "formats/error.hpp"
+#include "libpyramid/dem_sampling.hpp"
+
+namespace pyramid::cli {
+
+void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp) {
+    DemEncodeOptions& o = args->options;
+    app.add_option("INPUT", args->input, inputHelp)->required();
+    app.add_option("--tile-size", o.tileSize, "Tile size in intervals, without borders (tiles are size+5 samples)")
+        ->capture_default_str();
+    app.add_option("--root-tile-size", o.rootTileSize,
+                   "Intervals of the level-0 tile; minLevel = log2(tile-size / root-tile-size)")
+        ->capture_default_str();
+    app.add_option("--max-level", o.maxLevel,
+                   "The file's maxLevel (default: the smallest pyramid whose finest level holds every input sample)");
+    app.add_option("--scale", args->scale,
+                   "Quantization step in height units, or 'auto' for the smallest 1-2-5 step without int16 overflow")
+        ->capture_default_str();
+    app.add_option("--max-error", args->maxError, "Largest allowed error E: sets --scale to 2E")->excludes("--scale");
+    app.add_option("--band", args->band, "Band (channel) holding the heights, from 1")->capture_default_str();
+    app.add_option("--nodata", args->nodata,
+                   "Value marking missing heights: a number, 'nan', or 'none' (default: what the file declares)");
+    app.add_option("--threads", o.threads, "Worker threads (default: all cores; the output does not depend on it)");
+    app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
+    app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
+    app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
+}
+
+DemEncodeOptions resolveDemOptions(const DemArgs& args) {
+    DemEncodeOptions options = args.options;
+    if (args.maxError > 0.0) {
+        options.scale = 2.0 * args.maxError;
+    } else if (args.scale == "auto") {
+        options.autoScale = true;
+    } else {
+        try {
+            size_t used = 0;
+            options.scale = std::stod(args.scale, &used);
+            if (used != args.scale.size()) {
+                throw std::invalid_argument(args.scale);
+            }
+        } catch (const std::exception&) {
+            fail("--scale", "'" + args.scale + "' is not a number or 'auto'");
+        }
+        if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
+            fail("--scale", "must be positive, not " + args.scale);
+        }
+    }
+    options.band = args.band - 1;
+    const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");
+    options.nodata = nodata.value;
+    options.ignoreDeclaredNodata = nodata.ignoreDeclared;
+    if (options.threads < 0) {
+        fail("--threads", "must be 0 (all cores) or more");
+    }
+    if (options.tileSize + 5 >= 256 && !args.quiet) {
+        std::fprintf(stderr, "warning: tiles of %d samples: the original Proland runtime reads tiles of at most "
+                             "255 samples (tile size 250)\n", options.tileSize + 5);
+    }
+    return options;
+}
+
+void printDemSummary(const DemReport& r) {
+    std::fprintf(stderr, "%s: %lld tiles (%lld shared), levels 0..%d of %d-tiles, scale %g, %.2f bits/sample, %.1f s\n",
+                 r.output.c_str(), static_cast<long long>(r.tiles), static_cast<long long>(r.sharedTiles),
+                 r.header.maxLevel, r.header.tileSize, static_cast<double>(r.header.scale),
+                 r.finestSamples ? 8.0 * static_cast<double>(r.bytes) / static_cast<double>(r.finestSamples) : 0.0,
+                 r.seconds);
+    double worst = 0.0;
+    for (const DemLevelReport& l : r.levels) {
+        worst = std::max(worst, l.maxError);
+    }
+    std::fprintf(stderr, "  max error %g (bound scale/2 = %g), %lld nodata samples filled; %s\n", worst,
+                 static_cast<double>(r.header.scale) / 2.0, static_cast<long long>(r.nodataFilled),
+                 r.sampling.c_str());
+}
+
+} // namespace pyramid::cli

@@ -1,0 +1,39 @@
+// The options preprocessDem and preprocessSphericalDem share (tile sizes, levels, scale,
+// band, nodata, threads, cache, report, quiet), declared once and resolved into
+// DemEncodeOptions once the command line is parsed.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "libpyramid/dem_encoder.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace pyramid::cli {
+
+struct DemArgs {
+    std::string input;
+    std::string output; // a file (preprocessDem) or a directory (preprocessSphericalDem)
+    std::string scale = "1";
+    double maxError = 0.0;
+    int band = 1;
+    std::string nodata;
+    std::string report;
+    bool quiet = false;
+    DemEncodeOptions options;
+};
+
+// Declares INPUT and the shared options on `app`, bound to `args`.
+void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp);
+
+// The encoder options the parsed arguments ask for; throws Error naming the option when a
+// value is impossible. Prints the tile-size warning of the original runtime unless quiet.
+DemEncodeOptions resolveDemOptions(const DemArgs& args);
+
+// The two summary lines of one residual file on stderr: tiles, levels, scale, bits per sample,
+// time; the largest error against the bound, filled nodata and the sampling rule.
+void printDemSummary(const DemReport& report);
+
+} // namespace pyramid::cli

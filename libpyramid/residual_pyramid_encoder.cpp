@@ -1,0 +1,492 @@
+#include "libpyramid/residual_pyramid_encoder.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "formats/error.hpp"
+#include "formats/tiff_tile.hpp"
+#include "libpyramid/elevation_upsample.hpp"
+#include "libpyramid/morton.hpp"
+#include "libpyramid/parallel.hpp"
+
+namespace pyramid {
+
+std::string numberText(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", x);
+    return text;
+}
+
+namespace {
+
+// Subtrees encoded at once, in the memory estimate of cutLevel (a constant, not the thread
+// count: the cut decides the tile order in the file, which must not depend on the threads).
+constexpr int64_t kSubtreesInFlight = 4;
+
+// The cut-off level C: levels 0..C are encoded from a grid of every 2^(M-C)-th finest sample
+// held in memory, the deeper ones subtree by subtree from level-(C+1) footprints read on
+// demand. C minimises the samples held at once: the grid (counted twice: its heights and the
+// level-C reconstructions) plus kSubtreesInFlight footprints; C = M (everything in memory) is a
+// candidate too, and wins for small pyramids. Subtree roots need a quadrant parent: C >= minLevel.
+int cutLevel(int minLevel, int maxLevel, int tileSize, int64_t N) {
+    int best = maxLevel;
+    double bestSamples = static_cast<double>(N + 1) * static_cast<double>(N + 1);
+    for (int c = maxLevel - 1; c >= minLevel; --c) {
+        const double grid = static_cast<double>((N >> (maxLevel - c)) + 1);
+        const double footprint = static_cast<double>((static_cast<int64_t>(tileSize + 4) << (maxLevel - c - 1)) + 1);
+        const double samples = 2.0 * grid * grid + static_cast<double>(kSubtreesInFlight) * footprint * footprint;
+        if (samples < bestSamples) {
+            best = c;
+            bestSamples = samples;
+        }
+    }
+    return best;
+}
+
+struct Plan {
+    ResidualHeader header;
+    int M = 0;         // maxLevel
+    int minLevel = 0;
+    int T = 0;         // tileSize
+    int R = 0;         // root tile intervals
+    int64_t N = 0;     // finest intervals
+    int C = 0;         // deepest level encoded from the in-memory grid
+    float scale = 1.0f;
+    bool folded = false;                 // GridEdges::Folded: borders are real samples, never clamped
+
+    int64_t levelIntervals(int l) const { return static_cast<int64_t>(R) << l; }
+    int tileIntervals(int l) const { return l < minLevel ? T >> (minLevel - l) : T; }
+    int tilesPerSide(int l) const { return l < minLevel ? 1 : 1 << (l - minLevel); }
+};
+
+// Per-level error statistics, merged in a fixed order (sums of squares are order-sensitive).
+struct LevelStats {
+    int64_t samples = 0;
+    double maxError = 0.0;
+    double sumSquares = 0.0;
+    int maxAbsResidual = 0;
+    int64_t overflowResidual = 0; // largest |r| beyond int16, 0 if none
+
+    void merge(const LevelStats& o) {
+        samples += o.samples;
+        maxError = std::max(maxError, o.maxError);
+        sumSquares += o.sumSquares;
+        maxAbsResidual = std::max(maxAbsResidual, o.maxAbsResidual);
+        overflowResidual = std::max(overflowResidual, o.overflowResidual);
+    }
+};
+
+struct EncodedTile {
+    int level = 0, tx = 0, ty = 0;
+    std::vector<float> recon;
+    std::vector<uint8_t> blob;
+    LevelStats stats;
+};
+
+// Encodes tile (l, tx, ty) against its parent's reconstruction (null at the root), reading the
+// source heights of level-l positions from `src` (finest-grid coordinates; clamped to the map
+// unless the plan's edges are folded).
+EncodedTile encodeTile(const Plan& plan, int l, int tx, int ty, const std::vector<float>* parent, const SourceGrid& src) {
+    EncodedTile out;
+    out.level = l;
+    out.tx = tx;
+    out.ty = ty;
+    const int n = plan.tileIntervals(l);
+    const int S = n + 5;
+    const size_t area = static_cast<size_t>(S) * static_cast<size_t>(S);
+    std::vector<float> pred(area, 0.0f);
+    if (parent) {
+        const size_t parentStride = static_cast<size_t>(plan.tileIntervals(l - 1)) + 5;
+        const bool whole = l <= plan.minLevel;
+        upsampleAndAdd(parent->data(), parentStride, n, whole ? 1 : quadrantOffset(tx, n),
+                       whole ? 1 : quadrantOffset(ty, n), pred.data(), static_cast<size_t>(S));
+    }
+    std::vector<int16_t> residuals(area);
+    out.recon.resize(area);
+    const int64_t Nl = plan.levelIntervals(l);
+    const int shift = plan.M - l;
+    const double step = static_cast<double>(plan.scale);
+    const int64_t ownX0 = static_cast<int64_t>(tx) * n, ownY0 = static_cast<int64_t>(ty) * n;
+    // Finest-grid coordinate of level-l position q (a multiplication: q may be negative).
+    const auto finest = [&](int64_t q) { return (plan.folded ? q : std::clamp<int64_t>(q, 0, Nl)) * (int64_t{1} << shift); };
+    // Offsets in `src` of each column's sample, computed once per tile.
+    std::vector<size_t> column(static_cast<size_t>(S));
+    for (int i = 0; i < S; ++i) {
+        column[static_cast<size_t>(i)] = src.index(finest(ownX0 + i - 2), src.y0);
+    }
+    for (int j = 0; j < S; ++j) {
+        const int64_t q = ownY0 + j - 2;
+        const size_t row = src.index(src.x0, finest(q));
+        const bool ownedRow = (q >= ownY0 && q < ownY0 + n) || q == Nl;
+        for (int i = 0; i < S; ++i) {
+            const int64_t p = ownX0 + i - 2;
+            const size_t s = row + column[static_cast<size_t>(i)];
+            const size_t k = static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(S);
+            const uint8_t valid = src.valid[s];
+            int64_t r = 0;
+            if (valid) {
+                r = static_cast<int64_t>(std::nearbyint((static_cast<double>(src.height[s]) - pred[k]) / step));
+                const int64_t a = r < 0 ? -r : r;
+                if (a > 32767) {
+                    out.stats.overflowResidual = std::max(out.stats.overflowResidual, a);
+                    r = std::clamp<int64_t>(r, -32768, 32767);
+                }
+                out.stats.maxAbsResidual = std::max(out.stats.maxAbsResidual, static_cast<int>(std::min<int64_t>(a, 32768)));
+            }
+            residuals[k] = static_cast<int16_t>(r);
+            // The runtime's operation: prediction + float(r) * scale (doc/format.md, section 3).
+            const float z = pred[k] + static_cast<float>(residuals[k]) * plan.scale;
+            out.recon[k] = z;
+            if (valid == 1 && ownedRow && ((p >= ownX0 && p < ownX0 + n) || p == Nl)) {
+                const double e = std::fabs(static_cast<double>(z) - static_cast<double>(src.height[s]));
+                out.stats.samples += 1;
+                out.stats.maxError = std::max(out.stats.maxError, e);
+                out.stats.sumSquares += e * e;
+            }
+        }
+    }
+    out.blob = encodeResidualTiff(residuals, S);
+    return out;
+}
+
+// Root-level nodata: a fixed number of Gauss-Seidel sweeps of Laplace's equation over the
+// level-0 positions (with folded edges, its border positions too), from the mean of the valid
+// ones (or of every valid grid sample when the root has none, or `emptyFill` when nothing is
+// valid). Filled samples get valid = 2: encoded, but not counted as source.
+void fillRootNodata(const Plan& plan, SourceGrid& grid, std::optional<float> emptyFill, const std::string& input) {
+    const int64_t border = plan.folded ? 2 : 0;
+    const int64_t side = plan.R + 1 + 2 * border;
+    const int64_t unit = int64_t{1} << plan.M;
+    std::vector<size_t> idx(static_cast<size_t>(side * side));
+    double sum = 0.0;
+    int64_t valid = 0;
+    for (int64_t q = 0; q < side; ++q) {
+        for (int64_t p = 0; p < side; ++p) {
+            const size_t s = grid.index((p - border) * unit, (q - border) * unit);
+            idx[static_cast<size_t>(p + q * side)] = s;
+            if (grid.valid[s]) {
+                sum += grid.height[s];
+                ++valid;
+            }
+        }
+    }
+    if (valid == static_cast<int64_t>(idx.size())) {
+        return;
+    }
+    if (valid == 0) {
+        for (size_t s = 0; s < grid.valid.size(); ++s) {
+            if (grid.valid[s]) {
+                sum += grid.height[s];
+                ++valid;
+            }
+        }
+        if (valid == 0 && !emptyFill) {
+            fail(input, "no valid height anywhere (everything is nodata)");
+        }
+        if (valid == 0) {
+            sum = *emptyFill;
+            valid = 1;
+        }
+    }
+    const float mean = static_cast<float>(sum / static_cast<double>(valid));
+    std::vector<double> v(idx.size());
+    std::vector<bool> fixed(idx.size());
+    for (size_t k = 0; k < idx.size(); ++k) {
+        fixed[k] = grid.valid[idx[k]] != 0;
+        v[k] = fixed[k] ? grid.height[idx[k]] : mean;
+    }
+    for (int sweep = 0; sweep < 500; ++sweep) {
+        for (int64_t q = 0; q < side; ++q) {
+            for (int64_t p = 0; p < side; ++p) {
+                const size_t k = static_cast<size_t>(p + q * side);
+                if (fixed[k]) {
+                    continue;
+                }
+                const double l = v[static_cast<size_t>(std::max<int64_t>(p - 1, 0) + q * side)];
+                const double r = v[static_cast<size_t>(std::min<int64_t>(p + 1, side - 1) + q * side)];
+                const double d = v[static_cast<size_t>(p + std::max<int64_t>(q - 1, 0) * side)];
+                const double u = v[static_cast<size_t>(p + std::min<int64_t>(q + 1, side - 1) * side)];
+                v[k] = (l + r + d + u) * 0.25;
+            }
+        }
+    }
+    for (size_t k = 0; k < idx.size(); ++k) {
+        if (!fixed[k]) {
+            grid.height[idx[k]] = static_cast<float>(v[k]);
+            grid.valid[idx[k]] = 2;
+        }
+    }
+}
+
+// The smallest 1, 2 or 5 x 10^k that is >= x.
+double niceCeil(double x) {
+    if (!(x > 0.0)) {
+        return 0.0;
+    }
+    const double p = std::pow(10.0, std::floor(std::log10(x)));
+    for (double m : {1.0, 2.0, 5.0, 10.0}) {
+        if (m * p >= x * (1.0 - 1e-12)) {
+            return m * p;
+        }
+    }
+    return 10.0 * p;
+}
+
+// x rounded up to 3 significant digits, as messages print it ("0.239", "1.25e+04").
+std::string roundUp3(double x) {
+    const double p = std::pow(10.0, std::floor(std::log10(x)) - 2.0);
+    return numberText(std::ceil(x / p - 1e-9) * p);
+}
+
+struct Overflow {
+    double scale;
+    int64_t residual;
+    int level;
+};
+
+class Encoder {
+public:
+    Encoder(const Plan& plan, const HeightSource& sampler, const SourceGrid& grid, const DemEncodeOptions& options,
+            int threads)
+        : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads) {}
+
+    // Encodes the whole pyramid at plan_.scale into `writer`; returns the first overflow, if any.
+    std::optional<Overflow> run(ResidualFileWriter& writer, std::vector<LevelStats>& stats, int64_t& nodataFilled) {
+        stats.assign(static_cast<size_t>(plan_.M) + 1, LevelStats{});
+        total_ = plan_.header.tileCount();
+        done_ = 0;
+        std::vector<std::vector<float>> previous;
+        for (int l = 0; l <= plan_.C; ++l) {
+            const int side = plan_.tilesPerSide(l);
+            const int64_t count = static_cast<int64_t>(side) * side;
+            std::vector<EncodedTile> tiles(static_cast<size_t>(count));
+            parallelFor(count, threads_, [&](int64_t m) {
+                const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
+                const std::vector<float>* parent = nullptr;
+                if (l > 0) {
+                    const int pside = plan_.tilesPerSide(l - 1);
+                    parent = l <= plan_.minLevel ? &previous[0]
+                                                 : &previous[static_cast<size_t>((ty / 2) * pside + tx / 2)];
+                }
+                tiles[static_cast<size_t>(m)] = encodeTile(plan_, l, static_cast<int>(tx), static_cast<int>(ty), parent, grid_);
+            });
+            std::vector<std::vector<float>> current(static_cast<size_t>(count));
+            for (EncodedTile& t : tiles) {
+                write(writer, t, stats);
+                current[static_cast<size_t>(t.ty * side + t.tx)] = std::move(t.recon);
+            }
+            if (stats[static_cast<size_t>(l)].overflowResidual) {
+                return Overflow{plan_.scale, stats[static_cast<size_t>(l)].overflowResidual, l};
+            }
+            previous = std::move(current);
+        }
+        if (plan_.C == plan_.M) {
+            for (int64_t y = 0; y <= plan_.N; ++y) {
+                const uint8_t* valid = grid_.valid.data() + grid_.index(0, y);
+                nodataFilled += (plan_.N + 1) - std::count(valid, valid + plan_.N + 1, uint8_t{1});
+            }
+            return std::nullopt;
+        }
+        return runSubtrees(writer, stats, previous, nodataFilled);
+    }
+
+private:
+    void write(ResidualFileWriter& writer, const EncodedTile& t, std::vector<LevelStats>& stats) {
+        writer.writeTileBytes(t.level, t.tx, t.ty, t.blob);
+        if (options_.reconstruction) {
+            options_.reconstruction(t.level, t.tx, t.ty, t.recon);
+        }
+        stats[static_cast<size_t>(t.level)].merge(t.stats);
+        ++done_;
+        if (options_.progress) {
+            options_.progress(done_, total_);
+        }
+    }
+
+    void encodeSubtree(int l, int tx, int ty, const std::vector<float>& parent, const SourceGrid& footprint,
+                       std::vector<EncodedTile>& out) {
+        EncodedTile tile = encodeTile(plan_, l, tx, ty, &parent, footprint);
+        std::vector<float> recon;
+        if (l < plan_.M) {
+            recon = tile.recon;
+        }
+        if (!options_.reconstruction) {
+            tile.recon.clear(); // keep only what the hook needs: memory stays per subtree
+            tile.recon.shrink_to_fit();
+        }
+        out.push_back(std::move(tile));
+        if (l < plan_.M) {
+            for (int c = 0; c < 4; ++c) {
+                encodeSubtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), recon, footprint, out);
+            }
+        }
+    }
+
+    std::optional<Overflow> runSubtrees(ResidualFileWriter& writer, std::vector<LevelStats>& stats,
+                                        const std::vector<std::vector<float>>& levelC, int64_t& nodataFilled) {
+        const int top = plan_.C + 1;
+        const int side = plan_.tilesPerSide(top);
+        const int cside = plan_.tilesPerSide(plan_.C);
+        const int64_t count = static_cast<int64_t>(side) * side;
+        const int d = plan_.M - top;
+        const int64_t batch = std::max<int64_t>(4, 2 * threads_);
+        for (int64_t first = 0; first < count; first += batch) {
+            const int64_t last = std::min(count, first + batch);
+            std::vector<std::vector<EncodedTile>> results(static_cast<size_t>(last - first));
+            std::vector<int64_t> filled(static_cast<size_t>(last - first), 0);
+            parallelFor(last - first, threads_, [&](int64_t k) {
+                const int64_t m = first + k;
+                const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
+                SourceGrid footprint;
+                const int64_t T = plan_.T;
+                footprint.stride = 1;
+                // The subtree's tiles with their borders; clamped to the map unless edges are folded.
+                const int64_t unit = int64_t{1} << d;
+                const int64_t lo = plan_.folded ? std::numeric_limits<int64_t>::min() : 0;
+                const int64_t hi = plan_.folded ? std::numeric_limits<int64_t>::max() : plan_.N;
+                footprint.x0 = std::max<int64_t>(lo, (static_cast<int64_t>(tx) * T - 2) * unit);
+                footprint.y0 = std::max<int64_t>(lo, (static_cast<int64_t>(ty) * T - 2) * unit);
+                const int64_t x1 = std::min<int64_t>(hi, (static_cast<int64_t>(tx) * T + T + 2) * unit);
+                const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit);
+                footprint.nx = x1 - footprint.x0 + 1;
+                footprint.ny = y1 - footprint.y0 + 1;
+                sampler_.sample(footprint);
+                // Finest samples this subtree owns: [tx*T << d, (tx+1)*T << d), plus the map's edge.
+                const int64_t ox0 = static_cast<int64_t>(tx) * T << d, ox1 = (static_cast<int64_t>(tx) + 1) * T << d;
+                const int64_t oy0 = static_cast<int64_t>(ty) * T << d, oy1 = (static_cast<int64_t>(ty) + 1) * T << d;
+                const int64_t rowEnd = oy1 == plan_.N ? oy1 + 1 : oy1;
+                const int64_t columnEnd = ox1 == plan_.N ? ox1 + 1 : ox1;
+                int64_t missing = 0;
+                for (int64_t fy = oy0; fy < rowEnd; ++fy) {
+                    const uint8_t* valid = footprint.valid.data() + footprint.index(ox0, fy);
+                    missing += std::count(valid, valid + (columnEnd - ox0), uint8_t{0});
+                }
+                filled[static_cast<size_t>(m - first)] = missing;
+                const std::vector<float>& parent = levelC[static_cast<size_t>((ty / 2) * cside + tx / 2)];
+                encodeSubtree(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint,
+                              results[static_cast<size_t>(m - first)]);
+            });
+            int64_t overflow = 0;
+            int overflowLevel = 0;
+            for (size_t k = 0; k < results.size(); ++k) {
+                nodataFilled += filled[k];
+                for (const EncodedTile& t : results[k]) {
+                    write(writer, t, stats);
+                    if (t.stats.overflowResidual > overflow) {
+                        overflow = t.stats.overflowResidual;
+                        overflowLevel = t.level;
+                    }
+                }
+            }
+            if (overflow) {
+                return Overflow{plan_.scale, overflow, overflowLevel};
+            }
+        }
+        return std::nullopt;
+    }
+
+    const Plan& plan_;
+    const HeightSource& sampler_;
+    const SourceGrid& grid_;
+    const DemEncodeOptions& options_;
+    int threads_;
+    int64_t total_ = 0;
+    int64_t done_ = 0;
+};
+
+} // namespace
+
+void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output, const DemEncodeOptions& options,
+                           DemReport& report) {
+    Plan plan;
+    plan.header = job.header;
+    plan.M = plan.header.maxLevel;
+    plan.minLevel = plan.header.minLevel;
+    plan.T = plan.header.tileSize;
+    plan.R = plan.T >> plan.minLevel;
+    plan.N = plan.levelIntervals(plan.M);
+    plan.C = cutLevel(plan.minLevel, plan.M, plan.T, plan.N);
+    plan.folded = job.edges == GridEdges::Folded;
+    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    report.threads = threads;
+
+    // Pass 1: the in-memory grid of levels 0..C, one level-C row of samples at a time (each
+    // reads two input rows at most), in row order, so the input streams through once.
+    // With folded edges the grid reaches the root tile's borders, 2 level-0 intervals beyond.
+    SourceGrid grid;
+    grid.stride = int64_t{1} << (plan.M - plan.C);
+    const int64_t margin = plan.folded ? int64_t{2} << plan.M : 0;
+    grid.x0 = grid.y0 = -margin;
+    grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
+    grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
+    grid.valid.resize(grid.height.size());
+    parallelFor(grid.ny, threads, [&](int64_t row) {
+        SourceGrid line;
+        line.stride = grid.stride;
+        line.x0 = grid.x0;
+        line.y0 = grid.y0 + row * grid.stride;
+        line.nx = grid.nx;
+        line.ny = 1;
+        job.heights->sample(line);
+        std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx);
+        std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx);
+    });
+    fillRootNodata(plan, grid, job.emptyFill, job.input);
+
+    double scale = options.scale;
+    if (options.autoScale) {
+        double maxAbs = 0.0;
+        for (size_t s = 0; s < grid.height.size(); ++s) {
+            if (grid.valid[s]) {
+                maxAbs = std::max(maxAbs, std::fabs(static_cast<double>(grid.height[s])));
+            }
+        }
+        scale = std::max(niceCeil(maxAbs / 32767.0), 0.001);
+    }
+    for (int attempt = 0;; ++attempt) {
+        plan.scale = static_cast<float>(scale);
+        plan.header.scale = plan.scale;
+        report.scalesTried.push_back(scale);
+        std::vector<LevelStats> stats;
+        int64_t nodataFilled = 0;
+        ResidualFileWriter writer(output, plan.header);
+        Encoder encoder(plan, *job.heights, grid, options, threads);
+        const std::optional<Overflow> overflow = encoder.run(writer, stats, nodataFilled);
+        if (overflow) {
+            const double needed = scale * static_cast<double>(overflow->residual) / 32767.0;
+            if (!options.autoScale || attempt >= 12) {
+                fail(job.input, "residuals overflow int16 at scale " + numberText(scale) + " (|residual| " +
+                                std::to_string(overflow->residual) + " at level " + std::to_string(overflow->level) +
+                                "): use --scale " + roundUp3(needed) + " or more, or --scale auto");
+            }
+            scale = niceCeil(std::max(needed, scale * 1.000001));
+            continue;
+        }
+        writer.commit();
+        report.header = plan.header;
+        report.tiles = plan.header.tileCount();
+        report.sharedTiles = writer.sharedTiles();
+        report.bytes = std::filesystem::file_size(output);
+        report.finestSamples = (plan.N + 1) * (plan.N + 1);
+        report.nodataFilled = nodataFilled;
+        for (int l = 0; l <= plan.M; ++l) {
+            const LevelStats& s = stats[static_cast<size_t>(l)];
+            DemLevelReport lr;
+            lr.level = l;
+            lr.tiles = static_cast<int64_t>(plan.tilesPerSide(l)) * plan.tilesPerSide(l);
+            lr.samples = s.samples;
+            lr.maxError = s.maxError;
+            lr.rmsError = s.samples ? std::sqrt(s.sumSquares / static_cast<double>(s.samples)) : 0.0;
+            lr.maxAbsResidual = s.maxAbsResidual;
+            report.levels.push_back(lr);
+        }
+        break;
+    }
+}
+
+} // namespace pyramid
