@@ -1,6 +1,8 @@
 // verifyOnGl, the library side of `pyramid verify FILE --gl`: the original tools' DEM.dat and
 // RGB.dat, a small residual pyramid with extreme residuals and an inexact scale written with
-// the formats writer, and a DXT ortho file; every tile compared, CPU against GPU.
+// the formats writer, a DXT ortho file, and the files the preprocessors make (planar DEM with
+// several elevation tile sizes and delta > 0, all three ortho outputs, a cube face); every tile
+// compared, CPU against GPU.
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -11,6 +13,7 @@
 #include "libpyramid/gl/gl_verify.hpp"
 #include "tests/support/gl_test_context.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
 
 namespace pyramid {
 namespace {
@@ -149,6 +152,53 @@ TEST(GlVerify, DxtOrthoKeepsBlocksAndDecodesWithinTolerance) {
     EXPECT_EQ(decoded->tiles, 5);
     EXPECT_LE(decoded->maxDifference, kDxtDecodeTolerance);
     EXPECT_EQ(findPart(r, "colour residuals"), nullptr); // DXT files hold no residuals
+}
+
+TEST(GlVerify, PreprocessorOutputsEveryTileSize) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    test::TempDir dir;
+    // 129 x 129 heights, 16-tiles with a 4-interval root: minLevel 2, maxLevel 5, so elevation
+    // tiles of 16, 8 and 4 intervals with delta 2, 1 and 0.
+    test::writeFloatRaster(dir.file("dem.tif"), 129, 129, test::syntheticHeights(129, 129));
+    const test::RunResult dem = test::run(test::programPath("preprocessDem") + " " + dir.file("dem.tif") + " -o " +
+                                          dir.file("DEM.dat") + " --tile-size 16 --root-tile-size 4 --scale 0.1 -q");
+    ASSERT_EQ(dem.exitCode, 0) << dem.err;
+    const GlVerifyReport d = verifyOnGl(dir.file("DEM.dat"));
+    EXPECT_TRUE(d.ok());
+    ASSERT_EQ(d.parts.size(), 3u);
+    const int64_t deep = 1 + 4 + 16 + 64; // levels 2..5 of the file as 16-tiles
+    expectExact(d, "elevation n=16 delta=2", deep);
+    expectExact(d, "elevation n=8 delta=1", deep + 256);
+    expectExact(d, "elevation n=4 delta=0", deep + 256 + 1024);
+
+    // All three ortho outputs of a 64 x 64 image in 16-tiles (levels 0..2).
+    std::vector<uint16_t> pixels(64 * 64 * 3);
+    for (size_t k = 0; k < pixels.size(); ++k) {
+        pixels[k] = static_cast<uint16_t>((k * 37 + k / 192 * 11) % 256);
+    }
+    test::writeImage(dir.file("rgb.png"), 64, 64, 3, pixels, false);
+    const test::RunResult ortho = test::run(test::programPath("preprocessOrtho") + " " + dir.file("rgb.png") +
+                                            " -o " + dir.file("ortho") + " --tile-size 16 -q");
+    ASSERT_EQ(ortho.exitCode, 0) << ortho.err;
+    for (const char* file : {"ortho/RGB.dat", "ortho/dxt/RGB.dat", "ortho/residuals/RGB.dat"}) {
+        const GlVerifyReport r = verifyOnGl(dir.file(file));
+        EXPECT_TRUE(r.ok()) << file;
+        EXPECT_FALSE(r.parts.empty()) << file;
+        for (const GlVerifyPart& p : r.parts) {
+            EXPECT_EQ(p.tiles, 1 + 4 + 16) << file << " " << p.what;
+        }
+    }
+
+    // A cube face of the spherical preprocessor.
+    const test::RunResult sphere =
+        test::run(test::programPath("preprocessSphericalDem") + " " + test::samplePath("srtm.png") + " -o " +
+                  dir.file("planet") + " --tile-size 16 --root-tile-size 8 --max-level 3 --height-scale 10000/255 "
+                  "--faces 2 -q");
+    ASSERT_EQ(sphere.exitCode, 0) << sphere.err;
+    const GlVerifyReport f = verifyOnGl(dir.file("planet/DEM2.dat"));
+    EXPECT_TRUE(f.ok());
+    expectExact(f, "elevation n=16 delta=1", 1 + 4 + 16);
+    expectExact(f, "elevation n=8 delta=0", 1 + 4 + 16 + 64);
 }
 
 } // namespace
