@@ -12,8 +12,8 @@ namespace pyramid::cli {
 
 CommandRunner setupDemCommand(CLI::App& app) {
     auto args = std::make_shared<DemArgs>();
-    addDemOptions(app, args, "Elevation raster (any format OpenImageIO reads)");
-    app.add_option("-o,--output", args->output, "Residual pyramid file to write (e.g. DEM.dat)")->required();
+    addDemOptions(app, args, "Elevation raster (any format OpenImageIO reads)",
+                  "Residual pyramid file to write (e.g. DEM.dat)");
     app.add_flag("--stretch", args->options.stretch, "Stretch width and height independently onto the square root quad");
     return [args]() {
         DemEncodeOptions options = resolveDemOptions(*args);

@@ -19,8 +19,8 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
     auto name = std::make_shared<std::string>("DEM");
     addDemOptions(app, args,
                   "Equirectangular elevation map: column 0 at longitude -180 (or the extent's west), row 0 at the "
-                  "north; pixel centres");
-    app.add_option("-o,--output", args->output, "Directory to write NAME1.dat .. NAME6.dat into")->required();
+                  "north; pixel centres",
+                  "Directory to write NAME1.dat .. NAME6.dat into");
     addSphereOptions(app, sphere);
     app.add_option("--height-scale", *heightScale,
                    "Multiply every sample by this number or ratio (e.g. 10000/255 for heights stored as 8-bit red)")

@@ -11,9 +11,10 @@
 
 namespace pyramid::cli {
 
-void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp) {
+void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp) {
     DemEncodeOptions& o = args->options;
     app.add_option("INPUT", args->input, inputHelp)->required();
+    app.add_option("-o,--output", args->output, outputHelp)->required();
     app.add_option("--tile-size", o.tileSize, "Tile size in intervals, without borders (tiles are size+5 samples)")
         ->capture_default_str();
     app.add_option("--root-tile-size", o.rootTileSize,

@@ -25,8 +25,8 @@ struct DemArgs {
     DemEncodeOptions options;
 };
 
-// Declares INPUT and the shared options on `app`, bound to `args`.
-void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp);
+// Declares INPUT, -o and the shared options on `app`, bound to `args`.
+void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp);
 
 // The encoder options the parsed arguments ask for; throws Error naming the option when a
 // value is impossible. Prints the tile-size warning of the original runtime unless quiet.

@@ -1,0 +1,117 @@
+// The spherical commands as a user runs them: the sample maps, --height-scale as a ratio,
+// --faces, --body, --extent, reports with ground sample distances, progress and --quiet, and
+// the one-line errors of bad input with nothing left behind.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "formats/residual_file.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+using test::programPath;
+using test::run;
+
+size_t lines(const std::string& s) { return static_cast<size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+size_t filesIn(const std::string& dir) {
+    if (!std::filesystem::exists(dir)) {
+        return 0;
+    }
+    size_t n = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+        n += e.is_regular_file();
+    }
+    return n;
+}
+
+TEST(SphereDemCli, SampleMapMakesSixFacesAndAReport) {
+    test::TempDir dir;
+    const std::string out = dir.file("planet");
+    const auto r = run(programPath("preprocessSphericalDem") + " " + test::samplePath("srtm.png") + " -o " + out +
+                       " --tile-size 32 --root-tile-size 8 --height-scale 10000/255 --report " + dir.file("r.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("preprocessSphericalDem: 100%"), std::string::npos) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(test::readFile(dir.file("r.json")));
+    EXPECT_NEAR(j["input"]["height_scale"].get<double>(), 10000.0 / 255.0, 1e-12);
+    EXPECT_NE(j["body"].get<std::string>().find("6378137"), std::string::npos);
+    ASSERT_EQ(j["faces"].size(), 6u);
+    for (int f = 1; f <= 6; ++f) {
+        const nlohmann::json& face = j["faces"][static_cast<size_t>(f - 1)];
+        EXPECT_EQ(face["face"], f);
+        // 1350 / 4 = 337.5 intervals at the equator: 8 << 6 = 512 is the first level to reach it.
+        EXPECT_EQ(face["header"]["max_level"], 6);
+        EXPECT_EQ(face["ground_sample_distance"].size(), 7u);
+        const double finestMax = face["ground_sample_distance"][6]["max_metres"];
+        EXPECT_GT(finestMax, 20e3); // about 10000 km / 512 at the face centre
+        EXPECT_LT(finestMax, 30e3);
+        for (const auto& level : face["levels"]) {
+            EXPECT_LE(level["max_error"].get<double>(), 0.5 + 1e-3);
+        }
+        const std::string file = out + "/DEM" + std::to_string(f) + ".dat";
+        EXPECT_EQ(face["output"], file);
+        EXPECT_EQ(ResidualFileReader::open(file)->header().maxLevel, 6);
+        const auto check = run(programPath("pyramid") + " check " + file);
+        EXPECT_EQ(check.exitCode, 0) << check.out << check.err;
+    }
+    EXPECT_EQ(filesIn(out), 6u); // no staging leftovers
+}
+
+TEST(SphereDemCli, FacesBodyExtentAndQuiet) {
+    test::TempDir dir;
+    const std::string out = dir.file("moon");
+    const auto r = run("cd " + dir.path() + " && " + programPath("pyramid") + " sphere-dem " +
+                       test::samplePath("srtm.png") + " -o moon --faces 1,6 --body moon --max-level 3 " +
+                       "--extent -180,-90,180,90 -q --report -");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["faces"].size(), 2u);
+    EXPECT_EQ(j["faces"][1]["face"], 6);
+    // The Moon's radius is 1737.4 km: a face is about 2700 km across, 192 intervals at level 3.
+    EXPECT_LT(j["faces"][0]["ground_sample_distance"][3]["max_metres"].get<double>(), 20e3);
+    EXPECT_TRUE(std::filesystem::exists(out + "/DEM1.dat"));
+    EXPECT_TRUE(std::filesystem::exists(out + "/DEM6.dat"));
+    EXPECT_EQ(filesIn(out), 2u);
+}
+
+TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
+    test::TempDir dir;
+    const std::string out = dir.file("out");
+    const std::string srtm = test::samplePath("srtm.png");
+    struct Case {
+        std::string args;
+        int exitCode;
+        std::string words;
+    };
+    const Case cases[] = {
+        {dir.file("missing.png") + " -o " + out, 1, "missing.png"},
+        {srtm + " -o " + out + " --faces 0,1", 1, "--faces"},
+        {srtm + " -o " + out + " --faces 1,1", 1, "--faces"},
+        {srtm + " -o " + out + " --body pluto", 1, "--body"},
+        {srtm + " -o " + out + " --extent 10,20,5,30", 1, "--extent"},
+        {srtm + " -o " + out + " --height-scale 1/0", 1, "--height-scale"},
+        {srtm + " -o " + out + " --height-scale x", 1, "--height-scale"},
+        {srtm + " -o " + out + " --band 4", 1, "--band"},
+        {srtm + " -o " + out + " --scale 0.001", 1, "overflow"}, // fails at the first face
+        {srtm, 2, "--output"},
+    };
+    for (const Case& c : cases) {
+        const auto r = run(programPath("preprocessSphericalDem") + " -q " + c.args);
+        EXPECT_EQ(r.exitCode, c.exitCode) << c.args << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.words), std::string::npos) << c.args << "\n" << r.err;
+        if (c.exitCode == 1) {
+            EXPECT_EQ(lines(r.err), 1u) << r.err;
+        }
+        EXPECT_EQ(filesIn(out), 0u) << c.args;
+    }
+}
+
+} // namespace
+} // namespace pyramid
