@@ -8,16 +8,34 @@
 
 namespace pyramid {
 
-int elevationDelta(const ResidualHeader& header, int n) {
+int elevationDelta(const ResidualHeader& header, int n, const std::string& where) {
     int k = 0;
     while (k <= header.minLevel && (header.tileSize >> k) > n) {
         ++k;
     }
     if (n < 2 || n % 2 != 0 || k > header.minLevel || (header.tileSize >> k) != n || (n << k) != header.tileSize) {
-        fail("", "elevation tiles of " + std::to_string(n) + " need tileSize / 2^k for k in 0.." +
+        fail(where, "elevation tiles of " + std::to_string(n) + " need tileSize / 2^k for k in 0.." +
                      std::to_string(header.minLevel) + " (tileSize " + std::to_string(header.tileSize) + ")");
     }
     return header.minLevel - k;
+}
+
+ElevationTiling elevationTiling(const ResidualProducer& residuals, const ElevationProducerOptions& options) {
+    const ResidualHeader& h = residuals.header();
+    ElevationTiling t;
+    t.n = options.tileSize == 0 ? h.tileSize : options.tileSize;
+    const int delta = elevationDelta(h, t.n, residuals.path());
+    if (delta != residuals.delta()) {
+        fail(residuals.path(), "elevation tiles of " + std::to_string(t.n) + " need a residual producer with delta " +
+                                   std::to_string(delta) + ", not " + std::to_string(residuals.delta()));
+    }
+    t.k = h.minLevel - delta;
+    t.gridSize = options.gridSize == 0 ? t.n : options.gridSize;
+    if (t.gridSize < 2 || t.gridSize % 2 != 0 || t.n % t.gridSize != 0) {
+        fail(residuals.path(), "gridSize " + std::to_string(t.gridSize) +
+                                   " must be even and divide the elevation tile size " + std::to_string(t.n));
+    }
+    return t;
 }
 
 namespace {
@@ -117,22 +135,11 @@ struct ElevationProducer::Impl {
 ElevationProducer::ElevationProducer(std::shared_ptr<const ResidualProducer> residuals,
                                      const ElevationProducerOptions& options)
     : impl_(std::make_unique<Impl>(options.cacheCapacity)) {
-    const ResidualHeader& h = residuals->header();
-    const int n = options.tileSize == 0 ? h.tileSize : options.tileSize;
-    const int delta = elevationDelta(h, n);
-    if (delta != residuals->delta()) {
-        fail("", "elevation tiles of " + std::to_string(n) + " need a residual producer with delta " +
-                     std::to_string(delta) + ", not " + std::to_string(residuals->delta()));
-    }
-    const int gridSize = options.gridSize == 0 ? n : options.gridSize;
-    if (gridSize < 2 || gridSize % 2 != 0 || n % gridSize != 0) {
-        fail("", "gridSize " + std::to_string(gridSize) + " must be even and divide the elevation tile size " +
-                     std::to_string(n));
-    }
+    const ElevationTiling t = elevationTiling(*residuals, options);
     impl_->residuals = std::move(residuals);
-    impl_->n = n;
-    impl_->k = h.minLevel - delta;
-    impl_->gridSize = gridSize;
+    impl_->n = t.n;
+    impl_->k = t.k;
+    impl_->gridSize = t.gridSize;
 }
 
 ElevationProducer::~ElevationProducer() = default;
@@ -160,8 +167,8 @@ int ElevationProducer::maxLevel() const { return impl_->residuals->maxLevel(); }
 
 std::shared_ptr<const ElevationTile> ElevationProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
-        fail("", "no elevation tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                     ")");
+        fail(impl_->residuals->path(), "no elevation tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                                           std::to_string(ty) + ")");
     }
     return impl_->produce(level, tx, ty);
 }

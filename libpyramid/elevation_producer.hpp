@@ -53,8 +53,18 @@ struct FileLevelProducer {
 };
 FileLevelProducer makeFileLevelProducer(const std::string& file, int fileLevel, size_t cacheCapacity = 64);
 
-// delta = minLevel - k for elevation tiles of n = tileSize / 2^k; throws Error if n does not
-// divide tileSize by a power of two no larger than 2^minLevel.
-int elevationDelta(const ResidualHeader& header, int n);
+// delta = minLevel - k for elevation tiles of n = tileSize / 2^k; throws Error (naming `where`,
+// e.g. the file) if n does not divide tileSize by a power of two no larger than 2^minLevel.
+int elevationDelta(const ResidualHeader& header, int n, const std::string& where = "");
+
+// The elevation tiling that a residual producer and options give, checked once for the CPU and
+// GL producers alike: n, k = log2(tileSize / n) and the render grid of zc. Throws Error naming
+// the residual file when the producer's delta does not match n or gridSize does not divide n.
+struct ElevationTiling {
+    int n = 0;
+    int k = 0;
+    int gridSize = 0;
+};
+ElevationTiling elevationTiling(const ResidualProducer& residuals, const ElevationProducerOptions& options);
 
 } // namespace pyramid

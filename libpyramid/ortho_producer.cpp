@@ -45,6 +45,7 @@ OrthoProducer::OrthoProducer(const std::string& mainFile, const std::vector<std:
 
 OrthoProducer::~OrthoProducer() = default;
 
+const std::string& OrthoProducer::path() const { return impl_->files.front()->path(); }
 const OrthoHeader& OrthoProducer::header() const { return impl_->files.front()->header(); }
 int OrthoProducer::maxLevel() const { return impl_->maxLevel; }
 

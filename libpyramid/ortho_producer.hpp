@@ -17,6 +17,7 @@ public:
     ~OrthoProducer();
 
     const OrthoHeader& header() const; // the main file's
+    const std::string& path() const;   // the main file's, for messages
     int maxLevel() const;              // deepest level any file holds
     bool hasTile(int level, int tx, int ty) const;
     // tilePixels()^2 x channels bytes, row 0 = bottom (DXT tiles decoded to RGB or RGBA).

@@ -38,10 +38,10 @@ OrthoResidualProducer::OrthoResidualProducer(std::shared_ptr<const OrthoProducer
     : impl_(std::make_unique<Impl>(cacheCapacity)) {
     const OrthoHeader& h = residuals->header();
     if (h.border() != 2 || h.dxt()) {
-        fail("", "colour residual tiles must be TIFF tiles with 2-pixel borders");
+        fail(residuals->path(), "colour residual tiles must be TIFF tiles with 2-pixel borders");
     }
     if (h.tileSize % 2 != 0) {
-        fail("", "colour residual tiles need an even tile size, not " + std::to_string(h.tileSize));
+        fail(residuals->path(), "colour residual tiles need an even tile size, not " + std::to_string(h.tileSize));
     }
     impl_->residuals = std::move(residuals);
 }
@@ -53,7 +53,8 @@ int OrthoResidualProducer::channels() const { return impl_->residuals->header().
 
 std::shared_ptr<const std::vector<uint8_t>> OrthoResidualProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
-        fail("", "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+        fail(impl_->residuals->path(),
+             "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
     }
     return impl_->produce(level, tx, ty);
 }

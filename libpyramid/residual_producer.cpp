@@ -76,6 +76,7 @@ ResidualProducer::ResidualProducer(const std::string& mainFile, const std::vecto
 
 ResidualProducer::~ResidualProducer() = default;
 
+const std::string& ResidualProducer::path() const { return impl_->files.front()->path(); }
 const ResidualHeader& ResidualProducer::header() const { return impl_->files.front()->header(); }
 int ResidualProducer::tileSize() const { return impl_->tileSize; }
 int ResidualProducer::delta() const { return impl_->delta; }

@@ -31,6 +31,7 @@ public:
     ~ResidualProducer();
 
     const ResidualHeader& header() const; // the main file's
+    const std::string& path() const;      // the main file's, for messages
     int tileSize() const;                 // residual tileSize (without the +5)
     int delta() const;
     int maxLevel() const;                 // deepest producer level any file holds

@@ -153,7 +153,7 @@ TEST(ResidualRoundTrip, RegionRootKeepsItsCoordinates) {
 
 // A genuine 1 x 16-bit TIFF, written with libtiff itself (the documented layout).
 std::vector<uint8_t> sixteenBitTiff(const std::string& path, const std::vector<uint16_t>& samples, int size,
-                                    uint16_t sampleFormat) {
+                                    uint16_t sampleFormat, uint16_t compression = COMPRESSION_ADOBE_DEFLATE) {
     TIFF* t = TIFFOpen(path.c_str(), "w");
     EXPECT_NE(t, nullptr);
     TIFFSetField(t, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(size));
@@ -164,7 +164,7 @@ std::vector<uint8_t> sixteenBitTiff(const std::string& path, const std::vector<u
     TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
     TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
     TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, static_cast<uint32_t>(size));
-    TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
+    TIFFSetField(t, TIFFTAG_COMPRESSION, compression);
     std::vector<uint16_t> copy = samples; // libtiff may swab the buffer in place
     EXPECT_GE(TIFFWriteEncodedStrip(t, 0, copy.data(), static_cast<tmsize_t>(copy.size() * 2)), 0);
     TIFFClose(t);
@@ -204,6 +204,68 @@ TEST(ResidualRoundTrip, GenuineSixteenBitTiffsDecodeSignedAndUnsigned) {
         writer.commit();
     }
     EXPECT_EQ(ResidualFileReader::open(path)->readTile(0, 0, 0), expected);
+}
+
+// Residual tiles in the original 2 x 8-bit layout (low byte, high byte) with any compression
+// libtiff writes: what other tools may store, which readers must accept.
+std::vector<uint8_t> twoByteTiff(const std::string& path, const std::vector<int16_t>& residuals, int size,
+                                 uint16_t compression) {
+    TIFF* t = TIFFOpen(path.c_str(), "w");
+    EXPECT_NE(t, nullptr);
+    TIFFSetField(t, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(size));
+    TIFFSetField(t, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(size));
+    TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, uint16_t{8});
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, uint16_t{2});
+    TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, static_cast<uint32_t>(size));
+    TIFFSetField(t, TIFFTAG_COMPRESSION, compression);
+    const uint16_t extra = EXTRASAMPLE_UNSPECIFIED;
+    TIFFSetField(t, TIFFTAG_EXTRASAMPLES, uint16_t{1}, &extra);
+    std::vector<uint8_t> bytes(residuals.size() * 2);
+    for (size_t k = 0; k < residuals.size(); ++k) {
+        const auto v = static_cast<uint16_t>(residuals[k]);
+        bytes[2 * k] = static_cast<uint8_t>(v & 0xff);
+        bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
+    }
+    EXPECT_GE(TIFFWriteEncodedStrip(t, 0, bytes.data(), static_cast<tmsize_t>(bytes.size())), 0);
+    TIFFClose(t);
+    const std::string file = test::readFile(path);
+    return std::vector<uint8_t>(file.begin(), file.end());
+}
+
+TEST(ResidualRoundTrip, EveryTiffCompressionOfBothLayouts) {
+    test::TempDir dir;
+    const int size = 9;
+    std::vector<int16_t> residuals(size * size);
+    std::vector<uint16_t> samples(residuals.size());
+    for (size_t k = 0; k < residuals.size(); ++k) {
+        residuals[k] = static_cast<int16_t>(static_cast<int>(k * 977) % 65536 - 32768);
+        samples[k] = static_cast<uint16_t>(residuals[k]);
+    }
+    const struct {
+        uint16_t code;
+        const char* name;
+    } compressions[] = {{COMPRESSION_ADOBE_DEFLATE, "deflate"}, {COMPRESSION_DEFLATE, "deflate-legacy"},
+                        {COMPRESSION_LZW, "lzw"}, {COMPRESSION_NONE, "none"}, {COMPRESSION_PACKBITS, "packbits"}};
+    ResidualHeader h;
+    h.maxLevel = 0;
+    h.tileSize = 4;
+    for (const auto& c : compressions) {
+        for (const bool twoBytes : {true, false}) {
+            const auto blob = twoBytes ? twoByteTiff(dir.file("tile.tif"), residuals, size, c.code)
+                                       : sixteenBitTiff(dir.file("tile.tif"), samples, size, SAMPLEFORMAT_INT, c.code);
+            EXPECT_EQ(describeTiff(blob), c.name);
+            EXPECT_EQ(decodeResidualTiff(blob, size, "t"), residuals) << c.name << (twoBytes ? " 2x8" : " 1x16");
+            const std::string path = dir.file("dem.dat");
+            {
+                ResidualFileWriter writer(path, h);
+                writer.writeTileBytes(0, 0, 0, blob);
+                writer.commit();
+            }
+            EXPECT_EQ(ResidualFileReader::open(path)->readTile(0, 0, 0), residuals) << c.name;
+        }
+    }
 }
 
 // ----------------------------------------------------------------------------- ortho files

@@ -91,6 +91,48 @@ TEST(ResidualRegions, RegionTilesReplaceAndExtendTheMainPyramid) {
     EXPECT_EQ(deep->zf, deepExpected);
 }
 
+TEST(ResidualRegions, NestedRegionsTheDeepestWins) {
+    test::TempDir dir;
+    // main: levels 0..2 (minLevel 1); region A rooted at (2, 1, 1) adds levels 2..3; region B,
+    // inside A, rooted at (3, 2, 2), adds levels 3..4. Every file has its own scale.
+    auto write = [&](const std::string& name, int rootLevel, int rootTx, int rootTy, int maxLevel, float scale,
+                     int base) {
+        ResidualHeader h;
+        h.minLevel = rootLevel == 0 ? 1 : 0;
+        h.maxLevel = maxLevel;
+        h.tileSize = 4;
+        h.rootLevel = rootLevel;
+        h.rootTx = rootTx;
+        h.rootTy = rootTy;
+        h.scale = scale;
+        ResidualFileWriter w(dir.file(name), h);
+        for (int l = 0; l <= maxLevel; ++l) {
+            const int side = l < h.minLevel ? 1 : 1 << (l - h.minLevel);
+            for (int t = 0; t < side * side; ++t) {
+                w.writeTile(l, t % side, t / side, ramp(h.tileSamples(l), base + 10 * l + t));
+            }
+        }
+        w.commit();
+    };
+    write("main.dat", 0, 0, 0, 2, 0.5f, 100);
+    write("a.dat", 2, 1, 1, 1, 0.25f, 200);
+    write("b.dat", 3, 2, 2, 1, 0.125f, 300);
+    ResidualProducerOptions ro;
+    ro.delta = 1; // producer level = file level - 1
+    for (const auto& regions : {std::vector<std::string>{dir.file("a.dat"), dir.file("b.dat")},
+                                std::vector<std::string>{dir.file("b.dat"), dir.file("a.dat")}}) {
+        const ResidualProducer residuals(dir.file("main.dat"), regions, ro);
+        EXPECT_EQ(residuals.tile(1, 0, 0)[0], 0.5f * (100 + 20 + 0));   // main, level 2, tile 0
+        EXPECT_EQ(residuals.tile(1, 1, 1)[0], 0.25f * (200 + 0));       // A's root replaces main's (2,1,1)
+        EXPECT_EQ(residuals.tile(2, 3, 3)[0], 0.25f * (200 + 10 + 3));  // A's level 1, tile (1, 1)
+        EXPECT_EQ(residuals.tile(2, 2, 2)[0], 0.125f * (300 + 0));      // B's root wins over A's (0, 0)
+        EXPECT_EQ(residuals.tile(3, 5, 4)[0], 0.125f * (300 + 10 + 1)); // B's level 1, tile (1, 0)
+        EXPECT_TRUE(residuals.hasTile(3, 5, 4));
+        EXPECT_FALSE(residuals.hasTile(3, 6, 6)); // in A, below A's last level, outside B
+        EXPECT_FALSE(residuals.hasTile(3, 0, 0)); // beyond every file
+    }
+}
+
 TEST(ResidualRegions, MismatchedRegionsAreRefused) {
     test::TempDir dir;
     ResidualHeader h;

@@ -150,22 +150,11 @@ struct GlElevationProducer::Impl {
 GlElevationProducer::GlElevationProducer(std::shared_ptr<const ResidualProducer> residuals,
                                          const ElevationProducerOptions& options)
     : impl_(std::make_unique<Impl>(options.cacheCapacity)) {
-    const ResidualHeader& h = residuals->header();
-    const int n = options.tileSize == 0 ? h.tileSize : options.tileSize;
-    const int delta = elevationDelta(h, n);
-    if (delta != residuals->delta()) {
-        fail("", "elevation tiles of " + std::to_string(n) + " need a residual producer with delta " +
-                     std::to_string(delta) + ", not " + std::to_string(residuals->delta()));
-    }
-    const int gridSize = options.gridSize == 0 ? n : options.gridSize;
-    if (gridSize < 2 || gridSize % 2 != 0 || n % gridSize != 0) {
-        fail("", "gridSize " + std::to_string(gridSize) + " must be even and divide the elevation tile size " +
-                     std::to_string(n));
-    }
+    const ElevationTiling t = elevationTiling(*residuals, options);
     impl_->residuals = std::move(residuals);
-    impl_->n = n;
-    impl_->k = h.minLevel - delta;
-    impl_->gridSize = gridSize;
+    impl_->n = t.n;
+    impl_->k = t.k;
+    impl_->gridSize = t.gridSize;
 }
 
 GlElevationProducer::~GlElevationProducer() = default;
@@ -175,8 +164,8 @@ int GlElevationProducer::maxLevel() const { return impl_->residuals->maxLevel();
 
 std::shared_ptr<const GlElevationTile> GlElevationProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
-        fail("", "no elevation tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                     ")");
+        fail(impl_->residuals->path(), "no elevation tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                                           std::to_string(ty) + ")");
     }
     return impl_->produce(level, tx, ty);
 }

@@ -52,7 +52,7 @@ GlOrthoResidualProducer::GlOrthoResidualProducer(std::shared_ptr<const OrthoProd
     : impl_(std::make_unique<Impl>(std::move(residuals), cacheCapacity)) {
     const OrthoHeader& h = impl_->residuals->header();
     if (h.dxt() || h.border() != 2 || h.tileSize % 2 != 0) {
-        fail("", "colour residual tiles must be TIFF tiles with 2-pixel borders and an even size");
+        fail(impl_->residuals->path(), "colour residual tiles must be TIFF tiles with 2-pixel borders and an even size");
     }
 }
 
@@ -62,7 +62,8 @@ const OrthoHeader& GlOrthoResidualProducer::header() const { return impl_->resid
 
 std::shared_ptr<const GlOrthoTile> GlOrthoResidualProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
-        fail("", "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+        fail(impl_->residuals->path(),
+             "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
     }
     return impl_->produce(level, tx, ty);
 }
