@@ -13,6 +13,13 @@ namespace fs = std::filesystem;
 
 StagingDirectory::StagingDirectory(const std::string& destination) : destination_(destination) {
     std::error_code ec;
+    for (fs::path p = fs::path(destination).lexically_normal(); !p.empty() && !fs::exists(p, ec);
+         p = p.parent_path()) {
+        created_.push_back(p.string());
+        if (p == p.parent_path()) {
+            break;
+        }
+    }
     fs::create_directories(destination, ec);
     if (ec || !fs::is_directory(destination)) {
         fail(destination, "cannot create the output directory (" + (ec ? ec.message() : "not a directory") + ")");
@@ -28,6 +35,11 @@ StagingDirectory::StagingDirectory(const std::string& destination) : destination
 StagingDirectory::~StagingDirectory() {
     std::error_code ec;
     fs::remove_all(staging_, ec);
+    if (!committed_) {
+        for (const std::string& dir : created_) {
+            fs::remove(dir, ec); // only succeeds when empty
+        }
+    }
 }
 
 std::string StagingDirectory::path(const std::string& relative) const {
@@ -51,6 +63,7 @@ void StagingDirectory::commit() {
         }
     }
     fs::remove_all(staging_, ec);
+    committed_ = true;
 }
 
 } // namespace pyramid

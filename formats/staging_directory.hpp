@@ -2,9 +2,11 @@
 // written into a hidden staging directory inside the destination directory, each atomically as
 // usual, and commit() moves them into place, creating subdirectories as needed. Destroyed
 // before commit(), the staging directory and everything in it are removed, so a run that fails
-// at its fifth face leaves none of the first four behind.
+// at its fifth face leaves none of the first four behind, and so are the destination directory
+// and its parents when this object created them and they are empty.
 #pragma once
 #include <string>
+#include <vector>
 
 namespace pyramid {
 
@@ -26,6 +28,8 @@ public:
 private:
     std::string destination_;
     std::string staging_;
+    std::vector<std::string> created_; // directories this object created, deepest first
+    bool committed_ = false;
 };
 
 } // namespace pyramid

@@ -1,7 +1,5 @@
 #include "libpyramid/ortho_encoder.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,6 +9,7 @@
 
 #include "formats/dxt_codec.hpp"
 #include "formats/error.hpp"
+#include "formats/staging_directory.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/ortho_upsample.hpp"
 #include "libpyramid/parallel.hpp"
@@ -174,37 +173,8 @@ struct LevelTotals {
     TileStats s;
 };
 
-// Directories created for the outputs, removed again (when empty) if encoding fails.
-class CreatedDirectories {
-public:
-    void ensure(const std::filesystem::path& dir) {
-        std::vector<std::filesystem::path> missing;
-        for (auto p = dir; !p.empty() && !std::filesystem::exists(p); p = p.parent_path()) {
-            missing.push_back(p);
-        }
-        std::error_code ec;
-        std::filesystem::create_directories(dir, ec);
-        if (ec) {
-            fail(dir.string(), "cannot create directory: " + ec.message());
-        }
-        created_.insert(created_.end(), missing.begin(), missing.end());
-    }
-    void keep() { created_.clear(); }
-    ~CreatedDirectories() {
-        for (const auto& p : created_) {
-            std::error_code ec;
-            std::filesystem::remove(p, ec); // only succeeds when empty
-        }
-    }
-
-private:
-    std::vector<std::filesystem::path> created_;
-};
-
-} // namespace
-
-OrthoReport encodeOrtho(const std::string& input, const std::string& directory, const OrthoEncodeOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
+// The options that do not depend on the input, checked before it is opened.
+void checkOptions(const OrthoEncodeOptions& o) {
     if (o.border != 0 && o.border != 2) {
         fail("--border", std::to_string(o.border) + " is not 0 or 2");
     }
@@ -223,7 +193,12 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
     if (o.name.empty() || o.name.find('/') != std::string::npos) {
         fail("--name", "'" + o.name + "' is not a plain file name");
     }
-    const OrthoLevels levels(input, o.levels);
+}
+
+// Writes the outputs into `staging` (the caller commits it); the report names their final
+// paths in `directory`.
+OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
+                         const OrthoEncodeOptions& o, std::chrono::steady_clock::time_point start) {
     const int channels = levels.channels();
     const int T = levels.tileSize();
     if (o.compression == TilePolicy::Jpeg && o.writeTiff && channels != 1 && channels != 3) {
@@ -243,34 +218,33 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
     base.flags = o.border == 0 ? OrthoHeader::kFlagNoBorder : 0u;
     const std::filesystem::path dir(directory);
     const std::string file = o.name + ".dat";
-    CreatedDirectories created;
     std::unique_ptr<OrthoFileWriter> tiff, dxt, residual;
+    std::vector<std::string> staged; // where each output is written before the commit
     OrthoReport report;
-    report.input = input;
+    report.input = levels.inputPath();
     report.directory = directory;
+    auto output = [&](const std::string& relative, const OrthoHeader& h) {
+        staged.push_back(staging.path(relative));
+        report.outputs.push_back((dir / relative).string());
+        return std::make_unique<OrthoFileWriter>(staged.back(), h);
+    };
     if (o.writeTiff) {
-        created.ensure(dir);
-        tiff = std::make_unique<OrthoFileWriter>((dir / file).string(), base);
-        report.outputs.push_back((dir / file).string());
+        tiff = output(file, base);
     }
     if (o.writeDxt) {
-        created.ensure(dir / "dxt");
         OrthoHeader h = base;
         h.channels = std::max(3, channels);
         h.flags |= OrthoHeader::kFlagDxt;
-        dxt = std::make_unique<OrthoFileWriter>((dir / "dxt" / file).string(), h);
-        report.outputs.push_back((dir / "dxt" / file).string());
+        dxt = output("dxt/" + file, h);
     }
     if (o.writeResiduals) {
-        created.ensure(dir / "residuals");
         OrthoHeader h = base;
         h.flags = 0; // colour residuals always carry their 2-pixel border
-        residual = std::make_unique<OrthoFileWriter>((dir / "residuals" / file).string(), h);
-        report.outputs.push_back((dir / "residuals" / file).string());
+        residual = output("residuals/" + file, h);
     }
 
     const Encoder encoder(levels, o);
-    const int threads = o.levels.threads > 0 ? o.levels.threads : omp_get_max_threads();
+    const int threads = levels.threads();
     std::vector<LevelTotals> totals(static_cast<size_t>(levels.maxLevel()) + 1);
     std::map<std::tuple<int, int, int>, std::vector<uint8_t>> shallowRecon; // levels 0..C
     const int64_t total = levels.tileCount();
@@ -341,11 +315,10 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
     for (auto* w : {tiff.get(), dxt.get(), residual.get()}) {
         if (w) {
             w->commit();
-            report.bytes.push_back(std::filesystem::file_size(report.outputs[report.bytes.size()]));
+            report.bytes.push_back(std::filesystem::file_size(staged[report.bytes.size()]));
             report.sharedTiles.push_back(w->sharedTiles());
         }
     }
-    created.keep();
     report.sampling = levels.sampling();
     report.inputWidth = levels.inputWidth();
     report.inputHeight = levels.inputHeight();
@@ -372,6 +345,25 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
+}
+
+} // namespace
+
+OrthoReport encodeOrtho(const std::string& input, const std::string& directory, const OrthoEncodeOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    checkOptions(o);
+    const OrthoLevels levels(input, o.levels);
+    StagingDirectory staging(directory);
+    OrthoReport report = encodeLevels(levels, directory, staging, o, start);
+    staging.commit(); // the outputs appear together, or none of them
+    return report;
+}
+
+OrthoReport encodeOrtho(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
+                        const OrthoEncodeOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    checkOptions(o);
+    return encodeLevels(levels, directory, staging, o, start);
 }
 
 nlohmann::json toJson(const OrthoReport& r) {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/ortho_file.hpp"
+#include "formats/staging_directory.hpp"
 #include "libpyramid/ortho_levels.hpp"
 
 namespace pyramid {
@@ -60,7 +61,14 @@ struct OrthoReport {
     double seconds = 0.0;
 };
 
+// The outputs appear together when every one is complete (formats/staging_directory.hpp), or
+// not at all.
 OrthoReport encodeOrtho(const std::string& input, const std::string& directory, const OrthoEncodeOptions& options);
+// The same from true tiles already set up (e.g. one cube face), into a staging directory of
+// `directory` that the caller commits (with the other faces): options.levels is not used, the
+// files are named options.name.
+OrthoReport encodeOrtho(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
+                        const OrthoEncodeOptions& options);
 
 nlohmann::json toJson(const OrthoReport& report);
 

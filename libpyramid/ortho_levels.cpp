@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "formats/error.hpp"
+#include "libpyramid/face_sampler.hpp"
 #include "libpyramid/morton.hpp"
 #include "libpyramid/parallel.hpp"
 
@@ -32,21 +34,80 @@ struct Axis {
     bool inside(double pos) const { return pos <= static_cast<double>(input) - 0.5; }
 };
 
+void checkTileSize(const OrthoLevelsOptions& o) {
+    if (o.tileSize < 2 || o.tileSize > 8192 || o.tileSize % 2 != 0) {
+        fail("--tile-size", std::to_string(o.tileSize) + " is not an even number from 2 to 8192");
+    }
+}
+
+std::string degrees(double d) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.10g", d);
+    return text;
+}
+
 } // namespace
 
 struct OrthoLevels::Impl {
-    std::unique_ptr<RasterSource> source;
+    std::unique_ptr<RasterSource> ownedSource; // planar: opened here
+    const RasterSource* source = nullptr;
     int T = 0, M = 0, C = 0, channels = 0;
     bool sixteen = false;
-    Axis ax, ay;
+    Axis ax, ay;                          // planar geometry
+    std::unique_ptr<PlanetBody> body;     // cube face geometry (face != nullptr)
+    std::unique_ptr<EquirectSampler> map;
+    std::unique_ptr<FaceSampler> face;
     ColourAverager averager{ColourSpace::Srgb, 1};
     int threads = 1;
     std::string sampling;
 
+    void init(const OrthoLevelsOptions& o, int64_t wanted);
+
     int64_t levelWidth(int l) const { return static_cast<int64_t>(T) << l; }
+
+    // Pixels computed beyond each side of level l when it is built whole: a face's tiles at
+    // every level up to l take their borders from beyond the face, and reducing level l to
+    // level 0 halves the margin l times, down to the 2 border pixels.
+    int64_t margin(int l) const { return face ? int64_t{kBorder} << l : 0; }
+
+    // Level-l pixel coordinate p of a tile border: a plane's edge pixels repeat, a face's
+    // borders are real pixels (within the margin).
+    int64_t borderPixel(int64_t p, int l) const { return face ? p : std::clamp<int64_t>(p, 0, levelWidth(l) - 1); }
+
+    // An interpolated input sample as 8 bits, 16-bit input rounded to the nearest 8-bit value.
+    uint8_t eightBits(double v) const {
+        return static_cast<uint8_t>(std::lround(v * 255.0 / (sixteen ? 65535.0 : 255.0)));
+    }
 
     // Finest-level pixels [x0, x0+w) x [y0, y0+h) (y up), 8 bits.
     Image8 sampleFinest(int64_t x0, int64_t y0, int w, int h) const {
+        return face ? sampleFace(x0, y0, w, h) : samplePlanar(x0, y0, w, h);
+    }
+
+    Image8 sampleFace(int64_t x0, int64_t y0, int w, int h) const {
+        Image8 out(w, h, channels);
+        // In bands of rows, so that the float samples never take much more memory than `out`.
+        const int bandRows = std::max(1, 65536 / std::max(w, 1));
+        std::vector<float> values;
+        std::vector<uint8_t> valid;
+        for (int j0 = 0; j0 < h; j0 += bandRows) {
+            const int rows = std::min(bandRows, h - j0);
+            const size_t points = static_cast<size_t>(w) * static_cast<size_t>(rows);
+            values.resize(points * static_cast<size_t>(channels));
+            valid.resize(points);
+            face->sample(x0, y0 + j0, 1, w, rows, values.data(), valid.data());
+            uint8_t* o = out.at(0, j0);
+            for (size_t k = 0; k < points; ++k) {
+                for (size_t c = 0; c < static_cast<size_t>(channels); ++c) {
+                    const size_t s = k * static_cast<size_t>(channels) + c;
+                    o[s] = valid[k] ? eightBits(static_cast<double>(values[s])) : 0; // nodata: as beyond the input
+                }
+            }
+        }
+        return out;
+    }
+
+    Image8 samplePlanar(int64_t x0, int64_t y0, int w, int h) const {
         Image8 out(w, h, channels);
         std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
         double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
@@ -78,7 +139,6 @@ struct OrthoLevels::Impl {
             return static_cast<double>(window[(static_cast<size_t>(r - ry0) * ww + static_cast<size_t>(c - cx0)) * channels +
                                               static_cast<size_t>(ch)]);
         };
-        const double full = sixteen ? 65535.0 : 255.0;
         for (int j = 0; j < h; ++j) {
             const double Y = py[static_cast<size_t>(j)];
             if (!ay.inside(Y)) {
@@ -113,7 +173,7 @@ struct OrthoLevels::Impl {
                         const double bottom = a + (sample(c1, r1, ch) - a) * fx;
                         v = top + (bottom - top) * fy;
                     }
-                    row[static_cast<size_t>(i * channels + ch)] = static_cast<uint8_t>(std::lround(v * 255.0 / full));
+                    row[static_cast<size_t>(i * channels + ch)] = eightBits(v);
                 }
             }
         }
@@ -128,11 +188,10 @@ struct OrthoLevels::Impl {
         t.ty = ty;
         const int side = T + 2 * kBorder;
         t.pixels = Image8(side, side, channels);
-        const int64_t W = levelWidth(l);
         for (int y = 0; y < side; ++y) {
-            const int64_t gy = std::clamp<int64_t>(static_cast<int64_t>(ty) * T + y - kBorder, 0, W - 1) - oy;
+            const int64_t gy = borderPixel(static_cast<int64_t>(ty) * T + y - kBorder, l) - oy;
             for (int x = 0; x < side; ++x) {
-                const int64_t gx = std::clamp<int64_t>(static_cast<int64_t>(tx) * T + x - kBorder, 0, W - 1) - ox;
+                const int64_t gx = borderPixel(static_cast<int64_t>(tx) * T + x - kBorder, l) - ox;
                 std::copy_n(img.at(static_cast<int>(gx), static_cast<int>(gy)), channels, t.pixels.at(x, y));
             }
         }
@@ -151,13 +210,11 @@ struct OrthoLevels::Impl {
     }
 };
 
-OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) : impl_(std::make_unique<Impl>()) {
-    Impl& m = *impl_;
-    if (o.tileSize < 2 || o.tileSize > 8192 || o.tileSize % 2 != 0) {
-        fail("--tile-size", std::to_string(o.tileSize) + " is not an even number from 2 to 8192");
-    }
-    m.source = RasterSource::open(input, o.cacheMegabytes);
-    const RasterInfo& info = m.source->info();
+// The settings both geometries share: samples, channels, tile size and levels. By default the
+// finest level is the first at least `wanted` pixels wide.
+void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
+    const RasterInfo& info = source->info();
+    const std::string& input = source->path();
     if (info.type != SampleType::UInt8 && info.type != SampleType::UInt16) {
         fail(input, "imagery must have 8- or 16-bit unsigned samples");
     }
@@ -167,21 +224,32 @@ OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) 
     if (o.channels < 0 || o.channels > std::min(4, info.channels)) {
         fail("--channels", std::to_string(o.channels) + " is not 1.." + std::to_string(std::min(4, info.channels)));
     }
-    m.channels = o.channels ? o.channels : info.channels;
-    m.sixteen = info.type == SampleType::UInt16;
-    m.T = o.tileSize;
-    const int64_t longest = std::max(info.width, info.height);
-    m.M = o.maxLevel;
-    if (m.M < 0) {
-        m.M = 0;
-        while ((static_cast<int64_t>(m.T) << m.M) < longest) {
-            ++m.M;
+    channels = o.channels ? o.channels : info.channels;
+    sixteen = info.type == SampleType::UInt16;
+    T = o.tileSize;
+    M = o.maxLevel;
+    if (M < 0) {
+        M = 0;
+        while ((static_cast<int64_t>(T) << M) < wanted) {
+            ++M;
         }
     }
-    if (m.M > 20) {
-        fail("--max-level", std::to_string(m.M) + " is beyond 20");
+    if (M > 20) {
+        fail("--max-level", std::to_string(M) + " is beyond 20");
     }
-    m.C = std::max(0, m.M - kSubtreeDepth);
+    C = std::max(0, M - kSubtreeDepth);
+    averager = ColourAverager(o.colourSpace, channels);
+    threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+}
+
+OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    checkTileSize(o);
+    m.ownedSource = RasterSource::open(input, o.cacheMegabytes);
+    m.source = m.ownedSource.get();
+    const RasterInfo& info = m.source->info();
+    const int64_t longest = std::max(info.width, info.height);
+    m.init(o, longest);
     const int64_t W = m.levelWidth(m.M);
     m.ax.output = m.ay.output = W;
     m.ax.input = info.width;
@@ -202,8 +270,29 @@ OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) 
                      (info.width != info.height ? ", input at the north-west corner, the rest black and transparent"
                                                 : "");
     }
-    m.averager = ColourAverager(o.colourSpace, m.channels);
-    m.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+}
+
+OrthoLevels::OrthoLevels(const RasterSource& source, const GeoExtent& extent, const PlanetBody& body, int face,
+                         const OrthoLevelsOptions& o)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    checkTileSize(o);
+    if (o.tileSize < 4) {
+        // The level images reach 4 / tileSize of a face beyond its edges; more than half a
+        // face would fold past the neighbour face.
+        fail("--tile-size", std::to_string(o.tileSize) + " is below 4, the smallest for a cube face");
+    }
+    m.source = &source;
+    m.init(o, (static_cast<int64_t>(source.info().width) + 3) / 4);
+    const int64_t W = m.levelWidth(m.M);
+    m.body = std::make_unique<PlanetBody>(body);
+    m.map = std::make_unique<EquirectSampler>(source, extent, 0, m.channels, SampleRead::UInt16, std::nullopt);
+    m.face = std::make_unique<FaceSampler>(*m.map, *m.body, face, FaceGrid{W, FaceGridKind::PixelCentres});
+    m.sampling = "cube face " + std::to_string(face) + " of " + body.describe() + ": " + std::to_string(W) + "x" +
+                 std::to_string(W) + " pixel centres, each the equirectangular input (extent " + degrees(extent.west) +
+                 "," + degrees(extent.south) + "," + degrees(extent.east) + "," + degrees(extent.north) +
+                 ") interpolated bilinearly at its geodetic latitude and longitude, 0 outside the extent; borders " +
+                 "from the neighbouring faces";
 }
 
 OrthoLevels::~OrthoLevels() = default;
@@ -213,19 +302,22 @@ int OrthoLevels::maxLevel() const { return impl_->M; }
 int OrthoLevels::channels() const { return impl_->channels; }
 int OrthoLevels::inputWidth() const { return impl_->source->info().width; }
 int OrthoLevels::inputHeight() const { return impl_->source->info().height; }
+const std::string& OrthoLevels::inputPath() const { return impl_->source->path(); }
 const std::string& OrthoLevels::sampling() const { return impl_->sampling; }
+int OrthoLevels::threads() const { return impl_->threads; }
 int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M + 1))) - 1) / 3; }
 
 void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume) const {
     const Impl& m = *impl_;
-    // Pass 1: level C, one row at a time from a band of 2^(M-C) finest rows.
+    // Pass 1: level C, one row at a time from a band of 2^(M-C) finest rows, a face's margin included.
     const int k = m.M - m.C;
-    const int64_t WC = m.levelWidth(m.C);
+    const int64_t marginC = m.margin(m.C);
+    const int64_t sideC = m.levelWidth(m.C) + 2 * marginC;
     std::vector<Image8> levels(static_cast<size_t>(m.C) + 1);
     Image8& levelC = levels[static_cast<size_t>(m.C)];
-    levelC = Image8(static_cast<int>(WC), static_cast<int>(WC), m.channels);
-    parallelFor(WC, m.threads, [&](int64_t row) {
-        Image8 band = m.sampleFinest(0, row << k, static_cast<int>(m.levelWidth(m.M)), 1 << k);
+    levelC = Image8(static_cast<int>(sideC), static_cast<int>(sideC), m.channels);
+    parallelFor(sideC, m.threads, [&](int64_t row) {
+        Image8 band = m.sampleFinest(-(marginC << k), (row - marginC) << k, static_cast<int>(sideC << k), 1 << k);
         for (int r = 0; r < k; ++r) {
             band = m.averager.reduce(band);
         }
@@ -241,8 +333,8 @@ void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consu
         batch.resize(static_cast<size_t>(side) * side);
         parallelFor(static_cast<int64_t>(batch.size()), m.threads, [&](int64_t i) {
             const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(i));
-            batch[static_cast<size_t>(i)] = m.extract(levels[static_cast<size_t>(l)], 0, 0, l, static_cast<int>(tx),
-                                                      static_cast<int>(ty));
+            batch[static_cast<size_t>(i)] = m.extract(levels[static_cast<size_t>(l)], -m.margin(l), -m.margin(l), l,
+                                                      static_cast<int>(tx), static_cast<int>(ty));
         });
         consume(group);
     }
@@ -258,11 +350,19 @@ void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consu
         std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, count - first)));
         parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
             const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(first + i));
-            const int64_t Wt = m.levelWidth(top);
-            const int64_t x0 = std::max<int64_t>(0, static_cast<int64_t>(tx) * m.T - kBorder);
-            const int64_t y0 = std::max<int64_t>(0, static_cast<int64_t>(ty) * m.T - kBorder);
-            const int64_t x1 = std::min<int64_t>(Wt, (static_cast<int64_t>(tx) + 1) * m.T + kBorder);
-            const int64_t y1 = std::min<int64_t>(Wt, (static_cast<int64_t>(ty) + 1) * m.T + kBorder);
+            // The tile and its border; a plane's footprint stops at the map's edge (whose pixels
+            // repeat), a face's reaches beyond it.
+            int64_t x0 = static_cast<int64_t>(tx) * m.T - kBorder;
+            int64_t y0 = static_cast<int64_t>(ty) * m.T - kBorder;
+            int64_t x1 = (static_cast<int64_t>(tx) + 1) * m.T + kBorder;
+            int64_t y1 = (static_cast<int64_t>(ty) + 1) * m.T + kBorder;
+            if (!m.face) {
+                const int64_t Wt = m.levelWidth(top);
+                x0 = std::max<int64_t>(0, x0);
+                y0 = std::max<int64_t>(0, y0);
+                x1 = std::min<int64_t>(Wt, x1);
+                y1 = std::min<int64_t>(Wt, y1);
+            }
             // Images of levels top..M over the footprint, finest first, then reduced upwards.
             std::vector<Image8> imgs(static_cast<size_t>(d) + 1);
             std::vector<int64_t> ox(imgs.size()), oy(imgs.size());

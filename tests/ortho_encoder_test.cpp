@@ -3,6 +3,8 @@
 // borders, 16-bit input.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -210,6 +212,33 @@ TEST(OrthoEncoder, BadInputWritesNothing) {
     o.border = 3;
     EXPECT_THROW(encodeOrtho(dir.file("rgba.png"), dir.file("out"), o), Error);
     EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
+}
+
+TEST(OrthoEncoder, AFailureMidRunLeavesThePreviousOutputs) {
+    test::TempDir dir;
+    // A PNG cut short: its header opens, its pixels fail to decode once the levels are read,
+    // after the three writers have started.
+    test::writeImage(dir.file("in.png"), 256, 256, 3, image(256, 256, 3, 255), false);
+    const std::string whole = test::readFile(dir.file("in.png"));
+    {
+        std::ofstream cut(dir.file("cut.png"), std::ios::binary);
+        cut.write(whole.data(), static_cast<std::streamsize>(whole.size() / 2));
+    }
+    const std::string out = dir.file("out");
+    encodeOrtho(dir.file("in.png"), out, small());
+    const std::string before = test::readFile(out + "/RGB.dat");
+    const std::string beforeDxt = test::readFile(out + "/dxt/RGB.dat");
+    EXPECT_THROW(encodeOrtho(dir.file("cut.png"), out, small()), Error);
+    EXPECT_EQ(test::readFile(out + "/RGB.dat"), before);
+    EXPECT_EQ(test::readFile(out + "/dxt/RGB.dat"), beforeDxt);
+    size_t entries = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(out)) {
+        entries += e.is_regular_file();
+    }
+    EXPECT_EQ(entries, 3u); // the previous three files, no temporaries or staging left
+    // Into a new directory: nothing at all.
+    EXPECT_THROW(encodeOrtho(dir.file("cut.png"), dir.file("fresh/out"), small()), Error);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("fresh")));
 }
 
 } // namespace
