@@ -18,6 +18,7 @@ CommandRunner setupCheckCommand(CLI::App& app);   // pyramid check FILE [--json]
 CommandRunner setupDemCommand(CLI::App& app);     // pyramid dem / preprocessDem
 CommandRunner setupOrthoCommand(CLI::App& app);   // pyramid ortho / preprocessOrtho
 CommandRunner setupSphereDemCommand(CLI::App& app);   // pyramid sphere-dem / preprocessSphericalDem
+CommandRunner setupSphereOrthoCommand(CLI::App& app); // pyramid sphere-ortho / preprocessSphericalOrtho
 CommandRunner setupVerifyCommand(CLI::App& app);  // pyramid verify FILE --source INPUT [--gl]
 
 } // namespace pyramid::cli

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
         {"ortho", "Build ortho pyramids from imagery (same as preprocessOrtho)", setupOrthoCommand},
         {"sphere-dem", "Build six cube-face DEM pyramids from a global map (same as preprocessSphericalDem)",
          setupSphereDemCommand},
+        {"sphere-ortho", "Build six cube-face ortho pyramids from global imagery (same as preprocessSphericalOrtho)",
+         setupSphereOrthoCommand},
         {"verify", "Rebuild every level and compare with the source (or CPU with GL)", setupVerifyCommand},
     };
     NamedRunner runners[std::size(entries)];

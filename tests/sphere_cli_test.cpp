@@ -1,4 +1,4 @@
-// The spherical commands as a user runs them: the sample maps, --height-scale as a ratio,
+// The spherical commands as a user runs them: the sample maps (elevation and imagery), --height-scale as a ratio,
 // --faces, --body, --extent, reports with ground sample distances, progress and --quiet, and
 // the one-line errors of bad input with nothing left behind.
 #include <gtest/gtest.h>
@@ -110,6 +110,59 @@ TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
             EXPECT_EQ(lines(r.err), 1u) << r.err;
         }
         EXPECT_EQ(filesIn(out), 0u) << c.args;
+    }
+}
+
+TEST(SphereOrthoCli, SampleImageMakesEighteenFilesAndAReport) {
+    test::TempDir dir;
+    const std::string out = dir.file("planet");
+    const auto r = run(programPath("pyramid") + " sphere-ortho " + test::samplePath("bluemarble.png") + " -o " + out +
+                       " --tile-size 64 --faces 1,2,3,4,5,6 --report " + dir.file("r.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("preprocessSphericalOrtho: 100%"), std::string::npos) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(test::readFile(dir.file("r.json")));
+    ASSERT_EQ(j["faces"].size(), 6u);
+    for (int f = 1; f <= 6; ++f) {
+        const nlohmann::json& face = j["faces"][static_cast<size_t>(f - 1)];
+        EXPECT_EQ(face["face"], f);
+        // 1350 / 4 = 337.5 pixels at the equator: 64 << 3 = 512 is the first level to reach it.
+        EXPECT_EQ(face["ortho"]["max_level"], 3);
+        EXPECT_EQ(face["ground_sample_distance"].size(), 4u);
+        for (const char* file : {"/RGB", "/dxt/RGB", "/residuals/RGB"}) {
+            const std::string path = out + file + std::to_string(f) + ".dat";
+            const auto check = run(programPath("pyramid") + " check " + path);
+            EXPECT_EQ(check.exitCode, 0) << path << check.out << check.err;
+        }
+    }
+    EXPECT_EQ(filesIn(out), 18u);
+}
+
+TEST(SphereOrthoCli, BadInputIsOneLineAndWritesNothing) {
+    test::TempDir dir;
+    const std::string out = dir.file("out");
+    const std::string image = test::samplePath("bluemarble.png");
+    struct Case {
+        std::string args;
+        int exitCode;
+        std::string words;
+    };
+    const Case cases[] = {
+        {dir.file("missing.png") + " -o " + out, 1, "missing.png"},
+        {test::samplePath("dem.tif") + " -o " + out, 1, "dem.tif"}, // float heights are no imagery
+        {image + " -o " + out + " --faces 7", 1, "--faces"},
+        {image + " -o " + out + " --body 0,0", 1, "--body"},
+        {image + " -o " + out + " --outputs tiff,png", 1, "--outputs"},
+        {image + " -o " + out + " --max-level 21", 1, "--max-level"},
+        {image, 2, "--output"},
+    };
+    for (const Case& c : cases) {
+        const auto r = run(programPath("preprocessSphericalOrtho") + " -q " + c.args);
+        EXPECT_EQ(r.exitCode, c.exitCode) << c.args << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.words), std::string::npos) << c.args << "\n" << r.err;
+        if (c.exitCode == 1) {
+            EXPECT_EQ(lines(r.err), 1u) << r.err;
+        }
+        EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
     }
 }
 

@@ -1,0 +1,60 @@
+// `pyramid sphere-ortho` / `preprocessSphericalOrtho`: a global image in, six cube-face ortho
+// pyramids out (each with its dxt/ and residuals/ variants).
+#include <cstdio>
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/cli_common.hpp"
+#include "cli/ortho_options.hpp"
+#include "cli/sphere_options.hpp"
+#include "libpyramid/sphere_ortho_encoder.hpp"
+
+namespace pyramid::cli {
+
+CommandRunner setupSphereOrthoCommand(CLI::App& app) {
+    auto a = std::make_shared<OrthoArgs>();
+    auto sphere = std::make_shared<SphereArgs>();
+    addOrthoOptions(app, a,
+                    "Equirectangular imagery (1-4 channels of 8 or 16 bits): column 0 at longitude -180 (or the "
+                    "extent's west), row 0 at the north; pixel centres",
+                    "Output directory: NAME1..6.dat, dxt/NAME1..6.dat, residuals/NAME1..6.dat",
+                    "maxLevel of every face (default: the smallest whose faces are as fine as the map at the equator)");
+    addSphereOptions(app, sphere);
+    addOrthoRunOptions(app, a);
+    return [a, sphere]() {
+        SphericalOrthoOptions options;
+        options.ortho = resolveOrthoOptions(*a);
+        const SphereChoice choice = resolveSphereOptions(*sphere);
+        options.extent = choice.extent;
+        options.body = choice.body;
+        options.faces = choice.faces;
+        std::unique_ptr<Progress> progress;
+        int64_t shown = 0;
+        options.ortho.progress = [&](int64_t done, int64_t total) {
+            if (!progress) {
+                progress = std::make_unique<Progress>("preprocessSphericalOrtho", total, a->quiet);
+            }
+            progress->advance(done - shown);
+            shown = done;
+        };
+        const SphericalOrthoReport report = encodeSphericalOrtho(a->input, a->output, options);
+        if (progress) {
+            progress->finish();
+        }
+        if (!a->quiet) {
+            std::fprintf(stderr, "%s: %s\n", a->output.c_str(), report.body.c_str());
+            for (const SphericalOrthoFaceReport& f : report.faces) {
+                printOrthoSummary(f.ortho);
+                std::fprintf(stderr, "  finest level: %.0f to %.0f m between pixels\n", f.gsd.back().min,
+                             f.gsd.back().max);
+            }
+        }
+        if (!a->report.empty()) {
+            writeJson(toJson(report), a->report);
+        }
+        return kExitOk;
+    };
+}
+
+} // namespace pyramid::cli

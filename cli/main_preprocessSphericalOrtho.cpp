@@ -1,0 +1,13 @@
+// `preprocessSphericalOrtho`: the `pyramid sphere-ortho` command as a program of its own.
+#include <CLI/CLI.hpp>
+
+#include "cli/cli_common.hpp"
+
+int main(int argc, char** argv) {
+    using namespace pyramid::cli;
+    CLI::App app{"preprocessSphericalOrtho: Build six cube-face ortho pyramids from global imagery",
+                 "preprocessSphericalOrtho"};
+    app.set_version_flag("--version", PYRAMID_VERSION_TEXT);
+    NamedRunner runner{&app, setupSphereOrthoCommand(app)};
+    return runProgram(app, argc, argv, &runner, 1);
+}

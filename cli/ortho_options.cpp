@@ -1,0 +1,107 @@
+#include "cli/ortho_options.hpp"
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+
+#include "formats/error.hpp"
+
+namespace pyramid::cli {
+
+namespace {
+
+TilePolicy parsePolicy(const std::string& option, const std::string& text) {
+    static const std::map<std::string, TilePolicy> names = {{"deflate", TilePolicy::Deflate},
+                                                            {"lzw", TilePolicy::Lzw},
+                                                            {"jpeg", TilePolicy::Jpeg},
+                                                            {"none", TilePolicy::None},
+                                                            {"original", TilePolicy::Original}};
+    const auto it = names.find(text);
+    if (it == names.end()) {
+        fail(option, "'" + text + "' is not deflate, lzw, jpeg, none or original");
+    }
+    return it->second;
+}
+
+void parseOutputs(const std::string& text, OrthoEncodeOptions& o) {
+    o.writeTiff = o.writeDxt = o.writeResiduals = false;
+    std::stringstream list(text);
+    std::string item;
+    while (std::getline(list, item, ',')) {
+        if (item == "tiff") {
+            o.writeTiff = true;
+        } else if (item == "dxt") {
+            o.writeDxt = true;
+        } else if (item == "residuals") {
+            o.writeResiduals = true;
+        } else {
+            fail("--outputs", "'" + item + "' is not tiff, dxt or residuals");
+        }
+    }
+}
+
+} // namespace
+
+void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const char* inputHelp, const char* outputHelp,
+                     const char* maxLevelHelp) {
+    OrthoEncodeOptions& o = a->options;
+    app.add_option("INPUT", a->input, inputHelp)->required();
+    app.add_option("-o,--output", a->output, outputHelp)->required();
+    app.add_option("--outputs", a->outputs, "Which files: a comma list of tiff, dxt, residuals")->capture_default_str();
+    app.add_option("--name", o.name, "Base name of the files")->capture_default_str();
+    app.add_option("--tile-size", o.levels.tileSize, "Tile size in pixels, without borders")->capture_default_str();
+    app.add_option("--max-level", o.levels.maxLevel, maxLevelHelp);
+    app.add_option("--channels", o.levels.channels, "Use the first N channels (default: all, 1 to 4)");
+    app.add_option("--border", o.border, "Tile border in pixels, 2 (as the original) or 0")->capture_default_str();
+    app.add_option("--compression", a->compression,
+                   "TIFF tiles: deflate (lossless), lzw, none, jpeg, or original (JPEG inside, Deflate on the edge)")
+        ->capture_default_str();
+    app.add_option("--jpeg-quality", o.jpegQuality, "JPEG quality, 1 to 100")->capture_default_str();
+    app.add_option("--dxt-quality", o.dxtQuality, "DXT encoder effort: 0 fast, 1 cluster fit, 2 iterative (best)")
+        ->capture_default_str();
+    app.add_option("--residual-compression", a->residualCompression, "Colour residual tiles: deflate or jpeg")
+        ->capture_default_str();
+    app.add_option("--colour-space", a->colourSpace,
+                   "Averaging for coarser levels: srgb (decode sRGB, average light, encode) or linear (as stored)")
+        ->capture_default_str();
+}
+
+void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
+    OrthoEncodeOptions& o = a->options;
+    app.add_option("--threads", o.levels.threads, "Worker threads (default: all cores; the output does not depend on it)");
+    app.add_option("--cache-mb", o.levels.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
+    app.add_option("--report", a->report, "Write a JSON report to this file ('-' for stdout)");
+    app.add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
+}
+
+OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
+    OrthoEncodeOptions options = a.options;
+    parseOutputs(a.outputs, options);
+    options.compression = parsePolicy("--compression", a.compression);
+    options.residualCompression = parsePolicy("--residual-compression", a.residualCompression);
+    if (a.colourSpace == "srgb") {
+        options.levels.colourSpace = ColourSpace::Srgb;
+    } else if (a.colourSpace == "linear" || a.colourSpace == "none") {
+        options.levels.colourSpace = ColourSpace::Linear;
+    } else {
+        fail("--colour-space", "'" + a.colourSpace + "' is not srgb or linear");
+    }
+    if (options.levels.threads < 0) {
+        fail("--threads", "must be 0 (all cores) or more");
+    }
+    return options;
+}
+
+void printOrthoSummary(const OrthoReport& report) {
+    for (size_t k = 0; k < report.outputs.size(); ++k) {
+        std::fprintf(stderr, "%s: %lld tiles (%lld shared), %llu bytes\n", report.outputs[k].c_str(),
+                     static_cast<long long>(report.tiles), static_cast<long long>(report.sharedTiles[k]),
+                     static_cast<unsigned long long>(report.bytes[k]));
+    }
+    std::fprintf(stderr, "  levels 0..%d of %d-pixel tiles, %.1f s; %s\n", report.maxLevel, report.tileSize,
+                 report.seconds, report.sampling.c_str());
+}
+
+} // namespace pyramid::cli

@@ -1,0 +1,36 @@
+// The options preprocessOrtho and preprocessSphericalOrtho share (outputs, name, tile size,
+// levels, channels, border, compressions, colour space, threads, cache, report, quiet),
+// declared once and resolved into OrthoEncodeOptions once the command line is parsed.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "libpyramid/ortho_encoder.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace pyramid::cli {
+
+struct OrthoArgs {
+    std::string input, output, outputs = "tiff,dxt,residuals", compression = "deflate",
+                               residualCompression = "deflate", colourSpace = "srgb", report;
+    bool quiet = false;
+    OrthoEncodeOptions options;
+};
+
+// Declares INPUT, -o and the shared options on `app`, bound to `args`.
+void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args, const char* inputHelp,
+                     const char* outputHelp, const char* maxLevelHelp);
+
+// Declares --threads, --cache-mb, --report and --quiet (after any command-specific options).
+void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args);
+
+// Throws Error naming the option when a value is not valid.
+OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& args);
+
+// One line per output file (tiles, shared tiles, bytes) and one for the levels, on stderr.
+void printOrthoSummary(const OrthoReport& report);
+
+} // namespace pyramid::cli
