@@ -13,7 +13,8 @@ namespace pyramid::cli {
 CommandRunner setupDemCommand(CLI::App& app) {
     auto args = std::make_shared<DemArgs>();
     addDemOptions(app, args, "Elevation raster (any format OpenImageIO reads)",
-                  "Residual pyramid file to write (e.g. DEM.dat)");
+                  "Residual pyramid file to write (e.g. DEM.dat)",
+                  "The file's maxLevel (default: the smallest pyramid whose finest level holds every input sample)");
     app.add_flag("--stretch", args->options.stretch, "Stretch width and height independently onto the square root quad");
     return [args]() {
         DemEncodeOptions options = resolveDemOptions(*args);

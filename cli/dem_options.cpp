@@ -11,7 +11,8 @@
 
 namespace pyramid::cli {
 
-void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp) {
+void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp,
+                   const char* maxLevelHelp) {
     DemEncodeOptions& o = args->options;
     app.add_option("INPUT", args->input, inputHelp)->required();
     app.add_option("-o,--output", args->output, outputHelp)->required();
@@ -20,8 +21,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
     app.add_option("--root-tile-size", o.rootTileSize,
                    "Intervals of the level-0 tile; minLevel = log2(tile-size / root-tile-size)")
         ->capture_default_str();
-    app.add_option("--max-level", o.maxLevel,
-                   "The file's maxLevel (default: the smallest pyramid whose finest level holds every input sample)");
+    app.add_option("--max-level", o.maxLevel, maxLevelHelp);
     app.add_option("--scale", args->scale,
                    "Quantization step in height units, or 'auto' for the smallest 1-2-5 step without int16 overflow")
         ->capture_default_str();

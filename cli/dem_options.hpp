@@ -26,7 +26,8 @@ struct DemArgs {
 };
 
 // Declares INPUT, -o and the shared options on `app`, bound to `args`.
-void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp);
+void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp,
+                   const char* maxLevelHelp);
 
 // The encoder options the parsed arguments ask for; throws Error naming the option when a
 // value is impossible. Prints the tile-size warning of the original runtime unless quiet.

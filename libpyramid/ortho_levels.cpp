@@ -288,11 +288,10 @@ OrthoLevels::OrthoLevels(const RasterSource& source, const GeoExtent& extent, co
     m.body = std::make_unique<PlanetBody>(body);
     m.map = std::make_unique<EquirectSampler>(source, extent, 0, m.channels, SampleRead::UInt16, std::nullopt);
     m.face = std::make_unique<FaceSampler>(*m.map, *m.body, face, FaceGrid{W, FaceGridKind::PixelCentres});
-    m.sampling = "cube face " + std::to_string(face) + " of " + body.describe() + ": " + std::to_string(W) + "x" +
-                 std::to_string(W) + " pixel centres, each the equirectangular input (extent " + degrees(extent.west) +
-                 "," + degrees(extent.south) + "," + degrees(extent.east) + "," + degrees(extent.north) +
-                 ") interpolated bilinearly at its geodetic latitude and longitude, 0 outside the extent; borders " +
-                 "from the neighbouring faces";
+    m.sampling = "face " + std::to_string(face) + " of the cube, " + std::to_string(W) + " pixels across, sampled " +
+                 "bilinearly on the " + body.name() + " body from the map's extent " + degrees(extent.west) + "," +
+                 degrees(extent.south) + "," + degrees(extent.east) + "," + degrees(extent.north) +
+                 " (0 outside); borders from the neighbouring faces";
 }
 
 OrthoLevels::~OrthoLevels() = default;

@@ -127,7 +127,8 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
         fr.dem.band = o.band;
         fr.dem.nodata = nodata;
         fr.dem.sampling = "face " + std::to_string(face) + " of the cube, " + std::to_string(N) +
-                          " intervals across, sampled bilinearly on the " + body.name() + " body";
+                          " intervals across, sampled bilinearly on the " + body.name() +
+                          " body; borders from the neighbouring faces";
         encodeResidualPyramid(job, staging.path(name), run, fr.dem);
         fr.dem.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - faceStart).count();
         for (int l = 0; l <= header.maxLevel; ++l) {
@@ -148,15 +149,13 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
 nlohmann::json toJson(const SphericalDemReport& r) {
     nlohmann::json faces = nlohmann::json::array();
     for (const SphericalDemFaceReport& f : r.faces) {
-        nlohmann::json face = toJson(f.dem);
-        face.erase("input");
-        face["face"] = f.face;
+        nlohmann::json dem = toJson(f.dem);
+        dem.erase("input"); // the same for every face: at the top
         nlohmann::json gsd = nlohmann::json::array();
         for (size_t l = 0; l < f.gsd.size(); ++l) {
             gsd.push_back({{"level", l}, {"min_metres", f.gsd[l].min}, {"max_metres", f.gsd[l].max}});
         }
-        face["ground_sample_distance"] = gsd;
-        faces.push_back(face);
+        faces.push_back({{"face", f.face}, {"dem", dem}, {"ground_sample_distance", gsd}});
     }
     nlohmann::json nodataJson = nullptr;
     if (r.nodata) {
@@ -170,9 +169,10 @@ nlohmann::json toJson(const SphericalDemReport& r) {
                        {"format", r.inputInfo.formatName},
                        {"band", r.band + 1},
                        {"nodata", nodataJson},
-                       {"height_scale", r.heightScale},
-                       {"extent", {r.extent.west, r.extent.south, r.extent.east, r.extent.north}}}},
+                       {"height_scale", r.heightScale}}},
             {"directory", r.directory},
+            {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
+                        {"north", r.extent.north}}},
             {"body", r.body},
             {"faces", faces},
             {"threads", r.threads},

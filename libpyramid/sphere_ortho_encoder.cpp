@@ -99,7 +99,7 @@ nlohmann::json toJson(const SphericalOrthoReport& r) {
     for (const SphericalOrthoFaceReport& f : r.faces) {
         nlohmann::json gsd = nlohmann::json::array();
         for (size_t l = 0; l < f.gsd.size(); ++l) {
-            gsd.push_back({{"level", l}, {"min_m", f.gsd[l].min}, {"max_m", f.gsd[l].max}});
+            gsd.push_back({{"level", l}, {"min_metres", f.gsd[l].min}, {"max_metres", f.gsd[l].max}});
         }
         faces.push_back({{"face", f.face}, {"ortho", toJson(f.ortho)}, {"ground_sample_distance", gsd}});
     }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The demo: installs what is missing, builds, turns the sample data in samples/ into pyramids
-# under out/, and verifies them.
+# under out/ (planar, then the six faces of a planet), and verifies them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -18,3 +18,12 @@ echo "== preprocessOrtho: samples/bluemarble.png -> out/ortho/{RGB.dat,dxt/RGB.d
 "$bin/pyramid" verify out/ortho/RGB.dat --source samples/bluemarble.png
 "$bin/pyramid" verify out/ortho/residuals/RGB.dat --source samples/bluemarble.png --colour-residuals
 "$bin/pyramid" check out/ortho/dxt/RGB.dat
+
+echo "== preprocessSphericalDem: samples/srtm.png (height = red x 10000/255 m) -> out/planet/DEM1..6.dat"
+"$bin/preprocessSphericalDem" samples/srtm.png -o out/planet --height-scale 10000/255 --report out/planet-dem.json
+echo "== preprocessSphericalOrtho: samples/bluemarble.png -> out/planet/{RGB1..6.dat,dxt/,residuals/}"
+"$bin/preprocessSphericalOrtho" samples/bluemarble.png -o out/planet --report out/planet-ortho.json
+for f in 1 2 3 4 5 6; do
+  "$bin/pyramid" check out/planet/DEM$f.dat
+  "$bin/pyramid" check out/planet/residuals/RGB$f.dat
+done
