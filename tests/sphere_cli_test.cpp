@@ -46,16 +46,16 @@ TEST(SphereDemCli, SampleMapMakesSixFacesAndAReport) {
         const nlohmann::json& face = j["faces"][static_cast<size_t>(f - 1)];
         EXPECT_EQ(face["face"], f);
         // 1350 / 4 = 337.5 intervals at the equator: 8 << 6 = 512 is the first level to reach it.
-        EXPECT_EQ(face["header"]["max_level"], 6);
+        EXPECT_EQ(face["dem"]["header"]["max_level"], 6);
         EXPECT_EQ(face["ground_sample_distance"].size(), 7u);
         const double finestMax = face["ground_sample_distance"][6]["max_metres"];
         EXPECT_GT(finestMax, 20e3); // about 10000 km / 512 at the face centre
         EXPECT_LT(finestMax, 30e3);
-        for (const auto& level : face["levels"]) {
+        for (const auto& level : face["dem"]["levels"]) {
             EXPECT_LE(level["max_error"].get<double>(), 0.5 + 1e-3);
         }
         const std::string file = out + "/DEM" + std::to_string(f) + ".dat";
-        EXPECT_EQ(face["output"], file);
+        EXPECT_EQ(face["dem"]["output"], file);
         EXPECT_EQ(ResidualFileReader::open(file)->header().maxLevel, 6);
         const auto check = run(programPath("pyramid") + " check " + file);
         EXPECT_EQ(check.exitCode, 0) << check.out << check.err;
