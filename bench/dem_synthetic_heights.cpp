@@ -1,7 +1,7 @@
-// A deterministic synthetic DEM for bench/dem_bench.sh: SIZE x SIZE float32 heights in metres,
-// written as an uncompressed striped TIFF.
+// A deterministic synthetic DEM for bench/dem_bench.sh and bench/sphere_bench.sh: SIZE x SIZE
+// (or WIDTH x HEIGHT) float32 heights in metres, written as an uncompressed striped TIFF.
 //
-//   dem_synthetic_heights OUTPUT.tif [SIZE]     (SIZE defaults to 8193)
+//   dem_synthetic_heights OUTPUT.tif [SIZE | WIDTHxHEIGHT]     (default 8193)
 //
 // Content: fractal value noise (octaves from 4096- down to 2-sample cells, the amplitude halving
 // with the cell size) folded into ridges at the two coarsest octaves, about 0..4000 m: a
@@ -57,23 +57,26 @@ float height(uint32_t x, uint32_t y) {
 
 int main(int argc, char** argv) {
     if (argc < 2 || argc > 3) {
-        std::fprintf(stderr, "usage: %s OUTPUT.tif [SIZE]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s OUTPUT.tif [SIZE | WIDTHxHEIGHT]\n", argv[0]);
         return 2;
     }
-    const int size = argc == 3 ? std::atoi(argv[2]) : 8193;
-    if (size < 2 || size > 65537) {
-        std::fprintf(stderr, "%s: SIZE must be 2..65537\n", argv[0]);
+    int size = 8193, rows = 8193;
+    if (argc == 3 && std::sscanf(argv[2], "%dx%d", &size, &rows) != 2) {
+        rows = size;
+    }
+    if (size < 2 || size > 65537 || rows < 2 || rows > 65537) {
+        std::fprintf(stderr, "%s: sides must be 2..65537\n", argv[0]);
         return 2;
     }
     auto out = OIIO::ImageOutput::create(argv[1]);
-    OIIO::ImageSpec spec(size, size, 1, OIIO::TypeDesc::FLOAT);
+    OIIO::ImageSpec spec(size, rows, 1, OIIO::TypeDesc::FLOAT);
     spec.attribute("compression", "none");
     if (!out || !out->open(argv[1], spec)) {
         std::fprintf(stderr, "%s: cannot write: %s\n", argv[1], OIIO::geterror().c_str());
         return 1;
     }
     std::vector<float> row(static_cast<size_t>(size));
-    for (int y = 0; y < size; ++y) {
+    for (int y = 0; y < rows; ++y) {
         for (int x = 0; x < size; ++x) {
             row[static_cast<size_t>(x)] = height(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
         }

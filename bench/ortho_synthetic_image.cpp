@@ -1,7 +1,7 @@
-// A deterministic synthetic orthophoto for bench/ortho_bench.sh: SIZE x SIZE RGB, 8 bits,
-// written as an uncompressed striped TIFF.
+// A deterministic synthetic orthophoto for bench/ortho_bench.sh and bench/sphere_bench.sh:
+// SIZE x SIZE (or WIDTH x HEIGHT) RGB, 8 bits, written as an uncompressed striped TIFF.
 //
-//   ortho_synthetic_image OUTPUT.tif [SIZE]     (SIZE defaults to 8192)
+//   ortho_synthetic_image OUTPUT.tif [SIZE | WIDTHxHEIGHT]     (default 8192)
 //
 // Content: smooth colour fields (value noise with 2048- and 512-pixel cells) plus texture
 // (64-, 16- and 4-pixel cells) and per-pixel grain, so that Deflate and JPEG compress it about
@@ -50,15 +50,18 @@ uint8_t clampByte(int v) { return static_cast<uint8_t>(v < 0 ? 0 : v > 255 ? 255
 
 int main(int argc, char** argv) {
     if (argc < 2 || argc > 3) {
-        std::fprintf(stderr, "usage: %s OUTPUT.tif [SIZE]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s OUTPUT.tif [SIZE | WIDTHxHEIGHT]\n", argv[0]);
         return 2;
     }
-    const int size = argc == 3 ? std::atoi(argv[2]) : 8192;
-    if (size < 16 || size > 65536) {
-        std::fprintf(stderr, "%s: size %d is not 16..65536\n", argv[0], size);
+    int size = 8192, rows = 8192;
+    if (argc == 3 && std::sscanf(argv[2], "%dx%d", &size, &rows) != 2) {
+        rows = size;
+    }
+    if (size < 16 || size > 65536 || rows < 16 || rows > 65536) {
+        std::fprintf(stderr, "%s: size %dx%d is not 16..65536 per side\n", argv[0], size, rows);
         return 2;
     }
-    OIIO::ImageSpec spec(size, size, 3, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(size, rows, 3, OIIO::TypeDesc::UINT8);
     spec.attribute("compression", "none");
     spec.attribute("tiff:RowsPerStrip", 64);
     auto out = OIIO::ImageOutput::create(argv[1]);
@@ -67,7 +70,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::vector<uint8_t> row(static_cast<size_t>(size) * 3);
-    for (int y = 0; y < size; ++y) {
+    for (int y = 0; y < rows; ++y) {
         const auto uy = static_cast<uint32_t>(y);
         for (int x = 0; x < size; ++x) {
             const auto ux = static_cast<uint32_t>(x);

@@ -1,7 +1,7 @@
 #include "libpyramid/planet_body.hpp"
 
 #include <GeographicLib/Constants.hpp>
-#include <GeographicLib/Geocentric.hpp>
+#include <GeographicLib/Math.hpp>
 #include <GeographicLib/Geodesic.hpp>
 
 #include <cmath>
@@ -45,7 +45,7 @@ PlanetBody::PlanetBody(std::string name, double equatorialRadius, double flatten
     if (!(a_ > 0.0) || !std::isfinite(a_) || !(f_ >= 0.0) || !(f_ < 1.0)) {
         fail(name_, "needs a positive radius and a flattening in [0, 1) (or an inverse flattening > 1)");
     }
-    geocentric_ = std::make_shared<const GeographicLib::Geocentric>(a_, f_);
+    squash_ = (1.0 - f_) * (1.0 - f_);
     geodesic_ = std::make_shared<const GeographicLib::Geodesic>(a_, f_);
 }
 
@@ -85,11 +85,9 @@ std::string PlanetBody::describe() const {
 }
 
 GeodeticPoint PlanetBody::geodeticOf(const std::array<double, 3>& d) const {
-    const double b = polarRadius();
-    const double t = 1.0 / std::sqrt((d[0] * d[0] + d[1] * d[1]) / (a_ * a_) + (d[2] * d[2]) / (b * b));
     GeodeticPoint p;
-    double h = 0.0;
-    geocentric_->Reverse(t * d[0], t * d[1], t * d[2], p.latitude, p.longitude, h);
+    p.latitude = GeographicLib::Math::atan2d(d[2], squash_ * std::hypot(d[0], d[1]));
+    p.longitude = GeographicLib::Math::atan2d(d[1], d[0]);
     return p;
 }
 

@@ -2,13 +2,17 @@
 // a geocentric direction (a cube face sample) to the geodetic latitude and longitude of the
 // body's surface point on that ray.
 //
-// Method: the ray t * d meets the ellipsoid (X^2 + Y^2) / a^2 + Z^2 / b^2 = 1 at
-// t = 1 / sqrt((dx^2 + dy^2) / a^2 + dz^2 / b^2); GeographicLib::Geocentric::Reverse converts
-// that point to geodetic latitude, longitude (and a height of zero up to rounding). On a sphere
-// (f = 0) the geodetic latitude is the geocentric one, asin(z / |d|): the original Proland
-// mapping. On an oblate ellipsoid the geodetic latitude is further from the equator than the
-// geocentric one, tan(geodetic) = tan(geocentric) / (1 - f)^2: about 0.19 degrees at 45 degrees
-// on WGS84 (21 km on the ground).
+// Method: the ray t * d meets the ellipsoid (X^2 + Y^2) / a^2 + Z^2 / b^2 = 1 at one point P.
+// P's geodetic latitude is the angle of the surface normal there, which is parallel to
+// (X / a^2, Y / a^2, Z / b^2): tan(latitude) = (a / b)^2 Z / rho with rho = hypot(X, Y). The
+// ratio Z / rho is the same for every point of the ray, so P itself is never computed:
+//     latitude = atan2(dz, (1 - f)^2 hypot(dx, dy)),   longitude = atan2(dy, dx)
+// in closed form (GeographicLib's Math::atan2d, exact at multiples of 45 degrees). This is the
+// height-0 case of GeographicLib::Geocentric::Reverse, at a third of its cost; a test checks
+// the result with Geocentric::Forward. On a sphere (f = 0) the geodetic latitude is the
+// geocentric one: the original Proland mapping. On an oblate ellipsoid it is further from the
+// equator, tan(geodetic) = tan(geocentric) / (1 - f)^2: about 0.19 degrees at 45 degrees on
+// WGS84 (21 km on the ground).
 //
 // Longitudes are in degrees in [-180, 180]; +x is longitude 0, +y longitude 90 E, +z north.
 #pragma once
@@ -17,7 +21,6 @@
 #include <string>
 
 namespace GeographicLib {
-class Geocentric;
 class Geodesic;
 }
 
@@ -52,7 +55,7 @@ private:
     std::string name_;
     double a_;
     double f_;
-    std::shared_ptr<const GeographicLib::Geocentric> geocentric_;
+    double squash_; // (1 - f)^2 = (b / a)^2
     std::shared_ptr<const GeographicLib::Geodesic> geodesic_;
 };
 
