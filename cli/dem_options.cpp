@@ -8,6 +8,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/dem_sampling.hpp"
+#include "libpyramid/parse_number.hpp"
 
 namespace pyramid::cli {
 
@@ -42,16 +43,8 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     } else if (args.scale == "auto") {
         options.autoScale = true;
     } else {
-        try {
-            size_t used = 0;
-            options.scale = std::stod(args.scale, &used);
-            if (used != args.scale.size()) {
-                throw std::invalid_argument(args.scale);
-            }
-        } catch (const std::exception&) {
-            fail("--scale", "'" + args.scale + "' is not a number or 'auto'");
-        }
-        if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
+        options.scale = parseNumber(args.scale, "--scale", "a number or 'auto'");
+        if (!(options.scale > 0.0)) {
             fail("--scale", "must be positive, not " + args.scale);
         }
     }

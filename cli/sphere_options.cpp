@@ -6,25 +6,10 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/cube_faces.hpp"
+#include "libpyramid/parse_number.hpp"
 #include "libpyramid/planet_body.hpp"
 
 namespace pyramid::cli {
-
-namespace {
-
-double parseNumber(const std::string& text, const std::string& option, const std::string& whole) {
-    try {
-        size_t used = 0;
-        const double v = std::stod(text, &used);
-        if (used == text.size() && std::isfinite(v)) {
-            return v;
-        }
-    } catch (const std::exception&) {
-    }
-    fail(option, "'" + whole + "' is not a number or a ratio A/B");
-}
-
-} // namespace
 
 void addSphereOptions(CLI::App& app, const std::shared_ptr<SphereArgs>& args) {
     app.add_option("--extent", args->extent,
@@ -60,15 +45,15 @@ SphereChoice resolveSphereOptions(const SphereArgs& args) {
 
 double parseRatio(const std::string& text, const std::string& option) {
     const size_t slash = text.find('/');
-    if (slash == std::string::npos) {
-        return parseNumber(text, option, text);
+    const std::optional<double> a = tryParseNumber(text.substr(0, slash));
+    const std::optional<double> b = slash == std::string::npos ? 1.0 : tryParseNumber(text.substr(slash + 1));
+    if (!a || !b) {
+        fail(option, "'" + text + "' is not a number or a ratio A/B");
     }
-    const double a = parseNumber(text.substr(0, slash), option, text);
-    const double b = parseNumber(text.substr(slash + 1), option, text);
-    if (b == 0.0) {
+    if (*b == 0.0) {
         fail(option, "'" + text + "' divides by zero");
     }
-    return a / b;
+    return *a / *b;
 }
 
 } // namespace pyramid::cli

@@ -96,12 +96,22 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
     return report;
 }
 
-nlohmann::json toJson(const DemReport& r) {
-    // JSON has no NaN: a NaN nodata value is written as the string "nan".
+nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int band, std::optional<double> nodata) {
     nlohmann::json nodataJson = nullptr;
-    if (r.nodata) {
-        nodataJson = std::isnan(*r.nodata) ? nlohmann::json("nan") : nlohmann::json(*r.nodata);
+    if (nodata) {
+        nodataJson = std::isnan(*nodata) ? nlohmann::json("nan") : nlohmann::json(*nodata);
     }
+    return {{"path", path},
+            {"width", info.width},
+            {"height", info.height},
+            {"channels", info.channels},
+            {"type", sampleTypeName(info.type)},
+            {"format", info.formatName},
+            {"band", band + 1},
+            {"nodata", nodataJson}};
+}
+
+nlohmann::json toJson(const DemReport& r) {
     nlohmann::json levels = nlohmann::json::array();
     for (const DemLevelReport& l : r.levels) {
         levels.push_back({{"level", l.level},
@@ -111,14 +121,7 @@ nlohmann::json toJson(const DemReport& r) {
                           {"rms_error", l.rmsError},
                           {"max_abs_residual", l.maxAbsResidual}});
     }
-    return {{"input", {{"path", r.input},
-                       {"width", r.inputInfo.width},
-                       {"height", r.inputInfo.height},
-                       {"channels", r.inputInfo.channels},
-                       {"type", sampleTypeName(r.inputInfo.type)},
-                       {"format", r.inputInfo.formatName},
-                       {"band", r.band + 1},
-                       {"nodata", nodataJson}}},
+    return {{"input", demInputJson(r.input, r.inputInfo, r.band, r.nodata)},
             {"output", r.output},
             {"sampling", r.sampling},
             {"header", {{"min_level", r.header.minLevel},

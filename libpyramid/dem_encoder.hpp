@@ -73,4 +73,8 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
 
 nlohmann::json toJson(const DemReport& report);
 
+// The "input" object of the DEM reports: path, size, channels, sample type, format, band (from
+// 1) and the nodata value used (null, a number, or "nan": JSON has no NaN).
+nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int band, std::optional<double> nodata);
+
 } // namespace pyramid

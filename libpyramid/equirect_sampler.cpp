@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "libpyramid/parse_number.hpp"
 
 namespace pyramid {
 
@@ -16,15 +17,7 @@ GeoExtent GeoExtent::parse(const std::string& text, const std::string& where) {
             fail(where, "'" + text + "' is not WEST,SOUTH,EAST,NORTH in degrees");
         }
         const std::string part = text.substr(start, comma - start);
-        try {
-            size_t used = 0;
-            v[k] = std::stod(part, &used);
-            if (used != part.size() || !std::isfinite(v[k])) {
-                throw std::invalid_argument(part);
-            }
-        } catch (const std::exception&) {
-            fail(where, "'" + part + "' is not a number of degrees");
-        }
+        v[k] = parseNumber(part, where, "a number of degrees");
         start = comma + 1;
     }
     GeoExtent e{v[0], v[1], v[2], v[3]};

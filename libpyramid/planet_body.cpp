@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "formats/error.hpp"
+#include "libpyramid/parse_number.hpp"
 
 namespace pyramid {
 
@@ -25,18 +26,6 @@ constexpr double kEarthMeanRadius = 6371008.8;
 constexpr double kMoonRadius = 1737400.0;
 constexpr double kMarsEquatorialRadius = 3396190.0;
 constexpr double kMarsPolarRadius = 3376200.0;
-
-double parseNumber(const std::string& text, const std::string& where) {
-    try {
-        size_t used = 0;
-        const double v = std::stod(text, &used);
-        if (used == text.size() && std::isfinite(v)) {
-            return v;
-        }
-    } catch (const std::exception&) {
-    }
-    fail(where, "'" + text + "' is not a number");
-}
 
 } // namespace
 

@@ -157,19 +157,9 @@ nlohmann::json toJson(const SphericalDemReport& r) {
         }
         faces.push_back({{"face", f.face}, {"dem", dem}, {"ground_sample_distance", gsd}});
     }
-    nlohmann::json nodataJson = nullptr;
-    if (r.nodata) {
-        nodataJson = std::isnan(*r.nodata) ? nlohmann::json("nan") : nlohmann::json(*r.nodata);
-    }
-    return {{"input", {{"path", r.input},
-                       {"width", r.inputInfo.width},
-                       {"height", r.inputInfo.height},
-                       {"channels", r.inputInfo.channels},
-                       {"type", sampleTypeName(r.inputInfo.type)},
-                       {"format", r.inputInfo.formatName},
-                       {"band", r.band + 1},
-                       {"nodata", nodataJson},
-                       {"height_scale", r.heightScale}}},
+    nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
+    input["height_scale"] = r.heightScale;
+    return {{"input", input},
             {"directory", r.directory},
             {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
                         {"north", r.extent.north}}},

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,28 @@ size_t filesIn(const std::string& dir) {
         n += e.is_regular_file();
     }
     return n;
+}
+
+struct BadCase {
+    std::string args;
+    int exitCode;
+    std::string words; // the message must contain them
+};
+
+// Runs `program -q ARGS` for each case: the exit code, a one-line message naming the problem
+// (for exit 1), and nothing written under `out`.
+void expectBadInputWritesNothing(const std::string& program, const std::vector<BadCase>& cases,
+                                 const std::string& out) {
+    for (const BadCase& c : cases) {
+        const auto r = run(programPath(program) + " -q " + c.args);
+        EXPECT_EQ(r.exitCode, c.exitCode) << c.args << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.words), std::string::npos) << c.args << "\n" << r.err;
+        if (c.exitCode == 1) {
+            EXPECT_EQ(lines(r.err), 1u) << r.err;
+        }
+        EXPECT_EQ(filesIn(out), 0u) << c.args;
+        EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
+    }
 }
 
 TEST(SphereDemCli, SampleMapMakesSixFacesAndAReport) {
@@ -85,12 +108,7 @@ TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
     test::TempDir dir;
     const std::string out = dir.file("out");
     const std::string srtm = test::samplePath("srtm.png");
-    struct Case {
-        std::string args;
-        int exitCode;
-        std::string words;
-    };
-    const Case cases[] = {
+    const std::vector<BadCase> cases = {
         {dir.file("missing.png") + " -o " + out, 1, "missing.png"},
         {srtm + " -o " + out + " --faces 0,1", 1, "--faces"},
         {srtm + " -o " + out + " --faces 1,1", 1, "--faces"},
@@ -102,16 +120,9 @@ TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
         {srtm + " -o " + out + " --scale 0.001", 1, "overflow"}, // fails at the first face
         {srtm, 2, "--output"},
     };
-    for (const Case& c : cases) {
-        const auto r = run(programPath("preprocessSphericalDem") + " -q " + c.args);
-        EXPECT_EQ(r.exitCode, c.exitCode) << c.args << "\n" << r.err;
-        EXPECT_NE(r.err.find(c.words), std::string::npos) << c.args << "\n" << r.err;
-        if (c.exitCode == 1) {
-            EXPECT_EQ(lines(r.err), 1u) << r.err;
-        }
-        EXPECT_EQ(filesIn(out), 0u) << c.args;
-    }
+    expectBadInputWritesNothing("preprocessSphericalDem", cases, out);
 }
+
 
 TEST(SphereOrthoCli, SampleImageMakesEighteenFilesAndAReport) {
     test::TempDir dir;
@@ -141,12 +152,7 @@ TEST(SphereOrthoCli, BadInputIsOneLineAndWritesNothing) {
     test::TempDir dir;
     const std::string out = dir.file("out");
     const std::string image = test::samplePath("bluemarble.png");
-    struct Case {
-        std::string args;
-        int exitCode;
-        std::string words;
-    };
-    const Case cases[] = {
+    const std::vector<BadCase> cases = {
         {dir.file("missing.png") + " -o " + out, 1, "missing.png"},
         {test::samplePath("dem.tif") + " -o " + out, 1, "dem.tif"}, // float heights are no imagery
         {image + " -o " + out + " --faces 7", 1, "--faces"},
@@ -155,16 +161,9 @@ TEST(SphereOrthoCli, BadInputIsOneLineAndWritesNothing) {
         {image + " -o " + out + " --max-level 21", 1, "--max-level"},
         {image, 2, "--output"},
     };
-    for (const Case& c : cases) {
-        const auto r = run(programPath("preprocessSphericalOrtho") + " -q " + c.args);
-        EXPECT_EQ(r.exitCode, c.exitCode) << c.args << "\n" << r.err;
-        EXPECT_NE(r.err.find(c.words), std::string::npos) << c.args << "\n" << r.err;
-        if (c.exitCode == 1) {
-            EXPECT_EQ(lines(r.err), 1u) << r.err;
-        }
-        EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
-    }
+    expectBadInputWritesNothing("preprocessSphericalOrtho", cases, out);
 }
+
 
 } // namespace
 } // namespace pyramid
