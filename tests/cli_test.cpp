@@ -160,6 +160,28 @@ TEST_F(PreprocessDemCli, BadInputFailsCleanly) {
     expectFailure(shellQuoted(input) + " --scale 0", 1, "--scale");
     expectFailure(shellQuoted(input) + " --band 2", 1, "--band");
     expectFailure(shellQuoted(input) + " --no-such-option", 2, "no-such-option");
+    // A 16-bit PNG cut short: its header reads, its pixels fail once encoding has started.
+    std::vector<uint16_t> heights(257 * 257);
+    for (size_t k = 0; k < heights.size(); ++k) {
+        heights[k] = static_cast<uint16_t>((k * 2654435761u) >> 16);
+    }
+    test::writeImage(dir.file("whole.png"), 257, 257, 1, heights, true);
+    const std::string whole = test::readFile(dir.file("whole.png"));
+    {
+        std::FILE* f = std::fopen(dir.file("cut.png").c_str(), "wb");
+        std::fwrite(whole.data(), 1, whole.size() / 2, f);
+        std::fclose(f);
+    }
+    // (libpng prints a line of its own through OpenImageIO's PNG reader before ours: the last
+    // line is the command's.)
+    const std::string outDir = dir.file("out");
+    const auto r = run(programPath("preprocessDem") + " " + shellQuoted(dir.file("cut.png")) + " -o " +
+                       shellQuoted(outDir + "/DEM.dat"));
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    const size_t last = r.err.rfind('\n', r.err.size() - 2);
+    const std::string lastLine = r.err.substr(last == std::string::npos ? 0 : last + 1);
+    EXPECT_EQ(lastLine.rfind("preprocessDem: " + dir.file("cut.png") + ": read failed", 0), 0u) << r.err;
+    EXPECT_TRUE(std::filesystem::is_empty(outDir));
 }
 
 } // namespace
