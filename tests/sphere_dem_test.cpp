@@ -141,28 +141,42 @@ TEST(SphericalDem, BordersAreTheNeighbourFacesSamples) {
                             if (!outX && !outY && !onEdge) {
                                 continue; // an inner sample of this face
                             }
-                            const FaceSample other = canonicalSample(grid, FaceSample{face, x, y});
-                            const FaceSample s = other.face == face && !outX && !outY
-                                                     ? FaceSample{face, x, y}
-                                                     : other;
-                            if (s.face == face) {
-                                continue; // an edge sample seen from its own face
+                            // The other faces holding this cube point: the neighbour across the
+                            // edge for a border sample; for an edge sample the face across the
+                            // edge (and, at a cube corner, the third face too).
+                            std::vector<FaceSample> others;
+                            if (outX || outY) {
+                                others.push_back(canonicalSample(grid, FaceSample{face, x, y}));
+                            } else {
+                                const CubePoint p = cubePoint(grid, FaceSample{face, x, y});
+                                for (int g = 1; g <= 6; ++g) {
+                                    try {
+                                        if (g != face) {
+                                            others.push_back(faceSampleAt(grid, g, p));
+                                        }
+                                    } catch (const Error&) { // not on face g
+                                    }
+                                }
+                                const bool corner = (x == 0 || x == Nl) && (y == 0 || y == Nl);
+                                EXPECT_EQ(others.size(), corner ? 2u : 1u) << face << " " << x << " " << y;
                             }
-                            // The source heights are bit-identical: both are the same cube point.
-                            float a = 0, b = 0;
-                            uint8_t va = 0, vb = 0;
-                            here.sample(x, y, 1, 1, 1, &a, &va);
-                            FaceSampler(equirect, body, s.face, grid).sample(s.x, s.y, 1, 1, 1, &b, &vb);
-                            ASSERT_EQ(a, b);
-                            // The reconstructions agree within twice the error bound.
-                            const int otx = static_cast<int>(std::min<int64_t>(s.x / n, side - 1));
-                            const int oty = static_cast<int>(std::min<int64_t>(s.y / n, side - 1));
-                            const std::vector<float>& theirs = recon.at({s.face, l, otx, oty});
-                            const int64_t oi = s.x - static_cast<int64_t>(otx) * n + 2, oj = s.y - static_cast<int64_t>(oty) * n + 2;
-                            const float z = theirs[static_cast<size_t>(oi + oj * (n + 5))];
-                            EXPECT_NEAR(mine[static_cast<size_t>(i + j * (n + 5))], z, 0.25 + 1e-3);
-                            EXPECT_NEAR(mine[static_cast<size_t>(i + j * (n + 5))], a, 0.125 + 1e-3);
-                            ++compared;
+                            for (const FaceSample& s : others) {
+                                // The source heights are bit-identical: both are the same cube point.
+                                float a = 0, b = 0;
+                                uint8_t va = 0, vb = 0;
+                                here.sample(x, y, 1, 1, 1, &a, &va);
+                                FaceSampler(equirect, body, s.face, grid).sample(s.x, s.y, 1, 1, 1, &b, &vb);
+                                ASSERT_EQ(a, b);
+                                // The reconstructions agree within twice the error bound.
+                                const int otx = static_cast<int>(std::min<int64_t>(s.x / n, side - 1));
+                                const int oty = static_cast<int>(std::min<int64_t>(s.y / n, side - 1));
+                                const std::vector<float>& theirs = recon.at({s.face, l, otx, oty});
+                                const int64_t oi = s.x - static_cast<int64_t>(otx) * n + 2, oj = s.y - static_cast<int64_t>(oty) * n + 2;
+                                const float z = theirs[static_cast<size_t>(oi + oj * (n + 5))];
+                                EXPECT_NEAR(mine[static_cast<size_t>(i + j * (n + 5))], z, 0.25 + 1e-3);
+                                EXPECT_NEAR(mine[static_cast<size_t>(i + j * (n + 5))], a, 0.125 + 1e-3);
+                                ++compared;
+                            }
                         }
                     }
                 }
