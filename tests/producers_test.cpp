@@ -2,9 +2,12 @@
 // producer, on small pyramids written here with hand-picked values.
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/capi/pyramid.h"
 #include "libpyramid/elevation_producer.hpp"
 #include "libpyramid/elevation_upsample.hpp"
 #include "libpyramid/ortho_producer.hpp"
@@ -131,6 +134,30 @@ TEST(ResidualRegions, NestedRegionsTheDeepestWins) {
         EXPECT_FALSE(residuals.hasTile(3, 6, 6)); // in A, below A's last level, outside B
         EXPECT_FALSE(residuals.hasTile(3, 0, 0)); // beyond every file
     }
+    // The C API serves the same elevations as the C++ producer over the same three files.
+    ElevationProducerOptions eo;
+    eo.tileSize = 2; // n = tileSize / 2: k = 1 = minLevel, so delta 0
+    ResidualProducerOptions r0;
+    r0.delta = 0;
+    ElevationProducer cpp(std::make_shared<ResidualProducer>(
+                              dir.file("main.dat"), std::vector<std::string>{dir.file("a.dat"), dir.file("b.dat")}, r0),
+                          eo);
+    const std::string a = dir.file("a.dat"), b = dir.file("b.dat");
+    const char* regions[] = {a.c_str(), b.c_str()};
+    pyramid_elevation* c = nullptr;
+    ASSERT_EQ(pyramid_elevation_open_regions(dir.file("main.dat").c_str(), regions, 2, 2, 0, 16, &c), PYRAMID_OK)
+        << pyramid_last_error();
+    ASSERT_EQ(pyramid_elevation_side(c), 7);
+    std::vector<float> zf(49);
+    for (const auto& [level, tx, ty] : {std::tuple{1, 0, 0}, std::tuple{3, 2, 2}, std::tuple{4, 5, 4}, std::tuple{4, 0, 0}}) {
+        ASSERT_EQ(pyramid_elevation_tile(c, level, tx, ty, zf.data(), nullptr, nullptr, zf.size()), PYRAMID_OK)
+            << pyramid_last_error();
+        EXPECT_EQ(zf, cpp.tile(level, tx, ty)->zf) << level << " " << tx << " " << ty;
+    }
+    pyramid_elevation_close(c);
+    const char* missing[] = {nullptr};
+    EXPECT_EQ(pyramid_elevation_open_regions(dir.file("main.dat").c_str(), missing, 1, 2, 0, 16, &c),
+              PYRAMID_ERROR_ARGUMENT);
 }
 
 TEST(ResidualRegions, MismatchedRegionsAreRefused) {

@@ -92,6 +92,12 @@ typedef struct pyramid_elevation pyramid_elevation;
  * tiles are kept (least recently used first out). */
 pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, int grid_size, size_t cache_tiles,
                                       pyramid_elevation** producer);
+/* The same over a main file and `region_count` region files nested in it (each rooted at a tile
+ * of the main pyramid, or of another region, with the main file's tile size): a tile's
+ * residuals come from the deepest file that holds it. */
+pyramid_status pyramid_elevation_open_regions(const char* residual_path, const char* const* region_paths,
+                                              size_t region_count, int tile_size, int grid_size, size_t cache_tiles,
+                                              pyramid_elevation** producer);
 void pyramid_elevation_close(pyramid_elevation* producer);
 /* Samples per side of the produced tiles (n + 5). */
 int pyramid_elevation_side(const pyramid_elevation* producer);
@@ -107,6 +113,10 @@ typedef struct pyramid_ortho pyramid_ortho;
 /* colour_residuals = 0: the file's tiles as they are; 1: the file holds colour residuals and
  * tiles are rebuilt by the colour upsample (any level, smooth beyond the file's deepest). */
 pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t cache_tiles, pyramid_ortho** producer);
+/* The same over a main file and `region_count` nested region files (same tile size, channels
+ * and flags). */
+pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* region_paths, size_t region_count,
+                                          int colour_residuals, size_t cache_tiles, pyramid_ortho** producer);
 void pyramid_ortho_close(pyramid_ortho* producer);
 /* Pixels per side and channels of the produced tiles. */
 pyramid_status pyramid_ortho_layout(const pyramid_ortho* producer, int* side, int* channels);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
@@ -79,6 +80,20 @@ bool inside(const pyramid_file* f, int level, int tx, int ty) {
 pyramid_status outside(int level, int tx, int ty) {
     return failWith(PYRAMID_ERROR_ARGUMENT, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
                                                 std::to_string(ty) + ") in this pyramid");
+}
+
+// The region paths of an *_open_regions call; false when the array or one of its paths is null.
+bool regionList(const char* const* paths, size_t count, std::vector<std::string>& out) {
+    if (count > 0 && !paths) {
+        return false;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        if (!paths[k]) {
+            return false;
+        }
+        out.emplace_back(paths[k]);
+    }
+    return true;
 }
 
 } // namespace
@@ -213,7 +228,14 @@ pyramid_status pyramid_read_tile_bytes(const pyramid_file* file, int level, int 
 
 pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, int grid_size, size_t cache_tiles,
                                       pyramid_elevation** producer) {
-    if (!residual_path || !producer) {
+    return pyramid_elevation_open_regions(residual_path, nullptr, 0, tile_size, grid_size, cache_tiles, producer);
+}
+
+pyramid_status pyramid_elevation_open_regions(const char* residual_path, const char* const* region_paths,
+                                              size_t region_count, int tile_size, int grid_size, size_t cache_tiles,
+                                              pyramid_elevation** producer) {
+    std::vector<std::string> regions;
+    if (!residual_path || !producer || !regionList(region_paths, region_count, regions)) {
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_elevation_open: null argument");
     }
     *producer = nullptr;
@@ -228,7 +250,7 @@ pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, 
         }
         pyramid::ResidualProducerOptions ro;
         ro.delta = delta;
-        auto residuals = std::make_shared<pyramid::ResidualProducer>(residual_path, std::vector<std::string>{}, ro);
+        auto residuals = std::make_shared<pyramid::ResidualProducer>(residual_path, regions, ro);
         pyramid::ElevationProducerOptions eo;
         eo.tileSize = n;
         eo.gridSize = grid_size;
@@ -277,13 +299,19 @@ pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, int level, in
 }
 
 pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
-    if (!path || !producer) {
+    return pyramid_ortho_open_regions(path, nullptr, 0, colour_residuals, cache_tiles, producer);
+}
+
+pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* region_paths, size_t region_count,
+                                          int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
+    std::vector<std::string> regions;
+    if (!path || !producer || !regionList(region_paths, region_count, regions)) {
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_ortho_open: null argument");
     }
     *producer = nullptr;
     return guarded([&] {
         auto p = std::make_unique<pyramid_ortho>();
-        p->tiles = std::make_shared<pyramid::OrthoProducer>(path);
+        p->tiles = std::make_shared<pyramid::OrthoProducer>(path, regions);
         if (colour_residuals) {
             p->residuals = std::make_unique<pyramid::OrthoResidualProducer>(p->tiles, cache_tiles == 0 ? 1 : cache_tiles);
         }
