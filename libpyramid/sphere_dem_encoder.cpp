@@ -49,6 +49,11 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
         fail("--height-scale", "must be a finite non-zero number, not " + numberText(options.heightScale));
     }
     checkFaces(options.faces);
+    if (o.rootTileSize < 2) {
+        // The root tile's 2-interval borders fold onto the neighbouring faces: at most a face deep.
+        fail("--root-tile-size", "cube faces need a root tile of at least 2 intervals, not " +
+                                     std::to_string(o.rootTileSize));
+    }
     const PlanetBody body = PlanetBody::parse(options.body);
     auto source = RasterSource::open(input, o.cacheMegabytes);
     SphericalDemReport report;

@@ -117,6 +117,7 @@ TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
         {srtm + " -o " + out + " --height-scale 1/0", 1, "--height-scale"},
         {srtm + " -o " + out + " --height-scale x", 1, "--height-scale"},
         {srtm + " -o " + out + " --band 4", 1, "--band"},
+        {srtm + " -o " + out + " --tile-size 8 --root-tile-size 1", 1, "--root-tile-size"},
         {srtm + " -o " + out + " --scale 0.001", 1, "overflow"}, // fails at the first face
         {srtm, 2, "--output"},
     };
