@@ -142,7 +142,7 @@ uint16_t compressionCode(TiffCompression c) {
 // Encodes one strip of `bits`-bit samples.
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
-                                 int jpegQuality) {
+                                 int jpegQuality, int deflateLevel = 6) {
     if (compression == TiffCompression::Jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
                      std::to_string(bits) + " bits");
@@ -174,7 +174,7 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
         TIFFSetField(t, TIFFTAG_JPEGQUALITY, std::clamp(jpegQuality, 1, 100));
     }
     if (compression == TiffCompression::Deflate) {
-        TIFFSetField(t, TIFFTAG_ZIPQUALITY, 6);
+        TIFFSetField(t, TIFFTAG_ZIPQUALITY, std::clamp(deflateLevel, 1, 9));
     }
     if (TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes)) < 0) {
         fail("", withCause("cannot encode a TIFF tile", stream));
@@ -336,7 +336,7 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     return decodeChecked(blob, maxWidth, maxHeight, where, {});
 }
 
-std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size) {
+std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel) {
     if (size < 1 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
         fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
     }
@@ -349,7 +349,7 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
         bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
     }
     return encodeStrip(bytes.data(), bytes.size(), size, size, 2, 8, PHOTOMETRIC_MINISBLACK, false,
-                       TiffCompression::Deflate, 0);
+                       TiffCompression::Deflate, 0, deflateLevel);
 }
 
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {

@@ -30,8 +30,9 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
 TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where);
 
 // Residual tiles: size x size int16 values stored as 2 samples x 8 bits (low byte, high byte),
-// Deflate, as the original tools write them.
-std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size);
+// Deflate, as the original tools write them. `deflateLevel` (1..9) only trades encoding time
+// for bytes: any level is the same standard Deflate stream to a reader.
+std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel = 6);
 // Accepts the 2 x 8-bit layout and a genuine 1 x 16-bit layout; the image must be size x size.
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where);
 

@@ -153,9 +153,19 @@ void DemSampler::sample(SourceGrid& grid) const {
                       static_cast<int>(ry1 + 1), band_, window.data());
     const bool nanNodata = nodata_ && std::isnan(*nodata_);
     const float nodataValue = nodata_ ? static_cast<float>(*nodata_) : 0.0f;
-    // Reads input (column c, row r): false for nodata; NaN that is not nodata is an error.
-    auto at = [&](int64_t c, int64_t r, double& v) {
-        const float s = window[static_cast<size_t>((c - cx0) + (r - ry0) * ww)];
+    // Most windows hold neither NaN nor nodata: one scan finds out, and the interpolation below
+    // then reads the input without a test per tap (the same values, the same arithmetic).
+    const bool clean = std::none_of(window.begin(), window.end(), [&](float s) {
+        return std::isnan(s) || (nodata_ && !nanNodata && s == nodataValue);
+    });
+    // Reads input (column c, row r) from `line`, the window's row r: false for nodata; NaN that
+    // is not nodata is an error.
+    auto at = [&](const float* line, int64_t c, int64_t r, double& v) {
+        const float s = line[c - cx0];
+        if (clean) {
+            v = s;
+            return true;
+        }
         if (std::isnan(s)) {
             if (nanNodata) {
                 return false;
@@ -169,39 +179,47 @@ void DemSampler::sample(SourceGrid& grid) const {
         v = s;
         return true;
     };
+    float* outHeight = grid.height.data();
+    uint8_t* outValid = grid.valid.data();
     for (int64_t j = 0; j < grid.ny; ++j) {
         const AxisTap& ty = ys[static_cast<size_t>(j)];
         if (!ty.inside) {
             continue;
         }
+        // The window's rows ty.index and ty.index + 1 (the latter only read when fy).
+        const float* line0 = window.data() + (ty.index - ry0) * ww;
+        const float* line1 = line0 + ww;
+        const bool fy = ty.frac > 0.0;
+        float* height = outHeight + j * grid.nx;
+        uint8_t* valid = outValid + j * grid.nx;
         for (int64_t i = 0; i < grid.nx; ++i) {
             const AxisTap& tx = xs[static_cast<size_t>(i)];
             if (!tx.inside) {
                 continue;
             }
+            const bool fx = tx.frac > 0.0;
             double v00 = 0, v10 = 0, v01 = 0, v11 = 0;
-            bool ok = at(tx.index, ty.index, v00);
-            if (ok && tx.frac > 0.0) {
-                ok = at(tx.index + 1, ty.index, v10);
+            bool ok = at(line0, tx.index, ty.index, v00);
+            if (ok && fx) {
+                ok = at(line0, tx.index + 1, ty.index, v10);
             }
-            if (ok && ty.frac > 0.0) {
-                ok = at(tx.index, ty.index + 1, v01);
-                if (ok && tx.frac > 0.0) {
-                    ok = at(tx.index + 1, ty.index + 1, v11);
+            if (ok && fy) {
+                ok = at(line1, tx.index, ty.index + 1, v01);
+                if (ok && fx) {
+                    ok = at(line1, tx.index + 1, ty.index + 1, v11);
                 }
             }
             if (!ok) {
                 continue;
             }
             double h = v00;
-            if (tx.frac > 0.0 || ty.frac > 0.0) {
+            if (fx || fy) {
                 const double top = v00 + (v10 - v00) * tx.frac;
                 const double bottom = v01 + (v11 - v01) * tx.frac;
                 h = top + (bottom - top) * ty.frac;
             }
-            const size_t k = static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(grid.nx);
-            grid.height[k] = static_cast<float>(h);
-            grid.valid[k] = 1;
+            height[i] = static_cast<float>(h);
+            valid[i] = 1;
         }
     }
 }

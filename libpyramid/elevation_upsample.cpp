@@ -1,5 +1,7 @@
 #include "libpyramid/elevation_upsample.hpp"
 
+#include <vector>
+
 namespace pyramid {
 
 namespace {
@@ -37,10 +39,59 @@ float predictElevation(const float* parent, size_t stride, int px, int py, int i
 
 void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int py, float* out,
                     size_t outStride) {
-    for (int j = 0; j <= n + 4; ++j) {
+    // predictElevation's four cases, split by row and column parity so that the loops carry no
+    // per-sample branch or index arithmetic (this runs on every sample the encoder and the CPU
+    // producers touch). Each sample keeps predictElevation's operations in its order.
+    float weight[4][4];
+    for (int dj = 0; dj < 4; ++dj) {
+        for (int di = 0; di < 4; ++di) {
+            weight[dj][di] = kTap[dj] * kTap[di];
+        }
+    }
+    const int last = n + 4;
+    // Odd columns (i = 2c + 1 <= last) are computed into `line` first, contiguously, so that the
+    // compiler computes several at once (each still with its own operations in order), then
+    // added to every other sample of the row.
+    const int odd = (last + 1) / 2;
+    thread_local std::vector<float> line;
+    line.resize(static_cast<size_t>(odd));
+    for (int j = 0; j <= last; ++j) {
         float* row = out + static_cast<size_t>(j) * outStride;
-        for (int i = 0; i <= n + 4; ++i) {
-            row[i] = predictElevation(parent, parentStride, px, py, i, j) + row[i];
+        const size_t y = static_cast<size_t>(j / 2 + py);
+        if ((j & 1) == 0) {
+            // r[c]: parent row y, column c + px (c = i / 2).
+            const float* r = parent + y * parentStride + static_cast<size_t>(px);
+            for (int i = 0; i <= last; i += 2) {
+                row[i] = r[i / 2] + row[i];
+            }
+            for (int c = 0; c < odd; ++c) {
+                line[static_cast<size_t>(c)] = interpolate4(r[c - 1], r[c], r[c + 1], r[c + 2]);
+            }
+            for (int c = 0; c < odd; ++c) {
+                row[2 * c + 1] = line[static_cast<size_t>(c)] + row[2 * c + 1];
+            }
+            continue;
+        }
+        // p[d][c]: parent row y - 1 + d, column c + px.
+        const float* p[4];
+        for (int d = 0; d < 4; ++d) {
+            p[d] = parent + (y + static_cast<size_t>(d) - 1) * parentStride + static_cast<size_t>(px);
+        }
+        for (int i = 0; i <= last; i += 2) {
+            const int c = i / 2;
+            row[i] = interpolate4(p[0][c], p[1][c], p[2][c], p[3][c]) + row[i];
+        }
+        for (int c = 0; c < odd; ++c) {
+            float z = 0.0f;
+            for (int dj = 0; dj < 4; ++dj) {
+                for (int di = 0; di < 4; ++di) {
+                    z = z + weight[dj][di] * p[dj][c + di - 1];
+                }
+            }
+            line[static_cast<size_t>(c)] = z;
+        }
+        for (int c = 0; c < odd; ++c) {
+            row[2 * c + 1] = line[static_cast<size_t>(c)] + row[2 * c + 1];
         }
     }
 }

@@ -2,13 +2,20 @@
 
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
 #include <tiffio.h>
+#include <unistd.h>
 
+#include <bit>
+#include <cerrno>
 #include <cstdarg>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
+#include <memory>
 #include <mutex>
+#include <unordered_map>
 #include <vector>
 
 #include "formats/error.hpp"
@@ -166,11 +173,307 @@ OIIO::ImageCache* processCache(int cacheMegabytes) {
     return cache;
 }
 
+// An uncompressed, striped, single-band float32 TIFF in the host's byte order (what GDAL and
+// OpenImageIO write for large DEMs by default) is read without the ImageCache: each row of a
+// window is one pread at its offset in the file. The cache would copy every sample twice
+// (decoding buffer, cache tile) into freshly faulted memory, one band at a time under its
+// per-file lock, and hold up to --cache-mb of it; the operating system's page cache serves
+// these reads directly, from any number of threads. The values are the file's bits, as the
+// cache returns them.
+struct DirectTiff {
+    int fd = -1;
+    int width = 0;
+    uint32_t rowsPerStrip = 0;
+    std::vector<uint64_t> stripOffsets;
+
+    ~DirectTiff() {
+        if (fd >= 0) {
+            ::close(fd);
+        }
+    }
+};
+
+std::unique_ptr<DirectTiff> openDirectTiff(const std::string& path, const RasterInfo& info) {
+    if (info.formatName != "tiff" || info.type != SampleType::Float32 || info.channels != 1 ||
+        std::endian::native != std::endian::little) {
+        return nullptr;
+    }
+    TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
+    TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
+    TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
+    TIFF* tif = TIFFOpenExt(path.c_str(), "rm", options);
+    TIFFOpenOptionsFree(options);
+    if (!tif) {
+        return nullptr;
+    }
+    std::unique_ptr<DirectTiff> direct;
+    uint32_t width = 0, height = 0, rowsPerStrip = 0;
+    uint16_t compression = 0, bits = 0, format = 0, channels = 0, photometric = 0;
+    TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &width);
+    TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &height);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &compression);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_BITSPERSAMPLE, &bits);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLEFORMAT, &format);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLESPERPIXEL, &channels);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_ROWSPERSTRIP, &rowsPerStrip);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_PHOTOMETRIC, &photometric);
+    rowsPerStrip = std::min(rowsPerStrip, height);
+    const uint64_t rowBytes = static_cast<uint64_t>(width) * 4u;
+    if (!TIFFIsTiled(tif) && !TIFFIsByteSwapped(tif) && compression == COMPRESSION_NONE && bits == 32 &&
+        format == SAMPLEFORMAT_IEEEFP && channels == 1 && photometric == PHOTOMETRIC_MINISBLACK &&
+        width == static_cast<uint32_t>(info.width) && height == static_cast<uint32_t>(info.height) &&
+        rowsPerStrip > 0 && TIFFNumberOfStrips(tif) == (height + rowsPerStrip - 1) / rowsPerStrip) {
+        direct = std::make_unique<DirectTiff>();
+        direct->width = static_cast<int>(width);
+        direct->rowsPerStrip = rowsPerStrip;
+        const uint32_t strips = TIFFNumberOfStrips(tif);
+        for (uint32_t s = 0; s < strips && direct; ++s) {
+            const uint32_t rows = std::min(rowsPerStrip, height - s * rowsPerStrip);
+            const uint64_t offset = TIFFGetStrileOffset(tif, s);
+            // A strip must hold all its rows, or the cache reads (and reports) the file.
+            if (offset == 0 || TIFFGetStrileByteCount(tif, s) < rows * rowBytes) {
+                direct.reset();
+            } else {
+                direct->stripOffsets.push_back(offset);
+            }
+        }
+    }
+    TIFFClose(tif);
+    if (direct) {
+        direct->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (direct->fd < 0) {
+            direct.reset();
+        }
+    }
+    return direct;
+}
+
+// Reads columns [x0, x1) of rows [y0, y1), row-major; false on a read error or a short file.
+bool readDirect(const DirectTiff& d, int x0, int y0, int x1, int y1, float* out) {
+    const size_t count = static_cast<size_t>(x1 - x0);
+    const uint64_t rowBytes = static_cast<uint64_t>(d.width) * 4u;
+    for (int y = y0; y < y1; ++y) {
+        const uint32_t row = static_cast<uint32_t>(y);
+        uint64_t offset = d.stripOffsets[row / d.rowsPerStrip] + (row % d.rowsPerStrip) * rowBytes +
+                          static_cast<uint64_t>(x0) * 4u;
+        auto* bytes = reinterpret_cast<char*>(out + static_cast<size_t>(y - y0) * count);
+        size_t left = count * sizeof(float);
+        while (left > 0) {
+            const ssize_t got = ::pread(d.fd, bytes, left, static_cast<off_t>(offset));
+            if (got < 0 && errno == EINTR) {
+                continue;
+            }
+            if (got == 0) {
+                errno = 0; // the file ends before the row
+            }
+            if (got <= 0) {
+                return false;
+            }
+            bytes += got;
+            left -= static_cast<size_t>(got);
+            offset += static_cast<uint64_t>(got);
+        }
+    }
+    return true;
+}
+
+// Other single-band TIFF files of 8, 16 or 32-bit integers or float32 (compressed, tiled,
+// predicted, byte-swapped: whatever libtiff decodes losslessly) are decoded by libtiff one
+// whole strip or tile at a time, in parallel (one TIFF handle per reading thread), into a
+// cache of decoded blocks bounded like the ImageCache (--cache-mb). The ImageCache decodes such
+// files one scanline at a time under one lock per file, through zlib rather than libdeflate:
+// several times slower, and serial. Integer values are converted to float32 by value, as
+// readIntegersAsFloat does.
+class BlockTiff {
+public:
+    static std::unique_ptr<BlockTiff> open(const std::string& path, const RasterInfo& info, int cacheMegabytes) {
+        if (info.formatName != "tiff" || info.channels != 1) {
+            return nullptr;
+        }
+        std::unique_ptr<BlockTiff> b(new BlockTiff());
+        b->path_ = path;
+        TIFF* tif = b->openHandle();
+        if (!tif) {
+            return nullptr;
+        }
+        uint32_t width = 0, height = 0;
+        uint16_t compression = 0, channels = 0, photometric = 0;
+        TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &width);
+        TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &height);
+        TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &compression);
+        TIFFGetFieldDefaulted(tif, TIFFTAG_BITSPERSAMPLE, &b->bits_);
+        TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLEFORMAT, &b->format_);
+        TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLESPERPIXEL, &channels);
+        TIFFGetFieldDefaulted(tif, TIFFTAG_PHOTOMETRIC, &photometric);
+        b->tiled_ = TIFFIsTiled(tif) != 0;
+        if (b->tiled_) {
+            TIFFGetField(tif, TIFFTAG_TILEWIDTH, &b->blockWidth_);
+            TIFFGetField(tif, TIFFTAG_TILELENGTH, &b->blockHeight_);
+        } else {
+            b->blockWidth_ = width;
+            TIFFGetFieldDefaulted(tif, TIFFTAG_ROWSPERSTRIP, &b->blockHeight_);
+            b->blockHeight_ = std::min(b->blockHeight_, height);
+        }
+        b->width_ = width;
+        b->height_ = height;
+        const bool lossless = compression == COMPRESSION_NONE || compression == COMPRESSION_LZW ||
+                              compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE ||
+                              compression == COMPRESSION_PACKBITS || compression == COMPRESSION_ZSTD ||
+                              compression == COMPRESSION_LZMA;
+        const bool integer = (b->format_ == SAMPLEFORMAT_INT || b->format_ == SAMPLEFORMAT_UINT) &&
+                             (b->bits_ == 8 || b->bits_ == 16 || b->bits_ == 32);
+        const bool real = b->format_ == SAMPLEFORMAT_IEEEFP && b->bits_ == 32;
+        const bool ok = lossless && (integer || real) && channels == 1 && photometric == PHOTOMETRIC_MINISBLACK &&
+                        width == static_cast<uint32_t>(info.width) && height == static_cast<uint32_t>(info.height) &&
+                        b->blockWidth_ > 0 && b->blockHeight_ > 0 && TIFFIsCODECConfigured(compression);
+        if (!ok) {
+            TIFFClose(tif);
+            return nullptr;
+        }
+        b->blocksAcross_ = (width + b->blockWidth_ - 1) / b->blockWidth_;
+        b->budget_ = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
+        b->idle_.push_back(tif);
+        return b;
+    }
+
+    ~BlockTiff() {
+        for (TIFF* tif : idle_) {
+            TIFFClose(tif);
+        }
+    }
+
+    // Columns [x0, x1) of rows [y0, y1) into out, row-major. Throws Error on a decoding error.
+    void read(int x0, int y0, int x1, int y1, float* out) {
+        const size_t outWidth = static_cast<size_t>(x1 - x0);
+        for (uint32_t by = static_cast<uint32_t>(y0) / blockHeight_; by * blockHeight_ < static_cast<uint32_t>(y1); ++by) {
+            for (uint32_t bx = static_cast<uint32_t>(x0) / blockWidth_; bx * blockWidth_ < static_cast<uint32_t>(x1);
+                 ++bx) {
+                const std::shared_ptr<const std::vector<float>> block = get(bx, by);
+                const int bx0 = static_cast<int>(bx * blockWidth_), by0 = static_cast<int>(by * blockHeight_);
+                const int cx0 = std::max(x0, bx0), cx1 = std::min(x1, bx0 + static_cast<int>(blockWidth_));
+                const int cy0 = std::max(y0, by0), cy1 = std::min(y1, by0 + static_cast<int>(blockHeight_));
+                for (int y = cy0; y < cy1; ++y) {
+                    const float* from = block->data() + static_cast<size_t>(y - by0) * blockWidth_ + (cx0 - bx0);
+                    std::copy(from, from + (cx1 - cx0), out + static_cast<size_t>(y - y0) * outWidth + (cx0 - x0));
+                }
+            }
+        }
+    }
+
+private:
+    struct Entry {
+        std::shared_ptr<const std::vector<float>> values;
+        uint64_t lastUse = 0;
+    };
+
+    BlockTiff() = default;
+
+    TIFF* openHandle() const {
+        TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
+        TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
+        TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
+        TIFF* tif = TIFFOpenExt(path_.c_str(), "r", options);
+        TIFFOpenOptionsFree(options);
+        return tif;
+    }
+
+    // Block (bx, by), decoded; from the cache or decoded now (outside the lock).
+    std::shared_ptr<const std::vector<float>> get(uint32_t bx, uint32_t by) {
+        const uint32_t index = by * blocksAcross_ + bx;
+        TIFF* tif = nullptr;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (auto it = cache_.find(index); it != cache_.end()) {
+                it->second.lastUse = ++clock_;
+                return it->second.values;
+            }
+            if (!idle_.empty()) {
+                tif = idle_.back();
+                idle_.pop_back();
+            }
+        }
+        if (!tif && !(tif = openHandle())) {
+            fail(path_, "cannot reopen the file");
+        }
+        auto values = std::make_shared<std::vector<float>>();
+        const bool ok = decode(tif, index, *values);
+        std::lock_guard<std::mutex> lock(mutex_);
+        idle_.push_back(tif);
+        if (!ok) {
+            fail(path_, std::string("read failed: cannot decode ") + (tiled_ ? "tile " : "strip ") +
+                            std::to_string(index));
+        }
+        const size_t bytes = values->size() * sizeof(float);
+        // Evict the least recently used blocks beyond the budget (a block in use stays alive
+        // through its shared_ptr).
+        while (!cache_.empty() && used_ + bytes > budget_) {
+            auto oldest = cache_.begin();
+            for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+                if (it->second.lastUse < oldest->second.lastUse) {
+                    oldest = it;
+                }
+            }
+            used_ -= oldest->second.values->size() * sizeof(float);
+            cache_.erase(oldest);
+        }
+        auto [it, inserted] = cache_.try_emplace(index, Entry{values, ++clock_});
+        if (inserted) {
+            used_ += bytes;
+        }
+        return it->second.values;
+    }
+
+    bool decode(TIFF* tif, uint32_t index, std::vector<float>& values) const {
+        const size_t count = static_cast<size_t>(blockWidth_) * blockHeight_;
+        std::vector<uint8_t> raw(count * (bits_ / 8));
+        const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()))
+                                    : TIFFReadEncodedStrip(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()));
+        // The last strip may hold fewer rows; missing rows are never read (outside the image).
+        if (got < 0) {
+            return false;
+        }
+        values.resize(count);
+        const auto convert = [&](auto type) {
+            using T = decltype(type);
+            for (size_t k = 0; k < count; ++k) {
+                T v;
+                std::memcpy(&v, raw.data() + k * sizeof(T), sizeof(T));
+                values[k] = static_cast<float>(v);
+            }
+        };
+        const bool isSigned = format_ == SAMPLEFORMAT_INT;
+        if (format_ == SAMPLEFORMAT_IEEEFP) {
+            std::memcpy(values.data(), raw.data(), count * sizeof(float));
+        } else if (bits_ == 8) {
+            isSigned ? convert(int8_t{}) : convert(uint8_t{});
+        } else if (bits_ == 16) {
+            isSigned ? convert(int16_t{}) : convert(uint16_t{});
+        } else {
+            isSigned ? convert(int32_t{}) : convert(uint32_t{});
+        }
+        return true;
+    }
+
+    std::string path_;
+    uint32_t width_ = 0, height_ = 0;
+    uint32_t blockWidth_ = 0, blockHeight_ = 0, blocksAcross_ = 0;
+    uint16_t bits_ = 0, format_ = SAMPLEFORMAT_UINT;
+    bool tiled_ = false;
+    size_t budget_ = 0;
+    std::mutex mutex_;
+    std::vector<TIFF*> idle_;                    // open handles not in use
+    std::unordered_map<uint32_t, Entry> cache_; // decoded blocks by index
+    size_t used_ = 0;
+    uint64_t clock_ = 0;
+};
+
 } // namespace
 
 struct RasterSource::Impl {
     OIIO::ImageCache* cache = nullptr;
     OIIO::ustring name;
+    std::unique_ptr<DirectTiff> direct; // set when the file can be read without the cache
+    std::unique_ptr<BlockTiff> blocks;  // or when libtiff decodes it, block by block
 
     ~Impl() {
         if (cache) {
@@ -221,6 +524,10 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
         fail(path, "empty image");
     }
+    impl.direct = openDirectTiff(path, info);
+    if (!impl.direct) {
+        impl.blocks = BlockTiff::open(path, info, cacheMegabytes);
+    }
     return source;
 }
 
@@ -255,6 +562,16 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
     checkWindow(path_, info_, x0, y0, x1, y1);
     if (channel < 0 || channel >= info_.channels) {
         fail(path_, "no channel " + std::to_string(channel));
+    }
+    if (impl_->direct) {
+        if (!readDirect(*impl_->direct, x0, y0, x1, y1, out)) {
+            fail(path_, std::string("read failed: ") + (errno ? std::strerror(errno) : "file too short"));
+        }
+        return;
+    }
+    if (impl_->blocks) {
+        impl_->blocks->read(x0, y0, x1, y1, out);
+        return;
     }
     OIIO::ImageCache* cache = impl_->cache;
     const OIIO::ustring name = impl_->name;

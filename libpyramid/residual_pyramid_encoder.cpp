@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <mutex>
 
 #include "formats/error.hpp"
 #include "formats/tiff_tile.hpp"
@@ -88,6 +90,23 @@ struct EncodedTile {
     LevelStats stats;
 };
 
+// nearbyint(x) in the default rounding mode (to nearest, ties to even), without a libm call per
+// sample (baseline x86-64 has no rounding instruction): adding and removing 2^52 drops the
+// fraction of any |x| < 2^52 with exactly that rounding; larger magnitudes are integers already.
+inline double roundHalfEven(double x) {
+    constexpr double kTwo52 = 4503599627370496.0;
+    const double a = std::fabs(x);
+    if (!(a < kTwo52)) {
+        return x;
+    }
+    return std::copysign((a + kTwo52) - kTwo52, x);
+}
+
+// Deflate level of the residual tiles. Through libtiff (libdeflate, one compressor per tile),
+// level 2 encodes residual tiles about 4 times faster than level 6, for 10 to 17 % more bytes
+// (bench/README.md); the stream is standard Deflate either way, as the original runtime reads.
+constexpr int kResidualDeflateLevel = 2;
+
 // Encodes tile (l, tx, ty) against its parent's reconstruction (null at the root), reading the
 // source heights of level-l positions from `src` (finest-grid coordinates; clamped to the map
 // unless the plan's edges are folded).
@@ -99,58 +118,81 @@ EncodedTile encodeTile(const Plan& plan, int l, int tx, int ty, const std::vecto
     const int n = plan.tileIntervals(l);
     const int S = n + 5;
     const size_t area = static_cast<size_t>(S) * static_cast<size_t>(S);
-    std::vector<float> pred(area, 0.0f);
+    // recon holds the prediction P first; each sample is then replaced by its reconstruction.
+    out.recon.assign(area, 0.0f);
     if (parent) {
         const size_t parentStride = static_cast<size_t>(plan.tileIntervals(l - 1)) + 5;
         const bool whole = l <= plan.minLevel;
         upsampleAndAdd(parent->data(), parentStride, n, whole ? 1 : quadrantOffset(tx, n),
-                       whole ? 1 : quadrantOffset(ty, n), pred.data(), static_cast<size_t>(S));
+                       whole ? 1 : quadrantOffset(ty, n), out.recon.data(), static_cast<size_t>(S));
     }
-    std::vector<int16_t> residuals(area);
-    out.recon.resize(area);
+    // Per-thread scratch, reused from tile to tile: no allocation or zero fill per tile.
+    thread_local std::vector<int16_t> residuals;
+    thread_local std::vector<size_t> column;
+    residuals.resize(area);
+    column.resize(static_cast<size_t>(S));
     const int64_t Nl = plan.levelIntervals(l);
     const int shift = plan.M - l;
     const double step = static_cast<double>(plan.scale);
+    // Dividing by a power of two is multiplying by its exact reciprocal (the same correctly
+    // rounded quotient), and a multiplication costs a fraction of a division.
+    int exponent = 0;
+    const bool powerOfTwo = std::frexp(step, &exponent) == 0.5;
+    const double inverse = powerOfTwo ? 1.0 / step : 0.0;
     const int64_t ownX0 = static_cast<int64_t>(tx) * n, ownY0 = static_cast<int64_t>(ty) * n;
     // Finest-grid coordinate of level-l position q (a multiplication: q may be negative).
     const auto finest = [&](int64_t q) { return (plan.folded ? q : std::clamp<int64_t>(q, 0, Nl)) * (int64_t{1} << shift); };
     // Offsets in `src` of each column's sample, computed once per tile.
-    std::vector<size_t> column(static_cast<size_t>(S));
     for (int i = 0; i < S; ++i) {
         column[static_cast<size_t>(i)] = src.index(finest(ownX0 + i - 2), src.y0);
     }
+    // Column of the map's last samples (at i >= n + 2 if the tile reaches them).
+    const int64_t edgeColumn = Nl - ownX0 + 2;
+    // Statistics in locals, not through out.stats: the compiler then keeps them in registers.
+    int64_t samples = 0;
+    double maxError = 0.0, sumSquares = 0.0;
+    int64_t maxAbs = 0;
     for (int j = 0; j < S; ++j) {
         const int64_t q = ownY0 + j - 2;
         const size_t row = src.index(src.x0, finest(q));
+        const float* height = src.height.data() + row;
+        const uint8_t* valid = src.valid.data() + row;
+        float* z = out.recon.data() + static_cast<size_t>(j) * static_cast<size_t>(S);
+        int16_t* r16 = residuals.data() + static_cast<size_t>(j) * static_cast<size_t>(S);
+        // A sample counts in the error statistics if the tile owns it: i in [2, n + 2) of an
+        // owned row, and the map's last column. They are counted in the loop that encodes them,
+        // in the same order as ever, so the serial sum of squares overlaps the encoding.
         const bool ownedRow = (q >= ownY0 && q < ownY0 + n) || q == Nl;
+        const int countEnd = ownedRow ? n + 2 : 2;
+        const int64_t countEdge = ownedRow ? edgeColumn : -1;
         for (int i = 0; i < S; ++i) {
-            const int64_t p = ownX0 + i - 2;
-            const size_t s = row + column[static_cast<size_t>(i)];
-            const size_t k = static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(S);
-            const uint8_t valid = src.valid[s];
+            const size_t c = column[static_cast<size_t>(i)];
             int64_t r = 0;
-            if (valid) {
-                r = static_cast<int64_t>(std::nearbyint((static_cast<double>(src.height[s]) - pred[k]) / step));
+            if (valid[c]) {
+                const double difference = static_cast<double>(height[c]) - z[i];
+                r = static_cast<int64_t>(roundHalfEven(powerOfTwo ? difference * inverse : difference / step));
                 const int64_t a = r < 0 ? -r : r;
-                if (a > 32767) {
-                    out.stats.overflowResidual = std::max(out.stats.overflowResidual, a);
-                    r = std::clamp<int64_t>(r, -32768, 32767);
-                }
-                out.stats.maxAbsResidual = std::max(out.stats.maxAbsResidual, static_cast<int>(std::min<int64_t>(a, 32768)));
+                maxAbs = std::max(maxAbs, a);
+                r = std::clamp<int64_t>(r, -32768, 32767);
             }
-            residuals[k] = static_cast<int16_t>(r);
+            r16[i] = static_cast<int16_t>(r);
             // The runtime's operation: prediction + float(r) * scale (doc/format.md, section 3).
-            const float z = pred[k] + static_cast<float>(residuals[k]) * plan.scale;
-            out.recon[k] = z;
-            if (valid == 1 && ownedRow && ((p >= ownX0 && p < ownX0 + n) || p == Nl)) {
-                const double e = std::fabs(static_cast<double>(z) - static_cast<double>(src.height[s]));
-                out.stats.samples += 1;
-                out.stats.maxError = std::max(out.stats.maxError, e);
-                out.stats.sumSquares += e * e;
+            z[i] = z[i] + static_cast<float>(r16[i]) * plan.scale;
+            if (((i >= 2 && i < countEnd) || i == countEdge) && valid[c] == 1) {
+                const double e = std::fabs(static_cast<double>(z[i]) - static_cast<double>(height[c]));
+                samples += 1;
+                maxError = std::max(maxError, e);
+                sumSquares += e * e;
             }
         }
     }
-    out.blob = encodeResidualTiff(residuals, S);
+    // |r| >= 32768 does not fit the symmetric int16 range: an overflow (doc/dem-encoding.md).
+    out.stats.samples = samples;
+    out.stats.maxError = maxError;
+    out.stats.sumSquares = sumSquares;
+    out.stats.maxAbsResidual = static_cast<int>(std::min<int64_t>(maxAbs, 32768));
+    out.stats.overflowResidual = maxAbs > 32767 ? maxAbs : 0;
+    out.blob = encodeResidualTiff(residuals, S, kResidualDeflateLevel);
     return out;
 }
 
@@ -311,12 +353,14 @@ private:
     void encodeSubtree(int l, int tx, int ty, const std::vector<float>& parent, const SourceGrid& footprint,
                        std::vector<EncodedTile>& out) {
         EncodedTile tile = encodeTile(plan_, l, tx, ty, &parent, footprint);
+        // The children's parent; the tile keeps its reconstruction only for the hook, so that
+        // memory stays per subtree.
         std::vector<float> recon;
         if (l < plan_.M) {
-            recon = tile.recon;
+            recon = options_.reconstruction ? tile.recon : std::move(tile.recon);
         }
         if (!options_.reconstruction) {
-            tile.recon.clear(); // keep only what the hook needs: memory stays per subtree
+            tile.recon.clear();
             tile.recon.shrink_to_fit();
         }
         out.push_back(std::move(tile));
@@ -327,6 +371,11 @@ private:
         }
     }
 
+    // Subtrees go to the threads in Z order. The thread that completes the oldest unwritten
+    // subtree writes it, and every later one already done, in Z order, while the other threads
+    // go on encoding: no barrier per batch, no thread idle while tiles are written. A thread
+    // starts subtree m only once m is within `window` subtrees of the oldest unwritten one, so
+    // at most `window` subtrees' tiles are held at once.
     std::optional<Overflow> runSubtrees(ResidualFileWriter& writer, std::vector<LevelStats>& stats,
                                         const std::vector<std::vector<float>>& levelC, int64_t& nodataFilled) {
         const int top = plan_.C + 1;
@@ -334,15 +383,36 @@ private:
         const int cside = plan_.tilesPerSide(plan_.C);
         const int64_t count = static_cast<int64_t>(side) * side;
         const int d = plan_.M - top;
-        const int64_t batch = std::max<int64_t>(4, 2 * threads_);
-        for (int64_t first = 0; first < count; first += batch) {
-            const int64_t last = std::min(count, first + batch);
-            std::vector<std::vector<EncodedTile>> results(static_cast<size_t>(last - first));
-            std::vector<int64_t> filled(static_cast<size_t>(last - first), 0);
-            parallelFor(last - first, threads_, [&](int64_t k) {
-                const int64_t m = first + k;
+        const int64_t window = std::max<int64_t>(kSubtreesInFlight, 2 * threads_);
+        struct Done {
+            std::vector<EncodedTile> tiles;
+            int64_t filled = 0;
+            bool ready = false;
+        };
+        std::vector<Done> done(static_cast<size_t>(window)); // subtree m in done[m % window]
+        std::vector<SourceGrid> footprints(static_cast<size_t>(threads_));
+        std::mutex mutex;
+        std::condition_variable advanced;
+        int64_t next = 0;     // the oldest unwritten subtree
+        int64_t end = count;  // subtrees from `end` on are neither started nor written
+        bool writing = false; // a thread is writing
+        int64_t overflow = 0; // the writer's: the largest |residual| beyond int16 so far
+        int overflowLevel = 0;
+        const auto slot = [&](int64_t m) -> Done& { return done[static_cast<size_t>(m % window)]; };
+        parallelFor(count, threads_, [&](int64_t m) {
+            {
+                std::unique_lock<std::mutex> lock(mutex);
+                advanced.wait(lock, [&] { return m < next + window || m >= end; });
+                if (m >= end) {
+                    return;
+                }
+            }
+            Done result;
+            try {
                 const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
-                SourceGrid footprint;
+                // Each thread reuses its footprint's buffers from subtree to subtree: no fresh
+                // pages (faults, zeroing) per subtree.
+                SourceGrid& footprint = footprints[static_cast<size_t>(omp_get_thread_num())];
                 const int64_t T = plan_.T;
                 footprint.stride = 1;
                 // The subtree's tiles with their borders; clamped to the map unless edges are folded.
@@ -361,31 +431,58 @@ private:
                 const int64_t oy0 = static_cast<int64_t>(ty) * T << d, oy1 = (static_cast<int64_t>(ty) + 1) * T << d;
                 const int64_t rowEnd = oy1 == plan_.N ? oy1 + 1 : oy1;
                 const int64_t columnEnd = ox1 == plan_.N ? ox1 + 1 : ox1;
-                int64_t missing = 0;
                 for (int64_t fy = oy0; fy < rowEnd; ++fy) {
                     const uint8_t* valid = footprint.valid.data() + footprint.index(ox0, fy);
-                    missing += std::count(valid, valid + (columnEnd - ox0), uint8_t{0});
+                    result.filled += std::count(valid, valid + (columnEnd - ox0), uint8_t{0});
                 }
-                filled[static_cast<size_t>(m - first)] = missing;
                 const std::vector<float>& parent = levelC[static_cast<size_t>((ty / 2) * cside + tx / 2)];
-                encodeSubtree(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint,
-                              results[static_cast<size_t>(m - first)]);
-            });
-            int64_t overflow = 0;
-            int overflowLevel = 0;
-            for (size_t k = 0; k < results.size(); ++k) {
-                nodataFilled += filled[k];
-                for (const EncodedTile& t : results[k]) {
-                    write(writer, t, stats);
-                    if (t.stats.overflowResidual > overflow) {
-                        overflow = t.stats.overflowResidual;
-                        overflowLevel = t.level;
+                encodeSubtree(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint, result.tiles);
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(mutex);
+                end = std::min(end, m);
+                advanced.notify_all();
+                throw;
+            }
+            std::unique_lock<std::mutex> lock(mutex);
+            result.ready = true;
+            slot(m) = std::move(result);
+            if (writing) {
+                return; // the writing thread takes it in turn
+            }
+            writing = true;
+            while (next < end && slot(next).ready) {
+                Done subtree = std::move(slot(next));
+                slot(next) = Done{};
+                lock.unlock();
+                try {
+                    nodataFilled += subtree.filled;
+                    for (const EncodedTile& t : subtree.tiles) {
+                        write(writer, t, stats);
+                        if (t.stats.overflowResidual > overflow) {
+                            overflow = t.stats.overflowResidual;
+                            overflowLevel = t.level;
+                        }
                     }
+                } catch (...) {
+                    lock.lock();
+                    end = std::min(end, next);
+                    writing = false;
+                    advanced.notify_all();
+                    throw;
                 }
+                lock.lock();
+                ++next;
+                // An overflow ends the encoding at the end of its group of kSubtreesInFlight
+                // subtrees (the overflow reported is the group's largest), whatever the threads.
+                if (overflow && next % kSubtreesInFlight == 0) {
+                    end = std::min(end, next);
+                }
+                advanced.notify_all();
             }
-            if (overflow) {
-                return Overflow{plan_.scale, overflow, overflowLevel};
-            }
+            writing = false;
+        });
+        if (overflow) {
+            return Overflow{plan_.scale, overflow, overflowLevel};
         }
         return std::nullopt;
     }
