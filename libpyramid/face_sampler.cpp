@@ -16,22 +16,35 @@ GeodeticPoint FaceSampler::geodeticOf(int64_t x, int64_t y) const {
 void FaceSampler::sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int64_t ny, float* out,
                          uint8_t* valid) const {
     const int channels = map_.channels();
-    // Rows in bands of about 64k points: one map window per band when the band is compact.
-    const int64_t bandRows = std::max<int64_t>(1, 65536 / std::max<int64_t>(nx, 1));
+    // Blocks of at most kBlock x kBlock points: a block is compact on the map too, so the map
+    // is read as one small window per block. (A whole face row would span a quarter of the
+    // globe and many map rows: too wide a window, read point by point instead.) Each point's
+    // value does not depend on the block it is read with.
+    constexpr int64_t kBlock = 64;
     std::vector<GeodeticPoint> points;
-    for (int64_t j0 = 0; j0 < ny; j0 += bandRows) {
-        const int64_t rows = std::min(bandRows, ny - j0);
-        points.resize(static_cast<size_t>(rows * nx));
-        for (int64_t j = 0; j < rows; ++j) {
-            for (int64_t i = 0; i < nx; ++i) {
-                points[static_cast<size_t>(j * nx + i)] = geodeticOf(x0 + i * stride, y0 + (j0 + j) * stride);
+    std::vector<float> values;
+    std::vector<uint8_t> flags;
+    for (int64_t bj = 0; bj < ny; bj += kBlock) {
+        for (int64_t bi = 0; bi < nx; bi += kBlock) {
+            const int64_t w = std::min(kBlock, nx - bi), h = std::min(kBlock, ny - bj);
+            points.resize(static_cast<size_t>(w * h));
+            for (int64_t j = 0; j < h; ++j) {
+                for (int64_t i = 0; i < w; ++i) {
+                    points[static_cast<size_t>(j * w + i)] = geodeticOf(x0 + (bi + i) * stride, y0 + (bj + j) * stride);
+                }
             }
-        }
-        float* o = out + static_cast<size_t>(j0 * nx * channels);
-        map_.sample(points.data(), points.size(), o, valid + j0 * nx);
-        if (scale_ != 1.0) {
-            for (size_t k = 0; k < points.size() * static_cast<size_t>(channels); ++k) {
-                o[k] = static_cast<float>(static_cast<double>(o[k]) * scale_);
+            values.resize(points.size() * static_cast<size_t>(channels));
+            flags.resize(points.size());
+            map_.sample(points.data(), points.size(), values.data(), flags.data());
+            for (int64_t j = 0; j < h; ++j) {
+                const size_t to = static_cast<size_t>((bj + j) * nx + bi);
+                const size_t from = static_cast<size_t>(j * w);
+                std::copy_n(&flags[from], w, valid + to);
+                float* o = out + to * static_cast<size_t>(channels);
+                const float* v = &values[from * static_cast<size_t>(channels)];
+                for (size_t k = 0; k < static_cast<size_t>(w * channels); ++k) {
+                    o[k] = scale_ == 1.0 ? v[k] : static_cast<float>(static_cast<double>(v[k]) * scale_);
+                }
             }
         }
     }

@@ -31,7 +31,7 @@ public:
     // Samples columns x0 + i * stride (0 <= i < nx) of rows y0 + j * stride (0 <= j < ny), row
     // j = 0 first (south first, as tiles are stored). out: nx * ny * channels() values,
     // interleaved; valid: nx * ny flags (1 = a value, 0 = outside the map's extent or nodata).
-    // Thread-safe; reads the map row band by row band, so memory stays bounded by nx.
+    // Thread-safe; reads the map block of points by block, so memory stays bounded.
     void sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int64_t ny, float* out, uint8_t* valid) const;
 
 private:
