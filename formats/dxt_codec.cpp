@@ -2,6 +2,8 @@
 
 #include <squish.h>
 
+#include <algorithm>
+
 #include "formats/error.hpp"
 
 namespace pyramid {
@@ -18,6 +20,50 @@ int squishFlags(DxtFormat format, int quality) {
         flags |= squish::kColourIterativeClusterFit;
     }
     return flags;
+}
+
+// The 4 x 4 blocks of an RGBA image, each compressed or decompressed by libsquish's per-block
+// calls in the calling thread. (squish::CompressImage and DecompressImage do the same blocks in
+// an OpenMP loop of their own: inside our own parallel loops with one thread, or a single
+// tile's handful of blocks, that spawned a team per tile and spun idle threads; tiles are
+// already encoded in parallel.) Pixels of partial blocks outside the image are masked out.
+void compressBlocks(const uint8_t* rgba, int width, int height, uint8_t* blocks, int flags, size_t blockBytes) {
+    uint8_t block[64];
+    for (int by = 0; by < height; by += 4) {
+        for (int bx = 0; bx < width; bx += 4) {
+            int mask = 0;
+            for (int j = 0; j < 4; ++j) {
+                for (int i = 0; i < 4; ++i) {
+                    const int x = bx + i, y = by + j;
+                    uint8_t* q = block + 4 * (i + 4 * j);
+                    if (x < width && y < height) {
+                        std::copy_n(rgba + 4 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)), 4, q);
+                        mask |= 1 << (i + 4 * j);
+                    } else {
+                        std::fill_n(q, 4, uint8_t{0});
+                    }
+                }
+            }
+            squish::CompressMasked(block, mask, blocks, flags);
+            blocks += blockBytes;
+        }
+    }
+}
+
+void decompressBlocks(uint8_t* rgba, int width, int height, const uint8_t* blocks, int flags, size_t blockBytes) {
+    uint8_t block[64];
+    for (int by = 0; by < height; by += 4) {
+        for (int bx = 0; bx < width; bx += 4) {
+            squish::Decompress(block, blocks, flags);
+            blocks += blockBytes;
+            for (int j = 0; j < 4 && by + j < height; ++j) {
+                for (int i = 0; i < 4 && bx + i < width; ++i) {
+                    std::copy_n(block + 4 * (i + 4 * j), 4,
+                                rgba + 4 * (static_cast<size_t>(by + j) * static_cast<size_t>(width) + static_cast<size_t>(bx + i)));
+                }
+            }
+        }
+    }
 }
 
 } // namespace
@@ -54,7 +100,7 @@ std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int h
         }
     }
     std::vector<uint8_t> blocks(dxtBytes(width, height, format));
-    squish::CompressImage(rgba.data(), width, height, blocks.data(), squishFlags(format, quality));
+    compressBlocks(rgba.data(), width, height, blocks.data(), squishFlags(format, quality), format == DxtFormat::Dxt1 ? 8u : 16u);
     return blocks;
 }
 
@@ -69,7 +115,7 @@ std::vector<uint8_t> decodeDxt(std::span<const uint8_t> blob, int width, int hei
     }
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<uint8_t> rgba(count * 4);
-    squish::DecompressImage(rgba.data(), width, height, blob.data(), squishFlags(format, 1));
+    decompressBlocks(rgba.data(), width, height, blob.data(), squishFlags(format, 1), format == DxtFormat::Dxt1 ? 8u : 16u);
     if (format == DxtFormat::Dxt5) {
         return rgba;
     }
