@@ -103,14 +103,30 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     const int channels = c1_ - c0_;
     std::vector<Taps> taps(count);
     int64_t rowMin = H, rowMax = -1;
-    std::vector<uint8_t> usedColumn(static_cast<size_t>(W), 0);
+    // Columns as offsets from the first point's, in (-W/2, W/2] when the map wraps: points that
+    // lie within half the map's width of each other (as a block of nearby points does) give the
+    // shortest run of columns that holds them all directly from their extreme offsets.
+    int64_t reference = -1, offsetMin = 0, offsetMax = 0;
+    auto offset = [&](int64_t i) {
+        if (!extent_.global()) {
+            return i;
+        }
+        int64_t d = ((i - reference) % W + W) % W;
+        return d > W / 2 ? d - W : d;
+    };
     for (size_t k = 0; k < count; ++k) {
         taps[k] = tapsOf(points[k], extent_, W, H);
         if (taps[k].inside) {
             rowMin = std::min(rowMin, taps[k].j0);
             rowMax = std::max(rowMax, taps[k].j1);
-            usedColumn[static_cast<size_t>(taps[k].i0)] = 1;
-            usedColumn[static_cast<size_t>(taps[k].i1)] = 1;
+            if (reference < 0) {
+                reference = extent_.global() ? taps[k].i0 : 0;
+                offsetMin = offsetMax = offset(taps[k].i0);
+            }
+            for (const int64_t i : {taps[k].i0, taps[k].i1}) {
+                offsetMin = std::min(offsetMin, offset(i));
+                offsetMax = std::max(offsetMax, offset(i));
+            }
         }
     }
     std::fill(out, out + count * static_cast<size_t>(channels), 0.0f);
@@ -118,25 +134,30 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     if (rowMax < 0) {
         return;
     }
-    // The shortest run of columns (circular when the map wraps) holding every used column: the
-    // complement of the longest run of unused ones.
-    int64_t bestGap = 0, bestGapEnd = 0, gap = 0;
-    const int64_t scan = extent_.global() ? 2 * W : W;
-    for (int64_t k = 0; k < scan; ++k) {
-        gap = usedColumn[static_cast<size_t>(k % W)] ? 0 : gap + 1;
-        if (gap > bestGap && gap <= W) {
-            bestGap = gap;
-            bestGapEnd = k + 1;
-        }
-    }
     int64_t colStart = 0, colCount = W;
-    if (extent_.global()) {
+    if (!extent_.global() || offsetMax - offsetMin < W / 2) {
+        colStart = ((reference + offsetMin) % W + W) % W;
+        colCount = offsetMax - offsetMin + 1;
+    } else {
+        // Points spread around the globe: the shortest circular run of columns holding every
+        // used one is the complement of the longest run of unused ones.
+        std::vector<uint8_t> usedColumn(static_cast<size_t>(W), 0);
+        for (size_t k = 0; k < count; ++k) {
+            if (taps[k].inside) {
+                usedColumn[static_cast<size_t>(taps[k].i0)] = 1;
+                usedColumn[static_cast<size_t>(taps[k].i1)] = 1;
+            }
+        }
+        int64_t bestGap = 0, bestGapEnd = 0, gap = 0;
+        for (int64_t k = 0; k < 2 * W; ++k) {
+            gap = usedColumn[static_cast<size_t>(k % W)] ? 0 : gap + 1;
+            if (gap > bestGap && gap <= W) {
+                bestGap = gap;
+                bestGapEnd = k + 1;
+            }
+        }
         colStart = bestGapEnd % W;
         colCount = W - bestGap;
-    } else {
-        colStart = std::find(usedColumn.begin(), usedColumn.end(), 1) - usedColumn.begin();
-        const int64_t last = W - 1 - (std::find(usedColumn.rbegin(), usedColumn.rend(), 1) - usedColumn.rbegin());
-        colCount = last - colStart + 1;
     }
 
     auto readBlock = [&](int64_t col, int64_t ncols, int64_t row, int64_t nrows) {
