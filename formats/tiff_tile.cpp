@@ -142,7 +142,7 @@ uint16_t compressionCode(TiffCompression c) {
 // Encodes one strip of `bits`-bit samples.
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
-                                 int jpegQuality, int deflateLevel = 6) {
+                                 int jpegQuality, int deflateLevel = 6, bool horizontalPredictor = false) {
     if (compression == TiffCompression::Jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
                      std::to_string(bits) + " bits");
@@ -175,6 +175,9 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
     }
     if (compression == TiffCompression::Deflate) {
         TIFFSetField(t, TIFFTAG_ZIPQUALITY, std::clamp(deflateLevel, 1, 9));
+        if (horizontalPredictor) {
+            TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
+        }
     }
     if (TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes)) < 0) {
         fail("", withCause("cannot encode a TIFF tile", stream));
@@ -189,7 +192,8 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
 } // namespace
 
 std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
-                                 TiffCompression compression, int jpegQuality) {
+                                 TiffCompression compression, int jpegQuality, int deflateLevel,
+                                 bool horizontalPredictor) {
     if (channels < 1 || channels > 4 || width < 1 || height < 1 ||
         pixels.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels)) {
         fail("", "TIFF tile: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height) +
@@ -197,7 +201,7 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
     }
     const uint16_t photometric = channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK;
     return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric,
-                       channels == 2 || channels == 4, compression, jpegQuality);
+                       channels == 2 || channels == 4, compression, jpegQuality, deflateLevel, horizontalPredictor);
 }
 
 namespace {

@@ -21,8 +21,13 @@ struct TiffImage {
 };
 
 // Encodes 8-bit pixels (channels 1..4; 3 and 4 as RGB, 1 and 2 as min-is-black).
+// `deflateLevel` (1..9) and `horizontalPredictor` (TIFF Predictor = 2: each sample stored as
+// its difference from the same channel of the pixel to its left) apply to Deflate only; both
+// are undone by any libtiff reader within TIFFReadEncodedStrip, so the decoded pixels are the
+// same whatever they are.
 std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
-                                 TiffCompression compression, int jpegQuality = 90);
+                                 TiffCompression compression, int jpegQuality = 90, int deflateLevel = 6,
+                                 bool horizontalPredictor = false);
 
 // Decodes any one-strip (or multi-strip) contiguous TIFF of 8 or 16 bits per sample,
 // rejecting images larger than maxWidth x maxHeight before allocating anything.

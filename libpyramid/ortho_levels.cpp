@@ -109,6 +109,16 @@ struct OrthoLevels::Impl {
 
     Image8 samplePlanar(int64_t x0, int64_t y0, int w, int h) const {
         Image8 out(w, h, channels);
+        if (ax.exact && ay.exact && !sixteen) {
+            // 8-bit input pixels are the finest pixels: the rows are read straight into place,
+            // bottom up (output row j is input row W - 1 - (y0 + j)). The general path below
+            // gives the same bytes through a 16-bit window and a copy.
+            const auto rowBytes = static_cast<std::ptrdiff_t>(w) * channels;
+            const auto top = static_cast<int>(ay.output - y0 - h);
+            source->readUInt8(static_cast<int>(x0), top, static_cast<int>(x0) + w, top + h, 0, channels,
+                              out.at(0, h - 1), -rowBytes);
+            return out;
+        }
         std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
         double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
         for (int i = 0; i < w; ++i) {
@@ -139,6 +149,19 @@ struct OrthoLevels::Impl {
             return static_cast<double>(window[(static_cast<size_t>(r - ry0) * ww + static_cast<size_t>(c - cx0)) * channels +
                                               static_cast<size_t>(ch)]);
         };
+        // The columns' neighbours and weights are the same on every row: computed once (the
+        // same values as per pixel, so the same bytes).
+        std::vector<int> col0(static_cast<size_t>(w)), col1(static_cast<size_t>(w));
+        std::vector<double> colFx(static_cast<size_t>(w));
+        std::vector<uint8_t> colInside(static_cast<size_t>(w));
+        for (int i = 0; i < w; ++i) {
+            const double X = px[static_cast<size_t>(i)];
+            colInside[static_cast<size_t>(i)] = ax.inside(X);
+            const double fx0 = std::floor(X);
+            colFx[static_cast<size_t>(i)] = X - fx0;
+            col0[static_cast<size_t>(i)] = std::clamp(static_cast<int>(fx0), 0, ax.input - 1);
+            col1[static_cast<size_t>(i)] = std::clamp(static_cast<int>(fx0) + 1, 0, ax.input - 1);
+        }
         for (int j = 0; j < h; ++j) {
             const double Y = py[static_cast<size_t>(j)];
             if (!ay.inside(Y)) {
@@ -157,14 +180,12 @@ struct OrthoLevels::Impl {
                 continue;
             }
             for (int i = 0; i < w; ++i) {
-                const double X = px[static_cast<size_t>(i)];
-                if (!ax.inside(X)) {
+                if (!colInside[static_cast<size_t>(i)]) {
                     continue;
                 }
-                const double fx0 = std::floor(X);
-                const double fx = X - fx0;
-                const int c0 = std::clamp(static_cast<int>(fx0), 0, ax.input - 1);
-                const int c1 = std::clamp(static_cast<int>(fx0) + 1, 0, ax.input - 1);
+                const double fx = colFx[static_cast<size_t>(i)];
+                const int c0 = col0[static_cast<size_t>(i)];
+                const int c1 = col1[static_cast<size_t>(i)];
                 for (int ch = 0; ch < channels; ++ch) {
                     double v = sample(c0, r0, ch);
                     if (fx != 0.0 || fy != 0.0) {
@@ -188,11 +209,22 @@ struct OrthoLevels::Impl {
         t.ty = ty;
         const int side = T + 2 * kBorder;
         t.pixels = Image8(side, side, channels);
+        // The columns are the same for every row: runs of consecutive source columns (all of
+        // them but clamped edge pixels) are copied as one block.
+        std::vector<int64_t> gx(static_cast<size_t>(side));
+        for (int x = 0; x < side; ++x) {
+            gx[static_cast<size_t>(x)] = borderPixel(static_cast<int64_t>(tx) * T + x - kBorder, l) - ox;
+        }
         for (int y = 0; y < side; ++y) {
             const int64_t gy = borderPixel(static_cast<int64_t>(ty) * T + y - kBorder, l) - oy;
-            for (int x = 0; x < side; ++x) {
-                const int64_t gx = borderPixel(static_cast<int64_t>(tx) * T + x - kBorder, l) - ox;
-                std::copy_n(img.at(static_cast<int>(gx), static_cast<int>(gy)), channels, t.pixels.at(x, y));
+            for (int x = 0; x < side;) {
+                int run = 1;
+                while (x + run < side && gx[static_cast<size_t>(x + run)] == gx[static_cast<size_t>(x)] + run) {
+                    ++run;
+                }
+                std::copy_n(img.at(static_cast<int>(gx[static_cast<size_t>(x)]), static_cast<int>(gy)),
+                            static_cast<size_t>(run) * channels, t.pixels.at(x, y));
+                x += run;
             }
         }
         return t;

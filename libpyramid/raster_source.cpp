@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "formats/error.hpp"
+#include "libpyramid/tiff_pixel_reader.hpp"
 
 namespace pyramid {
 
@@ -474,6 +475,7 @@ struct RasterSource::Impl {
     OIIO::ustring name;
     std::unique_ptr<DirectTiff> direct; // set when the file can be read without the cache
     std::unique_ptr<BlockTiff> blocks;  // or when libtiff decodes it, block by block
+    std::unique_ptr<TiffPixelReader> pixels; // 8- or 16-bit samples read without the cache
 
     ~Impl() {
         if (cache) {
@@ -527,6 +529,10 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     impl.direct = openDirectTiff(path, info);
     if (!impl.direct) {
         impl.blocks = BlockTiff::open(path, info, cacheMegabytes);
+    }
+    if (info.formatName == "tiff" && (info.type == SampleType::UInt8 || info.type == SampleType::UInt16)) {
+        impl.pixels =
+            TiffPixelReader::open(path, info.width, info.height, info.channels, info.type == SampleType::UInt8 ? 1 : 2);
     }
     return source;
 }
@@ -614,6 +620,12 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
     // widened to its plain value 0..255 instead, as documented.
     const bool eightBit = info_.type == SampleType::UInt8 || info_.type == SampleType::Int8;
     const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0);
+    if (impl_->pixels) {
+        if (!impl_->pixels->readUInt16(x0, y0, x1, y1, c0, c1, out)) {
+            fail(path_, std::string("read failed: ") + (errno ? std::strerror(errno) : "file too short"));
+        }
+        return;
+    }
     if (eightBit) {
         std::vector<uint8_t> bytes(count);
         if (!impl_->cache->get_pixels(impl_->name, 0, 0, x0, x1, y0, y1, 0, 1, c0, c1, OIIO::TypeDesc::UINT8,
@@ -629,6 +641,34 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
     if (!impl_->cache->get_pixels(impl_->name, 0, 0, x0, x1, y0, y1, 0, 1, c0, c1, OIIO::TypeDesc::UINT16, out)) {
         std::string why = impl_->cache->geterror();
         fail(path_, "read failed: " + why.substr(0, why.find('\n')));
+    }
+}
+
+void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
+                             std::ptrdiff_t rowStride) const {
+    checkWindow(path_, info_, x0, y0, x1, y1);
+    if (c0 < 0 || c1 > info_.channels || c0 >= c1) {
+        fail(path_, "channels [" + std::to_string(c0) + "," + std::to_string(c1) + ") outside the image");
+    }
+    if (info_.type != SampleType::UInt8) {
+        fail(path_, "readUInt8 on samples that are not 8-bit unsigned");
+    }
+    if (impl_->pixels) {
+        if (!impl_->pixels->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
+            fail(path_, std::string("read failed: ") + (errno ? std::strerror(errno) : "file too short"));
+        }
+        return;
+    }
+    const size_t rowBytes = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
+    std::vector<uint8_t> bytes(rowBytes * static_cast<size_t>(y1 - y0));
+    if (!impl_->cache->get_pixels(impl_->name, 0, 0, x0, x1, y0, y1, 0, 1, c0, c1, OIIO::TypeDesc::UINT8,
+                                  bytes.data())) {
+        std::string why = impl_->cache->geterror();
+        fail(path_, "read failed: " + why.substr(0, why.find('\n')));
+    }
+    for (int y = y0; y < y1; ++y) {
+        std::copy_n(&bytes[static_cast<size_t>(y - y0) * rowBytes], rowBytes,
+                    out + static_cast<std::ptrdiff_t>(y - y0) * rowStride);
     }
 }
 

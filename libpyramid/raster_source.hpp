@@ -4,6 +4,7 @@
 //
 // Coordinates are the file's: column x = 0 on the west/left, row y = 0 on the north/top.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -43,6 +44,10 @@ public:
     // Reads channels [c0, c1) of the window as uint16 (8-bit input is widened exactly, 0..255;
     // 16-bit input is returned as is). Interleaved, north first. Thread-safe.
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
+    // 8-bit input only: channels [c0, c1) of the window as stored, interleaved; row y goes to
+    // out + (y - y0) * rowStride (bytes; negative to store the rows bottom up). Saves the
+    // widening to 16 bits, and the copy back, where samples are used as they are. Thread-safe.
+    void readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;
 
 private:
     RasterSource() = default;

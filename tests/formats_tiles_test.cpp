@@ -130,6 +130,41 @@ TEST(OrthoTiff, TagsAndCompressionNames) {
     EXPECT_EQ(describeTiff(std::vector<uint8_t>{1, 2, 3}), "invalid");
 }
 
+// Deflate tiles with the horizontal predictor (what preprocessOrtho writes): the Predictor tag
+// is set and plain libtiff, reading the strip as the original runtime does (TIFFReadEncodedStrip,
+// no other setting), returns the very pixels that were encoded, for every channel count and
+// Deflate level.
+TEST(OrthoTiff, PredictorTilesDecodeToTheSamePixelsWithPlainLibtiff) {
+    for (int channels = 1; channels <= 4; ++channels) {
+        for (int level : {1, 6}) {
+            SCOPED_TRACE(std::to_string(channels) + " channels, level " + std::to_string(level));
+            const auto pixels = gradient(20, channels);
+            const auto blob = encodeTiff8(pixels, 20, 20, channels, TiffCompression::Deflate, 90, level, true);
+            EXPECT_EQ(describeTiff(blob), "deflate");
+            EXPECT_EQ(decodeOrthoTiff(blob, 20, channels, "t"), pixels);
+            test::TempDir dir;
+            const std::string path = dir.file("tile.tif");
+            FILE* f = std::fopen(path.c_str(), "wb");
+            ASSERT_NE(f, nullptr);
+            ASSERT_EQ(std::fwrite(blob.data(), 1, blob.size(), f), blob.size());
+            std::fclose(f);
+            TIFF* t = TIFFOpen(path.c_str(), "r");
+            ASSERT_NE(t, nullptr);
+            uint16_t predictor = 0;
+            TIFFGetField(t, TIFFTAG_PREDICTOR, &predictor);
+            EXPECT_EQ(predictor, PREDICTOR_HORIZONTAL);
+            std::vector<uint8_t> strip(pixels.size());
+            EXPECT_EQ(TIFFReadEncodedStrip(t, 0, strip.data(), static_cast<tmsize_t>(strip.size())),
+                      static_cast<tmsize_t>(strip.size()));
+            TIFFClose(t);
+            EXPECT_EQ(strip, pixels);
+        }
+    }
+    // Without the predictor (the default, as residual and DEM tiles are written) nothing changes.
+    const auto plain = encodeTiff8(gradient(20, 3), 20, 20, 3, TiffCompression::Deflate, 90);
+    EXPECT_EQ(decodeOrthoTiff(plain, 20, 3, "t"), gradient(20, 3));
+}
+
 TEST(OrthoTiff, JpegQualityIsHonoured) {
     std::vector<uint8_t> pixels(64 * 64 * 3);
     for (size_t k = 0; k < pixels.size(); ++k) {

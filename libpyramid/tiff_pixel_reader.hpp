@@ -1,0 +1,41 @@
+// Uncompressed, striped TIFF files of interleaved 8- or 16-bit unsigned samples (what
+// OpenImageIO, GDAL and most tools write for large imagery without compression), read without
+// OpenImageIO's ImageCache: each row of a window is one pread at its offset in the file.
+// The cache decodes such files one scanline at a time under one lock per file and copies every
+// sample through its tiles; the operating system's page cache serves these reads directly, from
+// any number of threads. The samples are the file's values, as the cache returns them.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pyramid {
+
+class TiffPixelReader {
+public:
+    // nullptr when the file is not such a TIFF (any other layout is left to the cache), or
+    // does not match the expected size, channel count and sample size (1 or 2 bytes).
+    static std::unique_ptr<TiffPixelReader> open(const std::string& path, int width, int height, int channels,
+                                                 int bytesPerSample);
+    ~TiffPixelReader();
+    TiffPixelReader(const TiffPixelReader&) = delete;
+    TiffPixelReader& operator=(const TiffPixelReader&) = delete;
+
+    // Channels [c0, c1) of columns [x0, x1) x rows [y0, y1), interleaved, north first, widened
+    // to uint16 by value. False on a read error or a short file (errno set, 0 when short).
+    // Thread-safe.
+    bool readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
+    // 8-bit files only: the samples as stored, row y at out + (y - y0) * rowStride bytes.
+    bool readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;
+
+private:
+    TiffPixelReader() = default;
+    int fd_ = -1;
+    int width_ = 0, channels_ = 0, bytesPerSample_ = 0;
+    uint32_t rowsPerStrip_ = 0;
+    std::vector<uint64_t> stripOffsets_;
+};
+
+} // namespace pyramid
