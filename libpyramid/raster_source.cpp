@@ -2,9 +2,7 @@
 
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imageio.h>
-#include <fcntl.h>
 #include <tiffio.h>
-#include <unistd.h>
 
 #include <bit>
 #include <cerrno>
@@ -172,110 +170,6 @@ OIIO::ImageCache* processCache(int cacheMegabytes) {
         cache->attribute("max_memory_MB", static_cast<float>(budget));
     }
     return cache;
-}
-
-// An uncompressed, striped, single-band float32 TIFF in the host's byte order (what GDAL and
-// OpenImageIO write for large DEMs by default) is read without the ImageCache: each row of a
-// window is one pread at its offset in the file. The cache would copy every sample twice
-// (decoding buffer, cache tile) into freshly faulted memory, one band at a time under its
-// per-file lock, and hold up to --cache-mb of it; the operating system's page cache serves
-// these reads directly, from any number of threads. The values are the file's bits, as the
-// cache returns them.
-struct DirectTiff {
-    int fd = -1;
-    int width = 0;
-    uint32_t rowsPerStrip = 0;
-    std::vector<uint64_t> stripOffsets;
-
-    ~DirectTiff() {
-        if (fd >= 0) {
-            ::close(fd);
-        }
-    }
-};
-
-std::unique_ptr<DirectTiff> openDirectTiff(const std::string& path, const RasterInfo& info) {
-    if (info.formatName != "tiff" || info.type != SampleType::Float32 || info.channels != 1 ||
-        std::endian::native != std::endian::little) {
-        return nullptr;
-    }
-    TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
-    TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
-    TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
-    TIFF* tif = TIFFOpenExt(path.c_str(), "rm", options);
-    TIFFOpenOptionsFree(options);
-    if (!tif) {
-        return nullptr;
-    }
-    std::unique_ptr<DirectTiff> direct;
-    uint32_t width = 0, height = 0, rowsPerStrip = 0;
-    uint16_t compression = 0, bits = 0, format = 0, channels = 0, photometric = 0;
-    TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &width);
-    TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &height);
-    TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &compression);
-    TIFFGetFieldDefaulted(tif, TIFFTAG_BITSPERSAMPLE, &bits);
-    TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLEFORMAT, &format);
-    TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLESPERPIXEL, &channels);
-    TIFFGetFieldDefaulted(tif, TIFFTAG_ROWSPERSTRIP, &rowsPerStrip);
-    TIFFGetFieldDefaulted(tif, TIFFTAG_PHOTOMETRIC, &photometric);
-    rowsPerStrip = std::min(rowsPerStrip, height);
-    const uint64_t rowBytes = static_cast<uint64_t>(width) * 4u;
-    if (!TIFFIsTiled(tif) && !TIFFIsByteSwapped(tif) && compression == COMPRESSION_NONE && bits == 32 &&
-        format == SAMPLEFORMAT_IEEEFP && channels == 1 && photometric == PHOTOMETRIC_MINISBLACK &&
-        width == static_cast<uint32_t>(info.width) && height == static_cast<uint32_t>(info.height) &&
-        rowsPerStrip > 0 && TIFFNumberOfStrips(tif) == (height + rowsPerStrip - 1) / rowsPerStrip) {
-        direct = std::make_unique<DirectTiff>();
-        direct->width = static_cast<int>(width);
-        direct->rowsPerStrip = rowsPerStrip;
-        const uint32_t strips = TIFFNumberOfStrips(tif);
-        for (uint32_t s = 0; s < strips && direct; ++s) {
-            const uint32_t rows = std::min(rowsPerStrip, height - s * rowsPerStrip);
-            const uint64_t offset = TIFFGetStrileOffset(tif, s);
-            // A strip must hold all its rows, or the cache reads (and reports) the file.
-            if (offset == 0 || TIFFGetStrileByteCount(tif, s) < rows * rowBytes) {
-                direct.reset();
-            } else {
-                direct->stripOffsets.push_back(offset);
-            }
-        }
-    }
-    TIFFClose(tif);
-    if (direct) {
-        direct->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-        if (direct->fd < 0) {
-            direct.reset();
-        }
-    }
-    return direct;
-}
-
-// Reads columns [x0, x1) of rows [y0, y1), row-major; false on a read error or a short file.
-bool readDirect(const DirectTiff& d, int x0, int y0, int x1, int y1, float* out) {
-    const size_t count = static_cast<size_t>(x1 - x0);
-    const uint64_t rowBytes = static_cast<uint64_t>(d.width) * 4u;
-    for (int y = y0; y < y1; ++y) {
-        const uint32_t row = static_cast<uint32_t>(y);
-        uint64_t offset = d.stripOffsets[row / d.rowsPerStrip] + (row % d.rowsPerStrip) * rowBytes +
-                          static_cast<uint64_t>(x0) * 4u;
-        auto* bytes = reinterpret_cast<char*>(out + static_cast<size_t>(y - y0) * count);
-        size_t left = count * sizeof(float);
-        while (left > 0) {
-            const ssize_t got = ::pread(d.fd, bytes, left, static_cast<off_t>(offset));
-            if (got < 0 && errno == EINTR) {
-                continue;
-            }
-            if (got == 0) {
-                errno = 0; // the file ends before the row
-            }
-            if (got <= 0) {
-                return false;
-            }
-            bytes += got;
-            left -= static_cast<size_t>(got);
-            offset += static_cast<uint64_t>(got);
-        }
-    }
-    return true;
 }
 
 // Other single-band TIFF files of 8, 16 or 32-bit integers or float32 (compressed, tiled,
@@ -473,7 +367,10 @@ private:
 struct RasterSource::Impl {
     OIIO::ImageCache* cache = nullptr;
     OIIO::ustring name;
-    std::unique_ptr<DirectTiff> direct; // set when the file can be read without the cache
+    // Set when an uncompressed float32 TIFF can be read without any cache: each row of a window
+    // is one pread (the cache would copy every sample twice into freshly faulted memory, one band
+    // at a time under its per-file lock, and hold up to --cache-mb of it).
+    std::unique_ptr<TiffPixelReader> floats;
     std::unique_ptr<BlockTiff> blocks;  // or when libtiff decodes it, block by block
     std::unique_ptr<TiffPixelReader> pixels; // 8- or 16-bit samples read without the cache
 
@@ -526,8 +423,10 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
         fail(path, "empty image");
     }
-    impl.direct = openDirectTiff(path, info);
-    if (!impl.direct) {
+    if (info.formatName == "tiff" && info.type == SampleType::Float32) {
+        impl.floats = TiffPixelReader::open(path, info.width, info.height, info.channels, 4, true);
+    }
+    if (!impl.floats) {
         impl.blocks = BlockTiff::open(path, info, cacheMegabytes);
     }
     if (info.formatName == "tiff" && (info.type == SampleType::UInt8 || info.type == SampleType::UInt16)) {
@@ -569,8 +468,8 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
     if (channel < 0 || channel >= info_.channels) {
         fail(path_, "no channel " + std::to_string(channel));
     }
-    if (impl_->direct) {
-        if (!readDirect(*impl_->direct, x0, y0, x1, y1, out)) {
+    if (impl_->floats) {
+        if (!impl_->floats->readFloat(x0, y0, x1, y1, channel, out)) {
             fail(path_, std::string("read failed: ") + (errno ? std::strerror(errno) : "file too short"));
         }
         return;

@@ -39,9 +39,10 @@ bool readAt(int fd, char* bytes, size_t count, uint64_t offset) {
 } // namespace
 
 std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, int width, int height, int channels,
-                                                       int bytesPerSample) {
-    // 16-bit samples are read as stored: only in the host's byte order.
-    if ((bytesPerSample != 1 && bytesPerSample != 2) || (bytesPerSample == 2 && std::endian::native != std::endian::little)) {
+                                                       int bytesPerSample, bool floatSamples) {
+    // Multi-byte samples are read as stored: only in the host's byte order.
+    const bool supported = floatSamples ? bytesPerSample == 4 : (bytesPerSample == 1 || bytesPerSample == 2);
+    if (!supported || (bytesPerSample > 1 && std::endian::native != std::endian::little)) {
         return nullptr;
     }
     TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
@@ -71,7 +72,8 @@ std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, 
     TIFFGetFieldDefaulted(tif, TIFFTAG_PHOTOMETRIC, &photometric);
     const bool plainSamples = photometric == PHOTOMETRIC_MINISBLACK || photometric == PHOTOMETRIC_RGB;
     if (!TIFFIsTiled(tif) && !TIFFIsByteSwapped(tif) && compression == COMPRESSION_NONE && plainSamples &&
-        bits == 8 * bytesPerSample && format == SAMPLEFORMAT_UINT && samples == channels &&
+        bits == 8 * bytesPerSample &&
+        format == (floatSamples ? SAMPLEFORMAT_IEEEFP : SAMPLEFORMAT_UINT) && samples == channels &&
         (planar == PLANARCONFIG_CONTIG || samples == 1) && w == static_cast<uint32_t>(width) &&
         h == static_cast<uint32_t>(height) && rowsPerStrip > 0 &&
         TIFFNumberOfStrips(tif) == (h + rowsPerStrip - 1) / rowsPerStrip) {
@@ -79,6 +81,7 @@ std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, 
         reader->width_ = width;
         reader->channels_ = channels;
         reader->bytesPerSample_ = bytesPerSample;
+        reader->float_ = floatSamples;
         reader->rowsPerStrip_ = rowsPerStrip;
         const uint32_t strips = TIFFNumberOfStrips(tif);
         for (uint32_t s = 0; s < strips && reader; ++s) {
@@ -138,6 +141,32 @@ bool TiffPixelReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1,
                     std::memcpy(&o[i * wanted + c],
                                 &row[(i * static_cast<size_t>(channels_) + static_cast<size_t>(c0) + c) * 2u], 2);
                 }
+            }
+        }
+    }
+    return true;
+}
+
+bool TiffPixelReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    if (!float_) {
+        return false;
+    }
+    const size_t pixels = static_cast<size_t>(x1 - x0);
+    const size_t channels = static_cast<size_t>(channels_);
+    const uint64_t rowBytes = static_cast<uint64_t>(width_) * channels * 4u;
+    std::vector<float> row(channels == 1 ? 0 : pixels * channels);
+    for (int y = y0; y < y1; ++y) {
+        const auto r = static_cast<uint32_t>(y);
+        const uint64_t offset = stripOffsets_[r / rowsPerStrip_] + (r % rowsPerStrip_) * rowBytes +
+                                static_cast<uint64_t>(x0) * channels * 4u;
+        float* o = out + static_cast<size_t>(y - y0) * pixels;
+        // One band: straight into place.
+        if (!readAt(fd_, reinterpret_cast<char*>(channels == 1 ? o : row.data()), pixels * channels * 4u, offset)) {
+            return false;
+        }
+        if (channels > 1) {
+            for (size_t i = 0; i < pixels; ++i) {
+                o[i] = row[i * channels + static_cast<size_t>(channel)];
             }
         }
     }

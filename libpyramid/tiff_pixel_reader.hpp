@@ -1,5 +1,6 @@
-// Uncompressed, striped TIFF files of interleaved 8- or 16-bit unsigned samples (what
-// OpenImageIO, GDAL and most tools write for large imagery without compression), read without
+// Uncompressed, striped TIFF files of interleaved 8- or 16-bit unsigned or 32-bit float samples
+// (what OpenImageIO, GDAL and most tools write for large imagery and DEMs without compression),
+// read without
 // OpenImageIO's ImageCache: each row of a window is one pread at its offset in the file.
 // The cache decodes such files one scanline at a time under one lock per file and copies every
 // sample through its tiles; the operating system's page cache serves these reads directly, from
@@ -16,9 +17,10 @@ namespace pyramid {
 class TiffPixelReader {
 public:
     // nullptr when the file is not such a TIFF (any other layout is left to the cache), or
-    // does not match the expected size, channel count and sample size (1 or 2 bytes).
+    // does not match the expected size, channel count and sample type (unsigned integers of 1
+    // or 2 bytes, or float32 when `floatSamples`).
     static std::unique_ptr<TiffPixelReader> open(const std::string& path, int width, int height, int channels,
-                                                 int bytesPerSample);
+                                                 int bytesPerSample, bool floatSamples = false);
     ~TiffPixelReader();
     TiffPixelReader(const TiffPixelReader&) = delete;
     TiffPixelReader& operator=(const TiffPixelReader&) = delete;
@@ -27,6 +29,9 @@ public:
     // to uint16 by value. False on a read error or a short file (errno set, 0 when short).
     // Thread-safe.
     bool readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
+    // Float32 files only: channel `channel` of the window, row-major, north first, the file's
+    // bits as they are.
+    bool readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
     // 8-bit files only: the samples as stored, row y at out + (y - y0) * rowStride bytes.
     bool readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;
 
@@ -34,6 +39,7 @@ private:
     TiffPixelReader() = default;
     int fd_ = -1;
     int width_ = 0, channels_ = 0, bytesPerSample_ = 0;
+    bool float_ = false;
     uint32_t rowsPerStrip_ = 0;
     std::vector<uint64_t> stripOffsets_;
 };
