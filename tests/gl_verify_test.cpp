@@ -43,6 +43,21 @@ TEST(GlVerify, UlpDistance) {
     EXPECT_EQ(ulpDistance(-1.0f, std::nextafter(-1.0f, -2.0f)), 1u);
 }
 
+TEST(GlVerify, AnyDifferenceBeyondTheToleranceFailsTheReport) {
+    GlVerifyReport r;
+    EXPECT_FALSE(r.ok()); // nothing compared is no proof
+    r.parts.push_back({"elevation n=24 delta=0", "ulp", 10, 0, 0.0, 0.0});
+    r.parts.push_back({"DXT decoded colours", "abs", 10, 3, 3.0, kDxtDecodeTolerance});
+    EXPECT_TRUE(r.ok());
+    r.parts[0].differingTiles = 1;
+    r.parts[0].maxDifference = 1.0; // one ulp in one tile
+    EXPECT_FALSE(r.ok());
+    EXPECT_EQ(toJson(r)["ok"], false);
+    r.parts[0] = {"elevation n=24 delta=0", "ulp", 10, 0, 0.0, 0.0};
+    r.parts[1].maxDifference = kDxtDecodeTolerance + 1.0;
+    EXPECT_FALSE(r.ok());
+}
+
 TEST(GlVerify, OriginalDemEveryTileSize) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     const GlVerifyReport r = verifyOnGl(test::dataPath("proland/DEM.dat"));
