@@ -63,6 +63,18 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
     return h;
 }
 
+std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncodeOptions& options,
+                                         const std::string& where) {
+    if (options.band < 0 || options.band >= input.channels) {
+        fail("--band", std::to_string(options.band + 1) + " is not a band of " + where + " (it has " +
+                           std::to_string(input.channels) + ")");
+    }
+    if (options.nodata || options.ignoreDeclaredNodata) {
+        return options.nodata;
+    }
+    return input.nodata;
+}
+
 DemReport encodeDem(const std::string& input, const std::string& output, const DemEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     if (!options.autoScale && (!std::isfinite(options.scale) || options.scale <= 0.0)) {
@@ -74,18 +86,11 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
     report.output = output;
     report.inputInfo = source->info();
     report.band = options.band;
-    if (options.band < 0 || options.band >= source->info().channels) {
-        fail("--band", std::to_string(options.band + 1) + " is not a band of " + input + " (it has " +
-                           std::to_string(source->info().channels) + ")");
-    }
+    const std::optional<double> nodata = checkBandAndNodata(source->info(), options, input);
     ResidualPyramidJob job;
     job.header = planDemPyramid(source->info(), options, input);
     job.input = input;
     const int64_t N = static_cast<int64_t>(job.header.tileSize >> job.header.minLevel) << job.header.maxLevel;
-    std::optional<double> nodata = options.nodata;
-    if (!nodata && !options.ignoreDeclaredNodata) {
-        nodata = source->info().nodata;
-    }
     report.nodata = nodata;
     const DemGeometry geometry = makeDemGeometry(source->info().width, source->info().height, N, options.stretch, input);
     report.sampling = geometry.describe();

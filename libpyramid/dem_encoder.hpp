@@ -63,6 +63,12 @@ struct DemReport {
     double seconds = 0.0;
 };
 
+// The height band and nodata value the options select in an input: throws Error naming --band
+// when the input has no such band; the nodata value is the option's, else what the file declares
+// (unless options.ignoreDeclaredNodata), else none.
+std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncodeOptions& options,
+                                         const std::string& where);
+
 // The finest level's interval count for an input and options (maxLevel resolved).
 ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& options, const std::string& where);
 

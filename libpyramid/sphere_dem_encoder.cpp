@@ -64,14 +64,7 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
     report.heightScale = options.heightScale;
     report.body = body.describe();
     report.extent = options.extent;
-    if (o.band < 0 || o.band >= source->info().channels) {
-        fail("--band", std::to_string(o.band + 1) + " is not a band of " + input + " (it has " +
-                           std::to_string(source->info().channels) + ")");
-    }
-    std::optional<double> nodata = o.nodata;
-    if (!nodata && !o.ignoreDeclaredNodata) {
-        nodata = source->info().nodata;
-    }
+    const std::optional<double> nodata = checkBandAndNodata(source->info(), o, input);
     report.nodata = nodata;
 
     // One face spans a quarter of the equator: at least width / 4 intervals match the map there.
