@@ -108,16 +108,10 @@ std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
     return std::nullopt;
 }
 
-int ignoreTiffMessage(TIFF*, void*, const char*, const char*, va_list) { return 1; }
-
 // GDAL keeps a GeoTIFF's nodata value in its own ASCII tag (42113), which OpenImageIO does not
 // expose: read it with libtiff. Its warnings (GeoTIFF tags it does not know) are not shown.
 std::optional<double> geoTiffNodata(const std::string& path) {
-    TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
-    TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
-    TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
-    TIFF* tif = TIFFOpenExt(path.c_str(), "r", options);
-    TIFFOpenOptionsFree(options);
+    TIFF* tif = openTiffQuietly(path, "r");
     if (!tif) {
         return std::nullopt;
     }
@@ -264,12 +258,7 @@ private:
     BlockTiff() = default;
 
     TIFF* openHandle() const {
-        TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
-        TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
-        TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
-        TIFF* tif = TIFFOpenExt(path_.c_str(), "r", options);
-        TIFFOpenOptionsFree(options);
-        return tif;
+        return openTiffQuietly(path_, "r");
     }
 
     // Block (bx, by), decoded; from the cache or decoded now (outside the lock).

@@ -38,6 +38,15 @@ bool readAt(int fd, char* bytes, size_t count, uint64_t offset) {
 
 } // namespace
 
+TIFF* openTiffQuietly(const std::string& path, const char* mode) {
+    TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
+    TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
+    TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
+    TIFF* tif = TIFFOpenExt(path.c_str(), mode, options);
+    TIFFOpenOptionsFree(options);
+    return tif;
+}
+
 std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, int width, int height, int channels,
                                                        int bytesPerSample, bool floatSamples) {
     // Multi-byte samples are read as stored: only in the host's byte order.
@@ -45,11 +54,7 @@ std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, 
     if (!supported || (bytesPerSample > 1 && std::endian::native != std::endian::little)) {
         return nullptr;
     }
-    TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
-    TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
-    TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
-    TIFF* tif = TIFFOpenExt(path.c_str(), "rm", options);
-    TIFFOpenOptionsFree(options);
+    TIFF* tif = openTiffQuietly(path, "rm");
     if (!tif) {
         return nullptr;
     }

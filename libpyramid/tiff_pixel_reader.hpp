@@ -12,7 +12,14 @@
 #include <string>
 #include <vector>
 
+typedef struct tiff TIFF;
+
 namespace pyramid {
+
+// Opens a TIFF input with libtiff in `mode` ("r", or "rm" without memory mapping), its errors
+// and warnings silenced: a file libtiff cannot read is left to OpenImageIO, whose message names
+// the problem, and GeoTIFF tags libtiff does not know are no concern. Null when it fails.
+TIFF* openTiffQuietly(const std::string& path, const char* mode);
 
 class TiffPixelReader {
 public:
