@@ -1,6 +1,4 @@
 // `pyramid tile FILE LEVEL TX TY -o OUT [--residual]`: one tile out of a pyramid file.
-#include <OpenImageIO/imageio.h>
-
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/elevation_producer.hpp"
+#include "libpyramid/image_io_module.hpp"
 
 namespace pyramid::cli {
 
@@ -25,7 +24,7 @@ namespace {
 struct TileData {
     int side = 0;
     int channels = 1;
-    OIIO::TypeDesc type;
+    SampleType type = SampleType::Float32;
     std::vector<uint8_t> bytes;
 };
 
@@ -40,9 +39,9 @@ std::string extensionOf(const std::string& path) {
 // Raw files keep the stored order (row 0 = bottom); images are written north-up.
 void writeTile(const TileData& tile, const std::string& path) {
     const std::string ext = extensionOf(path);
-    const bool isFloat = tile.type == OIIO::TypeFloat;
-    const bool isInt16 = tile.type == OIIO::TypeDesc::INT16;
-    const bool isByte = tile.type == OIIO::TypeDesc::UINT8;
+    const bool isFloat = tile.type == SampleType::Float32;
+    const bool isInt16 = tile.type == SampleType::Int16;
+    const bool isByte = tile.type == SampleType::UInt8;
     if (ext == ".f32" || ext == ".i16" || ext == ".u8") {
         const bool matches = (ext == ".f32" && isFloat) || (ext == ".i16" && isInt16) || (ext == ".u8" && isByte);
         if (!matches) {
@@ -60,7 +59,8 @@ void writeTile(const TileData& tile, const std::string& path) {
     if (ext == ".png" && !isByte) {
         fail(path, "PNG holds 8-bit images only; use .tif or .exr for elevations and residuals");
     }
-    const size_t rowBytes = static_cast<size_t>(tile.side) * tile.channels * tile.type.size();
+    const size_t sampleBytes = isFloat ? 4 : isInt16 ? 2 : 1;
+    const size_t rowBytes = static_cast<size_t>(tile.side) * static_cast<size_t>(tile.channels) * sampleBytes;
     std::vector<uint8_t> flipped(tile.bytes.size());
     for (int j = 0; j < tile.side; ++j) {
         std::copy_n(&tile.bytes[static_cast<size_t>(j) * rowBytes], rowBytes,
@@ -70,16 +70,16 @@ void writeTile(const TileData& tile, const std::string& path) {
     const std::filesystem::path target(path);
     const std::string tmp = (target.parent_path() / ("." + target.stem().string() + ".tmp-" +
                                                      std::to_string(std::random_device{}()) + ext)).string();
-    OIIO::TypeDesc fileType = tile.type;
+    SampleType fileType = tile.type;
     if (ext == ".exr" && !isFloat) {
-        fileType = OIIO::TypeFloat; // exact for int16 and byte values
+        fileType = SampleType::Float32; // exact for int16 and byte values
     }
-    auto out = OIIO::ImageOutput::create(tmp);
-    OIIO::ImageSpec spec(tile.side, tile.side, tile.channels, fileType);
-    if (!out || !out->open(tmp, spec) || !out->write_image(tile.type, flipped.data()) || !out->close()) {
+    std::string error;
+    if (!imageIoModule(path).write(tmp, tile.side, tile.side, tile.channels, tile.type, fileType, flipped.data(),
+                                   error)) {
         std::error_code ec;
         std::filesystem::remove(tmp, ec);
-        fail(path, "cannot write the image" + std::string(out ? ": " + out->geterror() : ""));
+        fail(path, "cannot write the image: " + error);
     }
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
@@ -98,14 +98,14 @@ TileData residualTile(const std::string& file, int level, int tx, int ty, bool r
     t.side = reader->header().tileSamples(level);
     if (raw) {
         const std::vector<int16_t> r = reader->readTile(level, tx, ty);
-        t.type = OIIO::TypeDesc::INT16;
+        t.type = SampleType::Int16;
         t.bytes.resize(r.size() * sizeof(int16_t));
         std::memcpy(t.bytes.data(), r.data(), t.bytes.size());
         return t;
     }
     const FileLevelProducer producer = makeFileLevelProducer(file, level, 16);
     const auto tile = producer.fileTile(level, tx, ty);
-    t.type = OIIO::TypeFloat;
+    t.type = SampleType::Float32;
     t.bytes.resize(tile->zf.size() * sizeof(float));
     std::memcpy(t.bytes.data(), tile->zf.data(), t.bytes.size());
     return t;
@@ -116,7 +116,7 @@ TileData orthoTile(const std::string& file, int level, int tx, int ty) {
     TileData t;
     t.side = reader->header().tilePixels();
     t.channels = reader->header().channels;
-    t.type = OIIO::TypeDesc::UINT8;
+    t.type = SampleType::UInt8;
     t.bytes = reader->readTile(level, tx, ty);
     return t;
 }

@@ -1,6 +1,9 @@
-// Raster input for the preprocessors, through OpenImageIO's ImageCache: any format OIIO
-// reads (GeoTIFF, PNG, EXR, ...), of any size, read by windows in bounded memory (the cache
-// holds at most `cacheMegabytes`) and from many threads at once.
+// Raster input for the preprocessors: any format OpenImageIO reads (GeoTIFF, PNG, EXR, ...),
+// of any size, read by windows in bounded memory (at most `cacheMegabytes` of decoded
+// samples are cached) and from many threads at once. TIFF and PNG files are read directly
+// with libtiff and libpng; other formats and layouts through OpenImageIO's ImageCache, in a
+// module loaded only then (image_io_module.hpp). Samples are the stored values: integers are
+// never normalised, and an alpha channel is never multiplied into the colours.
 //
 // Coordinates are the file's: column x = 0 on the west/left, row y = 0 on the north/top.
 #pragma once
@@ -49,9 +52,10 @@ public:
     // widening to 16 bits, and the copy back, where samples are used as they are. Thread-safe.
     void readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;
 
+    struct Impl; // the readers behind it (raster_source.cpp)
+
 private:
     RasterSource() = default;
-    struct Impl;
     std::unique_ptr<Impl> impl_;
     std::string path_;
     RasterInfo info_;

@@ -1,0 +1,162 @@
+#include "libpyramid/png_raster_reader.hpp"
+
+#include <png.h>
+
+#include <algorithm>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+// Everything the decoder touches after setjmp lives here, behind a pointer that does not
+// change: a longjmp out of libpng leaves it in a defined state.
+struct Decoding {
+    FILE* file = nullptr;
+    png_structp png = nullptr;
+    png_infop pngInfo = nullptr;
+    std::string error;
+    std::vector<png_bytep> rows;
+
+    ~Decoding() {
+        if (png) {
+            png_destroy_read_struct(&png, pngInfo ? &pngInfo : nullptr, nullptr);
+        }
+        if (file) {
+            std::fclose(file);
+        }
+    }
+};
+
+[[noreturn]] void onPngError(png_structp png, png_const_charp message) {
+    auto* d = static_cast<Decoding*>(png_get_error_ptr(png));
+    d->error = message ? message : "decoding error";
+    png_longjmp(png, 1);
+}
+
+void onPngWarning(png_structp, png_const_charp) {}
+
+} // namespace
+
+std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) {
+    auto d = std::make_unique<Decoding>();
+    d->file = std::fopen(path.c_str(), "rb");
+    if (!d->file) {
+        return nullptr; // the caller's readers report it
+    }
+    png_byte signature[8] = {};
+    if (std::fread(signature, 1, sizeof signature, d->file) != sizeof signature ||
+        png_sig_cmp(signature, 0, sizeof signature) != 0) {
+        return nullptr;
+    }
+    d->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, d.get(), onPngError, onPngWarning);
+    if (!d->png || !(d->pngInfo = png_create_info_struct(d->png))) {
+        fail(path, "cannot read: out of memory");
+    }
+    std::unique_ptr<PngRasterReader> reader(new PngRasterReader());
+    // From here a libpng error comes back to this point with d->error set.
+    if (setjmp(png_jmpbuf(d->png))) {
+        fail(path, "cannot read: damaged or truncated PNG (" + d->error + ")");
+    }
+    png_init_io(d->png, d->file);
+    png_set_sig_bytes(d->png, sizeof signature);
+    png_read_info(d->png, d->pngInfo);
+    const png_uint_32 width = png_get_image_width(d->png, d->pngInfo);
+    const png_uint_32 height = png_get_image_height(d->png, d->pngInfo);
+    const int depth = png_get_bit_depth(d->png, d->pngInfo);
+    const int colour = png_get_color_type(d->png, d->pngInfo);
+    const int channels = colour == PNG_COLOR_TYPE_GRAY         ? 1
+                         : colour == PNG_COLOR_TYPE_GRAY_ALPHA ? 2
+                         : colour == PNG_COLOR_TYPE_RGB        ? 3
+                         : colour == PNG_COLOR_TYPE_RGB_ALPHA  ? 4
+                                                               : 0;
+    if (channels == 0 || (depth != 8 && depth != 16) || png_get_valid(d->png, d->pngInfo, PNG_INFO_tRNS)) {
+        return nullptr; // expanded by OpenImageIO's rules instead
+    }
+    if (depth == 16) {
+        png_set_swap(d->png); // PNG is big-endian; the samples are kept as host integers
+    }
+    png_set_interlace_handling(d->png);
+    png_read_update_info(d->png, d->pngInfo);
+
+    const size_t rowSamples = static_cast<size_t>(width) * static_cast<size_t>(channels);
+    const size_t samples = rowSamples * height;
+    if (height > 0x7fffffffu || width > 0x7fffffffu || samples / height != rowSamples ||
+        samples > (size_t{1} << 40)) {
+        fail(path, "cannot read: a " + std::to_string(width) + " x " + std::to_string(height) +
+                       " PNG is too large to decode in memory; convert it to a tiled TIFF");
+    }
+    RasterInfo& info = reader->info_;
+    info.width = static_cast<int>(width);
+    info.height = static_cast<int>(height);
+    info.channels = channels;
+    info.type = depth == 8 ? SampleType::UInt8 : SampleType::UInt16;
+    info.formatName = "png";
+    d->rows.resize(height);
+    if (depth == 8) {
+        reader->bytes_.resize(samples);
+        for (size_t y = 0; y < height; ++y) {
+            d->rows[y] = reader->bytes_.data() + y * rowSamples;
+        }
+    } else {
+        reader->words_.resize(samples);
+        for (size_t y = 0; y < height; ++y) {
+            d->rows[y] = reinterpret_cast<png_bytep>(reader->words_.data() + y * rowSamples);
+        }
+    }
+    png_read_image(d->png, d->rows.data());
+    png_read_end(d->png, nullptr);
+    return reader;
+}
+
+unsigned PngRasterReader::sample(size_t x, size_t y, size_t c) const {
+    const size_t k = (y * static_cast<size_t>(info_.width) + x) * static_cast<size_t>(info_.channels) + c;
+    return bytes_.empty() ? words_[k] : bytes_[k];
+}
+
+void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+            *out++ = static_cast<float>(sample(static_cast<size_t>(x), static_cast<size_t>(y), static_cast<size_t>(channel)));
+        }
+    }
+}
+
+void PngRasterReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+            for (int c = c0; c < c1; ++c) {
+                *out++ = static_cast<uint16_t>(
+                    sample(static_cast<size_t>(x), static_cast<size_t>(y), static_cast<size_t>(c)));
+            }
+        }
+    }
+}
+
+bool PngRasterReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
+                                std::ptrdiff_t rowStride) const {
+    if (bytes_.empty()) {
+        return false;
+    }
+    const size_t channels = static_cast<size_t>(info_.channels);
+    const size_t wanted = static_cast<size_t>(c1 - c0);
+    for (int y = y0; y < y1; ++y) {
+        const uint8_t* from = bytes_.data() + (static_cast<size_t>(y) * static_cast<size_t>(info_.width) +
+                                               static_cast<size_t>(x0)) * channels;
+        uint8_t* to = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride;
+        if (wanted == channels) {
+            std::memcpy(to, from, static_cast<size_t>(x1 - x0) * channels);
+            continue;
+        }
+        for (int x = x0; x < x1; ++x, from += channels, to += wanted) {
+            std::memcpy(to, from + c0, wanted);
+        }
+    }
+    return true;
+}
+
+} // namespace pyramid

@@ -1,0 +1,231 @@
+// The direct readers (libtiff and libpng, no OpenImageIO) describe and read every layout they
+// take exactly as OpenImageIO does, and the layouts they leave go through the image I/O
+// module with the same results. The reference is OpenImageIO's ImageInput, read in each
+// file's own sample type.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+#include <png.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "libpyramid/raster_source.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+struct Layout {
+    std::string name;       // file name; the extension picks the format
+    OIIO::TypeDesc type;    // sample type
+    int channels;
+    std::string compression; // TIFF only; "" = the writer's default
+    int tile = 0;           // TIFF only: tile size, 0 = strips
+};
+
+// Values that fill the type's range and differ from pixel to pixel and channel to channel.
+std::vector<double> valuesFor(const Layout& l, int w, int h) {
+    std::vector<double> v(static_cast<size_t>(w * h * l.channels));
+    double low = 0, high = 255;
+    switch (l.type.basetype) {
+    case OIIO::TypeDesc::INT8: low = -128, high = 127; break;
+    case OIIO::TypeDesc::UINT16: high = 65535; break;
+    case OIIO::TypeDesc::INT16: low = -32768, high = 32767; break;
+    case OIIO::TypeDesc::INT32: low = -2e6, high = 2e6; break;
+    case OIIO::TypeDesc::FLOAT: case OIIO::TypeDesc::DOUBLE: low = -431.75, high = 8848.25; break;
+    default: break;
+    }
+    for (size_t k = 0; k < v.size(); ++k) {
+        const double t = static_cast<double>((k * 7919) % v.size()) / static_cast<double>(v.size() - 1);
+        v[k] = l.type.basetype == OIIO::TypeDesc::FLOAT || l.type.basetype == OIIO::TypeDesc::DOUBLE
+                   ? low + (high - low) * t
+                   : std::floor(low + (high - low) * t);
+    }
+    return v;
+}
+
+void write(const std::string& path, const Layout& l, int w, int h) {
+    const std::vector<double> values = valuesFor(l, w, h);
+    OIIO::ImageSpec spec(w, h, l.channels, l.type);
+    if (!l.compression.empty()) {
+        spec.attribute("compression", l.compression);
+    }
+    if (l.tile) {
+        spec.tile_width = spec.tile_height = l.tile;
+    }
+    if (l.channels == 2 || l.channels == 4) {
+        spec.alpha_channel = l.channels - 1;
+        spec.attribute("oiio:UnassociatedAlpha", 1); // store the values as given
+    }
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out) << path;
+    ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::DOUBLE, values.data())) << out->geterror();
+    ASSERT_TRUE(out->close());
+}
+
+// The file's samples as OpenImageIO reads them in their own type, widened to double.
+std::vector<double> referenceSamples(const std::string& path, OIIO::ImageSpec& spec, std::string& formatName) {
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path, &config);
+    EXPECT_TRUE(in) << OIIO::geterror();
+    if (!in) {
+        return {};
+    }
+    spec = in->spec();
+    formatName = in->format_name();
+    std::vector<double> native(spec.image_pixels() * static_cast<size_t>(spec.nchannels));
+    // Read in the file's type, then widen by value (a direct read as double would normalise).
+    // (Half floats are read as float32, which holds them exactly.)
+    const OIIO::TypeDesc type = spec.format == OIIO::TypeDesc::HALF ? OIIO::TypeDesc(OIIO::TypeDesc::FLOAT) : spec.format;
+    std::vector<uint8_t> raw(native.size() * type.size());
+    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, type, raw.data())) << in->geterror();
+    for (size_t k = 0; k < native.size(); ++k) {
+        const uint8_t* p = raw.data() + k * type.size();
+        switch (type.basetype) {
+        case OIIO::TypeDesc::UINT8: native[k] = *p; break;
+        case OIIO::TypeDesc::INT8: native[k] = *reinterpret_cast<const int8_t*>(p); break;
+        case OIIO::TypeDesc::UINT16: native[k] = *reinterpret_cast<const uint16_t*>(p); break;
+        case OIIO::TypeDesc::INT16: native[k] = *reinterpret_cast<const int16_t*>(p); break;
+        case OIIO::TypeDesc::INT32: native[k] = *reinterpret_cast<const int32_t*>(p); break;
+        case OIIO::TypeDesc::FLOAT: native[k] = *reinterpret_cast<const float*>(p); break;
+        case OIIO::TypeDesc::DOUBLE: native[k] = *reinterpret_cast<const double*>(p); break;
+        default: ADD_FAILURE() << "unexpected type"; break;
+        }
+    }
+    return native;
+}
+
+void expectSameAsOpenImageIO(const std::string& path) {
+    SCOPED_TRACE(path);
+    OIIO::ImageSpec spec;
+    std::string formatName;
+    const std::vector<double> expected = referenceSamples(path, spec, formatName);
+    const auto source = RasterSource::open(path);
+    const RasterInfo& info = source->info();
+    ASSERT_EQ(info.width, spec.width);
+    ASSERT_EQ(info.height, spec.height);
+    ASSERT_EQ(info.channels, spec.nchannels);
+    const bool eightBit = spec.format == OIIO::TypeDesc::UINT8;
+    const bool sixteenBit = spec.format == OIIO::TypeDesc::UINT16;
+    const std::map<std::string, std::string> names = {{"uint8", "uint8"}, {"int8", "int8"},   {"uint16", "uint16"},
+                                                      {"int16", "int16"}, {"uint", "uint32"}, {"int", "int32"},
+                                                      {"half", "float16"}, {"float", "float32"}, {"double", "float64"}};
+    EXPECT_EQ(sampleTypeName(info.type), names.at(spec.format.c_str()));
+    EXPECT_EQ(info.formatName, formatName);
+    const int w = info.width, h = info.height, n = info.channels;
+    // A window away from the corners, and the whole image.
+    for (const auto& [x0, y0, x1, y1] : {std::array{3, 2, w - 4, h - 5}, std::array{0, 0, w, h}}) {
+        const int ww = x1 - x0, wh = y1 - y0;
+        const auto at = [&](int x, int y, int c) {
+            return expected[(static_cast<size_t>(y0 + y) * static_cast<size_t>(w) + static_cast<size_t>(x0 + x)) *
+                                static_cast<size_t>(n) + static_cast<size_t>(c)];
+        };
+        for (int c = 0; c < n; ++c) {
+            std::vector<float> f(static_cast<size_t>(ww * wh));
+            source->readFloat(x0, y0, x1, y1, c, f.data());
+            for (int y = 0; y < wh; ++y) {
+                for (int x = 0; x < ww; ++x) {
+                    ASSERT_EQ(f[static_cast<size_t>(y * ww + x)], static_cast<float>(at(x, y, c)))
+                        << "readFloat channel " << c << " at " << x0 + x << "," << y0 + y;
+                }
+            }
+        }
+        if (eightBit || sixteenBit) {
+            std::vector<uint16_t> u(static_cast<size_t>(ww * wh * n));
+            source->readUInt16(x0, y0, x1, y1, 0, n, u.data());
+            for (size_t k = 0; k < u.size(); ++k) {
+                const int x = static_cast<int>(k / static_cast<size_t>(n)) % ww;
+                const int y = static_cast<int>(k / static_cast<size_t>(n)) / ww;
+                ASSERT_EQ(u[k], at(x, y, static_cast<int>(k % static_cast<size_t>(n)))) << "readUInt16 sample " << k;
+            }
+        }
+        if (eightBit) {
+            // The last channel only, stored bottom up through a negative stride.
+            std::vector<uint8_t> b(static_cast<size_t>(ww * wh));
+            source->readUInt8(x0, y0, x1, y1, n - 1, n, b.data() + static_cast<size_t>((wh - 1) * ww), -ww);
+            for (int y = 0; y < wh; ++y) {
+                for (int x = 0; x < ww; ++x) {
+                    ASSERT_EQ(b[static_cast<size_t>((wh - 1 - y) * ww + x)], at(x, y, n - 1)) << "readUInt8";
+                }
+            }
+        }
+    }
+}
+
+TEST(RasterReaders, EveryLayoutReadsAsOpenImageIOReadsIt) {
+    const std::vector<Layout> layouts = {
+        // PNG: decoded by libpng.
+        {"grey8.png", OIIO::TypeDesc::UINT8, 1, ""},
+        {"greyalpha8.png", OIIO::TypeDesc::UINT8, 2, ""},
+        {"rgb8.png", OIIO::TypeDesc::UINT8, 3, ""},
+        {"rgba8.png", OIIO::TypeDesc::UINT8, 4, ""},
+        {"grey16.png", OIIO::TypeDesc::UINT16, 1, ""},
+        {"rgba16.png", OIIO::TypeDesc::UINT16, 4, ""},
+        // TIFF, read by pread: uncompressed strips.
+        {"rgb8-none.tif", OIIO::TypeDesc::UINT8, 3, "none"},
+        {"rgba16-none.tif", OIIO::TypeDesc::UINT16, 4, "none"},
+        {"f32x2-none.tif", OIIO::TypeDesc::FLOAT, 2, "none"},
+        // TIFF, one band, decoded by libtiff block by block.
+        {"i16-zip.tif", OIIO::TypeDesc::INT16, 1, "zip"},
+        {"u16-lzw-tiled.tif", OIIO::TypeDesc::UINT16, 1, "lzw", 16},
+        {"u8-zip.tif", OIIO::TypeDesc::UINT8, 1, "zip"},
+        {"i32-none.tif", OIIO::TypeDesc::INT32, 1, "none"},
+        {"f32-zip-tiled.tif", OIIO::TypeDesc::FLOAT, 1, "zip", 32},
+        // Described by libtiff, read through the module.
+        {"rgb8-zip.tif", OIIO::TypeDesc::UINT8, 3, "zip"},
+        {"f64-zip.tif", OIIO::TypeDesc::DOUBLE, 1, "zip"},
+        {"i8-none.tif", OIIO::TypeDesc::INT8, 1, "none"},
+        // Other formats: the module alone.
+        {"rgb-half.exr", OIIO::TypeDesc::HALF, 3, ""},
+        {"grey-float.exr", OIIO::TypeDesc::FLOAT, 1, ""},
+    };
+    test::TempDir dir;
+    for (const Layout& l : layouts) {
+        const std::string path = dir.file(l.name);
+        write(path, l, 61, 37);
+        expectSameAsOpenImageIO(path);
+    }
+}
+
+// A palette PNG, and one with a transparency chunk, are left to OpenImageIO, which expands
+// them to RGB(A); the result is OpenImageIO's either way.
+TEST(RasterReaders, PalettePngIsExpandedAsOpenImageIODoes) {
+    test::TempDir dir;
+    const int w = 61, h = 37;
+    const uint8_t colours[4 * 4] = {10, 20, 30, 255, 200, 100, 0, 255, 0, 255, 128, 90, 77, 77, 77, 0};
+    std::vector<uint8_t> indices(static_cast<size_t>(w * h));
+    for (size_t k = 0; k < indices.size(); ++k) {
+        indices[k] = static_cast<uint8_t>((k * 7) % 4);
+    }
+    for (const bool transparent : {false, true}) {
+        png_image image{};
+        image.version = PNG_IMAGE_VERSION;
+        image.width = w;
+        image.height = h;
+        image.format = transparent ? PNG_FORMAT_RGBA_COLORMAP : PNG_FORMAT_RGB_COLORMAP;
+        image.colormap_entries = 4;
+        std::vector<uint8_t> map;
+        for (int c = 0; c < 4; ++c) {
+            map.insert(map.end(), colours + 4 * c, colours + 4 * c + (transparent ? 4 : 3));
+        }
+        const std::string path = dir.file(transparent ? "palette-alpha.png" : "palette.png");
+        ASSERT_TRUE(png_image_write_to_file(&image, path.c_str(), 0, indices.data(), 0, map.data())) << image.message;
+        expectSameAsOpenImageIO(path);
+    }
+}
+
+TEST(RasterReaders, SampleImagesReadAsOpenImageIOReadsThem) {
+    expectSameAsOpenImageIO(test::samplePath("bluemarble.png"));
+    expectSameAsOpenImageIO(test::samplePath("srtm.png"));
+    expectSameAsOpenImageIO(test::samplePath("dem.tif"));
+}
+
+} // namespace
+} // namespace pyramid
