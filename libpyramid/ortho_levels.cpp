@@ -18,6 +18,18 @@ namespace {
 constexpr int kBorder = 2;
 constexpr int kSubtreeDepth = 4;
 
+// std::lround (halves away from zero) without the library call, for the hot conversion of
+// every finest pixel. For 0 <= x < 2^31 the conversion to an integer truncates, which is
+// floor, and x - floor(x) is exact, so the result is lround's to the last bit; other values
+// take lround itself.
+inline long roundHalfAway(double x) {
+    if (!(x >= 0.0 && x < 2147483648.0)) {
+        return std::lround(x);
+    }
+    const long i = static_cast<long>(x);
+    return i + (x - static_cast<double>(i) >= 0.5 ? 1 : 0);
+}
+
 // Input position of output pixel centres along one axis.
 struct Axis {
     bool exact = false;
@@ -76,7 +88,15 @@ struct OrthoLevels::Impl {
 
     // An interpolated input sample as 8 bits, 16-bit input rounded to the nearest 8-bit value.
     uint8_t eightBits(double v) const {
-        return static_cast<uint8_t>(std::lround(v * 255.0 / (sixteen ? 65535.0 : 255.0)));
+        return static_cast<uint8_t>(roundHalfAway(v * 255.0 / (sixteen ? 65535.0 : 255.0)));
+    }
+    // The same for an interpolation of input samples, which lies within [0, full]: the
+    // conversion truncates (floor, for these values) and adds the rounding, without branches,
+    // so that the compiler vectorises a row of them.
+    uint8_t eightBitsInRange(double v) const {
+        const double x = v * 255.0 / (sixteen ? 65535.0 : 255.0);
+        const auto i = static_cast<int32_t>(x);
+        return static_cast<uint8_t>(i + static_cast<int32_t>(x - static_cast<double>(i) >= 0.5));
     }
 
     // Finest-level pixels [x0, x0+w) x [y0, y0+h) (y up), 8 bits.
@@ -145,26 +165,58 @@ struct OrthoLevels::Impl {
         const int ww = cx1 - cx0 + 1;
         std::vector<uint16_t> window(static_cast<size_t>(ww) * static_cast<size_t>(ry1 - ry0 + 1) * channels);
         source->readUInt16(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels, window.data());
-        auto sample = [&](int c, int r, int ch) {
-            return static_cast<double>(window[(static_cast<size_t>(r - ry0) * ww + static_cast<size_t>(c - cx0)) * channels +
-                                              static_cast<size_t>(ch)]);
-        };
         // The columns' neighbours and weights are the same on every row: computed once (the
-        // same values as per pixel, so the same bytes).
-        std::vector<int> col0(static_cast<size_t>(w)), col1(static_cast<size_t>(w));
+        // same values as per pixel, so the same bytes). Columns inside the input are a prefix
+        // [0, insideEnd), as positions grow with the column.
+        std::vector<size_t> off0(static_cast<size_t>(w)), off1(static_cast<size_t>(w));
         std::vector<double> colFx(static_cast<size_t>(w));
-        std::vector<uint8_t> colInside(static_cast<size_t>(w));
+        int insideEnd = 0;
         for (int i = 0; i < w; ++i) {
             const double X = px[static_cast<size_t>(i)];
-            colInside[static_cast<size_t>(i)] = ax.inside(X);
+            insideEnd = ax.inside(X) ? i + 1 : insideEnd;
             const double fx0 = std::floor(X);
             colFx[static_cast<size_t>(i)] = X - fx0;
-            col0[static_cast<size_t>(i)] = std::clamp(static_cast<int>(fx0), 0, ax.input - 1);
-            col1[static_cast<size_t>(i)] = std::clamp(static_cast<int>(fx0) + 1, 0, ax.input - 1);
+            off0[static_cast<size_t>(i)] =
+                static_cast<size_t>(std::clamp(static_cast<int>(fx0), 0, ax.input - 1) - cx0) * channels;
+            off1[static_cast<size_t>(i)] =
+                static_cast<size_t>(std::clamp(static_cast<int>(fx0) + 1, 0, ax.input - 1) - cx0) * channels;
         }
+        // Separable evaluation of the formula: `top` and `bottom` are each the horizontal
+        // interpolation of one input row, computed once per input row and shared by the output
+        // rows that use it (two slots: rows come in order); then `v = top + (bottom - top) * fy`
+        // for a whole output row at once. Where fx or fy is 0 the formula gives the sample
+        // itself, exactly, so no case needs a path of its own.
+        const size_t rowSamples = static_cast<size_t>(insideEnd) * channels;
+        std::vector<double> slot[2] = {std::vector<double>(rowSamples), std::vector<double>(rowSamples)};
+        int slotRow[2] = {-1, -1};
+        const auto horizontal = [&](int r, std::vector<double>& interpolated) {
+            const uint16_t* in = &window[static_cast<size_t>(r - ry0) * ww * channels];
+            for (int i = 0; i < insideEnd; ++i) {
+                const double fx = colFx[static_cast<size_t>(i)];
+                const uint16_t* s0 = in + off0[static_cast<size_t>(i)];
+                const uint16_t* s1 = in + off1[static_cast<size_t>(i)];
+                double* o = &interpolated[static_cast<size_t>(i) * channels];
+                for (int ch = 0; ch < channels; ++ch) {
+                    const double v = s0[ch];
+                    o[ch] = v + (static_cast<double>(s1[ch]) - v) * fx;
+                }
+            }
+        };
+        // The interpolated input row r, computed into the slot that does not hold row `keep`.
+        const auto interpolatedRow = [&](int r, int keep) -> const double* {
+            for (int k = 0; k < 2; ++k) {
+                if (slotRow[k] == r) {
+                    return slot[k].data();
+                }
+            }
+            const int k = slotRow[0] == keep ? 1 : 0;
+            horizontal(r, slot[k]);
+            slotRow[k] = r;
+            return slot[k].data();
+        };
         for (int j = 0; j < h; ++j) {
             const double Y = py[static_cast<size_t>(j)];
-            if (!ay.inside(Y)) {
+            if (!ay.inside(Y) || insideEnd == 0) {
                 continue;
             }
             const double fy0 = std::floor(Y);
@@ -179,23 +231,10 @@ struct OrthoLevels::Impl {
                 std::copy_n(&window[first], static_cast<size_t>(w) * channels, row);
                 continue;
             }
-            for (int i = 0; i < w; ++i) {
-                if (!colInside[static_cast<size_t>(i)]) {
-                    continue;
-                }
-                const double fx = colFx[static_cast<size_t>(i)];
-                const int c0 = col0[static_cast<size_t>(i)];
-                const int c1 = col1[static_cast<size_t>(i)];
-                for (int ch = 0; ch < channels; ++ch) {
-                    double v = sample(c0, r0, ch);
-                    if (fx != 0.0 || fy != 0.0) {
-                        const double top = v + (sample(c1, r0, ch) - v) * fx;
-                        const double a = sample(c0, r1, ch);
-                        const double bottom = a + (sample(c1, r1, ch) - a) * fx;
-                        v = top + (bottom - top) * fy;
-                    }
-                    row[static_cast<size_t>(i * channels + ch)] = eightBits(v);
-                }
+            const double* top = interpolatedRow(r0, r1);
+            const double* bottom = interpolatedRow(r1, r0);
+            for (size_t k = 0; k < rowSamples; ++k) {
+                row[k] = eightBitsInRange(top[k] + (bottom[k] - top[k]) * fy);
             }
         }
         return out;

@@ -113,27 +113,40 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) 
     return reader;
 }
 
-unsigned PngRasterReader::sample(size_t x, size_t y, size_t c) const {
-    const size_t k = (y * static_cast<size_t>(info_.width) + x) * static_cast<size_t>(info_.channels) + c;
-    return bytes_.empty() ? words_[k] : bytes_[k];
-}
+namespace {
 
-void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+// Channels [c0, c1) of a window of interleaved samples, each converted to Out by value.
+template <typename T, typename Out>
+void copyWindow(const std::vector<T>& samples, int width, int channels, int x0, int y0, int x1, int y1, int c0,
+                int c1, Out* out) {
+    const size_t n = static_cast<size_t>(channels);
     for (int y = y0; y < y1; ++y) {
-        for (int x = x0; x < x1; ++x) {
-            *out++ = static_cast<float>(sample(static_cast<size_t>(x), static_cast<size_t>(y), static_cast<size_t>(channel)));
+        const T* from = samples.data() + (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x0)) * n;
+        if (c0 == 0 && c1 == channels) {
+            out = std::copy(from, from + static_cast<size_t>(x1 - x0) * n, out);
+            continue;
+        }
+        for (int x = x0; x < x1; ++x, from += n) {
+            out = std::copy(from + c0, from + c1, out);
         }
     }
 }
 
+} // namespace
+
+void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    if (!bytes_.empty()) {
+        copyWindow(bytes_, info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
+    } else {
+        copyWindow(words_, info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
+    }
+}
+
 void PngRasterReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
-    for (int y = y0; y < y1; ++y) {
-        for (int x = x0; x < x1; ++x) {
-            for (int c = c0; c < c1; ++c) {
-                *out++ = static_cast<uint16_t>(
-                    sample(static_cast<size_t>(x), static_cast<size_t>(y), static_cast<size_t>(c)));
-            }
-        }
+    if (!bytes_.empty()) {
+        copyWindow(bytes_, info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
+    } else {
+        copyWindow(words_, info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
     }
 }
 

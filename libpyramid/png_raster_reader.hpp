@@ -31,9 +31,6 @@ public:
 
 private:
     PngRasterReader() = default;
-    // Sample (x, y, c) as an integer.
-    unsigned sample(size_t x, size_t y, size_t c) const;
-
     RasterInfo info_;
     std::vector<uint8_t> bytes_;   // 8-bit images, interleaved, row 0 = north
     std::vector<uint16_t> words_;  // 16-bit images
