@@ -1,8 +1,10 @@
 #include "libpyramid/tiff_block_reader.hpp"
 
+#include <libdeflate.h>
 #include <tiffio.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #include "formats/error.hpp"
@@ -54,6 +56,10 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
         TIFFClose(tif);
         return nullptr;
     }
+    uint16_t predictor = PREDICTOR_NONE;
+    TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &predictor);
+    b->floatPredictorDeflate_ = real && predictor == PREDICTOR_FLOATINGPOINT &&
+                                (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE);
     b->blocksAcross_ = (width + b->blockWidth_ - 1) / b->blockWidth_;
     b->budget_ = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
     b->idle_.push_back(tif);
@@ -133,7 +139,77 @@ std::shared_ptr<const std::vector<float>> TiffBlockReader::get(uint32_t bx, uint
     return it->second.values;
 }
 
+namespace {
+
+struct DecompressorDeleter {
+    void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+};
+
+// Undoes TIFF's floating-point predictor (Predictor = 3, TIFF Technical Note 3) on one row of
+// `count` float32 samples of one channel: the row's bytes are differences from the byte before
+// them (a running sum modulo 256 restores them), laid out as planes of the samples' bytes from
+// the most significant one down. The samples come out in the host's byte order, whatever the
+// file's.
+void undoFloatPredictor(uint8_t* bytes, size_t count, float* out) {
+    uint8_t sum = 0;
+    for (size_t k = 0; k < 4 * count; ++k) {
+        sum = static_cast<uint8_t>(sum + bytes[k]);
+        bytes[k] = sum;
+    }
+    const uint8_t* b3 = bytes;             // most significant bytes
+    const uint8_t* b2 = bytes + count;
+    const uint8_t* b1 = bytes + 2 * count;
+    const uint8_t* b0 = bytes + 3 * count; // least significant
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t word = static_cast<uint32_t>(b0[i]) | static_cast<uint32_t>(b1[i]) << 8 |
+                              static_cast<uint32_t>(b2[i]) << 16 | static_cast<uint32_t>(b3[i]) << 24;
+        out[i] = std::bit_cast<float>(word);
+    }
+}
+
+} // namespace
+
+// Deflate with the floating-point predictor, decoded here rather than by libtiff, whose
+// byte-at-a-time undoing of the predictor costs several times the inflation itself: the raw
+// block is inflated by libdeflate (TIFF's Deflate is a zlib stream) and the predictor undone
+// row by row. False when the block is not what this expects; libtiff then decodes it.
+bool TiffBlockReader::decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows,
+                                                  std::vector<float>& values) const {
+    const uint64_t rawBytes = TIFFGetStrileByteCount(tif, index);
+    if (rawBytes == 0 || rawBytes > (uint64_t{1} << 31)) {
+        return false;
+    }
+    thread_local std::vector<uint8_t> raw, plain;
+    raw.resize(static_cast<size_t>(rawBytes));
+    const tmsize_t got = tiled_ ? TIFFReadRawTile(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()))
+                                : TIFFReadRawStrip(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()));
+    if (got != static_cast<tmsize_t>(raw.size())) {
+        return false;
+    }
+    const size_t rowBytes = static_cast<size_t>(blockWidth_) * 4;
+    plain.resize(rowBytes * rows);
+    thread_local std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> inflater(libdeflate_alloc_decompressor());
+    size_t produced = 0;
+    if (!inflater || libdeflate_zlib_decompress(inflater.get(), raw.data(), raw.size(), plain.data(), plain.size(),
+                                                &produced) != LIBDEFLATE_SUCCESS ||
+        produced != plain.size()) {
+        return false;
+    }
+    values.resize(static_cast<size_t>(blockWidth_) * blockHeight_);
+    for (uint32_t r = 0; r < rows; ++r) {
+        undoFloatPredictor(plain.data() + r * rowBytes, blockWidth_, values.data() + static_cast<size_t>(r) * blockWidth_);
+    }
+    return true;
+}
+
 bool TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<float>& values) const {
+    if (floatPredictorDeflate_) {
+        // Every row of a tile is stored; a strip holds the rows left at the image's bottom.
+        const uint32_t rows = tiled_ ? blockHeight_ : std::min(blockHeight_, height_ - (index * blockHeight_));
+        if (decodeFloatPredictorDeflate(tif, index, rows, values)) {
+            return true;
+        }
+    }
     const size_t count = static_cast<size_t>(blockWidth_) * blockHeight_;
     std::vector<uint8_t> raw(count * (bits_ / 8));
     const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()))

@@ -40,12 +40,14 @@ private:
     TIFF* openHandle() const;
     std::shared_ptr<const std::vector<float>> get(uint32_t bx, uint32_t by);
     bool decode(TIFF* tif, uint32_t index, std::vector<float>& values) const;
+    bool decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows, std::vector<float>& values) const;
 
     std::string path_;
     uint32_t width_ = 0, height_ = 0;
     uint32_t blockWidth_ = 0, blockHeight_ = 0, blocksAcross_ = 0;
     uint16_t bits_ = 0, format_ = 1; // SAMPLEFORMAT_UINT
     bool tiled_ = false;
+    bool floatPredictorDeflate_ = false; // float32, Deflate, Predictor = 3: decoded here
     size_t budget_ = 0;
     std::mutex mutex_;
     std::vector<TIFF*> idle_;                    // open handles not in use
