@@ -1,5 +1,6 @@
 #include "formats/tiff_tile.hpp"
 
+#include <libdeflate.h>
 #include <tiffio.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <memory>
 
 #include "formats/error.hpp"
 
@@ -139,10 +141,12 @@ uint16_t compressionCode(TiffCompression c) {
     return COMPRESSION_NONE;
 }
 
-// Encodes one strip of `bits`-bit samples.
+// Encodes one strip of `bits`-bit samples. With `deflated` (Deflate only), the strip is that
+// zlib stream of the pixels, compressed by the caller, and written as it is.
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
-                                 int jpegQuality, int deflateLevel = 6, bool horizontalPredictor = false) {
+                                 int jpegQuality, int deflateLevel = 6, bool horizontalPredictor = false,
+                                 const std::vector<uint8_t>* deflated = nullptr) {
     if (compression == TiffCompression::Jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
                      std::to_string(bits) + " bits");
@@ -179,7 +183,10 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
             TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
         }
     }
-    if (TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes)) < 0) {
+    const tmsize_t written =
+        deflated ? TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated->data()), static_cast<tmsize_t>(deflated->size()))
+                 : TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
+    if (written < 0) {
         fail("", withCause("cannot encode a TIFF tile", stream));
     }
     if (!TIFFWriteDirectory(t)) {
@@ -340,6 +347,35 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     return decodeChecked(blob, maxWidth, maxHeight, where, {});
 }
 
+namespace {
+
+struct CompressorDeleter {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+};
+
+// A zlib stream of `bytes` at libdeflate level `level`: the stream libtiff writes for a strip
+// given whole (its Deflate codec hands the strip to libdeflate in one call), byte for byte,
+// without allocating and initialising a compressor for every tile. One per thread and level.
+std::vector<uint8_t> zlibCompress(const std::vector<uint8_t>& bytes, int level) {
+    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
+    auto& compressor = compressors[std::clamp(level, 1, 12)];
+    if (!compressor) {
+        compressor.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 12)));
+        if (!compressor) {
+            fail("", "out of memory for a Deflate compressor");
+        }
+    }
+    std::vector<uint8_t> out(libdeflate_zlib_compress_bound(compressor.get(), bytes.size()));
+    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), out.size());
+    if (size == 0) {
+        fail("", "cannot deflate a residual tile");
+    }
+    out.resize(size);
+    return out;
+}
+
+} // namespace
+
 std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel) {
     if (size < 1 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
         fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
@@ -352,8 +388,9 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
         bytes[2 * k] = static_cast<uint8_t>(v & 0xffu);
         bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
     }
+    const std::vector<uint8_t> deflated = zlibCompress(bytes, std::clamp(deflateLevel, 1, 9));
     return encodeStrip(bytes.data(), bytes.size(), size, size, 2, 8, PHOTOMETRIC_MINISBLACK, false,
-                       TiffCompression::Deflate, 0, deflateLevel);
+                       TiffCompression::Deflate, 0, deflateLevel, false, &deflated);
 }
 
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {
