@@ -1,5 +1,7 @@
 #include "cli/cli_common.hpp"
 
+#include <malloc.h>
+
 #include <unistd.h>
 
 #include <cstdio>
@@ -13,7 +15,26 @@
 
 namespace pyramid::cli {
 
+namespace {
+
+// The preprocessors allocate and free tile-sized and band-sized buffers (hundreds of KB to a
+// few MB) over and over, from every thread. glibc serves blocks above its mmap threshold with
+// fresh mappings, which the kernel zero-fills page by page and which are unmapped again on
+// free: on the benchmarks, 10 to 15 % of the time went to page faults. Keeping such blocks in
+// the heap (up to 64 MB each) lets freed buffers be reused; the peak footprint is unchanged,
+// as a freed block is reused before the heap grows. The library itself sets no policy: this
+// is the programs' choice.
+void keepBuffersInTheHeap() {
+#ifdef __GLIBC__
+    mallopt(M_MMAP_THRESHOLD, 64 << 20);
+    mallopt(M_TRIM_THRESHOLD, 256 << 20);
+#endif
+}
+
+} // namespace
+
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count) {
+    keepBuffersInTheHeap();
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
