@@ -6,7 +6,8 @@
 #   bench/dem_bench.sh            results in $WORK (default /tmp/pyramid-dem-bench)
 #
 # Environment: BUILD (a Release build directory, configured here if missing; default
-# build-release), WORK, SIZE (synthetic DEM side, default 8193), THREADS (default: all cores).
+# build-release), WORK, SIZE (synthetic DEM side, default 8193), THREADS (default: all cores),
+# REPEAT (runs per case, default 5: the median wall time is reported).
 #
 # Inputs: a deterministic synthetic SIZE x SIZE float32 DEM (bench/dem_synthetic_heights.cpp),
 # the real one in samples/dem.tif, and a larger real-ish one: a 641 x 641 cut of samples/srtm.png
@@ -22,6 +23,7 @@ BUILD=$(realpath -m "${BUILD:-$ROOT/build-release}")
 WORK=${WORK:-/tmp/pyramid-dem-bench}
 SIZE=${SIZE:-8193}
 THREADS=${THREADS:-$(nproc)}
+REPEAT=${REPEAT:-5}
 
 as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 need_package() { # command package
@@ -55,15 +57,24 @@ fi
 RESULTS=$WORK/results.tsv
 printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\tinput_samples\tmax_error\n' >"$RESULTS"
 
-# run CASE TOOL INPUT OUTPUT COMMAND...: time and peak RSS of COMMAND, bytes of OUTPUT.
+# run CASE TOOL INPUT OUTPUT COMMAND...: wall time (the median of $REPEAT runs, timed in
+# nanoseconds around the command), peak RSS (the largest of the runs, from /usr/bin/time) and
+# bytes of OUTPUT.
 run() {
     local case=$1 tool=$2 input=$3 output=$4
     shift 4
-    rm -f "$output" report.json
-    /usr/bin/time -v -o time.txt "$@" >run.log 2>&1 || { cat run.log; exit 1; }
-    local wall rss bytes samples error=-
-    wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + t[i]; print s}' time.txt)
-    rss=$(awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2 / 1024}' time.txt)
+    local walls=() rss=0 k
+    for ((k = 0; k < REPEAT; ++k)); do
+        rm -f "$output" report.json
+        local start end
+        start=$(date +%s%N)
+        /usr/bin/time -v -o time.txt "$@" >run.log 2>&1 || { cat run.log; exit 1; }
+        end=$(date +%s%N)
+        walls+=("$(awk -v ns=$((end - start)) 'BEGIN {printf "%.3f", ns / 1e9}')")
+        rss=$(awk -F': ' -v r="$rss" '/Maximum resident set size/ {m = $2 / 1024; printf "%.0f", (m > r ? m : r)}' time.txt)
+    done
+    local wall bytes samples error=-
+    wall=$(printf '%s\n' "${walls[@]}" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}')
     bytes=$(stat -c %s "$output")
     samples=$(oiiotool --info -v "$input" | awk '/^'"$input"'/ {print $3 * $5; exit}')
     [ -f report.json ] && error=$(jq '[.levels[].max_error] | max' report.json)
@@ -94,7 +105,7 @@ awk -F'\t' '
         printf "|---|---|---|---|---|---|---|---|---|---|---|\n"
         for (i = 1; i <= count; ++i) {
             split(ours[i], f, "\t"); input = f[1]; sub(/ [0-9]+-tiles$/, "", input)
-            printf "| %s | %.2f | %.2f | %.2f | %d | %d | %d | %d | %.3f | %.3f | %s |\n", f[1], f[3], gwall[input], f[3] / gwall[input], f[4], grss[input], f[5], gbytes[input], 8 * f[5] / f[6], gbits[input], f[7]
+            printf "| %s | %.3f | %.3f | %.2f | %d | %d | %d | %d | %.3f | %.3f | %s |\n", f[1], f[3], gwall[input], f[3] / gwall[input], f[4], grss[input], f[5], gbytes[input], 8 * f[5] / f[6], gbits[input], f[7]
         }
     }' "$RESULTS"
 echo
