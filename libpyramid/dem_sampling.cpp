@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "libpyramid/vector_clones.hpp"
 
 namespace pyramid {
 
@@ -100,6 +101,70 @@ std::vector<AxisTap> axisTaps(int64_t first, int64_t stride, int64_t count, bool
     return taps;
 }
 
+// Bilinear interpolation of a window without nodata, separably: each input row the taps touch
+// is interpolated horizontally once, at every grid column (`top` and `bottom` of the per-sample
+// formula below, with the same operations), and each grid row then combines its two input rows.
+// Columns beyond the input stay nodata. Taps of weight 0 read their first sample twice, whose
+// difference is then 0: v + 0 * f = v, the sample itself.
+PYRAMID_VECTOR_CLONES
+void sampleCleanWindow(const std::vector<AxisTap>& xs, const std::vector<AxisTap>& ys, const float* window,
+                       int64_t cx0, int64_t ry0, int64_t ww, SourceGrid& grid) {
+    const size_t nx = static_cast<size_t>(grid.nx);
+    std::vector<size_t> first(nx), second(nx);
+    std::vector<double> weight(nx);
+    std::vector<uint8_t> inside(nx);
+    for (size_t i = 0; i < nx; ++i) {
+        const AxisTap& t = xs[i];
+        inside[i] = t.inside ? 1 : 0;
+        first[i] = t.inside ? static_cast<size_t>(t.index - cx0) : 0;
+        second[i] = t.inside && t.frac > 0.0 ? first[i] + 1 : first[i];
+        weight[i] = t.inside ? t.frac : 0.0;
+    }
+    // Two horizontally interpolated input rows, reused while consecutive grid rows share them.
+    std::vector<double> rows[2] = {std::vector<double>(nx), std::vector<double>(nx)};
+    int64_t rowOf[2] = {-1, -1};
+    // Input row r interpolated, computed unless held; never evicting input row `keep`.
+    const auto interpolated = [&](int64_t r, int64_t keep) -> const double* {
+        for (int k = 0; k < 2; ++k) {
+            if (rowOf[k] == r) {
+                return rows[k].data();
+            }
+        }
+        const int k = rowOf[0] == keep ? 1 : 0;
+        const float* __restrict line = window + (r - ry0) * ww;
+        double* __restrict out = rows[k].data();
+        for (size_t i = 0; i < nx; ++i) {
+            const double v0 = line[first[i]], v1 = line[second[i]];
+            out[i] = v0 + (v1 - v0) * weight[i];
+        }
+        rowOf[k] = r;
+        return out;
+    };
+    for (int64_t j = 0; j < grid.ny; ++j) {
+        const AxisTap& ty = ys[static_cast<size_t>(j)];
+        if (!ty.inside) {
+            continue;
+        }
+        const bool fy = ty.frac > 0.0;
+        const double* top = interpolated(ty.index, fy ? ty.index + 1 : -1);
+        float* __restrict height = grid.height.data() + j * grid.nx;
+        uint8_t* __restrict valid = grid.valid.data() + j * grid.nx;
+        if (fy) {
+            const double* bottom = interpolated(ty.index + 1, ty.index);
+            const double f = ty.frac;
+            for (size_t i = 0; i < nx; ++i) {
+                const double h = top[i] + (bottom[i] - top[i]) * f;
+                height[i] = inside[i] != 0 ? static_cast<float>(h) : 0.0f;
+            }
+        } else {
+            for (size_t i = 0; i < nx; ++i) {
+                height[i] = inside[i] != 0 ? static_cast<float>(top[i]) : 0.0f;
+            }
+        }
+        std::copy(inside.begin(), inside.end(), valid);
+    }
+}
+
 } // namespace
 
 void DemSampler::sample(SourceGrid& grid) const {
@@ -158,14 +223,14 @@ void DemSampler::sample(SourceGrid& grid) const {
     const bool clean = std::none_of(window.begin(), window.end(), [&](float s) {
         return std::isnan(s) || (nodata_ && !nanNodata && s == nodataValue);
     });
+    if (clean) {
+        sampleCleanWindow(xs, ys, window.data(), cx0, ry0, ww, grid);
+        return;
+    }
     // Reads input (column c, row r) from `line`, the window's row r: false for nodata; NaN that
     // is not nodata is an error.
     auto at = [&](const float* line, int64_t c, int64_t r, double& v) {
         const float s = line[c - cx0];
-        if (clean) {
-            v = s;
-            return true;
-        }
         if (std::isnan(s)) {
             if (nanNodata) {
                 return false;

@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "libpyramid/vector_clones.hpp"
+
 namespace pyramid {
 
 namespace {
@@ -37,6 +39,7 @@ float predictElevation(const float* parent, size_t stride, int px, int py, int i
     return z;
 }
 
+PYRAMID_VECTOR_CLONES
 void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int py, float* out,
                     size_t outStride) {
     // predictElevation's four cases, split by row and column parity so that the loops carry no

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <future>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <span>
 #include <tuple>
 
@@ -94,6 +96,70 @@ public:
     }
 
     EncodedTile encode(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const {
+        // Tiles of one colour under a parent of that colour (the black beyond a non-square
+        // input, sea, snow) encode to the same bytes wherever they are: encoded once per colour
+        // and compression, then copied.
+        std::optional<UniformKey> key = uniformKey(t, parentRecon);
+        if (key) {
+            {
+                const std::lock_guard<std::mutex> lock(uniformMutex_);
+                const auto it = uniform_.find(*key);
+                if (it != uniform_.end()) {
+                    return placed(it->second, t);
+                }
+            }
+            EncodedTile e = encodeNew(t, parentRecon);
+            const std::lock_guard<std::mutex> lock(uniformMutex_);
+            uniform_.emplace(*key, e);
+            return e;
+        }
+        return encodeNew(t, parentRecon);
+    }
+
+private:
+    // A uniform tile's colour (its 1 to 4 channels packed) and TIFF compression (which may
+    // depend on the tile's place).
+    using UniformKey = std::tuple<uint32_t, TiffCompression>;
+
+    std::optional<UniformKey> uniformKey(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const {
+        if (t.level == 0) {
+            return std::nullopt; // the root's residual tile holds the colours themselves
+        }
+        const std::vector<uint8_t>& p = t.pixels.pixels;
+        const auto c = static_cast<size_t>(channels_);
+        const auto sameColour = [&](const std::vector<uint8_t>& v) {
+            for (size_t k = c; k < v.size(); ++k) {
+                if (v[k] != p[k % c]) {
+                    return false;
+                }
+            }
+            return v.size() >= c;
+        };
+        if (!sameColour(p) || (o_.writeResiduals && (parentRecon == nullptr || !sameColour(*parentRecon)))) {
+            return std::nullopt;
+        }
+        uint32_t colour = 0;
+        for (size_t k = 0; k < c; ++k) {
+            colour |= static_cast<uint32_t>(p[k]) << (8 * k);
+        }
+        return UniformKey{colour, tiffCompressionOf(t)};
+    }
+
+    static EncodedTile placed(const EncodedTile& shared, const TrueTile& t) {
+        EncodedTile e = shared;
+        e.level = t.level;
+        e.tx = t.tx;
+        e.ty = t.ty;
+        return e;
+    }
+
+    TiffCompression tiffCompressionOf(const TrueTile& t) const {
+        const int last = (1 << t.level) - 1;
+        const bool edge = t.tx == 0 || t.ty == 0 || t.tx == last || t.ty == last;
+        return tiffCompression(o_.compression, edge, channels_);
+    }
+
+    EncodedTile encodeNew(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const {
         EncodedTile e;
         e.level = t.level;
         e.tx = t.tx;
@@ -103,9 +169,7 @@ public:
         const std::span<const uint8_t> plain = o_.border == 2 ? std::span<const uint8_t>(t.pixels.pixels)
                                                               : std::span<const uint8_t>(cropped);
         if (o_.writeTiff) {
-            const int last = (1 << t.level) - 1;
-            const bool edge = t.tx == 0 || t.ty == 0 || t.tx == last || t.ty == last;
-            const TiffCompression c = tiffCompression(o_.compression, edge, channels_);
+            const TiffCompression c = tiffCompressionOf(t);
             e.tiff = encodeTiff8(plain, outSide, outSide, channels_, c, o_.jpegQuality, kTileDeflateLevel, true);
             if (c == TiffCompression::Jpeg) {
                 const std::vector<uint8_t> back = decodeOrthoTiff(e.tiff, outSide, channels_, "JPEG tile");
@@ -136,7 +200,6 @@ public:
         return e;
     }
 
-private:
     // Closed loop: the stored residuals are decoded exactly as a reader will decode them, and
     // the tile is rebuilt from them, before its children are predicted from it.
     void encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedTile& e) const {
@@ -179,6 +242,8 @@ private:
     const OrthoLevels& levels_;
     const OrthoEncodeOptions& o_;
     int channels_ = 0, tileSize_ = 0, maxLevel_ = 0;
+    mutable std::mutex uniformMutex_;
+    mutable std::map<UniformKey, EncodedTile> uniform_;
 };
 
 struct LevelTotals {

@@ -10,6 +10,7 @@
 #include "libpyramid/face_sampler.hpp"
 #include "libpyramid/morton.hpp"
 #include "libpyramid/parallel.hpp"
+#include "libpyramid/vector_clones.hpp"
 
 namespace pyramid {
 
@@ -52,6 +53,50 @@ void checkTileSize(const OrthoLevelsOptions& o) {
     }
 }
 
+// The two halves of the separable bilinear interpolation of OrthoLevels::Impl::samplePlanar, in
+// functions of their own so that they are compiled for wider vectors too (vector_clones.hpp:
+// the same operations, so the same bytes). A channel count known at compile time lets the
+// compiler vectorise across the pixels of a row.
+//
+// Input row `in` interpolated at `columns` output columns: column i lies between the input
+// pixels at element offsets first[i] and second[i], at `weight[i]` from the first.
+template <int Channels>
+void interpolateRowOf(const uint16_t* __restrict in, const size_t* __restrict first, const size_t* __restrict second,
+                      const double* __restrict weight, int columns, double* __restrict out) {
+    for (int i = 0; i < columns; ++i) {
+        const double fx = weight[i];
+        for (int ch = 0; ch < Channels; ++ch) {
+            const double v = in[first[i] + ch];
+            out[i * Channels + ch] = v + (static_cast<double>(in[second[i] + ch]) - v) * fx;
+        }
+    }
+}
+
+PYRAMID_VECTOR_CLONES
+void interpolateRow(const uint16_t* in, const size_t* first, const size_t* second, const double* weight,
+                    int columns, int channels, double* out) {
+    switch (channels) {
+    case 1: return interpolateRowOf<1>(in, first, second, weight, columns, out);
+    case 2: return interpolateRowOf<2>(in, first, second, weight, columns, out);
+    case 3: return interpolateRowOf<3>(in, first, second, weight, columns, out);
+    default: return interpolateRowOf<4>(in, first, second, weight, columns, out);
+    }
+}
+
+// An output row from its two interpolated input rows, `fy` of the way from `top` to `bottom`,
+// converted to 8 bits: v * 255 / full (full = 255, or 65535 for 16-bit input), rounded half
+// up. The values lie within [0, full], where the conversion to an integer truncates (floor)
+// and x - floor(x) is exact: roundHalfAway's result without a branch.
+PYRAMID_VECTOR_CLONES
+void combineRows(const double* __restrict top, const double* __restrict bottom, double fy, double full, size_t count,
+                 uint8_t* __restrict row) {
+    for (size_t k = 0; k < count; ++k) {
+        const double x = (top[k] + (bottom[k] - top[k]) * fy) * 255.0 / full;
+        const auto i = static_cast<int32_t>(x);
+        row[k] = static_cast<uint8_t>(i + static_cast<int32_t>(x - static_cast<double>(i) >= 0.5));
+    }
+}
+
 std::string degrees(double d) {
     char text[32];
     std::snprintf(text, sizeof text, "%.10g", d);
@@ -89,14 +134,6 @@ struct OrthoLevels::Impl {
     // An interpolated input sample as 8 bits, 16-bit input rounded to the nearest 8-bit value.
     uint8_t eightBits(double v) const {
         return static_cast<uint8_t>(roundHalfAway(v * 255.0 / (sixteen ? 65535.0 : 255.0)));
-    }
-    // The same for an interpolation of input samples, which lies within [0, full]: the
-    // conversion truncates (floor, for these values) and adds the rounding, without branches,
-    // so that the compiler vectorises a row of them.
-    uint8_t eightBitsInRange(double v) const {
-        const double x = v * 255.0 / (sixteen ? 65535.0 : 255.0);
-        const auto i = static_cast<int32_t>(x);
-        return static_cast<uint8_t>(i + static_cast<int32_t>(x - static_cast<double>(i) >= 0.5));
     }
 
     // Finest-level pixels [x0, x0+w) x [y0, y0+h) (y up), 8 bits.
@@ -190,17 +227,8 @@ struct OrthoLevels::Impl {
         std::vector<double> slot[2] = {std::vector<double>(rowSamples), std::vector<double>(rowSamples)};
         int slotRow[2] = {-1, -1};
         const auto horizontal = [&](int r, std::vector<double>& interpolated) {
-            const uint16_t* in = &window[static_cast<size_t>(r - ry0) * ww * channels];
-            for (int i = 0; i < insideEnd; ++i) {
-                const double fx = colFx[static_cast<size_t>(i)];
-                const uint16_t* s0 = in + off0[static_cast<size_t>(i)];
-                const uint16_t* s1 = in + off1[static_cast<size_t>(i)];
-                double* o = &interpolated[static_cast<size_t>(i) * channels];
-                for (int ch = 0; ch < channels; ++ch) {
-                    const double v = s0[ch];
-                    o[ch] = v + (static_cast<double>(s1[ch]) - v) * fx;
-                }
-            }
+            interpolateRow(&window[static_cast<size_t>(r - ry0) * ww * channels], off0.data(), off1.data(),
+                           colFx.data(), insideEnd, channels, interpolated.data());
         };
         // The interpolated input row r, computed into the slot that does not hold row `keep`.
         const auto interpolatedRow = [&](int r, int keep) -> const double* {
@@ -233,9 +261,7 @@ struct OrthoLevels::Impl {
             }
             const double* top = interpolatedRow(r0, r1);
             const double* bottom = interpolatedRow(r1, r0);
-            for (size_t k = 0; k < rowSamples; ++k) {
-                row[k] = eightBitsInRange(top[k] + (bottom[k] - top[k]) * fy);
-            }
+            combineRows(top, bottom, fy, sixteen ? 65535.0 : 255.0, rowSamples, row);
         }
         return out;
     }

@@ -15,6 +15,7 @@
 #include "libpyramid/elevation_upsample.hpp"
 #include "libpyramid/morton.hpp"
 #include "libpyramid/parallel.hpp"
+#include "libpyramid/vector_clones.hpp"
 
 namespace pyramid {
 
@@ -171,6 +172,7 @@ double largestResidual(const RowCoding& k, const float* height, const uint8_t* v
     return largest;
 }
 
+PYRAMID_VECTOR_CLONES
 EncodedTile encodeTile(const Plan& plan, int l, int tx, int ty, const std::vector<float>* parent, const SourceGrid& src) {
     EncodedTile out;
     out.level = l;

@@ -17,6 +17,7 @@
 #include "libpyramid/ortho_encoder.hpp"
 #include "libpyramid/ortho_residual_producer.hpp"
 #include "libpyramid/ortho_verify.hpp"
+#include "libpyramid/raster_source.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -236,6 +237,67 @@ TEST(OrthoEncoder, SixteenBitInputRoundsToEightBits) {
         for (int i = 2; i < 18; ++i) {
             const int v16 = px[static_cast<size_t>((31 - (j - 2)) * 32 + (i - 2))];
             ASSERT_EQ(fine[static_cast<size_t>(j * 20 + i)], static_cast<int>(std::lround(v16 * 255.0 / 65535.0)));
+        }
+    }
+}
+
+// The documented resampling (ortho_levels.hpp), pixel by pixel: finest pixel x's centre lies at
+// input position X = (x + 0.5) * scale - 0.5 (rows counted from the north), bilinear between the
+// clamped neighbours in double precision, then v * 255 / full rounded half up; 0 beyond the input.
+uint8_t referencePixel(const std::vector<uint16_t>& in, int w, int h, int channels, int full, double sx, double sy,
+                       int64_t W, int64_t x, int64_t y, int c) {
+    const double X = (static_cast<double>(x) + 0.5) * sx - 0.5;
+    const double Y = (static_cast<double>(W - 1 - y) + 0.5) * sy - 0.5;
+    if (X > w - 0.5 || Y > h - 0.5) {
+        return 0;
+    }
+    const double fx = X - std::floor(X), fy = Y - std::floor(Y);
+    const int c0 = std::clamp(static_cast<int>(std::floor(X)), 0, w - 1), c1 = std::clamp(static_cast<int>(std::floor(X)) + 1, 0, w - 1);
+    const int r0 = std::clamp(static_cast<int>(std::floor(Y)), 0, h - 1), r1 = std::clamp(static_cast<int>(std::floor(Y)) + 1, 0, h - 1);
+    const auto v = [&](int col, int row) { return static_cast<double>(in[(static_cast<size_t>(row) * w + col) * channels + c]); };
+    const double top = v(c0, r0) + (v(c1, r0) - v(c0, r0)) * fx;
+    const double bottom = v(c0, r1) + (v(c1, r1) - v(c0, r1)) * fx;
+    const double x8 = (top + (bottom - top) * fy) * 255.0 / full;
+    return static_cast<uint8_t>(std::floor(x8) + (x8 - std::floor(x8) >= 0.5 ? 1 : 0));
+}
+
+TEST(OrthoEncoder, ResampledPixelsAreTheBilinearFormula) {
+    const int w = 50, h = 30, T = 16, W = 64; // finest level 2: 64 x 64 pixels, resampled
+    for (const int channels : {1, 3, 4}) {
+        for (const bool sixteen : {false, true}) {
+            for (const bool stretch : {false, true}) {
+                SCOPED_TRACE(std::to_string(channels) + " channels, " + (sixteen ? "16" : "8") + " bits" +
+                             (stretch ? ", stretched" : ""));
+                test::TempDir dir;
+                const int full = sixteen ? 65535 : 255;
+                test::writeImage(dir.file("in.png"), w, h, channels, image(w, h, channels, full - 8), sixteen);
+                // The samples as stored (the PNG writer may have un-premultiplied an alpha channel).
+                std::vector<uint16_t> px(static_cast<size_t>(w) * h * channels);
+                RasterSource::open(dir.file("in.png"))->readUInt16(0, 0, w, h, 0, channels, px.data());
+                OrthoEncodeOptions o = small();
+                o.levels.stretch = stretch;
+                o.writeDxt = o.writeResiduals = false;
+                encodeOrtho(dir.file("in.png"), dir.file("out"), o);
+                const auto reader = OrthoFileReader::open(dir.file("out/RGB.dat"));
+                ASSERT_EQ(reader->header().maxLevel, 2);
+                const double sx = (stretch ? w : std::max(w, h)) / static_cast<double>(W);
+                const double sy = (stretch ? h : std::max(w, h)) / static_cast<double>(W);
+                for (int ty = 0; ty < 4; ++ty) {
+                    for (int tx = 0; tx < 4; ++tx) {
+                        const auto tile = reader->readTile(2, tx, ty);
+                        for (int j = 2; j < T + 2; ++j) {
+                            for (int i = 2; i < T + 2; ++i) {
+                                for (int c = 0; c < channels; ++c) {
+                                    const int64_t x = tx * T + i - 2, y = ty * T + j - 2;
+                                    ASSERT_EQ(tile[static_cast<size_t>((j * (T + 4) + i) * channels + c)],
+                                              referencePixel(px, w, h, channels, full, sx, sy, W, x, y, c))
+                                        << "pixel " << x << "," << y << " channel " << c;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
         }
     }
 }
