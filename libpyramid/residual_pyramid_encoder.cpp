@@ -172,6 +172,43 @@ double largestResidual(const RowCoding& k, const float* height, const uint8_t* v
     return largest;
 }
 
+// The error statistics of a tile in four lanes: sample i of a row goes to lane (i - 2) mod 4,
+// and the lanes are combined in a fixed order at the end. The same values for any thread count,
+// without one long chain of dependent additions.
+struct ErrorLanes {
+    int64_t counts[4] = {0, 0, 0, 0};
+    double maxima[4] = {0.0, 0.0, 0.0, 0.0};
+    double sums[4] = {0.0, 0.0, 0.0, 0.0};
+};
+
+// Adds the errors |z - height| of the samples a tile owns in one of its rows: i in [2, n + 2),
+// and the map's last column when the tile holds it (at `edgeColumn`). Only source samples count
+// (valid == 1: not nodata, not filled).
+template <typename Column>
+inline void addErrors(const float* height, const uint8_t* valid, Column column, const float* z, int n,
+                      int64_t edgeColumn, ErrorLanes& lanes) {
+    const auto count = [&](int i, int u) {
+        const size_t c = column(i);
+        const double e = std::fabs(static_cast<double>(z[i]) - static_cast<double>(height[c]));
+        const bool counted = valid[c] == 1;
+        lanes.counts[u] += counted ? 1 : 0;
+        lanes.maxima[u] = std::max(lanes.maxima[u], counted ? e : 0.0);
+        lanes.sums[u] += counted ? e * e : 0.0;
+    };
+    int i = 2;
+    for (; i + 4 <= n + 2; i += 4) {
+        for (int u = 0; u < 4; ++u) {
+            count(i + u, u);
+        }
+    }
+    for (; i < n + 2; ++i) {
+        count(i, (i - 2) & 3);
+    }
+    if (edgeColumn >= n + 2 && edgeColumn < n + 5) {
+        count(static_cast<int>(edgeColumn), 0);
+    }
+}
+
 PYRAMID_VECTOR_CLONES
 EncodedTile encodeTile(const Plan& plan, int l, int tx, int ty, const std::vector<float>* parent, const SourceGrid& src) {
     EncodedTile out;
@@ -222,11 +259,7 @@ EncodedTile encodeTile(const Plan& plan, int l, int tx, int ty, const std::vecto
         uniform = uniform && column[static_cast<size_t>(i)] == firstColumn + static_cast<size_t>(i) * columnStep;
     }
     // Statistics in locals, not through out.stats: the compiler then keeps them in registers.
-    // They are kept in four lanes (sample i of a row goes to lane (i - 2) mod 4) combined in a
-    // fixed order: the same values for any thread count, without one long chain of dependent
-    // additions.
-    int64_t counts[4] = {0, 0, 0, 0};
-    double maxima[4] = {0.0, 0.0, 0.0, 0.0}, sums[4] = {0.0, 0.0, 0.0, 0.0};
+    ErrorLanes stats;
     double maxAbs = 0.0;
     const RowCoding coding{powerOfTwo, inverse, step, plan.scale};
     for (int j = 0; j < S; ++j) {
@@ -257,31 +290,17 @@ EncodedTile encodeTile(const Plan& plan, int l, int tx, int ty, const std::vecto
         if (!ownedRow) {
             continue;
         }
-        // Lane u of the partial statistics takes the samples i with (i - 2) % 4 == u.
-        const auto count = [&](int i, int u) {
-            const size_t c = column[static_cast<size_t>(i)];
-            const double e = std::fabs(static_cast<double>(z[i]) - static_cast<double>(height[c]));
-            const bool counted = valid[c] == 1;
-            counts[u] += counted ? 1 : 0;
-            maxima[u] = std::max(maxima[u], counted ? e : 0.0);
-            sums[u] += counted ? e * e : 0.0;
-        };
-        int i = 2;
-        for (; i + 4 <= n + 2; i += 4) {
-            for (int u = 0; u < 4; ++u) {
-                count(i + u, u);
-            }
-        }
-        for (; i < n + 2; ++i) {
-            count(i, (i - 2) & 3);
-        }
-        if (edgeColumn >= n + 2 && edgeColumn < S) {
-            count(static_cast<int>(edgeColumn), 0);
+        if (uniform && columnStep == 1) {
+            addErrors(height + firstColumn, valid + firstColumn, contiguous, z, n, edgeColumn, stats);
+        } else if (uniform) {
+            addErrors(height + firstColumn, valid + firstColumn, strided, z, n, edgeColumn, stats);
+        } else {
+            addErrors(height, valid, listed, z, n, edgeColumn, stats);
         }
     }
-    const int64_t samples = (counts[0] + counts[1]) + (counts[2] + counts[3]);
-    const double maxError = std::max(std::max(maxima[0], maxima[1]), std::max(maxima[2], maxima[3]));
-    const double sumSquares = (sums[0] + sums[1]) + (sums[2] + sums[3]);
+    const int64_t samples = (stats.counts[0] + stats.counts[1]) + (stats.counts[2] + stats.counts[3]);
+    const double maxError = std::max(std::max(stats.maxima[0], stats.maxima[1]), std::max(stats.maxima[2], stats.maxima[3]));
+    const double sumSquares = (stats.sums[0] + stats.sums[1]) + (stats.sums[2] + stats.sums[3]);
     // |r| >= 32768 does not fit the symmetric int16 range: an overflow (doc/dem-encoding.md).
     out.stats.samples = samples;
     out.stats.maxError = maxError;
