@@ -25,15 +25,9 @@ SIZE=${SIZE:-8193}
 THREADS=${THREADS:-$(nproc)}
 REPEAT=${REPEAT:-5}
 
-as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
-need_package() { # command package
-    if ! command -v "$1" >/dev/null 2>&1; then
-        as_root apt-get install -y "$2" >/dev/null || { as_root apt-get update >/dev/null && as_root apt-get install -y "$2" >/dev/null; }
-    fi
-}
-need_package gdal_translate gdal-bin
-need_package jq jq
-[ -x /usr/bin/time ] || need_package /usr/bin/time time
+# shellcheck source=bench/common.sh
+source "$ROOT/bench/common.sh"
+need_bench_tools
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
     cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPYRAMID_WITH_GL=OFF >/dev/null
@@ -63,18 +57,8 @@ printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\tinput_samples\tmax_error\n' >"$R
 run() {
     local case=$1 tool=$2 input=$3 output=$4
     shift 4
-    local walls=() rss=0 k
-    for ((k = 0; k < REPEAT; ++k)); do
-        rm -f "$output" report.json
-        local start end
-        start=$(date +%s%N)
-        /usr/bin/time -v -o time.txt "$@" >run.log 2>&1 || { cat run.log; exit 1; }
-        end=$(date +%s%N)
-        walls+=("$(awk -v ns=$((end - start)) 'BEGIN {printf "%.3f", ns / 1e9}')")
-        rss=$(awk -F': ' -v r="$rss" '/Maximum resident set size/ {m = $2 / 1024; printf "%.0f", (m > r ? m : r)}' time.txt)
-    done
-    local wall bytes samples error=-
-    wall=$(printf '%s\n' "${walls[@]}" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}')
+    BEFORE_RUN="rm -f '$output' report.json" timed_runs "$REPEAT" "$@"
+    local wall=$WALL_S rss=$PEAK_RSS_MB bytes samples error=-
     bytes=$(stat -c %s "$output")
     samples=$(oiiotool --info -v "$input" | awk '/^'"$input"'/ {print $3 * $5; exit}')
     [ -f report.json ] && error=$(jq '[.levels[].max_error] | max' report.json)

@@ -5,30 +5,30 @@
 #   bench/ortho_bench.sh            results in $WORK (default /tmp/pyramid-ortho-bench)
 #
 # Environment: BUILD (a Release build directory, configured here if missing; default
-# build-release), WORK, SIZE (synthetic image side, default 8192), THREADS (default: all cores).
+# build-release), WORK, SIZE (synthetic image side, default 8192), THREADS (default: all cores),
+# REPEAT (runs of each case compared with GDAL, default 3: the median wall time is reported;
+# the cases without a GDAL counterpart run once).
 #
 # Inputs: a deterministic synthetic SIZE x SIZE RGB image (bench/ortho_synthetic_image.cpp),
-# samples/bluemarble.png and a 5400x2700 upsampled copy of it. On the synthetic image
-# preprocessOrtho uses --tile-size 256 so that its finest level is the input's pixels, as in the
-# COG (no resampling, same pixel count apart from the 2-pixel tile borders); on the Blue Marble
-# inputs it uses the default 192-pixel tiles (resampled to 192 << maxLevel pixels).
+# samples/bluemarble.png, a 5400x2700 upsampled copy of it, and a square 3072x3072 one (its
+# western 675x675 pixels upsampled). On the synthetic image preprocessOrtho uses --tile-size 256
+# so that its finest level is the input's pixels, as in the COG (no resampling, same pixel count
+# apart from the 2-pixel tile borders); on the Blue Marble inputs it uses the default 192-pixel
+# tiles: the 2:1 maps are resampled into the upper half of a 192 << maxLevel square (2.6 times
+# GDAL's pixels), the square one is its finest level pixel for pixel (192 << 4 = 3072).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BUILD=${BUILD:-$ROOT/build-release}
+BUILD=$(realpath -m "${BUILD:-$ROOT/build-release}")
 WORK=${WORK:-/tmp/pyramid-ortho-bench}
 SIZE=${SIZE:-8192}
 THREADS=${THREADS:-$(nproc)}
+REPEAT=${REPEAT:-3}
 
-as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
-need_package() { # command package
-    if ! command -v "$1" >/dev/null 2>&1; then
-        as_root apt-get install -y "$2" >/dev/null || { as_root apt-get update >/dev/null && as_root apt-get install -y "$2" >/dev/null; }
-    fi
-}
-need_package gdal_translate gdal-bin
+# shellcheck source=bench/common.sh
+source "$ROOT/bench/common.sh"
+need_bench_tools
 need_package oiiotool openimageio-tools
-[ -x /usr/bin/time ] || need_package /usr/bin/time time
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
     cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPYRAMID_WITH_GL=OFF >/dev/null
@@ -45,35 +45,36 @@ if [ ! -f "synthetic-$SIZE.tif" ]; then
 fi
 cp -f "$ROOT/samples/bluemarble.png" bluemarble.png
 [ -f bluemarble-5400.png ] || oiiotool bluemarble.png --resize 5400x2700 -o bluemarble-5400.png
+[ -f bluemarble-3072.png ] || oiiotool bluemarble.png --cut 675x675+0+0 --resize 3072x3072 -o bluemarble-3072.png
 
 RESULTS=$WORK/results.tsv
 printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\ttiles\n' >"$RESULTS"
 
-# run CASE TOOL OUTPUT COMMAND...: time and peak RSS of COMMAND, bytes of OUTPUT (file or dir).
+# run CASE TOOL OUTPUT COMMAND...: wall time of COMMAND (the median of RUNS runs, timed in
+# nanoseconds around it), peak RSS (the largest, from /usr/bin/time), bytes of OUTPUT (file or dir).
+RUNS=$REPEAT
 run() {
     local case=$1 tool=$2 output=$3
     shift 3
-    rm -rf "$output"
-    /usr/bin/time -v -o time.txt "$@" >run.log 2>&1 || { cat run.log; exit 1; }
-    local wall rss bytes tiles=-
-    wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + t[i]; print s}' time.txt)
-    rss=$(awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2 / 1024}' time.txt)
+    BEFORE_RUN="rm -rf '$output' report.json" timed_runs "$RUNS" "$@"
+    local wall=$WALL_S rss=$PEAK_RSS_MB bytes tiles=-
     bytes=$(find "$output" -type f \( -name '*.dat' -o -name '*.tif' \) -printf '%s\n' | awk '{s += $1} END {print s}')
     [ -f report.json ] && [ "$tool" = ours ] && tiles=$(jq .tiles report.json)
-    rm -f report.json
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$case" "$tool" "$wall" "$rss" "$bytes" "$tiles" | tee -a "$RESULTS"
 }
 
 OURS=("$ORTHO" --quiet --threads "$THREADS" --report report.json)
 COG=(gdal_translate -q -of COG -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
 
-for input in "synthetic-$SIZE.tif" bluemarble.png bluemarble-5400.png; do
+for input in "synthetic-$SIZE.tif" bluemarble.png bluemarble-5400.png bluemarble-3072.png; do
     tile=()
     [ "$input" = "synthetic-$SIZE.tif" ] && tile=(--tile-size 256)
+    RUNS=$REPEAT
     run "$input deflate" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff "${tile[@]}"
     run "$input deflate" gdal out-cog.tif "${COG[@]}" -co COMPRESS=DEFLATE "$input" out-cog.tif
     run "$input jpeg90" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff --compression jpeg --jpeg-quality 90 "${tile[@]}"
     run "$input jpeg90" gdal out-cog.tif "${COG[@]}" -co COMPRESS=JPEG -co QUALITY=90 "$input" out-cog.tif
+    RUNS=1
     run "$input levels-only" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff --compression none "${tile[@]}"
     run "$input dxt" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs dxt "${tile[@]}"
     run "$input all-three" ours out-ours "${OURS[@]}" "$input" -o out-ours "${tile[@]}"

@@ -31,15 +31,10 @@ WIDTH=${WIDTH:-16384}
 HEIGHT=$((WIDTH / 2))
 THREADS=${THREADS:-$(nproc)}
 
-as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
-need_package() { # command package
-    if ! command -v "$1" >/dev/null 2>&1; then
-        as_root apt-get install -y "$2" >/dev/null || { as_root apt-get update >/dev/null && as_root apt-get install -y "$2" >/dev/null; }
-    fi
-}
+# shellcheck source=bench/common.sh
+source "$ROOT/bench/common.sh"
+need_bench_tools
 need_package gdalwarp gdal-bin
-need_package jq jq
-[ -x /usr/bin/time ] || need_package /usr/bin/time time
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
     cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPYRAMID_WITH_GL=OFF >/dev/null
@@ -74,11 +69,8 @@ printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\tface_side\n' >"$RESULTS"
 run() {
     local case=$1 tool=$2 out=$3 side=$4
     shift 4
-    rm -rf "$out"
-    /usr/bin/time -v -o time.txt "$@" >run.log 2>&1 || { cat run.log; exit 1; }
-    local wall rss bytes
-    wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + t[i]; print s}' time.txt)
-    rss=$(awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2 / 1024}' time.txt)
+    BEFORE_RUN="rm -rf '$out'" timed_runs 1 "$@"
+    local wall=$WALL_S rss=$PEAK_RSS_MB bytes
     bytes=$(du -sb "$out" | cut -f1)
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$case" "$tool" "$wall" "$rss" "$bytes" "$side" | tee -a "$RESULTS"
 }

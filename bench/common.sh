@@ -1,0 +1,38 @@
+# Shared by the benchmark scripts (sourced, not run): installing the peers and tools, and timing
+# a command. Benchmarks only: nothing here is used by the product or its tests.
+
+as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+
+# need_package COMMAND PACKAGE: installs Debian's PACKAGE unless COMMAND is already there.
+need_package() {
+    if ! command -v "$1" >/dev/null 2>&1; then
+        as_root apt-get install -y "$2" >/dev/null || { as_root apt-get update >/dev/null && as_root apt-get install -y "$2" >/dev/null; }
+    fi
+}
+
+# What every benchmark script needs: GDAL (the peer), jq (reports) and GNU time (peak RSS).
+need_bench_tools() {
+    need_package gdal_translate gdal-bin
+    need_package jq jq
+    [ -x /usr/bin/time ] || need_package /usr/bin/time time
+}
+
+# timed_runs RUNS COMMAND...: runs COMMAND RUNS times (its output in run.log, printed if it
+# fails) and sets WALL_S, the median wall time in seconds (timed in nanoseconds around the
+# command), and PEAK_RSS_MB, the largest peak resident set of the runs (GNU time). BEFORE_RUN,
+# if set, is evaluated before each run (to remove the previous outputs).
+timed_runs() {
+    local runs=$1
+    shift
+    local walls=() rss=0 k start end
+    for ((k = 0; k < runs; ++k)); do
+        [ -n "${BEFORE_RUN:-}" ] && eval "$BEFORE_RUN"
+        start=$(date +%s%N)
+        /usr/bin/time -v -o time.txt "$@" >run.log 2>&1 || { cat run.log; exit 1; }
+        end=$(date +%s%N)
+        walls+=("$(awk -v ns=$((end - start)) 'BEGIN {printf "%.3f", ns / 1e9}')")
+        rss=$(awk -F': ' -v r="$rss" '/Maximum resident set size/ {m = $2 / 1024; printf "%.0f", (m > r ? m : r)}' time.txt)
+    done
+    WALL_S=$(printf '%s\n' "${walls[@]}" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}')
+    PEAK_RSS_MB=$rss
+}
