@@ -28,6 +28,9 @@ namespace {
 // of the time (bench/ortho_bench.md). Readers undo both inside libtiff: same decoded pixels.
 constexpr int kTileDeflateLevel = 1;
 
+// The encoded uniform tiles kept for reuse (Encoder::encode): a few hundred KB each.
+constexpr size_t kUniformTilesKept = 64;
+
 struct TileStats {
     int tiffMaxError = 0;
     double dxtSquares = 0.0;
@@ -98,7 +101,8 @@ public:
     EncodedTile encode(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const {
         // Tiles of one colour under a parent of that colour (the black beyond a non-square
         // input, sea, snow) encode to the same bytes wherever they are: encoded once per colour
-        // and compression, then copied.
+        // and compression, then copied. At most kUniformTilesKept colours are kept (memory
+        // stays bounded on a map of many flat colours; later ones are encoded as any tile).
         std::optional<UniformKey> key = uniformKey(t, parentRecon);
         if (key) {
             {
@@ -110,7 +114,9 @@ public:
             }
             EncodedTile e = encodeNew(t, parentRecon);
             const std::lock_guard<std::mutex> lock(uniformMutex_);
-            uniform_.emplace(*key, e);
+            if (uniform_.size() < kUniformTilesKept) {
+                uniform_.emplace(*key, e);
+            }
             return e;
         }
         return encodeNew(t, parentRecon);
