@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <future>
 #include <map>
@@ -133,15 +134,15 @@ private:
         }
         const std::vector<uint8_t>& p = t.pixels.pixels;
         const auto c = static_cast<size_t>(channels_);
-        const auto sameColour = [&](const std::vector<uint8_t>& v) {
-            for (size_t k = c; k < v.size(); ++k) {
-                if (v[k] != p[k % c]) {
-                    return false;
-                }
-            }
-            return v.size() >= c;
+        // Every pixel is the first one when every byte equals the one a pixel earlier (one
+        // memcmp, which stops at the first difference).
+        const auto uniform = [c](const std::vector<uint8_t>& v) {
+            return v.size() >= c && std::memcmp(v.data(), v.data() + c, v.size() - c) == 0;
         };
-        if (!sameColour(p) || (o_.writeResiduals && (parentRecon == nullptr || !sameColour(*parentRecon)))) {
+        const auto sameColourAsTile = [&](const std::vector<uint8_t>* parent) {
+            return parent != nullptr && uniform(*parent) && std::memcmp(parent->data(), p.data(), c) == 0;
+        };
+        if (!uniform(p) || (o_.writeResiduals && !sameColourAsTile(parentRecon))) {
             return std::nullopt;
         }
         uint32_t colour = 0;
