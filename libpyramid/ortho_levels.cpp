@@ -405,14 +405,17 @@ int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M +
 
 void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume) const {
     const Impl& m = *impl_;
-    // Pass 1: level C, one row at a time from a band of 2^(M-C) finest rows, a face's margin included.
+    // Pass 1: level C, one row at a time from a band of 2^(M-C) finest rows, a face's margin
+    // included; northern rows first, so that an input still being decoded from its first row
+    // (PNG) is worked on as it arrives.
     const int k = m.M - m.C;
     const int64_t marginC = m.margin(m.C);
     const int64_t sideC = m.levelWidth(m.C) + 2 * marginC;
     std::vector<Image8> levels(static_cast<size_t>(m.C) + 1);
     Image8& levelC = levels[static_cast<size_t>(m.C)];
     levelC = Image8(static_cast<int>(sideC), static_cast<int>(sideC), m.channels);
-    parallelFor(sideC, m.threads, [&](int64_t row) {
+    parallelFor(sideC, m.threads, [&](int64_t i) {
+        const int64_t row = sideC - 1 - i;
         Image8 band = m.sampleFinest(-(marginC << k), (row - marginC) << k, static_cast<int>(sideC << k), 1 << k);
         for (int r = 0; r < k; ++r) {
             band = m.averager.reduce(band);

@@ -11,11 +11,9 @@
 
 namespace pyramid {
 
-namespace {
-
 // Everything the decoder touches after setjmp lives here, behind a pointer that does not
 // change: a longjmp out of libpng leaves it in a defined state.
-struct Decoding {
+struct PngRasterReader::Decoding {
     FILE* file = nullptr;
     png_structp png = nullptr;
     png_infop pngInfo = nullptr;
@@ -32,18 +30,37 @@ struct Decoding {
     }
 };
 
+namespace {
+
+// Rows published to the readers at once: fewer wake-ups than one by one.
+constexpr int kRowsPerStep = 16;
+
 [[noreturn]] void onPngError(png_structp png, png_const_charp message) {
-    auto* d = static_cast<Decoding*>(png_get_error_ptr(png));
+    auto* d = static_cast<PngRasterReader::Decoding*>(png_get_error_ptr(png));
     d->error = message ? message : "decoding error";
     png_longjmp(png, 1);
 }
 
 void onPngWarning(png_structp, png_const_charp) {}
 
+std::string damaged(const std::string& why) { return "cannot read: damaged or truncated PNG (" + why + ")"; }
+
 } // namespace
 
+PngRasterReader::PngRasterReader() = default;
+
+PngRasterReader::~PngRasterReader() {
+    stop_ = true;
+    if (decoder_.joinable()) {
+        decoder_.join();
+    }
+}
+
 std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) {
-    auto d = std::make_unique<Decoding>();
+    std::unique_ptr<PngRasterReader> reader(new PngRasterReader());
+    reader->path_ = path;
+    reader->decoding_ = std::make_unique<Decoding>();
+    Decoding* d = reader->decoding_.get();
     d->file = std::fopen(path.c_str(), "rb");
     if (!d->file) {
         return nullptr; // the caller's readers report it
@@ -53,14 +70,13 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) 
         png_sig_cmp(signature, 0, sizeof signature) != 0) {
         return nullptr;
     }
-    d->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, d.get(), onPngError, onPngWarning);
+    d->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, d, onPngError, onPngWarning);
     if (!d->png || !(d->pngInfo = png_create_info_struct(d->png))) {
         fail(path, "cannot read: out of memory");
     }
-    std::unique_ptr<PngRasterReader> reader(new PngRasterReader());
     // From here a libpng error comes back to this point with d->error set.
     if (setjmp(png_jmpbuf(d->png))) {
-        fail(path, "cannot read: damaged or truncated PNG (" + d->error + ")");
+        fail(path, damaged(d->error));
     }
     png_init_io(d->png, d->file);
     png_set_sig_bytes(d->png, sizeof signature);
@@ -80,7 +96,7 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) 
     if (depth == 16) {
         png_set_swap(d->png); // PNG is big-endian; the samples are kept as host integers
     }
-    png_set_interlace_handling(d->png);
+    const bool interlaced = png_set_interlace_handling(d->png) > 1;
     png_read_update_info(d->png, d->pngInfo);
 
     const size_t rowSamples = static_cast<size_t>(width) * static_cast<size_t>(channels);
@@ -108,9 +124,56 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) 
             d->rows[y] = reinterpret_cast<png_bytep>(reader->words_.data() + y * rowSamples);
         }
     }
-    png_read_image(d->png, d->rows.data());
-    png_read_end(d->png, nullptr);
+    if (interlaced) {
+        // Every pass touches every row: nothing is final before the end.
+        png_read_image(d->png, d->rows.data());
+        png_read_end(d->png, nullptr);
+        reader->rowsDecoded_ = static_cast<int>(height);
+        reader->decoding_.reset();
+        return reader;
+    }
+    reader->decoder_ = std::thread([r = reader.get()] { r->decodeRows(); });
     return reader;
+}
+
+void PngRasterReader::decodeRows() {
+    Decoding* d = decoding_.get();
+    const int height = info_.height;
+    const auto publish = [&](int rows, const std::string& error) {
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            rowsDecoded_.store(rows, std::memory_order_release);
+            error_ = error;
+        }
+        progress_.notify_all();
+    };
+    if (setjmp(png_jmpbuf(d->png))) {
+        publish(rowsDecoded_.load(std::memory_order_relaxed), d->error);
+        return;
+    }
+    for (int y = 0; y < height && !stop_; ++y) {
+        png_read_row(d->png, d->rows[static_cast<size_t>(y)], nullptr);
+        // The last rows are held back until the rest of the file is read and checked.
+        if ((y + 1) % kRowsPerStep == 0 && y + 1 < height - kRowsPerStep) {
+            publish(y + 1, "");
+        }
+    }
+    if (stop_) {
+        return;
+    }
+    png_read_end(d->png, nullptr);
+    publish(height, "");
+}
+
+void PngRasterReader::waitForRows(int y1) const {
+    if (rowsDecoded_.load(std::memory_order_acquire) >= y1) {
+        return;
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    progress_.wait(lock, [&] { return rowsDecoded_.load(std::memory_order_acquire) >= y1 || !error_.empty(); });
+    if (rowsDecoded_.load(std::memory_order_acquire) < y1) {
+        fail(path_, damaged(error_));
+    }
 }
 
 namespace {
@@ -135,6 +198,7 @@ void copyWindow(const std::vector<T>& samples, int width, int channels, int x0, 
 } // namespace
 
 void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    waitForRows(y1);
     if (!bytes_.empty()) {
         copyWindow(bytes_, info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
     } else {
@@ -143,6 +207,7 @@ void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, flo
 }
 
 void PngRasterReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    waitForRows(y1);
     if (!bytes_.empty()) {
         copyWindow(bytes_, info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
     } else {
@@ -155,6 +220,7 @@ bool PngRasterReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, 
     if (bytes_.empty()) {
         return false;
     }
+    waitForRows(y1);
     const size_t channels = static_cast<size_t>(info_.channels);
     const size_t wanted = static_cast<size_t>(c1 - c0);
     for (int y = y0; y < y1; ++y) {
