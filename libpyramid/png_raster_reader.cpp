@@ -114,14 +114,14 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) 
     info.formatName = "png";
     d->rows.resize(height);
     if (depth == 8) {
-        reader->bytes_.resize(samples);
+        reader->bytes_.reset(new uint8_t[samples]);
         for (size_t y = 0; y < height; ++y) {
-            d->rows[y] = reader->bytes_.data() + y * rowSamples;
+            d->rows[y] = reader->bytes_.get() + y * rowSamples;
         }
     } else {
-        reader->words_.resize(samples);
+        reader->words_.reset(new uint16_t[samples]);
         for (size_t y = 0; y < height; ++y) {
-            d->rows[y] = reinterpret_cast<png_bytep>(reader->words_.data() + y * rowSamples);
+            d->rows[y] = reinterpret_cast<png_bytep>(reader->words_.get() + y * rowSamples);
         }
     }
     if (interlaced) {
@@ -180,11 +180,11 @@ namespace {
 
 // Channels [c0, c1) of a window of interleaved samples, each converted to Out by value.
 template <typename T, typename Out>
-void copyWindow(const std::vector<T>& samples, int width, int channels, int x0, int y0, int x1, int y1, int c0,
-                int c1, Out* out) {
+void copyWindow(const T* samples, int width, int channels, int x0, int y0, int x1, int y1, int c0, int c1,
+                Out* out) {
     const size_t n = static_cast<size_t>(channels);
     for (int y = y0; y < y1; ++y) {
-        const T* from = samples.data() + (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x0)) * n;
+        const T* from = samples + (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x0)) * n;
         if (c0 == 0 && c1 == channels) {
             out = std::copy(from, from + static_cast<size_t>(x1 - x0) * n, out);
             continue;
@@ -199,32 +199,32 @@ void copyWindow(const std::vector<T>& samples, int width, int channels, int x0, 
 
 void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
     waitForRows(y1);
-    if (!bytes_.empty()) {
-        copyWindow(bytes_, info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
+    if (bytes_) {
+        copyWindow(bytes_.get(), info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
     } else {
-        copyWindow(words_, info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
+        copyWindow(words_.get(), info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
     }
 }
 
 void PngRasterReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
     waitForRows(y1);
-    if (!bytes_.empty()) {
-        copyWindow(bytes_, info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
+    if (bytes_) {
+        copyWindow(bytes_.get(), info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
     } else {
-        copyWindow(words_, info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
+        copyWindow(words_.get(), info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
     }
 }
 
 bool PngRasterReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
                                 std::ptrdiff_t rowStride) const {
-    if (bytes_.empty()) {
+    if (!bytes_) {
         return false;
     }
     waitForRows(y1);
     const size_t channels = static_cast<size_t>(info_.channels);
     const size_t wanted = static_cast<size_t>(c1 - c0);
     for (int y = y0; y < y1; ++y) {
-        const uint8_t* from = bytes_.data() + (static_cast<size_t>(y) * static_cast<size_t>(info_.width) +
+        const uint8_t* from = bytes_.get() + (static_cast<size_t>(y) * static_cast<size_t>(info_.width) +
                                                static_cast<size_t>(x0)) * channels;
         uint8_t* to = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride;
         if (wanted == channels) {

@@ -48,8 +48,11 @@ private:
 
     std::string path_;
     RasterInfo info_;
-    std::vector<uint8_t> bytes_;   // 8-bit images, interleaved, row 0 = north
-    std::vector<uint16_t> words_;  // 16-bit images
+    // The decoded samples, interleaved, row 0 = north: bytes_ for 8-bit images, words_ for
+    // 16-bit ones. Left uninitialised (never read before decoded): zero-filling them first
+    // would make the opening thread fault in every page of a large image before decoding.
+    std::unique_ptr<uint8_t[]> bytes_;
+    std::unique_ptr<uint16_t[]> words_;
     std::unique_ptr<Decoding> decoding_;
     std::thread decoder_;
     std::atomic<int> rowsDecoded_{0}; // rows [0, rowsDecoded_) hold their final samples
