@@ -93,10 +93,9 @@ std::vector<uint8_t> expandForDxt(std::span<const uint8_t> pixels, int channels)
 
 class Encoder {
 public:
-    Encoder(const OrthoLevels& levels, const OrthoEncodeOptions& o) : levels_(levels), o_(o) {
+    Encoder(const OrthoLevels& levels, const OrthoEncodeOptions& o) : o_(o) {
         channels_ = levels.channels();
         tileSize_ = levels.tileSize();
-        maxLevel_ = levels.maxLevel();
     }
 
     EncodedTile encode(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const {
@@ -246,9 +245,8 @@ private:
         e.stats.residualSamples += static_cast<int64_t>(truth.size());
     }
 
-    const OrthoLevels& levels_;
     const OrthoEncodeOptions& o_;
-    int channels_ = 0, tileSize_ = 0, maxLevel_ = 0;
+    int channels_ = 0, tileSize_ = 0;
     mutable std::mutex uniformMutex_;
     mutable std::map<UniformKey, EncodedTile> uniform_;
 };
