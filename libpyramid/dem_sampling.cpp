@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "libpyramid/row_pair_cache.hpp"
 #include "libpyramid/vector_clones.hpp"
 
 namespace pyramid {
@@ -120,37 +121,26 @@ void sampleCleanWindow(const std::vector<AxisTap>& xs, const std::vector<AxisTap
         second[i] = t.inside && t.frac > 0.0 ? first[i] + 1 : first[i];
         weight[i] = t.inside ? t.frac : 0.0;
     }
-    // Two horizontally interpolated input rows, reused while consecutive grid rows share them.
-    std::vector<double> rows[2] = {std::vector<double>(nx), std::vector<double>(nx)};
-    int64_t rowOf[2] = {-1, -1};
-    // Input row r interpolated, computed unless held; never evicting input row `keep`.
-    const auto interpolated = [&](int64_t r, int64_t keep) -> const double* {
-        for (int k = 0; k < 2; ++k) {
-            if (rowOf[k] == r) {
-                return rows[k].data();
-            }
-        }
-        const int k = rowOf[0] == keep ? 1 : 0;
+    // Input row r interpolated along x at every grid column.
+    const auto horizontal = [&](int64_t r, double* __restrict out) {
         const float* __restrict line = window + (r - ry0) * ww;
-        double* __restrict out = rows[k].data();
         for (size_t i = 0; i < nx; ++i) {
             const double v0 = line[first[i]], v1 = line[second[i]];
             out[i] = v0 + (v1 - v0) * weight[i];
         }
-        rowOf[k] = r;
-        return out;
     };
+    RowPairCache rows(nx);
     for (int64_t j = 0; j < grid.ny; ++j) {
         const AxisTap& ty = ys[static_cast<size_t>(j)];
         if (!ty.inside) {
             continue;
         }
         const bool fy = ty.frac > 0.0;
-        const double* top = interpolated(ty.index, fy ? ty.index + 1 : -1);
+        const double* top = rows.row(ty.index, fy ? ty.index + 1 : -1, horizontal);
         float* __restrict height = grid.height.data() + j * grid.nx;
         uint8_t* __restrict valid = grid.valid.data() + j * grid.nx;
         if (fy) {
-            const double* bottom = interpolated(ty.index + 1, ty.index);
+            const double* bottom = rows.row(ty.index + 1, ty.index, horizontal);
             const double f = ty.frac;
             for (size_t i = 0; i < nx; ++i) {
                 const double h = top[i] + (bottom[i] - top[i]) * f;

@@ -10,6 +10,7 @@
 #include "libpyramid/face_sampler.hpp"
 #include "libpyramid/morton.hpp"
 #include "libpyramid/parallel.hpp"
+#include "libpyramid/row_pair_cache.hpp"
 #include "libpyramid/vector_clones.hpp"
 
 namespace pyramid {
@@ -220,27 +221,14 @@ struct OrthoLevels::Impl {
         }
         // Separable evaluation of the formula: `top` and `bottom` are each the horizontal
         // interpolation of one input row, computed once per input row and shared by the output
-        // rows that use it (two slots: rows come in order); then `v = top + (bottom - top) * fy`
+        // rows that use it (RowPairCache); then `v = top + (bottom - top) * fy`
         // for a whole output row at once. Where fx or fy is 0 the formula gives the sample
         // itself, exactly, so no case needs a path of its own.
         const size_t rowSamples = static_cast<size_t>(insideEnd) * channels;
-        std::vector<double> slot[2] = {std::vector<double>(rowSamples), std::vector<double>(rowSamples)};
-        int slotRow[2] = {-1, -1};
-        const auto horizontal = [&](int r, std::vector<double>& interpolated) {
+        RowPairCache rows(rowSamples);
+        const auto horizontal = [&](int64_t r, double* interpolated) {
             interpolateRow(&window[static_cast<size_t>(r - ry0) * ww * channels], off0.data(), off1.data(),
-                           colFx.data(), insideEnd, channels, interpolated.data());
-        };
-        // The interpolated input row r, computed into the slot that does not hold row `keep`.
-        const auto interpolatedRow = [&](int r, int keep) -> const double* {
-            for (int k = 0; k < 2; ++k) {
-                if (slotRow[k] == r) {
-                    return slot[k].data();
-                }
-            }
-            const int k = slotRow[0] == keep ? 1 : 0;
-            horizontal(r, slot[k]);
-            slotRow[k] = r;
-            return slot[k].data();
+                           colFx.data(), insideEnd, channels, interpolated);
         };
         for (int j = 0; j < h; ++j) {
             const double Y = py[static_cast<size_t>(j)];
@@ -259,8 +247,8 @@ struct OrthoLevels::Impl {
                 std::copy_n(&window[first], static_cast<size_t>(w) * channels, row);
                 continue;
             }
-            const double* top = interpolatedRow(r0, r1);
-            const double* bottom = interpolatedRow(r1, r0);
+            const double* top = rows.row(r0, r1, horizontal);
+            const double* bottom = rows.row(r1, r0, horizontal);
             combineRows(top, bottom, fy, sixteen ? 65535.0 : 255.0, rowSamples, row);
         }
         return out;
