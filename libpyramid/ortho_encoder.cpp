@@ -377,6 +377,9 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
         }
     };
 
+    // Colour residuals predict each tile from its parent's rebuilt colours: parents first.
+    // Without them, tiles are independent, and the input is read once (OrthoLevels::walk).
+    const auto order = o.writeResiduals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass;
     levels.walk([&](std::vector<TileBatch>& group) {
         std::vector<std::vector<EncodedTile>> results(group.size());
         const bool oneLevel = group.size() == 1 && !group[0].empty() &&
@@ -388,7 +391,8 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             results[0].resize(batch.size());
             parallelFor(static_cast<int64_t>(batch.size()), threads, [&](int64_t i) {
                 const TrueTile& t = batch[static_cast<size_t>(i)];
-                const std::vector<uint8_t>* parent = t.level ? &shallowRecon.at(parentOf(t)) : nullptr;
+                const std::vector<uint8_t>* parent =
+                    t.level && o.writeResiduals ? &shallowRecon.at(parentOf(t)) : nullptr;
                 results[0][static_cast<size_t>(i)] = encoder.encode(t, parent);
             });
         } else {
@@ -398,6 +402,10 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                 auto& out = results[static_cast<size_t>(i)];
                 out.reserve(group[static_cast<size_t>(i)].size());
                 for (const TrueTile& t : group[static_cast<size_t>(i)]) {
+                    if (!o.writeResiduals) {
+                        out.push_back(encoder.encode(t, nullptr)); // no tile depends on its parent
+                        continue;
+                    }
                     const auto key = parentOf(t);
                     const auto it = local.find(key);
                     const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon.at(key);
@@ -406,7 +414,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                 }
             });
         }
-        if (oneLevel) {
+        if (oneLevel && o.writeResiduals) {
             // The next groups predict from these rebuilt tiles while this one is written.
             for (const EncodedTile& e : results[0]) {
                 shallowRecon[{e.level, e.tx, e.ty}] = e.recon;
@@ -414,7 +422,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
         }
         finishWriting();
         writing = std::async(std::launch::async, [&write, batch = std::move(results)]() mutable { write(batch); });
-    });
+    }, order);
     finishWriting();
     for (auto* w : {tiff.get(), dxt.get(), residual.get()}) {
         if (w) {

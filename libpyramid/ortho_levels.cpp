@@ -19,6 +19,7 @@ namespace {
 
 constexpr int kBorder = 2;
 constexpr int kSubtreeDepth = 4;
+constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
 // std::lround (halves away from zero) without the library call, for the hot conversion of
 // every finest pixel. For 0 <= x < 2^31 the conversion to an integer truncates, which is
@@ -110,6 +111,7 @@ struct OrthoLevels::Impl {
     std::unique_ptr<RasterSource> ownedSource; // planar: opened here
     const RasterSource* source = nullptr;
     int T = 0, M = 0, C = 0, channels = 0;
+    int singlePassC = 0; // C of WalkOrder::SinglePass
     bool sixteen = false;
     Axis ax, ay;                          // planar geometry
     std::unique_ptr<PlanetBody> body;     // cube face geometry (face != nullptr)
@@ -117,6 +119,7 @@ struct OrthoLevels::Impl {
     std::unique_ptr<FaceSampler> face;
     ColourAverager averager{ColourSpace::Srgb, 1};
     int threads = 1;
+    bool blankStaysBlank = false; // averaging black and transparent pixels gives them again
     std::string sampling;
 
     void init(const OrthoLevelsOptions& o, int64_t wanted);
@@ -283,13 +286,21 @@ struct OrthoLevels::Impl {
         return t;
     }
 
-    void subtree(int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
+    std::vector<Image8> coarseLevelsFromBands() const;
+    void reduceCoarserLevels(std::vector<Image8>& levels) const;
+    void consumeCoarseLevels(const std::vector<Image8>& levels,
+                             const std::function<void(std::vector<TileBatch>&)>& consume) const;
+    void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, Image8* levelC) const;
+    bool planarBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) const;
+    void blankSubtree(int l, int tx, int ty, TileBatch& out) const;
+
+    void subtree(int top, int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
                  const std::vector<int64_t>& oy, TileBatch& out) const {
-        const size_t k = static_cast<size_t>(l - C - 1);
+        const size_t k = static_cast<size_t>(l - top);
         out.push_back(extract(imgs[k], ox[k], oy[k], l, tx, ty));
         if (l < M) {
             for (int c = 0; c < 4; ++c) {
-                subtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), imgs, ox, oy, out);
+                subtree(top, l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), imgs, ox, oy, out);
             }
         }
     }
@@ -323,7 +334,19 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
         fail("--max-level", std::to_string(M) + " is beyond 20");
     }
     C = std::max(0, M - kSubtreeDepth);
+    // One pass assembles level C from the subtrees: subtrees of 3 levels rather than 4 start
+    // sooner on an input still being decoded and take a quarter of the memory each, for a level
+    // C four times larger, chosen while it stays within kSinglePassLevelBytes.
+    singlePassC = C;
+    if (M >= kSubtreeDepth - 1) {
+        const int64_t side = static_cast<int64_t>(T) << (M - kSubtreeDepth + 1);
+        if (side * side * channels <= kSinglePassLevelBytes) {
+            singlePassC = M - kSubtreeDepth + 1;
+        }
+    }
     averager = ColourAverager(o.colourSpace, channels);
+    const Image8 black = averager.reduce(Image8(2, 2, channels));
+    blankStaysBlank = std::all_of(black.pixels.begin(), black.pixels.end(), [](uint8_t v) { return v == 0; });
     threads = o.threads > 0 ? o.threads : omp_get_max_threads();
 }
 
@@ -391,78 +414,167 @@ const std::string& OrthoLevels::sampling() const { return impl_->sampling; }
 int OrthoLevels::threads() const { return impl_->threads; }
 int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M + 1))) - 1) / 3; }
 
-void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume) const {
-    const Impl& m = *impl_;
-    // Pass 1: level C, one row at a time from a band of 2^(M-C) finest rows, a face's margin
-    // included; northern rows first, so that an input still being decoded from its first row
-    // (PNG) is worked on as it arrives.
-    const int k = m.M - m.C;
-    const int64_t marginC = m.margin(m.C);
-    const int64_t sideC = m.levelWidth(m.C) + 2 * marginC;
-    std::vector<Image8> levels(static_cast<size_t>(m.C) + 1);
-    Image8& levelC = levels[static_cast<size_t>(m.C)];
-    levelC = Image8(static_cast<int>(sideC), static_cast<int>(sideC), m.channels);
-    parallelFor(sideC, m.threads, [&](int64_t i) {
+// Levels 0..C as images, from bands of 2^(M-C) finest rows, a face's margin included; northern
+// rows first, so that an input still being decoded from its first row (PNG) is worked on as it
+// arrives.
+std::vector<Image8> OrthoLevels::Impl::coarseLevelsFromBands() const {
+    const int k = M - C;
+    const int64_t marginC = margin(C);
+    const int64_t sideC = levelWidth(C) + 2 * marginC;
+    std::vector<Image8> levels(static_cast<size_t>(C) + 1);
+    Image8& levelC = levels[static_cast<size_t>(C)];
+    levelC = Image8(static_cast<int>(sideC), static_cast<int>(sideC), channels);
+    parallelFor(sideC, threads, [&](int64_t i) {
         const int64_t row = sideC - 1 - i;
-        Image8 band = m.sampleFinest(-(marginC << k), (row - marginC) << k, static_cast<int>(sideC << k), 1 << k);
+        Image8 band = sampleFinest(-(marginC << k), (row - marginC) << k, static_cast<int>(sideC << k), 1 << k);
         for (int r = 0; r < k; ++r) {
-            band = m.averager.reduce(band);
+            band = averager.reduce(band);
         }
         std::copy(band.pixels.begin(), band.pixels.end(), levelC.at(0, static_cast<int>(row)));
     });
-    for (int l = m.C - 1; l >= 0; --l) {
-        levels[static_cast<size_t>(l)] = m.averager.reduce(levels[static_cast<size_t>(l) + 1]);
+    reduceCoarserLevels(levels);
+    return levels;
+}
+
+void OrthoLevels::Impl::reduceCoarserLevels(std::vector<Image8>& levels) const {
+    for (int l = static_cast<int>(levels.size()) - 2; l >= 0; --l) {
+        levels[static_cast<size_t>(l)] = averager.reduce(levels[static_cast<size_t>(l) + 1]);
     }
-    for (int l = 0; l <= m.C; ++l) {
+}
+
+// One item per level 0..C, each level's tiles in Z order.
+void OrthoLevels::Impl::consumeCoarseLevels(const std::vector<Image8>& levels,
+                                            const std::function<void(std::vector<TileBatch>&)>& consume) const {
+    for (int l = 0; l < static_cast<int>(levels.size()); ++l) {
         const int side = 1 << l;
         std::vector<TileBatch> group(1);
         TileBatch& batch = group[0];
         batch.resize(static_cast<size_t>(side) * side);
-        parallelFor(static_cast<int64_t>(batch.size()), m.threads, [&](int64_t i) {
+        parallelFor(static_cast<int64_t>(batch.size()), threads, [&](int64_t i) {
             const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(i));
-            batch[static_cast<size_t>(i)] = m.extract(levels[static_cast<size_t>(l)], -m.margin(l), -m.margin(l), l,
-                                                      static_cast<int>(tx), static_cast<int>(ty));
+            batch[static_cast<size_t>(i)] =
+                extract(levels[static_cast<size_t>(l)], -margin(l), -margin(l), l, static_cast<int>(tx), static_cast<int>(ty));
         });
         consume(group);
     }
+}
+
+// The subtree of level-(C+1) tile (tx, ty), from its own footprint of the input. With `levelC`,
+// also the level-C pixels under the tile (its interior reduced once more) are stored there.
+void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, Image8* levelC) const {
+    const int d = M - top;
+    // The tile and its border; a plane's footprint stops at the map's edge (whose pixels
+    // repeat), a face's reaches beyond it.
+    int64_t x0 = static_cast<int64_t>(tx) * T - kBorder;
+    int64_t y0 = static_cast<int64_t>(ty) * T - kBorder;
+    int64_t x1 = (static_cast<int64_t>(tx) + 1) * T + kBorder;
+    int64_t y1 = (static_cast<int64_t>(ty) + 1) * T + kBorder;
+    if (!face) {
+        const int64_t Wt = levelWidth(top);
+        x0 = std::max<int64_t>(0, x0);
+        y0 = std::max<int64_t>(0, y0);
+        x1 = std::min<int64_t>(Wt, x1);
+        y1 = std::min<int64_t>(Wt, y1);
+    }
+    if (!face && blankStaysBlank && planarBlank(x0 << d, y0 << d, (x1 - x0) << d, (y1 - y0) << d)) {
+        // Wholly beyond the input: every pixel of every level is 0 (and so is levelC, as
+        // created). No sampling, no reduction.
+        blankSubtree(top, tx, ty, out);
+        return;
+    }
+    // Images of levels top..M over the footprint, finest first, then reduced upwards.
+    std::vector<Image8> imgs(static_cast<size_t>(d) + 1);
+    std::vector<int64_t> ox(imgs.size()), oy(imgs.size());
+    imgs[static_cast<size_t>(d)] =
+        sampleFinest(x0 << d, y0 << d, static_cast<int>((x1 - x0) << d), static_cast<int>((y1 - y0) << d));
+    for (int j = d; j >= 0; --j) {
+        ox[static_cast<size_t>(j)] = x0 << j;
+        oy[static_cast<size_t>(j)] = y0 << j;
+        if (j < d) {
+            imgs[static_cast<size_t>(j)] = averager.reduce(imgs[static_cast<size_t>(j) + 1]);
+        }
+    }
+    subtree(top, top, tx, ty, imgs, ox, oy, out);
+    if (levelC != nullptr) {
+        // Level C is the 2x2 average of level C + 1, block by block: the tile's T x T interior
+        // (T is even) gives the T/2 x T/2 level-C pixels under it, the same values as reducing
+        // the whole of level C + 1.
+        Image8 interior(T, T, channels);
+        const size_t rowBytes = static_cast<size_t>(T) * channels;
+        for (int y = 0; y < T; ++y) {
+            std::copy_n(imgs[0].at(static_cast<int>(int64_t{tx} * T - x0), static_cast<int>(int64_t{ty} * T - y0 + y)),
+                        rowBytes, interior.at(0, y));
+        }
+        const Image8 half = averager.reduce(interior);
+        const size_t halfRow = rowBytes / 2;
+        for (int y = 0; y < T / 2; ++y) {
+            std::copy_n(half.at(0, y), halfRow, levelC->at(tx * (T / 2), ty * (T / 2) + y));
+        }
+    }
+}
+
+// True when finest pixels [x0, x0 + w) x [y0, y0 + h) of a plane all lie beyond the input
+// (samplePlanar gives 0 there).
+bool OrthoLevels::Impl::planarBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) const {
+    // Positions grow with x, and shrink with y (flipped): the nearest pixel to the input is the
+    // first column, and the last row.
+    return !ax.inside(ax.position(x0)) || !ay.inside(ay.position(y0 + h - 1)) || w <= 0 || h <= 0;
+}
+
+void OrthoLevels::Impl::blankSubtree(int l, int tx, int ty, TileBatch& out) const {
+    TrueTile t;
+    t.level = l;
+    t.tx = tx;
+    t.ty = ty;
+    t.pixels = Image8(T + 2 * kBorder, T + 2 * kBorder, channels);
+    out.push_back(std::move(t));
+    if (l < M) {
+        for (int c = 0; c < 4; ++c) {
+            blankSubtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), out);
+        }
+    }
+}
+
+void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume, WalkOrder order) const {
+    const Impl& m = *impl_;
+    const int64_t groupSize = std::max<int64_t>(4, 2 * m.threads);
+    if (order == WalkOrder::SinglePass && !m.face && m.M > 0) {
+        // The subtrees first, row by row from the north edge, west to east, so that an input
+        // still being decoded from its first row is worked on as it arrives; each leaves its
+        // share of level C, and levels 0..C come last.
+        const int c = m.singlePassC;
+        const int top = c + 1;
+        const int side = 1 << top;
+        const int64_t count = int64_t{side} * side;
+        std::vector<Image8> levels(static_cast<size_t>(c) + 1);
+        Image8& levelC = levels[static_cast<size_t>(c)];
+        levelC = Image8(static_cast<int>(m.levelWidth(c)), static_cast<int>(m.levelWidth(c)), m.channels);
+        for (int64_t first = 0; first < count; first += groupSize) {
+            std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, count - first)));
+            parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
+                const int64_t n = first + i;
+                const int tx = static_cast<int>(n % side), ty = side - 1 - static_cast<int>(n / side);
+                m.subtreeFromFootprint(top, tx, ty, group[static_cast<size_t>(i)], &levelC);
+            });
+            consume(group);
+        }
+        m.reduceCoarserLevels(levels);
+        m.consumeCoarseLevels(levels, consume);
+        return;
+    }
+    // Levels 0..C from one pass over the input, then the subtrees of level C + 1 in Z order,
+    // each from its own footprint: every tile comes after its parent.
+    m.consumeCoarseLevels(m.coarseLevelsFromBands(), consume);
     if (m.C == m.M) {
         return;
     }
-    // Pass 2: the subtrees of level C + 1, each from its own footprint of the input.
     const int top = m.C + 1;
-    const int d = m.M - top;
     const int64_t count = int64_t{1} << (2 * top);
-    const int64_t groupSize = std::max<int64_t>(4, 2 * m.threads);
     for (int64_t first = 0; first < count; first += groupSize) {
         std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, count - first)));
         parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
             const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(first + i));
-            // The tile and its border; a plane's footprint stops at the map's edge (whose pixels
-            // repeat), a face's reaches beyond it.
-            int64_t x0 = static_cast<int64_t>(tx) * m.T - kBorder;
-            int64_t y0 = static_cast<int64_t>(ty) * m.T - kBorder;
-            int64_t x1 = (static_cast<int64_t>(tx) + 1) * m.T + kBorder;
-            int64_t y1 = (static_cast<int64_t>(ty) + 1) * m.T + kBorder;
-            if (!m.face) {
-                const int64_t Wt = m.levelWidth(top);
-                x0 = std::max<int64_t>(0, x0);
-                y0 = std::max<int64_t>(0, y0);
-                x1 = std::min<int64_t>(Wt, x1);
-                y1 = std::min<int64_t>(Wt, y1);
-            }
-            // Images of levels top..M over the footprint, finest first, then reduced upwards.
-            std::vector<Image8> imgs(static_cast<size_t>(d) + 1);
-            std::vector<int64_t> ox(imgs.size()), oy(imgs.size());
-            imgs[static_cast<size_t>(d)] = m.sampleFinest(x0 << d, y0 << d, static_cast<int>((x1 - x0) << d),
-                                                          static_cast<int>((y1 - y0) << d));
-            for (int j = d; j >= 0; --j) {
-                ox[static_cast<size_t>(j)] = x0 << j;
-                oy[static_cast<size_t>(j)] = y0 << j;
-                if (j < d) {
-                    imgs[static_cast<size_t>(j)] = m.averager.reduce(imgs[static_cast<size_t>(j) + 1]);
-                }
-            }
-            m.subtree(top, static_cast<int>(tx), static_cast<int>(ty), imgs, ox, oy, group[static_cast<size_t>(i)]);
+            m.subtreeFromFootprint(top, static_cast<int>(tx), static_cast<int>(ty), group[static_cast<size_t>(i)], nullptr);
         });
         consume(group);
     }

@@ -23,10 +23,12 @@
 // neighbouring face's pixel at the same cube point, bit for bit (both are the same averages of
 // the same finest samples, as the face edges fall between 2x2 blocks at every level).
 //
-// Order and memory. Levels 0..C (C = max(0, M - 4)) are built in memory in one streaming pass
-// over the input (bands of 2^(M-C) rows reduced as they are read). Deeper tiles come in
-// subtrees: for each tile of level C + 1 in Z order, its footprint is read from the input,
-// reduced level by level, and its subtree's tiles are produced depth first (pre-order). For a
+// Order and memory. Deeper tiles come in subtrees: for each tile of level C + 1
+// (C = max(0, M - 4)), its footprint is read from the input, reduced level by level, and its
+// subtree's tiles are produced depth first (pre-order). Levels 0..C are held in memory whole:
+// either built first in a streaming pass over the input (bands of 2^(M-C) rows reduced as they
+// are read), when every tile must come after its parent, or (planar pyramids) assembled from
+// the subtrees' level-(C+1) tiles, reduced once more, and produced after them. For a
 // face, level C is built with 2 << C pixels beyond each side (level l then has 2 << l, at least
 // the border), and a footprint is the tile and its border, wherever they lie; tileSize must be
 // at least 4 so that the margin stays within half a face of the edge.
@@ -84,11 +86,18 @@ public:
     int64_t tileCount() const;
     int threads() const;                 // options.threads, or every available thread
 
-    // Calls `consume` with the whole pyramid, item by item: first one item per level 0..C (all
-    // of that level's tiles in Z order), then one item per level-(C+1) subtree (pre-order), in
-    // Z order. Items are computed in parallel in groups; `consume` receives each group (a
-    // vector of items in order) from the calling thread and may process them in parallel.
-    void walk(const std::function<void(std::vector<TileBatch>&)>& consume) const;
+    // Calls `consume` with the whole pyramid, item by item. Items are computed in parallel in
+    // groups; `consume` receives each group (a vector of items in order) from the calling thread
+    // and may process them in parallel. The order is deterministic (it does not depend on the
+    // thread count):
+    //  * CoarseFirst: one item per level 0..C (all of that level's tiles in Z order), then one
+    //    item per level-(C+1) subtree (pre-order), in Z order: every tile after its parent.
+    //  * SinglePass: for a plane, one item per level-(C+1) subtree (pre-order), north first
+    //    (Z order with rows counted from the north edge), then one item per level 0..C; the
+    //    input is sampled once instead of twice. For a face, as CoarseFirst.
+    enum class WalkOrder { CoarseFirst, SinglePass };
+    void walk(const std::function<void(std::vector<TileBatch>&)>& consume,
+              WalkOrder order = WalkOrder::CoarseFirst) const;
 
 private:
     struct Impl;

@@ -107,7 +107,7 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
             r.samples = static_cast<int64_t>(got.size());
         });
         all.insert(all.end(), results.begin(), results.end());
-    });
+    }, residuals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass);
     report.levels.resize(static_cast<size_t>(h.maxLevel) + 1);
     std::vector<double> squares(report.levels.size(), 0.0);
     std::vector<int64_t> samples(report.levels.size(), 0);

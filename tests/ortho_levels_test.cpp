@@ -1,0 +1,150 @@
+// OrthoLevels::walk: its two orders give the same tiles, each in the order it promises.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "libpyramid/ortho_levels.hpp"
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+using Key = std::tuple<int, int, int>; // level, tx, ty
+
+// A textured image, row 0 = north; no two neighbouring pixels alike, so a misplaced tile or
+// block cannot go unnoticed.
+std::vector<uint16_t> texture(int w, int h, int channels, int maxValue) {
+    std::vector<uint16_t> v(static_cast<size_t>(w) * h * channels);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < channels; ++c) {
+                const double s = 0.5 + 0.4 * std::sin(x / (5.0 + c) + y / 9.0) * std::cos((x - 2 * y) / 11.0);
+                v[(static_cast<size_t>(y) * w + x) * channels + c] =
+                    static_cast<uint16_t>(std::lround(s * (maxValue - 40)) + (x * 13 + y * 7 + c * 3) % 37);
+            }
+        }
+    }
+    return v;
+}
+
+struct Walked {
+    std::map<Key, std::vector<uint8_t>> tiles;
+    std::vector<Key> order;
+};
+
+Walked walk(const OrthoLevels& levels, OrthoLevels::WalkOrder order) {
+    Walked w;
+    levels.walk(
+        [&](std::vector<TileBatch>& group) {
+            for (const TileBatch& item : group) {
+                for (const TrueTile& t : item) {
+                    const Key k{t.level, t.tx, t.ty};
+                    EXPECT_TRUE(w.tiles.emplace(k, t.pixels.pixels).second) << "tile given twice";
+                    w.order.push_back(k);
+                }
+            }
+        },
+        order);
+    return w;
+}
+
+// Every tile of the pyramid (levels 0..M) is given once.
+void expectEveryTile(const Walked& w, int maxLevel) {
+    EXPECT_EQ(static_cast<int64_t>(w.tiles.size()), ((int64_t{1} << (2 * (maxLevel + 1))) - 1) / 3);
+    for (const auto& [k, pixels] : w.tiles) {
+        const auto [l, tx, ty] = k;
+        EXPECT_TRUE(l >= 0 && l <= maxLevel && tx >= 0 && ty >= 0 && tx < (1 << l) && ty < (1 << l));
+    }
+}
+
+// The geometries of each branch: pixel exact; resampled with the lower part of the square
+// beyond a wide input (whole subtrees black); 16-bit; 1 to 4 channels; few and many levels
+// (the single pass's deeper level C from 3 levels on).
+TEST(OrthoLevels, BothOrdersGiveTheSameTiles) {
+    struct Case {
+        int w, h, channels, tileSize;
+        bool sixteen;
+        int threads;
+    };
+    for (const Case& c : {Case{64, 64, 3, 16, false, 2}, Case{64, 64, 3, 4, false, 1}, Case{200, 60, 3, 8, false, 2},
+                          Case{200, 60, 4, 8, true, 2}, Case{90, 120, 1, 6, false, 2}, Case{37, 50, 2, 4, true, 1}}) {
+        SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) + "x" + std::to_string(c.channels) + " tiles of " +
+                     std::to_string(c.tileSize) + (c.sixteen ? ", 16 bits" : ""));
+        test::TempDir dir;
+        test::writeImage(dir.file("in.png"), c.w, c.h, c.channels,
+                         texture(c.w, c.h, c.channels, c.sixteen ? 65535 : 255), c.sixteen);
+        OrthoLevelsOptions o;
+        o.tileSize = c.tileSize;
+        o.threads = c.threads;
+        const OrthoLevels levels(dir.file("in.png"), o);
+        const int M = levels.maxLevel();
+        const Walked coarse = walk(levels, OrthoLevels::WalkOrder::CoarseFirst);
+        const Walked single = walk(levels, OrthoLevels::WalkOrder::SinglePass);
+        expectEveryTile(coarse, M);
+        expectEveryTile(single, M);
+        EXPECT_TRUE(coarse.tiles == single.tiles);
+
+        // CoarseFirst: every tile after its parent.
+        std::map<Key, size_t> at;
+        for (size_t i = 0; i < coarse.order.size(); ++i) {
+            at[coarse.order[i]] = i;
+        }
+        for (const auto& [k, i] : at) {
+            const auto [l, tx, ty] = k;
+            if (l > 0) {
+                EXPECT_LT(at.at(Key{l - 1, tx / 2, ty / 2}), i);
+            }
+        }
+        // SinglePass: the finest tiles come north first (tile rows never go back south), and
+        // the root comes after every finest tile.
+        int lastRow = 1 << M;
+        size_t lastFinest = 0;
+        for (size_t i = 0; i < single.order.size(); ++i) {
+            const auto [l, tx, ty] = single.order[i];
+            if (l == M) {
+                const int row = ty >> std::min(M, 3); // the subtrees' rows, 3 levels deep at most
+                EXPECT_LE(row, lastRow);
+                lastRow = row;
+                lastFinest = i;
+            }
+        }
+        if (M > 0) {
+            EXPECT_GT(std::find(single.order.begin(), single.order.end(), Key{0, 0, 0}) - single.order.begin(),
+                      static_cast<std::ptrdiff_t>(lastFinest));
+        }
+    }
+}
+
+// Beyond a wide input the square's lower part is black and transparent at every level, and
+// tiles straddling the input's edge are not.
+TEST(OrthoLevels, BeyondTheInputTilesAreBlack) {
+    test::TempDir dir;
+    const int w = 200, h = 60;
+    test::writeImage(dir.file("in.png"), w, h, 4, texture(w, h, 4, 255), false);
+    OrthoLevelsOptions o;
+    o.tileSize = 8;
+    const OrthoLevels levels(dir.file("in.png"), o);
+    ASSERT_EQ(levels.maxLevel(), 5); // 256 pixels across, the input's 60 rows over the top 77
+    const Walked single = walk(levels, OrthoLevels::WalkOrder::SinglePass);
+    const int W = 256;
+    const double covered = h * (W / static_cast<double>(w)); // finest rows holding the input
+    for (const auto& [k, pixels] : single.tiles) {
+        const auto [l, tx, ty] = k;
+        // The tile's rows with their border, in finest rows from the south.
+        const double top = ((ty + 1) * 8 + 2) << (5 - l);
+        const double bottom = (ty * 8 - 2) * (1 << (5 - l));
+        const bool black = std::all_of(pixels.begin(), pixels.end(), [](uint8_t v) { return v == 0; });
+        if (top <= W - covered - 1) {
+            EXPECT_TRUE(black) << "tile " << l << "," << tx << "," << ty;
+        } else if (bottom >= W - covered + 1) {
+            EXPECT_FALSE(black) << "tile " << l << "," << tx << "," << ty;
+        }
+    }
+}
+
+} // namespace
+} // namespace pyramid
