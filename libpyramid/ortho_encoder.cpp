@@ -34,6 +34,7 @@ constexpr size_t kUniformTilesKept = 64;
 
 struct TileStats {
     int tiffMaxError = 0;
+    int64_t jpegTiles = 0;
     double dxtSquares = 0.0;
     int64_t dxtSamples = 0;
     int residualMaxError = 0;
@@ -177,7 +178,8 @@ private:
         if (o_.writeTiff) {
             const TiffCompression c = tiffCompressionOf(t);
             e.tiff = encodeTiff8(plain, outSide, outSide, channels_, c, o_.jpegQuality, kTileDeflateLevel, true);
-            if (c == TiffCompression::Jpeg) {
+            e.stats.jpegTiles += c == TiffCompression::Jpeg;
+            if (c == TiffCompression::Jpeg && o_.measureJpegError) {
                 const std::vector<uint8_t> back = decodeOrthoTiff(e.tiff, outSide, channels_, "JPEG tile");
                 // A local maximum (not the member, which the byte loads might alias) vectorises.
                 int maxError = 0;
@@ -350,6 +352,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                 LevelTotals& lt = totals[static_cast<size_t>(e.level)];
                 lt.tiles += 1;
                 lt.s.tiffMaxError = std::max(lt.s.tiffMaxError, e.stats.tiffMaxError);
+                lt.s.jpegTiles += e.stats.jpegTiles;
                 lt.s.dxtSquares += e.stats.dxtSquares;
                 lt.s.dxtSamples += e.stats.dxtSamples;
                 lt.s.residualMaxError = std::max(lt.s.residualMaxError, e.stats.residualMaxError);
@@ -440,12 +443,14 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     report.border = o.border;
     report.tiles = total;
     report.threads = threads;
+    report.jpegErrorMeasured = o.measureJpegError;
     for (size_t l = 0; l < totals.size(); ++l) {
         const TileStats& s = totals[l].s;
         OrthoLevelReport r;
         r.level = static_cast<int>(l);
         r.tiles = totals[l].tiles;
         r.tiffMaxError = s.tiffMaxError;
+        r.jpegTiles = s.jpegTiles;
         if (s.dxtSamples) {
             const double mse = s.dxtSquares / static_cast<double>(s.dxtSamples);
             r.dxtPsnr = mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0;
@@ -481,9 +486,13 @@ OrthoReport encodeOrtho(const OrthoLevels& levels, const std::string& directory,
 nlohmann::json toJson(const OrthoReport& r) {
     nlohmann::json levels = nlohmann::json::array();
     for (const OrthoLevelReport& l : r.levels) {
+        // Not measured: null, never a 0 that would read as lossless.
+        const nlohmann::json tiffMaxError =
+            l.jpegTiles > 0 && !r.jpegErrorMeasured ? nlohmann::json() : nlohmann::json(l.tiffMaxError);
         levels.push_back({{"level", l.level},
                           {"tiles", l.tiles},
-                          {"tiff_max_error", l.tiffMaxError},
+                          {"jpeg_tiles", l.jpegTiles},
+                          {"tiff_max_error", tiffMaxError},
                           {"dxt_psnr_db", l.dxtPsnr},
                           {"residual_max_error", l.residualMaxError},
                           {"residual_rms_error", l.residualRmsError},

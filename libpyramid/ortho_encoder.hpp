@@ -28,6 +28,9 @@ struct OrthoEncodeOptions {
     int border = 2;                  // 2 or 0 (TIFF and DXT files; residual files always have 2)
     TilePolicy compression = TilePolicy::Deflate;
     int jpegQuality = 90;
+    // JPEG TIFF tiles are decoded again to measure their error (tiff_max_error): off by default,
+    // as the decoding costs about a sixth of a JPEG run; `pyramid verify` measures it afterwards.
+    bool measureJpegError = false;
     int dxtQuality = 1;              // 0 fast .. 2 best
     TilePolicy residualCompression = TilePolicy::Deflate; // Deflate or Jpeg
     std::function<void(int64_t, int64_t)> progress;       // (tiles done, total), one thread at a time
@@ -40,6 +43,7 @@ struct OrthoLevelReport {
     int level = 0;
     int64_t tiles = 0;
     int tiffMaxError = 0;      // decoded TIFF tile vs the true tile (0 when lossless)
+    int64_t jpegTiles = 0;     // JPEG TIFF tiles: their error is measured only on request
     double dxtPsnr = 0.0;      // dB over the level's tiles (infinity written as 99)
     int residualMaxError = 0;  // colour-residual reconstruction vs the true tile
     double residualRmsError = 0.0;
@@ -57,6 +61,7 @@ struct OrthoReport {
     std::vector<uint64_t> bytes;     // per output
     std::vector<int64_t> sharedTiles;
     std::vector<OrthoLevelReport> levels;
+    bool jpegErrorMeasured = false; // options.measureJpegError
     int threads = 0;
     double seconds = 0.0;
 };

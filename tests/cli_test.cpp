@@ -261,5 +261,44 @@ TEST(PreprocessOrthoCli, BuildsVerifiesAndFailsCleanly) {
     }
 }
 
+// The report's JPEG error, when asked for, is what `pyramid verify` measures on the file, level
+// by level; not asked for, it is null where a level holds JPEG tiles (never a 0 that would
+// read as lossless), and 0 where it holds Deflate tiles only.
+TEST(PreprocessOrthoCli, ReportsTheJpegErrorThatVerifyMeasures) {
+    test::TempDir dir;
+    std::vector<uint16_t> px(64 * 64 * 3);
+    for (size_t k = 0; k < px.size(); ++k) {
+        px[k] = static_cast<uint16_t>((k * 37 + (k / 192) * 11) % 251);
+    }
+    test::writeImage(dir.file("in.png"), 64, 64, 3, px, false);
+    for (const bool measured : {true, false}) {
+        SCOPED_TRACE(measured ? "--jpeg-error" : "without --jpeg-error");
+        const std::string out = dir.file(measured ? "measured" : "plain");
+        // original: levels 0 and 1 lie on the pyramid's edge (Deflate), level 2 has JPEG inside.
+        auto r = test::run(test::programPath("preprocessOrtho") + " '" + dir.file("in.png") + "' -o '" + out +
+                           "' --tile-size 16 --outputs tiff --compression original --quiet --report -" +
+                           (measured ? " --jpeg-error" : ""));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const auto report = nlohmann::json::parse(r.out);
+        r = test::run(test::programPath("pyramid") + " verify --json '" + out + "/RGB.dat' --source '" +
+                      dir.file("in.png") + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+        const auto verify = nlohmann::json::parse(r.out);
+        ASSERT_EQ(report["levels"].size(), 3u);
+        for (int l = 0; l < 3; ++l) {
+            const auto& level = report["levels"][static_cast<size_t>(l)];
+            EXPECT_EQ(level["jpeg_tiles"], l == 2 ? 4 : 0) << l;
+            if (l < 2) {
+                EXPECT_EQ(level["tiff_max_error"], 0) << l;
+            } else if (measured) {
+                EXPECT_GT(level["tiff_max_error"].get<int>(), 0);
+                EXPECT_EQ(level["tiff_max_error"], verify["levels"][2]["max_error"]);
+            } else {
+                EXPECT_TRUE(level["tiff_max_error"].is_null()) << level;
+            }
+        }
+    }
+}
+
 } // namespace
 } // namespace pyramid
