@@ -59,6 +59,9 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
                    "TIFF tiles: deflate (lossless), lzw, none, jpeg, or original (JPEG inside, Deflate on the edge)")
         ->capture_default_str();
     app.add_option("--jpeg-quality", o.jpegQuality, "JPEG quality, 1 to 100")->capture_default_str();
+    app.add_option("--deflate-level", o.deflateLevel,
+                   "Deflate TIFF tiles: 1 (fastest) to 12 (smallest); the decoded pixels are the same")
+        ->capture_default_str();
     app.add_flag("--jpeg-error", o.measureJpegError,
                  "Decode each JPEG TIFF tile again and report the largest error per level (tiff_max_error)");
     app.add_option("--dxt-quality", o.dxtQuality, "DXT encoder effort: 0 fast, 1 cluster fit, 2 iterative (best)")

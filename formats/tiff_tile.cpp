@@ -198,6 +198,36 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
 
 } // namespace
 
+namespace {
+
+struct CompressorDeleter {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+};
+
+// A zlib stream of `bytes` at libdeflate level `level`: the stream libtiff writes for a strip
+// given whole (its Deflate codec hands the strip to libdeflate in one call), byte for byte,
+// without allocating and initialising a compressor for every tile. One per thread and level.
+// Levels 10 to 12 are libdeflate's slowest and smallest.
+std::vector<uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
+    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
+    auto& compressor = compressors[std::clamp(level, 1, 12)];
+    if (!compressor) {
+        compressor.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 12)));
+        if (!compressor) {
+            fail("", "out of memory for a Deflate compressor");
+        }
+    }
+    std::vector<uint8_t> out(libdeflate_zlib_compress_bound(compressor.get(), bytes.size()));
+    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), out.size());
+    if (size == 0) {
+        fail("", "cannot deflate a tile");
+    }
+    out.resize(size);
+    return out;
+}
+
+} // namespace
+
 std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
                                  TiffCompression compression, int jpegQuality, int deflateLevel,
                                  bool horizontalPredictor) {
@@ -207,8 +237,34 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
                      "x" + std::to_string(channels));
     }
     const uint16_t photometric = channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK;
-    return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric,
-                       channels == 2 || channels == 4, compression, jpegQuality, deflateLevel, horizontalPredictor);
+    const bool extraSample = channels == 2 || channels == 4;
+    if (compression != TiffCompression::Deflate) {
+        return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric, extraSample,
+                           compression, jpegQuality, deflateLevel, horizontalPredictor);
+    }
+    // Deflate: the predictor applied and the strip compressed here, with a compressor kept per
+    // thread, rather than by libtiff, which copies the strip and sets up a compressor per tile.
+    // The same bytes as libtiff's: its predictor stores each sample minus the same channel of
+    // the pixel to its left, modulo 256, the first pixel of each row as it is.
+    std::vector<uint8_t> differences;
+    std::span<const uint8_t> strip = pixels;
+    if (horizontalPredictor) {
+        differences.resize(pixels.size());
+        const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+        const auto c = static_cast<size_t>(channels);
+        for (size_t y = 0; y < static_cast<size_t>(height); ++y) {
+            const uint8_t* in = pixels.data() + y * row;
+            uint8_t* out = differences.data() + y * row;
+            std::copy_n(in, c, out);
+            for (size_t k = c; k < row; ++k) {
+                out[k] = static_cast<uint8_t>(in[k] - in[k - c]);
+            }
+        }
+        strip = differences;
+    }
+    const std::vector<uint8_t> deflated = zlibCompress(strip, deflateLevel);
+    return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric, extraSample, compression,
+                       jpegQuality, deflateLevel, horizontalPredictor, &deflated);
 }
 
 namespace {
@@ -347,34 +403,6 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     return decodeChecked(blob, maxWidth, maxHeight, where, {});
 }
 
-namespace {
-
-struct CompressorDeleter {
-    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
-};
-
-// A zlib stream of `bytes` at libdeflate level `level`: the stream libtiff writes for a strip
-// given whole (its Deflate codec hands the strip to libdeflate in one call), byte for byte,
-// without allocating and initialising a compressor for every tile. One per thread and level.
-std::vector<uint8_t> zlibCompress(const std::vector<uint8_t>& bytes, int level) {
-    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
-    auto& compressor = compressors[std::clamp(level, 1, 12)];
-    if (!compressor) {
-        compressor.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 12)));
-        if (!compressor) {
-            fail("", "out of memory for a Deflate compressor");
-        }
-    }
-    std::vector<uint8_t> out(libdeflate_zlib_compress_bound(compressor.get(), bytes.size()));
-    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), out.size());
-    if (size == 0) {
-        fail("", "cannot deflate a residual tile");
-    }
-    out.resize(size);
-    return out;
-}
-
-} // namespace
 
 std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel) {
     if (size < 1 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {

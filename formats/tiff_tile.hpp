@@ -21,7 +21,7 @@ struct TiffImage {
 };
 
 // Encodes 8-bit pixels (channels 1..4; 3 and 4 as RGB, 1 and 2 as min-is-black).
-// `deflateLevel` (1..9) and `horizontalPredictor` (TIFF Predictor = 2: each sample stored as
+// `deflateLevel` (1..12, libdeflate's levels) and `horizontalPredictor` (TIFF Predictor = 2: each sample stored as
 // its difference from the same channel of the pixel to its left) apply to Deflate only; both
 // are undone by any libtiff reader within TIFFReadEncodedStrip, so the decoded pixels are the
 // same whatever they are.

@@ -28,6 +28,11 @@ struct OrthoEncodeOptions {
     int border = 2;                  // 2 or 0 (TIFF and DXT files; residual files always have 2)
     TilePolicy compression = TilePolicy::Deflate;
     int jpegQuality = 90;
+    // Deflate TIFF tiles: libdeflate's level, 1 to 12. With the horizontal predictor, which
+    // turns neighbouring colours into small differences, level 1 gives files 20 to 35 % smaller
+    // than level 6 without it, in about a third of the time (bench/ortho_bench.md); higher levels
+    // give a few % fewer bytes in several times the time.
+    int deflateLevel = 1;
     // JPEG TIFF tiles are decoded again to measure their error (tiff_max_error): off by default,
     // as the decoding costs about a sixth of a JPEG run; `pyramid verify` measures it afterwards.
     bool measureJpegError = false;

@@ -302,6 +302,34 @@ TEST(OrthoEncoder, ResampledPixelsAreTheBilinearFormula) {
     }
 }
 
+// The Deflate level trades time for bytes only: every tile decodes to the same pixels.
+TEST(OrthoEncoder, DeflateLevelsDecodeToTheSameTiles) {
+    test::TempDir dir;
+    test::writeImage(dir.file("in.png"), 100, 60, 3, image(100, 60, 3, 255), false);
+    OrthoEncodeOptions o = small();
+    o.writeDxt = o.writeResiduals = false;
+    std::vector<uint64_t> bytes;
+    for (const int level : {1, 6, 12}) {
+        o.deflateLevel = level;
+        bytes.push_back(encodeOrtho(dir.file("in.png"), dir.file("l" + std::to_string(level)), o).bytes.at(0));
+    }
+    EXPECT_GT(bytes[0], bytes[1]);
+    EXPECT_GT(bytes[1], bytes[2]);
+    const auto fastest = OrthoFileReader::open(dir.file("l1/RGB.dat"));
+    const auto smallest = OrthoFileReader::open(dir.file("l12/RGB.dat"));
+    ASSERT_EQ(fastest->header().maxLevel, 3);
+    for (int l = 0; l <= 3; ++l) {
+        for (int ty = 0; ty < (1 << l); ++ty) {
+            for (int tx = 0; tx < (1 << l); ++tx) {
+                ASSERT_EQ(fastest->readTile(l, tx, ty), smallest->readTile(l, tx, ty)) << l << "," << tx << "," << ty;
+            }
+        }
+    }
+    o.deflateLevel = 13;
+    EXPECT_THROW(encodeOrtho(dir.file("in.png"), dir.file("l13"), o), Error);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("l13")));
+}
+
 TEST(OrthoEncoder, BadInputWritesNothing) {
     test::TempDir dir;
     std::vector<float> f(16 * 16, 0.5f);
