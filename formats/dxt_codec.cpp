@@ -1,6 +1,7 @@
 #include "formats/dxt_codec.hpp"
 
 #include <squish.h>
+#include <stb/stb_dxt.h>
 
 #include <algorithm>
 
@@ -10,41 +11,45 @@ namespace pyramid {
 
 namespace {
 
+// Quality levels 2 and 3: libsquish's fits. (Its range fit is not offered: stb_dxt is both
+// faster and closer.)
 int squishFlags(DxtFormat format, int quality) {
-    int flags = format == DxtFormat::Dxt1 ? squish::kDxt1 : squish::kDxt5;
-    if (quality <= 0) {
-        flags |= squish::kColourRangeFit;
-    } else if (quality == 1) {
-        flags |= squish::kColourClusterFit;
-    } else {
-        flags |= squish::kColourIterativeClusterFit;
-    }
-    return flags;
+    const int flags = format == DxtFormat::Dxt1 ? squish::kDxt1 : squish::kDxt5;
+    return flags | (quality >= 3 ? squish::kColourIterativeClusterFit : squish::kColourClusterFit);
 }
+
+bool usesStb(int quality) { return quality <= 1; }
 
 // The 4 x 4 blocks of an RGBA image, each compressed or decompressed by libsquish's per-block
 // calls in the calling thread. (squish::CompressImage and DecompressImage do the same blocks in
 // an OpenMP loop of their own: inside our own parallel loops with one thread, or a single
 // tile's handful of blocks, that spawned a team per tile and spun idle threads; tiles are
 // already encoded in parallel.) Pixels of partial blocks outside the image are masked out.
-void compressBlocks(const uint8_t* rgba, int width, int height, uint8_t* blocks, int flags, size_t blockBytes) {
+//
+// stb_dxt takes whole blocks: the pixels of a partial block beyond the image repeat its nearest
+// pixel inside, which adds no colour to the block's fit. Its DXT5 blocks are laid out as
+// libsquish's (alpha block, then colour block).
+void compressBlocks(const uint8_t* rgba, int width, int height, uint8_t* blocks, DxtFormat format, int quality) {
+    const size_t blockBytes = format == DxtFormat::Dxt1 ? 8u : 16u;
+    const int flags = squishFlags(format, quality);
+    const int stbMode = quality == 0 ? STB_DXT_NORMAL : STB_DXT_HIGHQUAL;
     uint8_t block[64];
     for (int by = 0; by < height; by += 4) {
         for (int bx = 0; bx < width; bx += 4) {
             int mask = 0;
             for (int j = 0; j < 4; ++j) {
                 for (int i = 0; i < 4; ++i) {
-                    const int x = bx + i, y = by + j;
-                    uint8_t* q = block + 4 * (i + 4 * j);
-                    if (x < width && y < height) {
-                        std::copy_n(rgba + 4 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)), 4, q);
-                        mask |= 1 << (i + 4 * j);
-                    } else {
-                        std::fill_n(q, 4, uint8_t{0});
-                    }
+                    const int x = std::min(bx + i, width - 1), y = std::min(by + j, height - 1);
+                    std::copy_n(rgba + 4 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)), 4,
+                                block + 4 * (i + 4 * j));
+                    mask |= (bx + i < width && by + j < height) ? 1 << (i + 4 * j) : 0;
                 }
             }
-            squish::CompressMasked(block, mask, blocks, flags);
+            if (usesStb(quality)) {
+                stb_compress_dxt_block(blocks, block, format == DxtFormat::Dxt5 ? 1 : 0, stbMode);
+            } else {
+                squish::CompressMasked(block, mask, blocks, flags);
+            }
             blocks += blockBytes;
         }
     }
@@ -83,7 +88,7 @@ std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int h
     if ((channels == 4) != (format == DxtFormat::Dxt5)) {
         fail("", "DXT tile: " + std::to_string(channels) + " channels need " + (channels == 4 ? "DXT5" : "DXT1"));
     }
-    // squish takes RGBA: grey is replicated into R, G and B; missing alpha is opaque.
+    // The encoders take RGBA: grey is replicated into R, G and B; missing alpha is opaque.
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<uint8_t> rgba(count * 4);
     for (size_t k = 0; k < count; ++k) {
@@ -100,7 +105,7 @@ std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int h
         }
     }
     std::vector<uint8_t> blocks(dxtBytes(width, height, format));
-    compressBlocks(rgba.data(), width, height, blocks.data(), squishFlags(format, quality), format == DxtFormat::Dxt1 ? 8u : 16u);
+    compressBlocks(rgba.data(), width, height, blocks.data(), format, quality);
     return blocks;
 }
 
@@ -115,7 +120,7 @@ std::vector<uint8_t> decodeDxt(std::span<const uint8_t> blob, int width, int hei
     }
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<uint8_t> rgba(count * 4);
-    decompressBlocks(rgba.data(), width, height, blob.data(), squishFlags(format, 1), format == DxtFormat::Dxt1 ? 8u : 16u);
+    decompressBlocks(rgba.data(), width, height, blob.data(), squishFlags(format, 2), format == DxtFormat::Dxt1 ? 8u : 16u);
     if (format == DxtFormat::Dxt5) {
         return rgba;
     }

@@ -69,7 +69,7 @@ enum class TiffCompression { None, Deflate, Lzw, Jpeg };
 struct OrthoTileEncoding {
     TiffCompression compression = TiffCompression::Deflate; // TIFF files
     int jpegQuality = 90;                                   // 1..100, with Jpeg
-    int dxtQuality = 1;                                     // 0 fastest .. 2 best (DXT files)
+    int dxtQuality = 1;                                     // 0 fastest .. 3 best (DXT files, dxt_codec.hpp)
 };
 
 // Streaming, deduplicating, atomic writer: see ResidualFileWriter.

@@ -273,8 +273,8 @@ void checkOptions(const OrthoEncodeOptions& o) {
     if (o.deflateLevel < 1 || o.deflateLevel > 12) {
         fail("--deflate-level", std::to_string(o.deflateLevel) + " is not 1..12");
     }
-    if (o.dxtQuality < 0 || o.dxtQuality > 2) {
-        fail("--dxt-quality", std::to_string(o.dxtQuality) + " is not 0, 1 or 2");
+    if (o.dxtQuality < 0 || o.dxtQuality >= kDxtQualityLevels) {
+        fail("--dxt-quality", std::to_string(o.dxtQuality) + " is not 0, 1, 2 or 3");
     }
     if (o.residualCompression != TilePolicy::Deflate && o.residualCompression != TilePolicy::Jpeg) {
         fail("--residual-compression", "must be deflate or jpeg");

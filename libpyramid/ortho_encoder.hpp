@@ -36,7 +36,7 @@ struct OrthoEncodeOptions {
     // JPEG TIFF tiles are decoded again to measure their error (tiff_max_error): off by default,
     // as the decoding costs about a sixth of a JPEG run; `pyramid verify` measures it afterwards.
     bool measureJpegError = false;
-    int dxtQuality = 1;              // 0 fast .. 2 best
+    int dxtQuality = 1;              // 0 fastest .. 3 best (formats/dxt_codec.hpp)
     TilePolicy residualCompression = TilePolicy::Deflate; // Deflate or Jpeg
     std::function<void(int64_t, int64_t)> progress;       // (tiles done, total), one thread at a time
     // Called from one thread at a time with each tile's colour-residual reconstruction
