@@ -17,6 +17,12 @@ namespace pyramid {
 uint8_t predictOrtho(const uint8_t* parent, size_t parentRowBytes, int channels, int channel, int rx,
                      int ry, int x, int y);
 
+// The predictions of a whole child row y (side = T + 4 pixels, every channel): out[x * channels
+// + c] = predictOrtho(parent, ..., c, rx, ry, x, y), the same integers summed in another order
+// (the rows blended first: wx0 (wy0 a + wy1 c) + wx1 (wy0 b + wy1 d)), which vectorises.
+void predictOrthoRow(const uint8_t* parent, size_t parentRowBytes, int channels, int rx, int ry, int y, int side,
+                     uint8_t* out);
+
 // Decodes a stored colour residual against its prediction:
 // value = clamp(prediction + 2 * (stored - 128), 0, 255).
 inline uint8_t applyColourResidual(uint8_t prediction, uint8_t stored) {

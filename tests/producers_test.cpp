@@ -273,5 +273,35 @@ TEST(OrthoResidualProducer, RebuildsChildrenFromResiduals) {
     EXPECT_EQ(*beyond, expected);
 }
 
+// The row predictor sums the same integers as the per-sample formula, in another order: equal
+// for every channel count, quadrant, row and column (parents with extreme values included).
+TEST(OrthoUpsample, RowPredictionIsThePerSampleFormula) {
+    for (const int tileSize : {2, 8, 30}) {
+        const int side = tileSize + 4;
+        for (int channels = 1; channels <= 4; ++channels) {
+            const size_t rowBytes = static_cast<size_t>(side) * channels;
+            std::vector<uint8_t> parent(rowBytes * side);
+            for (size_t k = 0; k < parent.size(); ++k) {
+                parent[k] = k % 11 == 0 ? 255 : k % 13 == 0 ? 0 : static_cast<uint8_t>((k * 2654435761u) >> 24);
+            }
+            std::vector<uint8_t> row(rowBytes);
+            for (int q = 0; q < 4; ++q) {
+                const int rx = (q & 1) * (tileSize / 2), ry = (q >> 1) * (tileSize / 2);
+                for (int y = 0; y < side; ++y) {
+                    predictOrthoRow(parent.data(), rowBytes, channels, rx, ry, y, side, row.data());
+                    for (int x = 0; x < side; ++x) {
+                        for (int c = 0; c < channels; ++c) {
+                            ASSERT_EQ(row[static_cast<size_t>(x * channels + c)],
+                                      predictOrtho(parent.data(), rowBytes, channels, c, rx, ry, x, y))
+                                << tileSize << " " << channels << " channels, quadrant " << q << ", pixel " << x
+                                << "," << y << " channel " << c;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 } // namespace
 } // namespace pyramid
