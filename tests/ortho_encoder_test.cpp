@@ -189,6 +189,18 @@ TEST(OrthoEncoder, IdenticalFilesForAnyThreadCount) {
         EXPECT_GT(a.size(), 500u) << f;
         EXPECT_EQ(a, test::readFile(dir.file("two") + f)) << f;
     }
+    // Without colour residuals the input is walked in one pass, in groups whose size follows
+    // the thread count: the files do not.
+    o.writeResiduals = false;
+    for (const int threads : {1, 2, 3}) {
+        o.levels.threads = threads;
+        encodeOrtho(dir.file("in.png"), dir.file("single" + std::to_string(threads)), o);
+    }
+    for (const char* f : {"/RGB.dat", "/dxt/RGB.dat"}) {
+        const std::string a = test::readFile(dir.file("single1") + f);
+        EXPECT_EQ(a, test::readFile(dir.file("single2") + f)) << f;
+        EXPECT_EQ(a, test::readFile(dir.file("single3") + f)) << f;
+    }
 }
 
 TEST(OrthoEncoder, DxtWithinItsErrorAndNoBorderFiles) {
