@@ -16,11 +16,12 @@ TilePolicy parsePolicy(const std::string& option, const std::string& text) {
     static const std::map<std::string, TilePolicy> names = {{"deflate", TilePolicy::Deflate},
                                                             {"lzw", TilePolicy::Lzw},
                                                             {"jpeg", TilePolicy::Jpeg},
+                                                            {"jpeg-ycbcr", TilePolicy::JpegYCbCr},
                                                             {"none", TilePolicy::None},
                                                             {"original", TilePolicy::Original}};
     const auto it = names.find(text);
     if (it == names.end()) {
-        fail(option, "'" + text + "' is not deflate, lzw, jpeg, none or original");
+        fail(option, "'" + text + "' is not deflate, lzw, jpeg, jpeg-ycbcr, none or original");
     }
     return it->second;
 }
@@ -56,7 +57,7 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
     app.add_option("--channels", o.levels.channels, "Use the first N channels (default: all, 1 to 4)");
     app.add_option("--border", o.border, "Tile border in pixels, 2 (as the original) or 0")->capture_default_str();
     app.add_option("--compression", a->compression,
-                   "TIFF tiles: deflate (lossless), lzw, none, jpeg, or original (JPEG inside, Deflate on the edge)")
+                   "TIFF tiles: deflate (lossless), lzw, none, jpeg, jpeg-ycbcr (smaller; not for the original runtime), or original (JPEG inside, Deflate on the edge)")
         ->capture_default_str();
     app.add_option("--jpeg-quality", o.jpegQuality, "JPEG quality, 1 to 100")->capture_default_str();
     app.add_option("--deflate-level", o.deflateLevel,
@@ -95,6 +96,10 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     }
     if (options.levels.threads < 0) {
         fail("--threads", "must be 0 (all cores) or more");
+    }
+    if (options.compression == TilePolicy::JpegYCbCr && options.writeTiff && !a.quiet) {
+        std::fprintf(stderr, "warning: --compression jpeg-ycbcr: the original Proland runtime cannot read these "
+                             "tiles (libpyramid's readers can)\n");
     }
     return options;
 }

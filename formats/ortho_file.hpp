@@ -64,7 +64,11 @@ private:
     std::unique_ptr<TileTable> table_;
 };
 
-enum class TiffCompression { None, Deflate, Lzw, Jpeg };
+// Jpeg: RGB (or grey) components, no chroma subsampling, as the original runtime reads them.
+// JpegYCbCr: RGB tiles stored as YCbCr with 2 x 2 chroma subsampling (grey tiles as Jpeg):
+// about a third of the bytes; libtiff readers must ask for RGB (JPEGCOLORMODE), which the
+// original runtime does not.
+enum class TiffCompression { None, Deflate, Lzw, Jpeg, JpegYCbCr };
 
 struct OrthoTileEncoding {
     TiffCompression compression = TiffCompression::Deflate; // TIFF files

@@ -136,6 +136,7 @@ uint16_t compressionCode(TiffCompression c) {
     case TiffCompression::Lzw:
         return COMPRESSION_LZW;
     case TiffCompression::Jpeg:
+    case TiffCompression::JpegYCbCr:
         return COMPRESSION_JPEG;
     }
     return COMPRESSION_NONE;
@@ -147,7 +148,8 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
                                  int jpegQuality, int deflateLevel = 6, bool horizontalPredictor = false,
                                  const std::vector<uint8_t>* deflated = nullptr) {
-    if (compression == TiffCompression::Jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
+    const bool jpeg = compression == TiffCompression::Jpeg || compression == TiffCompression::JpegYCbCr;
+    if (jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
                      std::to_string(bits) + " bits");
     }
@@ -174,8 +176,13 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
         const uint16_t extra = EXTRASAMPLE_UNSPECIFIED;
         TIFFSetField(t, TIFFTAG_EXTRASAMPLES, 1, &extra);
     }
-    if (compression == TiffCompression::Jpeg) {
+    if (jpeg) {
         TIFFSetField(t, TIFFTAG_JPEGQUALITY, std::clamp(jpegQuality, 1, 100));
+    }
+    if (photometric == PHOTOMETRIC_YCBCR) {
+        // The pixels given are RGB; libjpeg converts them and subsamples the chroma 2 x 2.
+        TIFFSetField(t, TIFFTAG_YCBCRSUBSAMPLING, uint16_t{2}, uint16_t{2});
+        TIFFSetField(t, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
     }
     if (compression == TiffCompression::Deflate) {
         TIFFSetField(t, TIFFTAG_ZIPQUALITY, std::clamp(deflateLevel, 1, 9));
@@ -236,7 +243,9 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
         fail("", "TIFF tile: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height) +
                      "x" + std::to_string(channels));
     }
-    const uint16_t photometric = channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK;
+    const uint16_t photometric = compression == TiffCompression::JpegYCbCr && channels == 3 ? PHOTOMETRIC_YCBCR
+                                 : channels >= 3                                           ? PHOTOMETRIC_RGB
+                                                                                           : PHOTOMETRIC_MINISBLACK;
     const bool extraSample = channels == 2 || channels == 4;
     if (compression != TiffCompression::Deflate) {
         return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric, extraSample,
@@ -480,8 +489,11 @@ std::string describeTiff(std::span<const uint8_t> blob) {
         return "deflate-legacy";
     case COMPRESSION_LZW:
         return "lzw";
-    case COMPRESSION_JPEG:
-        return "jpeg";
+    case COMPRESSION_JPEG: {
+        uint16_t photometric = 0;
+        TIFFGetFieldDefaulted(tif.get(), TIFFTAG_PHOTOMETRIC, &photometric);
+        return photometric == PHOTOMETRIC_YCBCR ? "jpeg-ycbcr" : "jpeg";
+    }
     case COMPRESSION_PACKBITS:
         return "packbits";
     default:

@@ -60,6 +60,8 @@ TiffCompression tiffCompression(TilePolicy p, bool edge, int channels) {
         return TiffCompression::Lzw;
     case TilePolicy::Jpeg:
         return TiffCompression::Jpeg;
+    case TilePolicy::JpegYCbCr:
+        return TiffCompression::JpegYCbCr;
     case TilePolicy::None:
         return TiffCompression::None;
     case TilePolicy::Original:
@@ -181,8 +183,9 @@ private:
             const TiffCompression c = tiffCompressionOf(t);
             // Deflate with the horizontal predictor, which readers undo inside libtiff.
             e.tiff = encodeTiff8(plain, outSide, outSide, channels_, c, o_.jpegQuality, o_.deflateLevel, true);
-            e.stats.jpegTiles += c == TiffCompression::Jpeg;
-            if (c == TiffCompression::Jpeg && o_.measureJpegError) {
+            const bool jpeg = c == TiffCompression::Jpeg || c == TiffCompression::JpegYCbCr;
+            e.stats.jpegTiles += jpeg;
+            if (jpeg && o_.measureJpegError) {
                 const std::vector<uint8_t> back = decodeOrthoTiff(e.tiff, outSide, channels_, "JPEG tile");
                 // A local maximum (not the member, which the byte loads might alias) vectorises.
                 int maxError = 0;
@@ -304,7 +307,8 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                          const OrthoEncodeOptions& o, std::chrono::steady_clock::time_point start) {
     const int channels = levels.channels();
     const int T = levels.tileSize();
-    if (o.compression == TilePolicy::Jpeg && o.writeTiff && channels != 1 && channels != 3) {
+    if ((o.compression == TilePolicy::Jpeg || o.compression == TilePolicy::JpegYCbCr) && o.writeTiff && channels != 1 &&
+        channels != 3) {
         fail("--compression", "JPEG tiles hold 1 or 3 channels, the input has " + std::to_string(channels));
     }
     if (o.residualCompression == TilePolicy::Jpeg && o.writeResiduals && channels != 1 && channels != 3) {

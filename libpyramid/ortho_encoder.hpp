@@ -17,7 +17,9 @@
 
 namespace pyramid {
 
-enum class TilePolicy { Deflate, Lzw, Jpeg, None, Original }; // Original: JPEG inside, Deflate on the outer edge
+// Original: JPEG inside, Deflate on the outer edge. JpegYCbCr: JPEG tiles as YCbCr 4:2:0, not
+// readable by the original runtime (formats/ortho_file.hpp).
+enum class TilePolicy { Deflate, Lzw, Jpeg, JpegYCbCr, None, Original };
 
 struct OrthoEncodeOptions {
     OrthoLevelsOptions levels;

@@ -279,6 +279,7 @@ TEST(PreprocessOrthoCli, ReportsTheJpegErrorThatVerifyMeasures) {
         auto r = test::run(test::programPath("preprocessOrtho") + " '" + dir.file("in.png") + "' -o '" + out +
                            "' --tile-size 16 --outputs tiff --compression original --quiet --report -" +
                            (measured ? " --jpeg-error" : ""));
+        EXPECT_EQ(r.err, "");
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const auto report = nlohmann::json::parse(r.out);
         r = test::run(test::programPath("pyramid") + " verify --json '" + out + "/RGB.dat' --source '" +
@@ -298,6 +299,36 @@ TEST(PreprocessOrthoCli, ReportsTheJpegErrorThatVerifyMeasures) {
                 EXPECT_TRUE(level["tiff_max_error"].is_null()) << level;
             }
         }
+    }
+}
+
+// YCbCr JPEG tiles: a one-line warning (the original runtime cannot read them), a file our
+// readers check and verify as lossy, with the error the report measured.
+TEST(PreprocessOrthoCli, YCbCrJpegTilesWarnAndVerify) {
+    test::TempDir dir;
+    std::vector<uint16_t> px(64 * 64 * 3);
+    for (size_t k = 0; k < px.size(); ++k) {
+        px[k] = static_cast<uint16_t>(100 + 60 * std::sin(static_cast<double>(k % 192) / 20.0 + static_cast<double>(k / 192) / 9.0));
+    }
+    test::writeImage(dir.file("in.png"), 64, 64, 3, px, false);
+    auto r = test::run(test::programPath("preprocessOrtho") + " '" + dir.file("in.png") + "' -o '" + dir.file("out") +
+                       "' --tile-size 16 --outputs tiff --compression jpeg-ycbcr --jpeg-error --report '" +
+                       dir.file("r.json") + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err.rfind("warning: --compression jpeg-ycbcr: the original Proland runtime cannot read", 0), 0u) << r.err;
+    const auto report = nlohmann::json::parse(test::readFile(dir.file("r.json")));
+    EXPECT_EQ(test::run(test::programPath("pyramid") + " check '" + dir.file("out/RGB.dat") + "'").exitCode, 0);
+    const auto info = nlohmann::json::parse(
+        test::run(test::programPath("pyramid") + " info --json '" + dir.file("out/RGB.dat") + "'").out);
+    EXPECT_EQ(info["encodings"]["jpeg-ycbcr"], 21);
+    r = test::run(test::programPath("pyramid") + " verify --json '" + dir.file("out/RGB.dat") + "' --source '" +
+                  dir.file("in.png") + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    const auto verify = nlohmann::json::parse(r.out);
+    for (size_t l = 0; l < 3; ++l) {
+        EXPECT_EQ(verify["levels"][l]["lossy_tiles"], report["levels"][l]["jpeg_tiles"]) << l;
+        EXPECT_EQ(verify["levels"][l]["max_error"], report["levels"][l]["tiff_max_error"]) << l;
+        EXPECT_GT(report["levels"][l]["tiff_max_error"].get<int>(), 0) << l;
     }
 }
 

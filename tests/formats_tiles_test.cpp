@@ -176,6 +176,52 @@ TEST(OrthoTiff, JpegQualityIsHonoured) {
     EXPECT_LT(low.size() * 2, high.size()) << low.size() << " vs " << high.size();
 }
 
+// YCbCr JPEG tiles: tagged as such (photometric YCbCr, 2 x 2 chroma subsampling), decoded to
+// RGB close to the pixels by any libtiff reader that asks for RGB, and smaller than RGB JPEG at
+// the same quality. Grey tiles have no chroma: the same bytes as plain JPEG.
+TEST(OrthoTiff, YCbCrJpegTilesDecodeToRgb) {
+    const int size = 64;
+    std::vector<uint8_t> pixels(size * size * 3);
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            uint8_t* p = &pixels[static_cast<size_t>((y * size + x) * 3)];
+            p[0] = static_cast<uint8_t>(60 + 2 * x);
+            p[1] = static_cast<uint8_t>(200 - 2 * y);
+            p[2] = static_cast<uint8_t>(90 + x + y);
+        }
+    }
+    const auto rgb = encodeTiff8(pixels, size, size, 3, TiffCompression::Jpeg, 90);
+    const auto ycbcr = encodeTiff8(pixels, size, size, 3, TiffCompression::JpegYCbCr, 90);
+    EXPECT_EQ(describeTiff(rgb), "jpeg");
+    EXPECT_EQ(describeTiff(ycbcr), "jpeg-ycbcr");
+    EXPECT_LT(ycbcr.size(), rgb.size());
+    const auto back = decodeOrthoTiff(ycbcr, size, 3, "t");
+    ASSERT_EQ(back.size(), pixels.size());
+    int worst = 0;
+    for (size_t k = 0; k < pixels.size(); ++k) {
+        worst = std::max(worst, std::abs(static_cast<int>(back[k]) - static_cast<int>(pixels[k])));
+    }
+    EXPECT_LE(worst, 6); // smooth colours: chroma subsampling loses little
+    test::TempDir dir;
+    const std::string path = dir.file("tile.tif");
+    FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(ycbcr.data(), 1, ycbcr.size(), f), ycbcr.size());
+    std::fclose(f);
+    TIFF* t = TIFFOpen(path.c_str(), "r");
+    ASSERT_NE(t, nullptr);
+    uint16_t photometric = 0, sx = 0, sy = 0;
+    TIFFGetField(t, TIFFTAG_PHOTOMETRIC, &photometric);
+    TIFFGetFieldDefaulted(t, TIFFTAG_YCBCRSUBSAMPLING, &sx, &sy);
+    TIFFClose(t);
+    EXPECT_EQ(photometric, PHOTOMETRIC_YCBCR);
+    EXPECT_EQ(sx, 2);
+    EXPECT_EQ(sy, 2);
+    const std::vector<uint8_t> grey(size * size, 77);
+    EXPECT_EQ(encodeTiff8(grey, size, size, 1, TiffCompression::JpegYCbCr, 90),
+              encodeTiff8(grey, size, size, 1, TiffCompression::Jpeg, 90));
+}
+
 // encodeDxt must hand each quality level to its encoder: its bytes equal direct per-block
 // stb_compress_dxt_block calls (levels 0 and 1: one and two refinement steps) and a direct
 // squish::CompressImage call with the level's fit (levels 2 and 3), on the RGBA expansion of
