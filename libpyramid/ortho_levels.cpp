@@ -291,6 +291,7 @@ struct OrthoLevels::Impl {
     void consumeCoarseLevels(const std::vector<Image8>& levels,
                              const std::function<void(std::vector<TileBatch>&)>& consume) const;
     void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, Image8* levelC) const;
+    void faceMarginFromBands(int c, Image8& levelC) const;
     bool planarBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) const;
     void blankSubtree(int l, int tx, int ty, TileBatch& out) const;
 
@@ -336,10 +337,11 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
     C = std::max(0, M - kSubtreeDepth);
     // One pass assembles level C from the subtrees: subtrees of 3 levels rather than 4 start
     // sooner on an input still being decoded and take a quarter of the memory each, for a level
-    // C four times larger, chosen while it stays within kSinglePassLevelBytes.
+    // C four times larger, chosen while it stays within kSinglePassLevelBytes (a face's level C
+    // has 2 << C pixels beyond each side: counted for a plane too, which errs on the safe side).
     singlePassC = C;
     if (M >= kSubtreeDepth - 1) {
-        const int64_t side = static_cast<int64_t>(T) << (M - kSubtreeDepth + 1);
+        const int64_t side = static_cast<int64_t>(T + 4) << (M - kSubtreeDepth + 1);
         if (side * side * channels <= kSinglePassLevelBytes) {
             singlePassC = M - kSubtreeDepth + 1;
         }
@@ -507,10 +509,40 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
         }
         const Image8 half = averager.reduce(interior);
         const size_t halfRow = rowBytes / 2;
+        const auto mc = static_cast<int>(margin(top - 1)); // a face's level C starts beyond it
         for (int y = 0; y < T / 2; ++y) {
-            std::copy_n(half.at(0, y), halfRow, levelC->at(tx * (T / 2), ty * (T / 2) + y));
+            std::copy_n(half.at(0, y), halfRow, levelC->at(mc + tx * (T / 2), mc + ty * (T / 2) + y));
         }
     }
+}
+
+// A face's level-c pixels beyond the face (the margin of 2 << c pixels on each side), each the
+// reduction of its 2^k x 2^k finest block as in coarseLevelsFromBands: the rows wholly in the
+// margin from bands across the whole width, the other rows' margin columns from bands as wide
+// as the margin. The pixels over the face itself come from the subtrees.
+void OrthoLevels::Impl::faceMarginFromBands(int c, Image8& levelC) const {
+    const int k = M - c;
+    const int64_t mc = margin(c);
+    const int64_t inner = levelWidth(c);
+    const int64_t sideC = inner + 2 * mc;
+    parallelFor(sideC, threads, [&](int64_t row) {
+        const auto reduced = [&](int64_t x0, int64_t w) {
+            Image8 band = sampleFinest(x0 << k, (row - mc) << k, static_cast<int>(w << k), 1 << k);
+            for (int r = 0; r < k; ++r) {
+                band = averager.reduce(band);
+            }
+            return band;
+        };
+        const auto put = [&](const Image8& part, int64_t x) {
+            std::copy(part.pixels.begin(), part.pixels.end(), levelC.at(static_cast<int>(x), static_cast<int>(row)));
+        };
+        if (row < mc || row >= sideC - mc) {
+            put(reduced(-mc, sideC), 0);
+        } else {
+            put(reduced(-mc, mc), 0);
+            put(reduced(inner, mc), mc + inner);
+        }
+    });
 }
 
 // True when finest pixels [x0, x0 + w) x [y0, y0 + h) of a plane all lie beyond the input
@@ -538,17 +570,19 @@ void OrthoLevels::Impl::blankSubtree(int l, int tx, int ty, TileBatch& out) cons
 void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume, WalkOrder order) const {
     const Impl& m = *impl_;
     const int64_t groupSize = std::max<int64_t>(4, 2 * m.threads);
-    if (order == WalkOrder::SinglePass && !m.face && m.M > 0) {
+    if (order == WalkOrder::SinglePass && m.M > 0) {
         // The subtrees first, row by row from the north edge, west to east, so that an input
         // still being decoded from its first row is worked on as it arrives; each leaves its
-        // share of level C, and levels 0..C come last.
+        // share of level C (a face's margin beyond it comes from bands of its own), and levels
+        // 0..C come last.
         const int c = m.singlePassC;
         const int top = c + 1;
         const int side = 1 << top;
         const int64_t count = int64_t{side} * side;
         std::vector<Image8> levels(static_cast<size_t>(c) + 1);
         Image8& levelC = levels[static_cast<size_t>(c)];
-        levelC = Image8(static_cast<int>(m.levelWidth(c)), static_cast<int>(m.levelWidth(c)), m.channels);
+        const auto sideC = static_cast<int>(m.levelWidth(c) + 2 * m.margin(c));
+        levelC = Image8(sideC, sideC, m.channels);
         for (int64_t first = 0; first < count; first += groupSize) {
             std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, count - first)));
             parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
@@ -557,6 +591,9 @@ void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consu
                 m.subtreeFromFootprint(top, tx, ty, group[static_cast<size_t>(i)], &levelC);
             });
             consume(group);
+        }
+        if (m.face) {
+            m.faceMarginFromBands(c, levelC);
         }
         m.reduceCoarserLevels(levels);
         m.consumeCoarseLevels(levels, consume);

@@ -27,8 +27,9 @@
 // (C = max(0, M - 4)), its footprint is read from the input, reduced level by level, and its
 // subtree's tiles are produced depth first (pre-order). Levels 0..C are held in memory whole:
 // either built first in a streaming pass over the input (bands of 2^(M-C) rows reduced as they
-// are read), when every tile must come after its parent, or (planar pyramids) assembled from
-// the subtrees' level-(C+1) tiles, reduced once more, and produced after them. For a
+// are read), when every tile must come after its parent, or assembled from the subtrees'
+// level-(C+1) tiles, reduced once more (and, for a face, its margin from bands of its own),
+// and produced after them. For a
 // face, level C is built with 2 << C pixels beyond each side (level l then has 2 << l, at least
 // the border), and a footprint is the tile and its border, wherever they lie; tileSize must be
 // at least 4 so that the margin stays within half a face of the edge.
@@ -92,9 +93,9 @@ public:
     // thread count):
     //  * CoarseFirst: one item per level 0..C (all of that level's tiles in Z order), then one
     //    item per level-(C+1) subtree (pre-order), in Z order: every tile after its parent.
-    //  * SinglePass: for a plane, one item per level-(C+1) subtree (pre-order), north first
-    //    (Z order with rows counted from the north edge), then one item per level 0..C; the
-    //    input is sampled once instead of twice. For a face, as CoarseFirst.
+    //  * SinglePass: one item per level-(C+1) subtree (pre-order), row by row from the north
+    //    edge (the face's +y edge), west to east, then one item per level 0..C; the finest
+    //    level is sampled once instead of twice (a face's margin beyond it excepted).
     enum class WalkOrder { CoarseFirst, SinglePass };
     void walk(const std::function<void(std::vector<TileBatch>&)>& consume,
               WalkOrder order = WalkOrder::CoarseFirst) const;

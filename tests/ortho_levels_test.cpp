@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "libpyramid/ortho_levels.hpp"
+#include "libpyramid/raster_source.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -61,6 +62,45 @@ void expectEveryTile(const Walked& w, int maxLevel) {
     }
 }
 
+// Both orders' promises, and the same tiles.
+void expectTheSameTilesInTheirOrders(const OrthoLevels& levels) {
+    const int M = levels.maxLevel();
+    const Walked coarse = walk(levels, OrthoLevels::WalkOrder::CoarseFirst);
+    const Walked single = walk(levels, OrthoLevels::WalkOrder::SinglePass);
+    expectEveryTile(coarse, M);
+    expectEveryTile(single, M);
+    EXPECT_TRUE(coarse.tiles == single.tiles);
+
+    // CoarseFirst: every tile after its parent.
+    std::map<Key, size_t> at;
+    for (size_t i = 0; i < coarse.order.size(); ++i) {
+        at[coarse.order[i]] = i;
+    }
+    for (const auto& [k, i] : at) {
+        const auto [l, tx, ty] = k;
+        if (l > 0) {
+            EXPECT_LT(at.at(Key{l - 1, tx / 2, ty / 2}), i);
+        }
+    }
+    // SinglePass: the finest tiles come north first (tile rows never go back south), and the
+    // root comes after every finest tile.
+    int lastRow = 1 << M;
+    size_t lastFinest = 0;
+    for (size_t i = 0; i < single.order.size(); ++i) {
+        const auto [l, tx, ty] = single.order[i];
+        if (l == M) {
+            const int row = ty >> std::min(M, 3); // the subtrees' rows, 3 levels deep at most
+            EXPECT_LE(row, lastRow);
+            lastRow = row;
+            lastFinest = i;
+        }
+    }
+    if (M > 0) {
+        EXPECT_GT(std::find(single.order.begin(), single.order.end(), Key{0, 0, 0}) - single.order.begin(),
+                  static_cast<std::ptrdiff_t>(lastFinest));
+    }
+}
+
 // The geometries of each branch: pixel exact; resampled with the lower part of the square
 // beyond a wide input (whole subtrees black); 16-bit; 1 to 4 channels; few and many levels
 // (the single pass's deeper level C from 3 levels on).
@@ -80,41 +120,30 @@ TEST(OrthoLevels, BothOrdersGiveTheSameTiles) {
         OrthoLevelsOptions o;
         o.tileSize = c.tileSize;
         o.threads = c.threads;
-        const OrthoLevels levels(dir.file("in.png"), o);
-        const int M = levels.maxLevel();
-        const Walked coarse = walk(levels, OrthoLevels::WalkOrder::CoarseFirst);
-        const Walked single = walk(levels, OrthoLevels::WalkOrder::SinglePass);
-        expectEveryTile(coarse, M);
-        expectEveryTile(single, M);
-        EXPECT_TRUE(coarse.tiles == single.tiles);
+        expectTheSameTilesInTheirOrders(OrthoLevels(dir.file("in.png"), o));
+    }
+}
 
-        // CoarseFirst: every tile after its parent.
-        std::map<Key, size_t> at;
-        for (size_t i = 0; i < coarse.order.size(); ++i) {
-            at[coarse.order[i]] = i;
-        }
-        for (const auto& [k, i] : at) {
-            const auto [l, tx, ty] = k;
-            if (l > 0) {
-                EXPECT_LT(at.at(Key{l - 1, tx / 2, ty / 2}), i);
+// Cube faces: the single pass assembles level C from the subtrees and its margin beyond the
+// face from bands; the margin's pixels reach every tile border of levels 0..C, so any slip
+// shows as a tile that differs from the coarse-first walk's. Faces 1 (pole) and 3 (equator),
+// a whole-globe and a partial map (0 beyond it), few and many levels.
+TEST(OrthoLevels, BothOrdersGiveTheSameFaceTiles) {
+    test::TempDir dir;
+    test::writeImage(dir.file("globe.png"), 96, 48, 3, texture(96, 48, 3, 255), false);
+    const auto source = RasterSource::open(dir.file("globe.png"));
+    const PlanetBody body = PlanetBody::parse("wgs84");
+    for (const char* extent : {"-180,-90,180,90", "-40,-30,50,60"}) {
+        for (const int face : {1, 3}) {
+            for (const int maxLevel : {2, 4}) {
+                SCOPED_TRACE(std::string(extent) + " face " + std::to_string(face) + " maxLevel " +
+                             std::to_string(maxLevel));
+                OrthoLevelsOptions o;
+                o.tileSize = 4;
+                o.maxLevel = maxLevel;
+                o.threads = 2;
+                expectTheSameTilesInTheirOrders(OrthoLevels(*source, GeoExtent::parse(extent), body, face, o));
             }
-        }
-        // SinglePass: the finest tiles come north first (tile rows never go back south), and
-        // the root comes after every finest tile.
-        int lastRow = 1 << M;
-        size_t lastFinest = 0;
-        for (size_t i = 0; i < single.order.size(); ++i) {
-            const auto [l, tx, ty] = single.order[i];
-            if (l == M) {
-                const int row = ty >> std::min(M, 3); // the subtrees' rows, 3 levels deep at most
-                EXPECT_LE(row, lastRow);
-                lastRow = row;
-                lastFinest = i;
-            }
-        }
-        if (M > 0) {
-            EXPECT_GT(std::find(single.order.begin(), single.order.end(), Key{0, 0, 0}) - single.order.begin(),
-                      static_cast<std::ptrdiff_t>(lastFinest));
         }
     }
 }
