@@ -286,6 +286,15 @@ struct OrthoLevels::Impl {
         return t;
     }
 
+    // Finest pixels [x0, x0+w) x [y0, y0+h) reduced `times` times (w and h multiples of 2^times).
+    Image8 reducedFinest(int64_t x0, int64_t y0, int w, int h, int times) const {
+        Image8 img = sampleFinest(x0, y0, w, h);
+        for (int r = 0; r < times; ++r) {
+            img = averager.reduce(img);
+        }
+        return img;
+    }
+
     std::vector<Image8> coarseLevelsFromBands() const;
     void reduceCoarserLevels(std::vector<Image8>& levels) const;
     void consumeCoarseLevels(const std::vector<Image8>& levels,
@@ -428,10 +437,7 @@ std::vector<Image8> OrthoLevels::Impl::coarseLevelsFromBands() const {
     levelC = Image8(static_cast<int>(sideC), static_cast<int>(sideC), channels);
     parallelFor(sideC, threads, [&](int64_t i) {
         const int64_t row = sideC - 1 - i;
-        Image8 band = sampleFinest(-(marginC << k), (row - marginC) << k, static_cast<int>(sideC << k), 1 << k);
-        for (int r = 0; r < k; ++r) {
-            band = averager.reduce(band);
-        }
+        const Image8 band = reducedFinest(-(marginC << k), (row - marginC) << k, static_cast<int>(sideC << k), 1 << k, k);
         std::copy(band.pixels.begin(), band.pixels.end(), levelC.at(0, static_cast<int>(row)));
     });
     reduceCoarserLevels(levels);
@@ -527,11 +533,7 @@ void OrthoLevels::Impl::faceMarginFromBands(int c, Image8& levelC) const {
     const int64_t sideC = inner + 2 * mc;
     parallelFor(sideC, threads, [&](int64_t row) {
         const auto reduced = [&](int64_t x0, int64_t w) {
-            Image8 band = sampleFinest(x0 << k, (row - mc) << k, static_cast<int>(w << k), 1 << k);
-            for (int r = 0; r < k; ++r) {
-                band = averager.reduce(band);
-            }
-            return band;
+            return reducedFinest(x0 << k, (row - mc) << k, static_cast<int>(w << k), 1 << k, k);
         };
         const auto put = [&](const Image8& part, int64_t x) {
             std::copy(part.pixels.begin(), part.pixels.end(), levelC.at(static_cast<int>(x), static_cast<int>(row)));
