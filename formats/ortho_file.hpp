@@ -70,6 +70,8 @@ private:
 // original runtime does not.
 enum class TiffCompression { None, Deflate, Lzw, Jpeg, JpegYCbCr };
 
+inline bool isJpeg(TiffCompression c) { return c == TiffCompression::Jpeg || c == TiffCompression::JpegYCbCr; }
+
 struct OrthoTileEncoding {
     TiffCompression compression = TiffCompression::Deflate; // TIFF files
     int jpegQuality = 90;                                   // 1..100, with Jpeg

@@ -148,7 +148,7 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
                                  int jpegQuality, int deflateLevel = 6, bool horizontalPredictor = false,
                                  const std::vector<uint8_t>* deflated = nullptr) {
-    const bool jpeg = compression == TiffCompression::Jpeg || compression == TiffCompression::JpegYCbCr;
+    const bool jpeg = isJpeg(compression);
     if (jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
                      std::to_string(bits) + " bits");
@@ -211,10 +211,9 @@ struct CompressorDeleter {
     void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
 };
 
-// A zlib stream of `bytes` at libdeflate level `level`: the stream libtiff writes for a strip
-// given whole (its Deflate codec hands the strip to libdeflate in one call), byte for byte,
-// without allocating and initialising a compressor for every tile. One per thread and level.
-// Levels 10 to 12 are libdeflate's slowest and smallest.
+// A zlib stream of `bytes` at libdeflate level `level` (1 to 12, 10 to 12 the slowest and
+// smallest), compressed in one call as libtiff's Deflate codec does with a whole strip, but
+// without allocating and initialising a compressor for every tile: one per thread and level.
 std::vector<uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
     thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
     auto& compressor = compressors[std::clamp(level, 1, 12)];
@@ -253,8 +252,8 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
     }
     // Deflate: the predictor applied and the strip compressed here, with a compressor kept per
     // thread, rather than by libtiff, which copies the strip and sets up a compressor per tile.
-    // The same bytes as libtiff's: its predictor stores each sample minus the same channel of
-    // the pixel to its left, modulo 256, the first pixel of each row as it is.
+    // The predictor as libtiff applies it: each sample minus the same channel of the pixel to
+    // its left, modulo 256, the first pixel of each row as it is.
     std::vector<uint8_t> differences;
     std::span<const uint8_t> strip = pixels;
     if (horizontalPredictor) {

@@ -183,9 +183,8 @@ private:
             const TiffCompression c = tiffCompressionOf(t);
             // Deflate with the horizontal predictor, which readers undo inside libtiff.
             e.tiff = encodeTiff8(plain, outSide, outSide, channels_, c, o_.jpegQuality, o_.deflateLevel, true);
-            const bool jpeg = c == TiffCompression::Jpeg || c == TiffCompression::JpegYCbCr;
-            e.stats.jpegTiles += jpeg;
-            if (jpeg && o_.measureJpegError) {
+            e.stats.jpegTiles += isJpeg(c);
+            if (isJpeg(c) && o_.measureJpegError) {
                 const std::vector<uint8_t> back = decodeOrthoTiff(e.tiff, outSide, channels_, "JPEG tile");
                 // A local maximum (not the member, which the byte loads might alias) vectorises.
                 int maxError = 0;
