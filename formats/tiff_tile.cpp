@@ -142,12 +142,54 @@ uint16_t compressionCode(TiffCompression c) {
     return COMPRESSION_NONE;
 }
 
-// Encodes one strip of `bits`-bit samples. With `deflated` (Deflate only), the strip is that
-// zlib stream of the pixels, compressed by the caller, and written as it is.
+struct CompressorDeleter {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+};
+
+// A zlib stream of `bytes` at libdeflate level `level` (1 to 12, 10 to 12 the slowest and
+// smallest), compressed in one call as libtiff's Deflate codec does with a whole strip, but
+// without allocating and initialising a compressor for every tile: one per thread and level.
+std::vector<uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
+    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
+    auto& compressor = compressors[std::clamp(level, 1, 12)];
+    if (!compressor) {
+        compressor.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 12)));
+        if (!compressor) {
+            fail("", "out of memory for a Deflate compressor");
+        }
+    }
+    std::vector<uint8_t> out(libdeflate_zlib_compress_bound(compressor.get(), bytes.size()));
+    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), out.size());
+    if (size == 0) {
+        fail("", "cannot deflate a tile");
+    }
+    out.resize(size);
+    return out;
+}
+
+// The strip libtiff's horizontal predictor would store for 8-bit samples: each sample minus the
+// same channel of the pixel to its left, modulo 256, the first pixel of each row as it is.
+std::vector<uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels) {
+    std::vector<uint8_t> out(bytes);
+    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+    const auto c = static_cast<size_t>(channels);
+    for (size_t y = 0; y < bytes / row; ++y) {
+        const uint8_t* in = pixels + y * row;
+        uint8_t* o = out.data() + y * row;
+        std::copy_n(in, c, o);
+        for (size_t k = c; k < row; ++k) {
+            o[k] = static_cast<uint8_t>(in[k] - in[k - c]);
+        }
+    }
+    return out;
+}
+
+// Encodes one strip of `bits`-bit samples. Deflate strips (with the predictor: 8-bit samples
+// only) are compressed here, with a compressor kept per thread, and written raw: libtiff would
+// copy the strip and set up a compressor for every tile.
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
-                                 int jpegQuality, int deflateLevel = 6, bool horizontalPredictor = false,
-                                 const std::vector<uint8_t>* deflated = nullptr) {
+                                 int jpegQuality, int deflateLevel, bool horizontalPredictor) {
     const bool jpeg = isJpeg(compression);
     if (jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
@@ -184,15 +226,20 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
         TIFFSetField(t, TIFFTAG_YCBCRSUBSAMPLING, uint16_t{2}, uint16_t{2});
         TIFFSetField(t, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
     }
+    tmsize_t written = 0;
     if (compression == TiffCompression::Deflate) {
-        TIFFSetField(t, TIFFTAG_ZIPQUALITY, std::clamp(deflateLevel, 1, 9));
-        if (horizontalPredictor) {
+        const auto* samples = static_cast<const uint8_t*>(pixels);
+        std::vector<uint8_t> differences;
+        if (horizontalPredictor && bits == 8) {
             TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
+            differences = horizontalDifferences(samples, bytes, width, channels);
+            samples = differences.data();
         }
+        std::vector<uint8_t> deflated = zlibCompress(std::span<const uint8_t>(samples, bytes), deflateLevel);
+        written = TIFFWriteRawStrip(t, 0, deflated.data(), static_cast<tmsize_t>(deflated.size()));
+    } else {
+        written = TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
     }
-    const tmsize_t written =
-        deflated ? TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated->data()), static_cast<tmsize_t>(deflated->size()))
-                 : TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
     if (written < 0) {
         fail("", withCause("cannot encode a TIFF tile", stream));
     }
@@ -205,34 +252,6 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
 
 } // namespace
 
-namespace {
-
-struct CompressorDeleter {
-    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
-};
-
-// A zlib stream of `bytes` at libdeflate level `level` (1 to 12, 10 to 12 the slowest and
-// smallest), compressed in one call as libtiff's Deflate codec does with a whole strip, but
-// without allocating and initialising a compressor for every tile: one per thread and level.
-std::vector<uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
-    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
-    auto& compressor = compressors[std::clamp(level, 1, 12)];
-    if (!compressor) {
-        compressor.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 12)));
-        if (!compressor) {
-            fail("", "out of memory for a Deflate compressor");
-        }
-    }
-    std::vector<uint8_t> out(libdeflate_zlib_compress_bound(compressor.get(), bytes.size()));
-    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), out.size());
-    if (size == 0) {
-        fail("", "cannot deflate a tile");
-    }
-    out.resize(size);
-    return out;
-}
-
-} // namespace
 
 std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
                                  TiffCompression compression, int jpegQuality, int deflateLevel,
@@ -245,34 +264,8 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
     const uint16_t photometric = compression == TiffCompression::JpegYCbCr && channels == 3 ? PHOTOMETRIC_YCBCR
                                  : channels >= 3                                           ? PHOTOMETRIC_RGB
                                                                                            : PHOTOMETRIC_MINISBLACK;
-    const bool extraSample = channels == 2 || channels == 4;
-    if (compression != TiffCompression::Deflate) {
-        return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric, extraSample,
-                           compression, jpegQuality, deflateLevel, horizontalPredictor);
-    }
-    // Deflate: the predictor applied and the strip compressed here, with a compressor kept per
-    // thread, rather than by libtiff, which copies the strip and sets up a compressor per tile.
-    // The predictor as libtiff applies it: each sample minus the same channel of the pixel to
-    // its left, modulo 256, the first pixel of each row as it is.
-    std::vector<uint8_t> differences;
-    std::span<const uint8_t> strip = pixels;
-    if (horizontalPredictor) {
-        differences.resize(pixels.size());
-        const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
-        const auto c = static_cast<size_t>(channels);
-        for (size_t y = 0; y < static_cast<size_t>(height); ++y) {
-            const uint8_t* in = pixels.data() + y * row;
-            uint8_t* out = differences.data() + y * row;
-            std::copy_n(in, c, out);
-            for (size_t k = c; k < row; ++k) {
-                out[k] = static_cast<uint8_t>(in[k] - in[k - c]);
-            }
-        }
-        strip = differences;
-    }
-    const std::vector<uint8_t> deflated = zlibCompress(strip, deflateLevel);
-    return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric, extraSample, compression,
-                       jpegQuality, deflateLevel, horizontalPredictor, &deflated);
+    return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric,
+                       channels == 2 || channels == 4, compression, jpegQuality, deflateLevel, horizontalPredictor);
 }
 
 namespace {
@@ -424,9 +417,8 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
         bytes[2 * k] = static_cast<uint8_t>(v & 0xffu);
         bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
     }
-    const std::vector<uint8_t> deflated = zlibCompress(bytes, std::clamp(deflateLevel, 1, 9));
     return encodeStrip(bytes.data(), bytes.size(), size, size, 2, 8, PHOTOMETRIC_MINISBLACK, false,
-                       TiffCompression::Deflate, 0, deflateLevel, false, &deflated);
+                       TiffCompression::Deflate, 0, std::clamp(deflateLevel, 1, 9), false);
 }
 
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {

@@ -77,14 +77,10 @@ void upsampleOrtho(const uint8_t* parent, int tileSize, int channels, int tx, in
     for (int y = 0; y < side; ++y) {
         uint8_t* row = out + static_cast<size_t>(y) * rowBytes;
         predictOrthoRow(parent, rowBytes, channels, rx, ry, y, side, row);
-        if (residual) {
+        if (residual) { // without, every stored value is 128: the prediction itself
             const uint8_t* stored = residual + static_cast<size_t>(y) * rowBytes;
             for (size_t k = 0; k < rowBytes; ++k) {
                 row[k] = applyColourResidual(row[k], stored[k]);
-            }
-        } else {
-            for (size_t k = 0; k < rowBytes; ++k) {
-                row[k] = applyColourResidual(row[k], 128);
             }
         }
     }
