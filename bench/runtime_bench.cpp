@@ -21,10 +21,10 @@
 #include <OpenImageIO/imageio.h>
 
 #include "formats/error.hpp"
-#include "libpyramid/dem_encoder.hpp"
-#include "libpyramid/elevation_producer.hpp"
-#include "libpyramid/parallel.hpp"
-#include "libpyramid/residual_producer.hpp"
+#include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/support/parallel.hpp"
+#include "libpyramid/runtime/residual_producer.hpp"
 
 namespace {
 

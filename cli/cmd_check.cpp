@@ -12,7 +12,7 @@
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/parallel.hpp"
+#include "libpyramid/support/parallel.hpp"
 
 namespace pyramid::cli {
 

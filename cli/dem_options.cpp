@@ -7,8 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include "formats/error.hpp"
-#include "libpyramid/dem_sampling.hpp"
-#include "libpyramid/parse_number.hpp"
+#include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid::cli {
 

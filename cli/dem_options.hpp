@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "libpyramid/dem_encoder.hpp"
+#include "libpyramid/encode/dem/dem_encoder.hpp"
 
 namespace CLI {
 class App;

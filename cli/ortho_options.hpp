@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "libpyramid/ortho_encoder.hpp"
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
 
 namespace CLI {
 class App;

@@ -5,9 +5,9 @@
 #include <CLI/CLI.hpp>
 
 #include "formats/error.hpp"
-#include "libpyramid/cube_faces.hpp"
-#include "libpyramid/parse_number.hpp"
-#include "libpyramid/planet_body.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/support/parse_number.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
 
 namespace pyramid::cli {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "libpyramid/equirect_sampler.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
 
 namespace CLI {
 class App;

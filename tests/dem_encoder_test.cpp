@@ -11,9 +11,9 @@
 
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/dem_encoder.hpp"
-#include "libpyramid/dem_verify.hpp"
-#include "libpyramid/elevation_producer.hpp"
+#include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/verify/dem_verify.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 

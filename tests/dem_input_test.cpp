@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "formats/error.hpp"
-#include "libpyramid/dem_encoder.hpp"
-#include "libpyramid/dem_sampling.hpp"
-#include "libpyramid/dem_verify.hpp"
-#include "libpyramid/raster_source.hpp"
+#include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/verify/dem_verify.hpp"
+#include "libpyramid/input/raster_source.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 

@@ -10,8 +10,8 @@
 
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/elevation_producer.hpp"
-#include "libpyramid/elevation_upsample.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/filters/elevation_upsample.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {

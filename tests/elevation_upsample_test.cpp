@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "libpyramid/elevation_upsample.hpp"
+#include "libpyramid/filters/elevation_upsample.hpp"
 
 namespace pyramid {
 namespace {

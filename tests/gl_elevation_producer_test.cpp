@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "formats/residual_file.hpp"
-#include "libpyramid/elevation_producer.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/gl/gl_elevation_producer.hpp"
 #include "tests/support/gl_test_context.hpp"
 #include "tests/support/paths.hpp"

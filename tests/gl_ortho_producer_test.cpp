@@ -13,9 +13,9 @@
 #include "formats/dxt_codec.hpp"
 #include "formats/ortho_file.hpp"
 #include "libpyramid/gl/gl_ortho_producer.hpp"
-#include "libpyramid/gl/gl_ortho_residual_producer.hpp"
-#include "libpyramid/ortho_producer.hpp"
-#include "libpyramid/ortho_residual_producer.hpp"
+#include "libpyramid/gl/gl_colour_producer.hpp"
+#include "libpyramid/runtime/ortho_producer.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
 #include "tests/support/gl_test_context.hpp"
 #include "tests/support/paths.hpp"
 

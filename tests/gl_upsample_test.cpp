@@ -11,10 +11,10 @@
 #include <random>
 #include <vector>
 
-#include "libpyramid/elevation_upsample.hpp"
+#include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/gl/gl_elevation_upsample.hpp"
-#include "libpyramid/gl/gl_ortho_upsample.hpp"
-#include "libpyramid/ortho_upsample.hpp"
+#include "libpyramid/gl/gl_colour_upsample.hpp"
+#include "libpyramid/filters/colour_upsample.hpp"
 #include "tests/support/gl_test_context.hpp"
 
 namespace pyramid {

@@ -14,10 +14,10 @@
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
-#include "libpyramid/ortho_encoder.hpp"
-#include "libpyramid/ortho_residual_producer.hpp"
-#include "libpyramid/ortho_verify.hpp"
-#include "libpyramid/raster_source.hpp"
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
+#include "libpyramid/verify/ortho_verify.hpp"
+#include "libpyramid/input/raster_source.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 

@@ -6,8 +6,8 @@
 #include <map>
 #include <tuple>
 
-#include "libpyramid/ortho_levels.hpp"
-#include "libpyramid/raster_source.hpp"
+#include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/input/raster_source.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 

@@ -8,11 +8,11 @@
 #include "formats/ortho_file.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/capi/pyramid.h"
-#include "libpyramid/elevation_producer.hpp"
-#include "libpyramid/elevation_upsample.hpp"
-#include "libpyramid/ortho_producer.hpp"
-#include "libpyramid/ortho_residual_producer.hpp"
-#include "libpyramid/ortho_upsample.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/filters/elevation_upsample.hpp"
+#include "libpyramid/runtime/ortho_producer.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
+#include "libpyramid/filters/colour_upsample.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {

@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "libpyramid/raster_source.hpp"
+#include "libpyramid/input/raster_source.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {

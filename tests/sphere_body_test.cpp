@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "formats/error.hpp"
-#include "libpyramid/cube_faces.hpp"
-#include "libpyramid/planet_body.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
 
 namespace pyramid {
 namespace {

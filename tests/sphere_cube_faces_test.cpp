@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "formats/error.hpp"
-#include "libpyramid/cube_faces.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
 
 namespace pyramid {
 namespace {

@@ -10,9 +10,9 @@
 #include <tuple>
 
 #include "formats/error.hpp"
-#include "libpyramid/cube_faces.hpp"
-#include "libpyramid/elevation_producer.hpp"
-#include "libpyramid/sphere_dem_encoder.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 

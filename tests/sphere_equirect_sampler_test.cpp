@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "formats/error.hpp"
-#include "libpyramid/equirect_sampler.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {

@@ -11,10 +11,10 @@
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
-#include "libpyramid/cube_faces.hpp"
-#include "libpyramid/ortho_residual_producer.hpp"
-#include "libpyramid/planet_body.hpp"
-#include "libpyramid/sphere_ortho_encoder.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
+#include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 

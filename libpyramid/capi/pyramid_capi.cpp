@@ -12,9 +12,9 @@
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/elevation_producer.hpp"
-#include "libpyramid/ortho_producer.hpp"
-#include "libpyramid/ortho_residual_producer.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/ortho_producer.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
 
 struct pyramid_file {
     pyramid::PyramidKind kind;

@@ -3,9 +3,9 @@
 #include <optional>
 
 #include "formats/error.hpp"
-#include "libpyramid/elevation_upsample.hpp"
+#include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/gl/gl_elevation_upsample.hpp"
-#include "libpyramid/tile_cache.hpp"
+#include "libpyramid/runtime/tile_cache.hpp"
 
 namespace pyramid {
 
@@ -14,7 +14,7 @@ namespace {
 constexpr int kLocalSize = 8;
 
 // zf as in gl_elevation_upsample, and zc exactly as coarseElevations() in
-// libpyramid/elevation_producer.cpp: the parent's render mesh (gridSize quads, north-west to
+// libpyramid/runtime/elevation_producer.cpp: the parent's render mesh (gridSize quads, north-west to
 // south-east diagonals) evaluated at the interior samples, in the same float32 order.
 const char* const kProducerKernel = R"(
 layout(local_size_x = 8, local_size_y = 8) in;

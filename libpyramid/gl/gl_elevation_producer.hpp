@@ -8,9 +8,9 @@
 #pragma once
 #include <memory>
 
-#include "libpyramid/elevation_producer.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/gl/gl_objects.hpp"
-#include "libpyramid/residual_producer.hpp"
+#include "libpyramid/runtime/residual_producer.hpp"
 
 namespace pyramid {
 

@@ -2,7 +2,7 @@
 
 #include "formats/dxt_codec.hpp"
 #include "formats/error.hpp"
-#include "libpyramid/tile_cache.hpp"
+#include "libpyramid/runtime/tile_cache.hpp"
 
 namespace pyramid {
 

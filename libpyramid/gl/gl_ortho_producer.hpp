@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "libpyramid/gl/gl_objects.hpp"
-#include "libpyramid/ortho_producer.hpp"
+#include "libpyramid/runtime/ortho_producer.hpp"
 
 namespace pyramid {
 

@@ -8,13 +8,13 @@
 #include "formats/dxt_codec.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/elevation_producer.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/gl/egl_context.hpp"
 #include "libpyramid/gl/gl_elevation_producer.hpp"
 #include "libpyramid/gl/gl_ortho_producer.hpp"
-#include "libpyramid/gl/gl_ortho_residual_producer.hpp"
-#include "libpyramid/ortho_producer.hpp"
-#include "libpyramid/ortho_residual_producer.hpp"
+#include "libpyramid/gl/gl_colour_producer.hpp"
+#include "libpyramid/runtime/ortho_producer.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
 
 namespace pyramid {
 

@@ -1,0 +1,86 @@
+// How preprocessDem (and `pyramid verify`) turn an input raster into the heights of the
+// pyramid's finest grid (doc/dem-encoding.md, "Sampling").
+//
+// The finest level has N intervals across the root quad, so N + 1 samples per side, on the
+// vertices of the grid; sample (x, y) has y = 0 at the south. Its position in the input
+// (column X, row Y, row 0 = north) is
+//     X = x * Lx / N,   Y = (N - y) * Ly / N
+// with Lx = Ly = max(W - 1, H - 1) by default (the aspect ratio is kept: the longer side spans
+// the root quad, the input sits at the north-west corner and what lies beyond it is nodata), or
+// Lx = W - 1, Ly = H - 1 with stretching. When W = H = N + 1, X = x and Y = N - y exactly: the
+// finest grid is the input, sample for sample. Otherwise heights are interpolated bilinearly
+// (in double precision, from the 2 x 2 input samples around (X, Y); a sample that needs a nodata
+// neighbour with a non-zero weight is nodata).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "libpyramid/input/raster_source.hpp"
+
+namespace pyramid {
+
+// The nodata value of a DEM source as preprocessDem's and `pyramid verify`'s --nodata give it:
+// a number, "nan", or "none" (ignore the value the file declares); empty: what the file declares.
+struct NodataChoice {
+    std::optional<double> value;
+    bool ignoreDeclared = false;
+};
+// Throws Error naming `option` when `text` is none of these.
+NodataChoice parseNodataChoice(const std::string& text, const std::string& option);
+
+struct DemGeometry {
+    int64_t N = 0;  // finest intervals across the root quad
+    int width = 0;  // input
+    int height = 0;
+    int64_t lx = 0; // input intervals spanned by the root quad, horizontally
+    int64_t ly = 0; // and vertically
+    bool exact() const { return width == N + 1 && height == N + 1; }
+    std::string describe() const; // one sentence for reports
+};
+
+// Throws Error (naming `where`) for inputs smaller than 2 x 2.
+DemGeometry makeDemGeometry(int width, int height, int64_t N, bool stretch, const std::string& where);
+
+// Heights of finest-grid samples x0 + i*stride (0 <= i < nx), y0 + j*stride (0 <= j < ny),
+// all inside [0, N]. valid: 1 = a height, 0 = nodata (2 is used by the encoder for filled).
+struct SourceGrid {
+    int64_t x0 = 0, y0 = 0, stride = 1;
+    int64_t nx = 0, ny = 0;
+    std::vector<float> height;
+    std::vector<uint8_t> valid;
+
+    size_t index(int64_t fx, int64_t fy) const {
+        return static_cast<size_t>((fx - x0) / stride) + static_cast<size_t>((fy - y0) / stride) * static_cast<size_t>(nx);
+    }
+};
+
+// Where a residual pyramid's heights come from: fills grid.height and grid.valid for the
+// positions grid describes (allocating them). Thread-safe.
+class HeightSource {
+public:
+    virtual ~HeightSource() = default;
+    virtual void sample(SourceGrid& grid) const = 0;
+};
+
+// The heights of a planar raster.
+class DemSampler final : public HeightSource {
+public:
+    // `nodata`: the value that marks missing samples (NaN allowed), or none. Any other NaN in
+    // the input is an error.
+    DemSampler(const RasterSource& source, const DemGeometry& geometry, int band, std::optional<double> nodata);
+
+    const DemGeometry& geometry() const { return geometry_; }
+    // Fills grid.height and grid.valid for the positions grid describes (allocates them).
+    // Reads only the input window those positions need. Thread-safe.
+    void sample(SourceGrid& grid) const override;
+
+private:
+    const RasterSource& source_;
+    DemGeometry geometry_;
+    int band_;
+    std::optional<double> nodata_;
+};
+
+} // namespace pyramid

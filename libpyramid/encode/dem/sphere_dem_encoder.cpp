@@ -1,0 +1,170 @@
+#include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "formats/error.hpp"
+#include "formats/staging_directory.hpp"
+#include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
+
+namespace pyramid {
+
+namespace {
+
+// The heights of one face's vertex grid, borders beyond the face included.
+class FaceHeights final : public HeightSource {
+public:
+    explicit FaceHeights(const FaceSampler& sampler) : sampler_(sampler) {}
+    void sample(SourceGrid& grid) const override {
+        grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
+        grid.valid.resize(grid.height.size());
+        sampler_.sample(grid.x0, grid.y0, grid.stride, grid.nx, grid.ny, grid.height.data(), grid.valid.data());
+    }
+
+private:
+    const FaceSampler& sampler_;
+};
+
+void checkFaces(const std::vector<int>& faces) {
+    const std::set<int> unique(faces.begin(), faces.end());
+    if (faces.empty() || unique.size() != faces.size() || *unique.begin() < 1 || *unique.rbegin() > kCubeFaceCount) {
+        fail("--faces", "needs distinct face numbers from 1 to 6");
+    }
+}
+
+} // namespace
+
+SphericalDemReport encodeSphericalDem(const std::string& input, const std::string& directory,
+                                      const SphericalDemOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    const DemEncodeOptions& o = options.dem;
+    if (!o.autoScale && (!std::isfinite(o.scale) || o.scale <= 0.0)) {
+        fail("--scale", "must be a positive number, not " + numberText(o.scale));
+    }
+    if (!std::isfinite(options.heightScale) || options.heightScale == 0.0) {
+        fail("--height-scale", "must be a finite non-zero number, not " + numberText(options.heightScale));
+    }
+    checkFaces(options.faces);
+    if (o.rootTileSize < 2) {
+        // The root tile's 2-interval borders fold onto the neighbouring faces: at most a face deep.
+        fail("--root-tile-size", "cube faces need a root tile of at least 2 intervals, not " +
+                                     std::to_string(o.rootTileSize));
+    }
+    const PlanetBody body = PlanetBody::parse(options.body);
+    auto source = RasterSource::open(input, o.cacheMegabytes);
+    SphericalDemReport report;
+    report.input = input;
+    report.directory = directory;
+    report.inputInfo = source->info();
+    report.band = o.band;
+    report.heightScale = options.heightScale;
+    report.body = body.describe();
+    report.extent = options.extent;
+    const std::optional<double> nodata = checkBandAndNodata(source->info(), o, input);
+    report.nodata = nodata;
+
+    // One face spans a quarter of the equator: at least width / 4 intervals match the map there.
+    DemEncodeOptions faceOptions = o;
+    faceOptions.stretch = false;
+    faceOptions.reconstruction = nullptr;
+    if (faceOptions.maxLevel < 0 && faceOptions.rootTileSize > 0) {
+        const double equatorWidth = static_cast<double>(source->info().width) * 360.0 /
+                                    (options.extent.east - options.extent.west) / 4.0;
+        faceOptions.maxLevel = 0;
+        while (faceOptions.maxLevel < 24 &&
+               static_cast<double>(static_cast<int64_t>(faceOptions.rootTileSize) << faceOptions.maxLevel) < equatorWidth) {
+            ++faceOptions.maxLevel;
+        }
+        const int minLevel = static_cast<int>(std::lround(std::log2(std::max(1, o.tileSize / o.rootTileSize))));
+        faceOptions.maxLevel = std::max(faceOptions.maxLevel, minLevel);
+    }
+    const ResidualHeader header = planDemPyramid(source->info(), faceOptions, input);
+    const int64_t N = static_cast<int64_t>(header.tileSize >> header.minLevel) << header.maxLevel;
+    const EquirectSampler map(*source, options.extent, o.band, o.band + 1, SampleRead::Float, nodata);
+    report.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+
+    StagingDirectory staging(directory);
+    const int64_t faceTiles = header.tileCount();
+    const int64_t totalTiles = faceTiles * static_cast<int64_t>(options.faces.size());
+    int64_t finished = 0; // tiles of the faces already done
+    int64_t shown = 0;    // progress never goes back, even when --scale auto starts a face over
+    for (const int face : options.faces) {
+        const FaceSampler sampler(map, body, face, FaceGrid{N, FaceGridKind::Vertices}, options.heightScale);
+        const FaceHeights heights(sampler);
+        ResidualPyramidJob job;
+        job.header = header;
+        job.heights = &heights;
+        job.edges = GridEdges::Folded;
+        job.emptyFill = 0.0f; // a face the map does not reach at all lies at height 0
+        job.input = input;
+        DemEncodeOptions run = faceOptions;
+        if (o.progress) {
+            run.progress = [&](int64_t done, int64_t) {
+                if (finished + done > shown) {
+                    shown = finished + done;
+                    o.progress(shown, totalTiles);
+                }
+            };
+        }
+        if (options.reconstruction) {
+            run.reconstruction = [&, face](int level, int tx, int ty, const std::vector<float>& z) {
+                options.reconstruction(face, level, tx, ty, z);
+            };
+        }
+        const auto faceStart = std::chrono::steady_clock::now();
+        SphericalDemFaceReport fr;
+        fr.face = face;
+        const std::string name = options.name + std::to_string(face) + ".dat";
+        fr.dem.input = input;
+        fr.dem.output = (std::filesystem::path(directory) / name).string();
+        fr.dem.inputInfo = source->info();
+        fr.dem.band = o.band;
+        fr.dem.nodata = nodata;
+        fr.dem.sampling = "face " + std::to_string(face) + " of the cube, " + std::to_string(N) +
+                          " intervals across, sampled bilinearly on the " + body.name() +
+                          " body; borders from the neighbouring faces";
+        encodeResidualPyramid(job, staging.path(name), run, fr.dem);
+        fr.dem.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - faceStart).count();
+        for (int l = 0; l <= header.maxLevel; ++l) {
+            const int64_t n = static_cast<int64_t>(header.tileSize >> header.minLevel) << l;
+            fr.gsd.push_back(faceGroundSampleDistance(body, face, FaceGrid{n, FaceGridKind::Vertices}));
+        }
+        report.faces.push_back(std::move(fr));
+        finished += faceTiles;
+    }
+    staging.commit();
+    for (SphericalDemFaceReport& f : report.faces) {
+        f.dem.bytes = std::filesystem::file_size(f.dem.output);
+    }
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+nlohmann::json toJson(const SphericalDemReport& r) {
+    nlohmann::json faces = nlohmann::json::array();
+    for (const SphericalDemFaceReport& f : r.faces) {
+        nlohmann::json dem = toJson(f.dem);
+        dem.erase("input"); // the same for every face: at the top
+        nlohmann::json gsd = nlohmann::json::array();
+        for (size_t l = 0; l < f.gsd.size(); ++l) {
+            gsd.push_back({{"level", l}, {"min_metres", f.gsd[l].min}, {"max_metres", f.gsd[l].max}});
+        }
+        faces.push_back({{"face", f.face}, {"dem", dem}, {"ground_sample_distance", gsd}});
+    }
+    nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
+    input["height_scale"] = r.heightScale;
+    return {{"input", input},
+            {"directory", r.directory},
+            {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
+                        {"north", r.extent.north}}},
+            {"body", r.body},
+            {"faces", faces},
+            {"threads", r.threads},
+            {"seconds", r.seconds}};
+}
+
+} // namespace pyramid

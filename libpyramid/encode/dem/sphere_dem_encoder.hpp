@@ -1,0 +1,63 @@
+// preprocessSphericalDem as a library call: a global (or partial) equirectangular elevation map
+// in, six residual pyramids out, one per cube face (DIR/DEM1.dat .. DIR/DEM6.dat), numbered,
+// oriented and projected as the original Proland tools do, with the body's geodesy
+// (doc/spherical.md). Each face is a planar pyramid of the residual encoder whose tile borders
+// are the neighbouring faces' samples.
+#pragma once
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/sphere/face_sampler.hpp"
+
+namespace pyramid {
+
+struct SphericalDemOptions {
+    // Tile sizes, scale, band, nodata, threads, cache. dem.maxLevel counts per face (-1: the
+    // smallest face pyramid at least as fine as the map at the equator, i.e. rootTileSize <<
+    // maxLevel >= width / 4); dem.stretch does not apply; dem.progress sees the tiles of every
+    // face, dem.reconstruction is not called (see `reconstruction` below).
+    DemEncodeOptions dem;
+    GeoExtent extent;             // of the map; default global
+    std::string body = "wgs84";   // PlanetBody::parse
+    double heightScale = 1.0;     // height = sample value x heightScale (e.g. 10000/255)
+    std::string name = "DEM";     // files NAME1.dat .. NAME6.dat
+    std::vector<int> faces{1, 2, 3, 4, 5, 6};
+    // Called from one thread at a time with each tile's reconstruction: for tests.
+    std::function<void(int face, int level, int tx, int ty, const std::vector<float>&)> reconstruction;
+};
+
+struct SphericalDemFaceReport {
+    int face = 0;
+    DemReport dem;                          // the face's file, levels and errors
+    std::vector<GroundSampleDistance> gsd;  // per level, metres between neighbouring samples
+};
+
+struct SphericalDemReport {
+    std::string input;
+    std::string directory;
+    RasterInfo inputInfo;
+    int band = 0;                 // 0-based
+    std::optional<double> nodata; // used, if any
+    double heightScale = 1.0;
+    std::string body;             // PlanetBody::describe()
+    GeoExtent extent;
+    std::vector<SphericalDemFaceReport> faces;
+    int threads = 0;
+    double seconds = 0.0;
+};
+
+// Writes every face into `directory` (created if missing); the files appear together at the
+// end, or not at all when a face fails. Throws Error with a one-line message on bad input,
+// impossible options or int16 overflow.
+SphericalDemReport encodeSphericalDem(const std::string& input, const std::string& directory,
+                                      const SphericalDemOptions& options);
+
+nlohmann::json toJson(const SphericalDemReport& report);
+
+} // namespace pyramid

@@ -1,0 +1,87 @@
+// preprocessOrtho as a library call: imagery in, up to three ortho pyramid files out, as the
+// original tools write them (doc/ortho-encoding.md):
+//   DIR/NAME.dat            plain tiles, TIFF (lossless Deflate by default)
+//   DIR/dxt/NAME.dat        DXT1 (1-3 channels, expanded to RGB) or DXT5 (4 channels)
+//   DIR/residuals/NAME.dat  colour residuals for the colour-residual producer, closed loop
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "formats/ortho_file.hpp"
+#include "formats/staging_directory.hpp"
+#include "libpyramid/encode/ortho/ortho_levels.hpp"
+
+namespace pyramid {
+
+// Original: JPEG inside, Deflate on the outer edge. JpegYCbCr: JPEG tiles as YCbCr 4:2:0, not
+// readable by the original runtime (formats/ortho_file.hpp).
+enum class TilePolicy { Deflate, Lzw, Jpeg, JpegYCbCr, None, Original };
+
+struct OrthoEncodeOptions {
+    OrthoLevelsOptions levels;
+    std::string name = "RGB";
+    bool writeTiff = true;
+    bool writeDxt = true;
+    bool writeResiduals = true;
+    int border = 2;                  // 2 or 0 (TIFF and DXT files; residual files always have 2)
+    TilePolicy compression = TilePolicy::Deflate;
+    int jpegQuality = 90;
+    // Deflate TIFF tiles: libdeflate's level, 1 to 12. With the horizontal predictor, which
+    // turns neighbouring colours into small differences, level 1 gives files 20 to 35 % smaller
+    // than level 6 without it, in about a third of the time (bench/ortho_bench.md); higher levels
+    // give a few % fewer bytes in several times the time.
+    int deflateLevel = 1;
+    // JPEG TIFF tiles are decoded again to measure their error (tiff_max_error): off by default,
+    // as the decoding costs about a sixth of a JPEG run; `pyramid verify` measures it afterwards.
+    bool measureJpegError = false;
+    int dxtQuality = 1;              // 0 fastest .. 3 best (formats/dxt_codec.hpp)
+    TilePolicy residualCompression = TilePolicy::Deflate; // Deflate or Jpeg
+    std::function<void(int64_t, int64_t)> progress;       // (tiles done, total), one thread at a time
+    // Called from one thread at a time with each tile's colour-residual reconstruction
+    // ((tileSize+4)^2 x channels), exactly what the colour-residual producer rebuilds: for tests.
+    std::function<void(int level, int tx, int ty, const std::vector<uint8_t>&)> colourReconstruction;
+};
+
+struct OrthoLevelReport {
+    int level = 0;
+    int64_t tiles = 0;
+    int tiffMaxError = 0;      // decoded TIFF tile vs the true tile (0 when lossless)
+    int64_t jpegTiles = 0;     // JPEG TIFF tiles: their error is measured only on request
+    double dxtPsnr = 0.0;      // dB over the level's tiles (infinity written as 99)
+    int residualMaxError = 0;  // colour-residual reconstruction vs the true tile
+    double residualRmsError = 0.0;
+    int64_t clampedResiduals = 0;
+};
+
+struct OrthoReport {
+    std::string input;
+    std::string directory;
+    std::vector<std::string> outputs;
+    std::string sampling;
+    int inputWidth = 0, inputHeight = 0, channels = 0;
+    int tileSize = 0, maxLevel = 0, border = 0;
+    int64_t tiles = 0;
+    std::vector<uint64_t> bytes;     // per output
+    std::vector<int64_t> sharedTiles;
+    std::vector<OrthoLevelReport> levels;
+    bool jpegErrorMeasured = false; // options.measureJpegError
+    int threads = 0;
+    double seconds = 0.0;
+};
+
+// The outputs appear together when every one is complete (formats/staging_directory.hpp), or
+// not at all.
+OrthoReport encodeOrtho(const std::string& input, const std::string& directory, const OrthoEncodeOptions& options);
+// The same from true tiles already set up (e.g. one cube face), into a staging directory of
+// `directory` that the caller commits (with the other faces): options.levels is not used, the
+// files are named options.name.
+OrthoReport encodeOrtho(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
+                        const OrthoEncodeOptions& options);
+
+nlohmann::json toJson(const OrthoReport& report);
+
+} // namespace pyramid

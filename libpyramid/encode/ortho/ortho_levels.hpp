@@ -1,0 +1,108 @@
+// The true tiles of an ortho pyramid, computed from an input image in bounded memory
+// (doc/ortho-encoding.md): shared by preprocessOrtho and `pyramid verify`.
+//
+// Geometry. The finest level M is W = tileSize << M pixels across the root quad; its pixel
+// (x, y), y = 0 at the south, is input pixel (x, W - 1 - y) when the input is W x W pixels
+// (pixel exact). Otherwise the input is resampled bilinearly at pixel centres: input position
+// X = (x + 0.5) * s - 0.5, Y = (W - 1 - y + 0.5) * s - 0.5 with s = max(width, height) / W (aspect
+// kept, input at the north-west corner, pixels beyond it are 0 in every channel, i.e. black
+// and transparent) or, with stretching, s = width / W and height / W per axis. 16-bit input is
+// brought to 8 bits at the finest level: v8 = round(v16 * 255 / 65535).
+//
+// Cube faces. A pyramid may instead hold one face of a spherical planet (cube_faces.hpp): the
+// finest level is then the face grid of W pixel centres per side, pixel (x, y) being the
+// equirectangular input sampled at the geodetic point of its cube point (face_sampler.hpp),
+// bilinearly, and converted to 8 bits as above; points outside the input's extent are 0 in
+// every channel. By default M is the smallest level with W >= width / 4 (a face spans 90
+// degrees of longitude at the equator).
+//
+// Levels. Level l < M is the 2x2 average of level l + 1 (colour_average.hpp). Tiles carry a
+// border of 2 pixels taken from the neighbouring tiles of the same level; beyond the map's edge
+// the edge pixels repeat. A face has no such edge: its levels are computed with a margin beyond
+// the face (folded onto the neighbouring faces), so every border pixel at every level is the
+// neighbouring face's pixel at the same cube point, bit for bit (both are the same averages of
+// the same finest samples, as the face edges fall between 2x2 blocks at every level).
+//
+// Order and memory. Deeper tiles come in subtrees: for each tile of level C + 1
+// (C = max(0, M - 4)), its footprint is read from the input, reduced level by level, and its
+// subtree's tiles are produced depth first (pre-order). Levels 0..C are held in memory whole:
+// either built first in a streaming pass over the input (bands of 2^(M-C) rows reduced as they
+// are read), when every tile must come after its parent, or assembled from the subtrees'
+// level-(C+1) tiles, reduced once more (and, for a face, its margin from bands of its own),
+// and produced after them. For a
+// face, level C is built with 2 << C pixels beyond each side (level l then has 2 << l, at least
+// the border), and a footprint is the tile and its border, wherever they lie; tileSize must be
+// at least 4 so that the margin stays within half a face of the edge.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "libpyramid/filters/colour_average.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
+#include "libpyramid/input/raster_source.hpp"
+
+namespace pyramid {
+
+struct OrthoLevelsOptions {
+    int tileSize = 192;
+    int maxLevel = -1;    // -1: the smallest level whose width holds the input's longer side (face: width / 4)
+    int channels = 0;     // 0: every input channel (1..4), else the first `channels`
+    ColourSpace colourSpace = ColourSpace::Srgb;
+    bool stretch = false; // planar only
+    int threads = 0;
+    int cacheMegabytes = 256;
+};
+
+// One tile of the pyramid with a 2-pixel border: (tileSize + 4)^2 x channels, row 0 = south.
+struct TrueTile {
+    int level = 0, tx = 0, ty = 0;
+    Image8 pixels;
+};
+
+// A unit of work handed to the consumer: tiles in pyramid order, each tile after its parent
+// when both are in the same item.
+using TileBatch = std::vector<TrueTile>;
+
+class OrthoLevels {
+public:
+    // A planar pyramid of the image file `input`.
+    OrthoLevels(const std::string& input, const OrthoLevelsOptions& options);
+    // Cube face `face` (1..6) of `body`, from the equirectangular image `source` covering
+    // `extent`. `source` must outlive this object; it may serve several faces at once.
+    OrthoLevels(const RasterSource& source, const GeoExtent& extent, const PlanetBody& body, int face,
+                const OrthoLevelsOptions& options);
+    ~OrthoLevels();
+
+    int tileSize() const;
+    int maxLevel() const;
+    int channels() const;
+    int inputWidth() const;
+    int inputHeight() const;
+    const std::string& inputPath() const;
+    const std::string& sampling() const; // the geometry rule applied, one sentence
+    int64_t tileCount() const;
+    int threads() const;                 // options.threads, or every available thread
+
+    // Calls `consume` with the whole pyramid, item by item. Items are computed in parallel in
+    // groups; `consume` receives each group (a vector of items in order) from the calling thread
+    // and may process them in parallel. The order is deterministic (it does not depend on the
+    // thread count):
+    //  * CoarseFirst: one item per level 0..C (all of that level's tiles in Z order), then one
+    //    item per level-(C+1) subtree (pre-order), in Z order: every tile after its parent.
+    //  * SinglePass: one item per level-(C+1) subtree (pre-order), row by row from the north
+    //    edge (the face's +y edge), west to east, then one item per level 0..C; the finest
+    //    level is sampled once instead of twice (a face's margin beyond it excepted).
+    enum class WalkOrder { CoarseFirst, SinglePass };
+    void walk(const std::function<void(std::vector<TileBatch>&)>& consume,
+              WalkOrder order = WalkOrder::CoarseFirst) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace pyramid

@@ -1,0 +1,116 @@
+#include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+
+#include "formats/error.hpp"
+#include "formats/staging_directory.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
+#include "libpyramid/input/raster_source.hpp"
+
+namespace pyramid {
+
+namespace {
+
+void checkFaces(const std::vector<int>& faces) {
+    if (faces.empty()) {
+        fail("--faces", "selects no face");
+    }
+    std::vector<int> seen;
+    for (const int f : faces) {
+        if (f < 1 || f > kCubeFaceCount) {
+            fail("--faces", std::to_string(f) + " is not a face number (1..6)");
+        }
+        if (std::find(seen.begin(), seen.end(), f) != seen.end()) {
+            fail("--faces", "face " + std::to_string(f) + " is named twice");
+        }
+        seen.push_back(f);
+    }
+}
+
+// The rules of GeoExtent::parse, for an extent that did not come from text.
+void checkExtent(const GeoExtent& e) {
+    if (!(e.west < e.east) || e.east - e.west > 360.0 || e.west < -540.0 || e.east > 540.0) {
+        fail("--extent", "needs WEST < EAST <= WEST + 360");
+    }
+    if (!(e.south < e.north) || e.south < -90.0 || e.north > 90.0) {
+        fail("--extent", "needs -90 <= SOUTH < NORTH <= 90");
+    }
+}
+
+} // namespace
+
+SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::string& directory,
+                                          const SphericalOrthoOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    const PlanetBody body = PlanetBody::parse(o.body, "--body");
+    checkFaces(o.faces);
+    checkExtent(o.extent);
+    if (o.ortho.name.empty()) {
+        fail("--name", "'' is not a plain file name"); // the face number alone would pass for one
+    }
+    const std::unique_ptr<RasterSource> source = RasterSource::open(input, o.ortho.levels.cacheMegabytes);
+    // Every face set up before any is written: the input and the options are checked once, and a
+    // bad one leaves no file behind.
+    std::vector<std::unique_ptr<OrthoLevels>> faces;
+    int64_t total = 0;
+    for (const int f : o.faces) {
+        faces.push_back(std::make_unique<OrthoLevels>(*source, o.extent, body, f, o.ortho.levels));
+        total += faces.back()->tileCount();
+    }
+
+    SphericalOrthoReport report;
+    report.input = input;
+    report.directory = directory;
+    report.body = body.describe();
+    report.extent = o.extent;
+    report.threads = faces.front()->threads();
+    StagingDirectory staging(directory); // the faces appear together at the end, or none of them
+    int64_t done = 0;
+    for (size_t k = 0; k < faces.size(); ++k) {
+        const OrthoLevels& levels = *faces[k];
+        const int f = o.faces[k];
+        OrthoEncodeOptions fo = o.ortho;
+        fo.name = o.ortho.name + std::to_string(f);
+        if (o.ortho.progress) {
+            fo.progress = [&o, before = done, total](int64_t tiles, int64_t) {
+                o.ortho.progress(before + tiles, total);
+            };
+        }
+        SphericalOrthoFaceReport r;
+        r.face = f;
+        r.ortho = encodeOrtho(levels, directory, staging, fo);
+        for (int l = 0; l <= levels.maxLevel(); ++l) {
+            const FaceGrid grid{static_cast<int64_t>(levels.tileSize()) << l, FaceGridKind::PixelCentres};
+            r.gsd.push_back(faceGroundSampleDistance(body, f, grid));
+        }
+        done += levels.tileCount();
+        report.faces.push_back(std::move(r));
+    }
+    staging.commit();
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+nlohmann::json toJson(const SphericalOrthoReport& r) {
+    nlohmann::json faces = nlohmann::json::array();
+    for (const SphericalOrthoFaceReport& f : r.faces) {
+        nlohmann::json gsd = nlohmann::json::array();
+        for (size_t l = 0; l < f.gsd.size(); ++l) {
+            gsd.push_back({{"level", l}, {"min_metres", f.gsd[l].min}, {"max_metres", f.gsd[l].max}});
+        }
+        faces.push_back({{"face", f.face}, {"ortho", toJson(f.ortho)}, {"ground_sample_distance", gsd}});
+    }
+    return {{"input", r.input},
+            {"directory", r.directory},
+            {"body", r.body},
+            {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
+                        {"north", r.extent.north}}},
+            {"faces", faces},
+            {"threads", r.threads},
+            {"seconds", r.seconds}};
+}
+
+} // namespace pyramid

@@ -1,0 +1,53 @@
+// The ortho pyramids of a spherical planet: one equirectangular image in, the six cube faces out
+// (cube_faces.hpp), each a complete set of ortho files as encodeOrtho writes them, named
+// NAME1.dat .. NAME6.dat after their face (RGB1.dat ...; proland-compat, "Spherical (cube)
+// variants"). Each face's finest level samples the image at the geodetic point of every pixel
+// (ortho_levels.hpp, "Cube faces"), and its tile borders are its neighbours' pixels, so that the
+// faces join without seams at every level.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/sphere/face_sampler.hpp"
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
+
+namespace pyramid {
+
+struct SphericalOrthoOptions {
+    // ortho.name "RGB" gives RGB1.dat .. RGB6.dat; ortho.levels.maxLevel counts per face (-1: the
+    // smallest level at least width / 4 pixels wide); ortho.levels.stretch is not used;
+    // ortho.progress counts the tiles of all faces together.
+    OrthoEncodeOptions ortho;
+    GeoExtent extent;             // of the input image; default global
+    std::string body = "wgs84";   // PlanetBody::parse
+    std::vector<int> faces{1, 2, 3, 4, 5, 6};
+};
+
+struct SphericalOrthoFaceReport {
+    int face = 0;
+    OrthoReport ortho;
+    std::vector<GroundSampleDistance> gsd; // per level: distance between neighbouring pixels, metres
+};
+
+struct SphericalOrthoReport {
+    std::string input;
+    std::string directory;
+    std::string body; // PlanetBody::describe()
+    GeoExtent extent;
+    std::vector<SphericalOrthoFaceReport> faces;
+    int threads = 0;
+    double seconds = 0.0;
+};
+
+// Encodes the faces one after the other (each with every thread). Throws Error naming the file
+// or option at fault; options are checked before any file is written, and each face's files
+// appear whole or not at all.
+SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::string& directory,
+                                          const SphericalOrthoOptions& options);
+
+nlohmann::json toJson(const SphericalOrthoReport& report);
+
+} // namespace pyramid

@@ -1,0 +1,271 @@
+#include "libpyramid/input/raster_source.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <vector>
+
+#include "formats/error.hpp"
+#include "libpyramid/input/image_io_module.hpp"
+#include "libpyramid/input/png_raster_reader.hpp"
+#include "libpyramid/input/tiff_block_reader.hpp"
+#include "libpyramid/input/tiff_pixel_reader.hpp"
+#include "libpyramid/input/tiff_raster_info.hpp"
+
+namespace pyramid {
+
+const char* sampleTypeName(SampleType type) {
+    switch (type) {
+    case SampleType::UInt8:
+        return "uint8";
+    case SampleType::Int8:
+        return "int8";
+    case SampleType::UInt16:
+        return "uint16";
+    case SampleType::Int16:
+        return "int16";
+    case SampleType::UInt32:
+        return "uint32";
+    case SampleType::Int32:
+        return "int32";
+    case SampleType::Float16:
+        return "float16";
+    case SampleType::Float32:
+        return "float32";
+    case SampleType::Float64:
+        return "float64";
+    case SampleType::Other:
+        break;
+    }
+    return "other";
+}
+
+struct RasterSource::Impl {
+    std::string path;
+    int cacheMegabytes = 256;
+    // Direct readers, set for the files they can read, tried in this order.
+    std::unique_ptr<TiffPixelReader> floats; // uncompressed float32 TIFF: one pread per row
+    std::unique_ptr<TiffBlockReader> blocks; // single-band lossless TIFF: libtiff, block by block
+    std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
+    std::unique_ptr<PngRasterReader> png;    // 8/16-bit PNG, decoded whole
+    // Everything else goes through OpenImageIO's ImageCache in the image I/O module, opened
+    // the first time a read needs it (or at once when no direct reader knows the file).
+    mutable std::once_flag moduleOnce;
+    mutable std::unique_ptr<ModuleImage> moduleImage;
+    mutable std::string moduleError;
+
+    const ModuleImage& viaModule() const {
+        std::call_once(moduleOnce, [this] {
+            moduleImage = imageIoModule(path).open(path, cacheMegabytes, moduleError);
+        });
+        if (!moduleImage) {
+            fail(path, "cannot read: " + moduleError);
+        }
+        return *moduleImage;
+    }
+
+    // Channels [c0, c1) of a window through the module, in the file's own sample type `type`.
+    void readModule(int x0, int y0, int x1, int y1, int c0, int c1, SampleType type, void* out) const {
+        std::string error;
+        if (!viaModule().read(x0, y0, x1, y1, c0, c1, type, out, error)) {
+            fail(path, "read failed: " + error);
+        }
+    }
+};
+
+std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        fail(path, "no such file");
+    }
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        fail(path, "not a regular file");
+    }
+    std::unique_ptr<RasterSource> source(new RasterSource());
+    source->path_ = path;
+    source->impl_ = std::make_unique<Impl>();
+    Impl& impl = *source->impl_;
+    impl.path = path;
+    impl.cacheMegabytes = cacheMegabytes;
+    RasterInfo& info = source->info_;
+    if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {
+        info = *tiff;
+        if (info.type == SampleType::Float32) {
+            impl.floats = TiffPixelReader::open(path, info.width, info.height, info.channels, 4, true);
+        }
+        if (!impl.floats) {
+            impl.blocks = TiffBlockReader::open(path, info, cacheMegabytes);
+        }
+        if (info.type == SampleType::UInt8 || info.type == SampleType::UInt16) {
+            impl.pixels = TiffPixelReader::open(path, info.width, info.height, info.channels,
+                                                info.type == SampleType::UInt8 ? 1 : 2);
+        }
+    } else if ((impl.png = PngRasterReader::open(path))) {
+        info = impl.png->info();
+    } else {
+        info = impl.viaModule().info();
+        if (!info.nodata && info.formatName == "tiff") {
+            info.nodata = geoTiffNodata(path);
+        }
+    }
+    if (info.width < 1 || info.height < 1 || info.channels < 1) {
+        fail(path, "empty image");
+    }
+    return source;
+}
+
+RasterSource::~RasterSource() = default;
+
+namespace {
+
+void checkWindow(const std::string& path, const RasterInfo& info, int x0, int y0, int x1, int y1) {
+    if (x0 < 0 || y0 < 0 || x1 > info.width || y1 > info.height || x0 >= x1 || y0 >= y1) {
+        fail(path, "window [" + std::to_string(x0) + "," + std::to_string(x1) + ")x[" + std::to_string(y0) + "," +
+                       std::to_string(y1) + ") outside the image");
+    }
+}
+
+void checkChannels(const std::string& path, const RasterInfo& info, int c0, int c1) {
+    if (c0 < 0 || c1 > info.channels || c0 >= c1) {
+        fail(path, "channels [" + std::to_string(c0) + "," + std::to_string(c1) + ") outside the image");
+    }
+}
+
+[[noreturn]] void failRead(const std::string& path) {
+    fail(path, std::string("read failed: ") + (errno ? std::strerror(errno) : "file too short"));
+}
+
+// A window of one channel read in the file's own integer type T, each value converted to
+// float32 by value (a conversion by OpenImageIO would normalise it: v / 255, v / 32767...).
+template <typename T>
+void readIntegersAsFloat(const RasterSource::Impl& impl, SampleType type, int x0, int y0, int x1, int y1,
+                         int channel, float* out) {
+    const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0);
+    std::vector<T> values(count);
+    impl.readModule(x0, y0, x1, y1, channel, channel + 1, type, values.data());
+    for (size_t k = 0; k < count; ++k) {
+        out[k] = static_cast<float>(values[k]);
+    }
+}
+
+} // namespace
+
+void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    checkWindow(path_, info_, x0, y0, x1, y1);
+    if (channel < 0 || channel >= info_.channels) {
+        fail(path_, "no channel " + std::to_string(channel));
+    }
+    const Impl& impl = *impl_;
+    if (impl.floats) {
+        if (!impl.floats->readFloat(x0, y0, x1, y1, channel, out)) {
+            failRead(path_);
+        }
+        return;
+    }
+    if (impl.blocks) {
+        impl.blocks->read(x0, y0, x1, y1, out);
+        return;
+    }
+    if (impl.png) {
+        impl.png->readFloat(x0, y0, x1, y1, channel, out);
+        return;
+    }
+    if (impl.pixels) { // 8 or 16-bit unsigned: exact in float32
+        const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0);
+        std::vector<uint16_t> values(count);
+        if (!impl.pixels->readUInt16(x0, y0, x1, y1, channel, channel + 1, values.data())) {
+            failRead(path_);
+        }
+        std::copy(values.begin(), values.end(), out);
+        return;
+    }
+    switch (info_.type) {
+    case SampleType::UInt8:
+        return readIntegersAsFloat<uint8_t>(impl, info_.type, x0, y0, x1, y1, channel, out);
+    case SampleType::Int8:
+        return readIntegersAsFloat<int8_t>(impl, info_.type, x0, y0, x1, y1, channel, out);
+    case SampleType::UInt16:
+        return readIntegersAsFloat<uint16_t>(impl, info_.type, x0, y0, x1, y1, channel, out);
+    case SampleType::Int16:
+        return readIntegersAsFloat<int16_t>(impl, info_.type, x0, y0, x1, y1, channel, out);
+    case SampleType::UInt32:
+        return readIntegersAsFloat<uint32_t>(impl, info_.type, x0, y0, x1, y1, channel, out);
+    case SampleType::Int32:
+        return readIntegersAsFloat<int32_t>(impl, info_.type, x0, y0, x1, y1, channel, out);
+    default: // floating point: converted to float32 by value
+        impl.readModule(x0, y0, x1, y1, channel, channel + 1, SampleType::Float32, out);
+        return;
+    }
+}
+
+void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    checkWindow(path_, info_, x0, y0, x1, y1);
+    checkChannels(path_, info_, c0, c1);
+    const Impl& impl = *impl_;
+    if (impl.pixels) {
+        if (!impl.pixels->readUInt16(x0, y0, x1, y1, c0, c1, out)) {
+            failRead(path_);
+        }
+        return;
+    }
+    if (impl.png) {
+        impl.png->readUInt16(x0, y0, x1, y1, c0, c1, out);
+        return;
+    }
+    const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0);
+    if (impl.blocks && (info_.type == SampleType::UInt8 || info_.type == SampleType::UInt16)) {
+        std::vector<float> values(count); // one band of 8 or 16-bit values, exact in float32
+        impl.blocks->read(x0, y0, x1, y1, values.data());
+        std::transform(values.begin(), values.end(), out, [](float v) { return static_cast<uint16_t>(v); });
+        return;
+    }
+    // OIIO converts integer types to UINT16 by normalisation (v8 * 257); 8-bit input is
+    // widened to its plain value 0..255 instead, as documented.
+    if (info_.type == SampleType::UInt8 || info_.type == SampleType::Int8) {
+        std::vector<uint8_t> bytes(count);
+        impl.readModule(x0, y0, x1, y1, c0, c1, SampleType::UInt8, bytes.data());
+        std::copy(bytes.begin(), bytes.end(), out);
+        return;
+    }
+    impl.readModule(x0, y0, x1, y1, c0, c1, SampleType::UInt16, out);
+}
+
+void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
+                             std::ptrdiff_t rowStride) const {
+    checkWindow(path_, info_, x0, y0, x1, y1);
+    checkChannels(path_, info_, c0, c1);
+    if (info_.type != SampleType::UInt8) {
+        fail(path_, "readUInt8 on samples that are not 8-bit unsigned");
+    }
+    const Impl& impl = *impl_;
+    if (impl.pixels) {
+        if (!impl.pixels->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
+            failRead(path_);
+        }
+        return;
+    }
+    if (impl.png && impl.png->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
+        return;
+    }
+    const size_t rowBytes = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
+    if (impl.blocks) { // one band of 8-bit values, exact in float32
+        std::vector<float> values(rowBytes * static_cast<size_t>(y1 - y0));
+        impl.blocks->read(x0, y0, x1, y1, values.data());
+        for (int y = y0; y < y1; ++y) {
+            const float* from = &values[static_cast<size_t>(y - y0) * rowBytes];
+            std::transform(from, from + rowBytes, out + static_cast<std::ptrdiff_t>(y - y0) * rowStride,
+                           [](float v) { return static_cast<uint8_t>(v); });
+        }
+        return;
+    }
+    std::vector<uint8_t> bytes(rowBytes * static_cast<size_t>(y1 - y0));
+    impl.readModule(x0, y0, x1, y1, c0, c1, SampleType::UInt8, bytes.data());
+    for (int y = y0; y < y1; ++y) {
+        std::copy_n(&bytes[static_cast<size_t>(y - y0) * rowBytes], rowBytes,
+                    out + static_cast<std::ptrdiff_t>(y - y0) * rowStride);
+    }
+}
+
+} // namespace pyramid

@@ -1,0 +1,21 @@
+// What a TIFF input holds, read with libtiff alone (no OpenImageIO): size, channels, sample
+// type and GDAL's nodata tag.
+#pragma once
+#include <optional>
+#include <string>
+
+#include "libpyramid/input/raster_source.hpp"
+
+namespace pyramid {
+
+// The description of a TIFF whose first image stores its samples as they are: grey
+// (min-is-black) or RGB, interleaved (or one band), of 8, 16, 32 or 64-bit integers or
+// floats that libtiff can decode. That is the description OpenImageIO gives of such a file
+// (format "tiff"). Nullopt for anything else (not a TIFF, palette, YCbCr, CMYK, separate
+// planes, 1-bit, half floats, an unknown compression...), which is left to OpenImageIO.
+std::optional<RasterInfo> readPlainTiffInfo(const std::string& path);
+
+// The nodata value of GDAL's ASCII tag 42113, if the file is a TIFF that has one.
+std::optional<double> geoTiffNodata(const std::string& path);
+
+} // namespace pyramid

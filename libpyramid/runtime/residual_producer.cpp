@@ -1,0 +1,116 @@
+#include "libpyramid/runtime/residual_producer.hpp"
+
+#include <algorithm>
+
+#include "formats/error.hpp"
+#include "libpyramid/filters/elevation_upsample.hpp"
+#include "libpyramid/runtime/region_lookup.hpp"
+
+namespace pyramid {
+
+
+struct ResidualProducer::Impl {
+    std::vector<std::unique_ptr<ResidualFileReader>> files; // main file first
+    std::vector<float> scales;                               // file scale x producer scale
+    int delta = 0;
+    int tileSize = 0;
+    int maxLevel = 0;
+
+    // Scaled residuals of absolute file tile (level, tx, ty) into `out` (stride `stride`,
+    // lower-left corner); returns the samples per side.
+    int load(int level, int tx, int ty, float* out, size_t stride) const {
+        RelativeTile rel;
+        const int k = deepestHolder(files, level, tx, ty, rel);
+        if (k < 0) {
+            fail(files.front()->path(), "no residual tile (" + std::to_string(level) + "," + std::to_string(tx) +
+                                            "," + std::to_string(ty) + ") in any file");
+        }
+        const ResidualFileReader& f = *files[static_cast<size_t>(k)];
+        const float scale = scales[static_cast<size_t>(k)];
+        const std::vector<int16_t> r = f.readTile(rel.level, rel.tx, rel.ty);
+        const int s = f.header().tileSamples(rel.level);
+        for (int j = 0; j < s; ++j) {
+            for (int i = 0; i < s; ++i) {
+                out[static_cast<size_t>(i) + static_cast<size_t>(j) * stride] =
+                    static_cast<float>(r[static_cast<size_t>(i + j * s)]) * scale;
+            }
+        }
+        return s;
+    }
+};
+
+ResidualProducer::ResidualProducer(const std::string& mainFile, const std::vector<std::string>& regions,
+                                   const ResidualProducerOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+    auto addFile = [&](const std::string& path) {
+        impl_->files.push_back(ResidualFileReader::open(path));
+        impl_->scales.push_back(impl_->files.back()->header().scale * options.scale);
+    };
+    addFile(mainFile);
+    const ResidualHeader& main = impl_->files.front()->header();
+    if (main.rootLevel != 0) {
+        fail(mainFile, "the main file of a residual producer must be rooted at tile (0,0,0)");
+    }
+    for (const std::string& region : regions) {
+        addFile(region);
+        const ResidualHeader& h = impl_->files.back()->header();
+        if (h.tileSize != main.tileSize) {
+            fail(region, "region tileSize " + std::to_string(h.tileSize) + " differs from the main file's " +
+                             std::to_string(main.tileSize));
+        }
+        if (h.rootLevel < std::max(1, main.minLevel)) {
+            fail(region, "a region file must be rooted at level 1 or deeper, and not above the main file's "
+                         "minLevel (" + std::to_string(main.minLevel) + ")");
+        }
+    }
+    if (options.delta < 0 || options.delta > main.minLevel) {
+        fail(mainFile, "delta " + std::to_string(options.delta) + " is outside 0.." + std::to_string(main.minLevel));
+    }
+    impl_->delta = options.delta;
+    impl_->tileSize = main.tileSize;
+    for (const auto& f : impl_->files) {
+        impl_->maxLevel = std::max(impl_->maxLevel, f->header().rootLevel + f->header().maxLevel);
+    }
+    impl_->maxLevel -= impl_->delta;
+}
+
+ResidualProducer::~ResidualProducer() = default;
+
+const std::string& ResidualProducer::path() const { return impl_->files.front()->path(); }
+const ResidualHeader& ResidualProducer::header() const { return impl_->files.front()->header(); }
+int ResidualProducer::tileSize() const { return impl_->tileSize; }
+int ResidualProducer::delta() const { return impl_->delta; }
+int ResidualProducer::maxLevel() const { return impl_->maxLevel; }
+
+bool ResidualProducer::hasTile(int level, int tx, int ty) const {
+    RelativeTile rel;
+    return level >= 0 && deepestHolder(impl_->files, level + impl_->delta, tx, ty, rel) >= 0;
+}
+
+int ResidualProducer::tileSamples(int level) const {
+    RelativeTile rel;
+    const int k = deepestHolder(impl_->files, level + impl_->delta, 0, 0, rel);
+    return k >= 0 ? impl_->files[static_cast<size_t>(k)]->header().tileSamples(rel.level) : impl_->tileSize + 5;
+}
+
+std::vector<float> ResidualProducer::tile(int level, int tx, int ty) const {
+    const size_t stride = static_cast<size_t>(impl_->tileSize) + 5;
+    std::vector<float> out(stride * stride, 0.0f);
+    if (level != 0 || impl_->delta == 0) {
+        impl_->load(level + impl_->delta, tx, ty, out.data(), stride);
+        return out;
+    }
+    // Root with delta > 0: the upsample-and-add of file levels 0..delta, each a whole-tile 2x
+    // upsample (all these levels are at or below minLevel, one tile each).
+    std::vector<float> parent(stride * stride, 0.0f);
+    impl_->load(0, 0, 0, parent.data(), stride);
+    for (int l = 1; l <= impl_->delta; ++l) {
+        std::fill(out.begin(), out.end(), 0.0f);
+        const int s = impl_->load(l, 0, 0, out.data(), stride);
+        upsampleAndAdd(parent.data(), stride, s - 5, 1, 1, out.data(), stride);
+        std::swap(parent, out);
+    }
+    return parent;
+}
+
+} // namespace pyramid

@@ -1,0 +1,255 @@
+#include "libpyramid/sphere/equirect_sampler.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "formats/error.hpp"
+#include "libpyramid/support/parse_number.hpp"
+
+namespace pyramid {
+
+GeoExtent GeoExtent::parse(const std::string& text, const std::string& where) {
+    double v[4];
+    size_t start = 0;
+    for (int k = 0; k < 4; ++k) {
+        const size_t comma = k < 3 ? text.find(',', start) : text.size();
+        if (comma == std::string::npos) {
+            fail(where, "'" + text + "' is not WEST,SOUTH,EAST,NORTH in degrees");
+        }
+        const std::string part = text.substr(start, comma - start);
+        v[k] = parseNumber(part, where, "a number of degrees");
+        start = comma + 1;
+    }
+    GeoExtent e{v[0], v[1], v[2], v[3]};
+    if (!(e.west < e.east) || e.east - e.west > 360.0 || e.west < -540.0 || e.east > 540.0) {
+        fail(where, "needs WEST < EAST <= WEST + 360, not " + text);
+    }
+    if (!(e.south < e.north) || e.south < -90.0 || e.north > 90.0) {
+        fail(where, "needs -90 <= SOUTH < NORTH <= 90, not " + text);
+    }
+    return e;
+}
+
+EquirectSampler::EquirectSampler(const RasterSource& source, const GeoExtent& extent, int c0, int c1,
+                                 SampleRead read, std::optional<double> nodata)
+    : source_(source), extent_(extent), c0_(c0), c1_(c1), read_(read), nodata_(nodata) {
+    if (c0 < 0 || c1 > source.info().channels || c0 >= c1) {
+        fail(source.path(), "has " + std::to_string(source.info().channels) + " channel(s), channel " +
+                                std::to_string(std::max(c0, c1 - 1) + 1) + " was asked for");
+    }
+}
+
+namespace {
+
+// The four pixels and weights of one point's bilinear interpolation.
+struct Taps {
+    int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0; // columns and rows
+    double fx = 0.0, fy = 0.0;                // weights of i1 and j1
+    bool inside = false;
+};
+
+Taps tapsOf(const GeodeticPoint& p, const GeoExtent& e, int64_t W, int64_t H) {
+    Taps t;
+    if (!(p.latitude >= e.south && p.latitude <= e.north)) {
+        return t;
+    }
+    double lon = p.longitude;
+    if (lon < e.west || lon >= e.west + 360.0) {
+        lon = e.west + std::fmod(std::fmod(lon - e.west, 360.0) + 360.0, 360.0);
+    }
+    if (!e.global() && lon > e.east) {
+        return t;
+    }
+    t.inside = true;
+    const double x = (lon - e.west) * static_cast<double>(W) / (e.east - e.west) - 0.5;
+    const double y = std::clamp((e.north - p.latitude) * static_cast<double>(H) / (e.north - e.south) - 0.5, 0.0,
+                                static_cast<double>(H - 1));
+    t.j0 = std::min(static_cast<int64_t>(y), H - 1);
+    t.fy = y - static_cast<double>(t.j0);
+    t.j1 = std::min(t.j0 + 1, H - 1);
+    if (e.global()) {
+        const double fl = std::floor(x);
+        t.fx = x - fl;
+        t.i0 = (static_cast<int64_t>(fl) % W + W) % W;
+        t.i1 = (t.i0 + 1) % W;
+    } else {
+        const double cx = std::clamp(x, 0.0, static_cast<double>(W - 1));
+        t.i0 = std::min(static_cast<int64_t>(cx), W - 1);
+        t.fx = cx - static_cast<double>(t.i0);
+        t.i1 = std::min(t.i0 + 1, W - 1);
+    }
+    return t;
+}
+
+// A block of pixels, columns [col, col + ncols) taken modulo the width, rows [row, row + nrows),
+// channels interleaved.
+struct Block {
+    int64_t col = 0, ncols = 0, row = 0, nrows = 0;
+    int channels = 1;
+    int64_t width = 0; // the raster's
+    std::vector<float> values;
+
+    const float* at(int64_t i, int64_t j) const {
+        const int64_t c = ((i - col) % width + width) % width;
+        return &values[static_cast<size_t>((c + (j - row) * ncols) * channels)];
+    }
+};
+
+} // namespace
+
+void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const {
+    const int64_t W = source_.info().width;
+    const int64_t H = source_.info().height;
+    const int channels = c1_ - c0_;
+    std::vector<Taps> taps(count);
+    int64_t rowMin = H, rowMax = -1;
+    // Columns as offsets from the first point's, in (-W/2, W/2] when the map wraps: points that
+    // lie within half the map's width of each other (as a block of nearby points does) give the
+    // shortest run of columns that holds them all directly from their extreme offsets.
+    int64_t reference = -1, offsetMin = 0, offsetMax = 0;
+    auto offset = [&](int64_t i) {
+        if (!extent_.global()) {
+            return i;
+        }
+        int64_t d = ((i - reference) % W + W) % W;
+        return d > W / 2 ? d - W : d;
+    };
+    for (size_t k = 0; k < count; ++k) {
+        taps[k] = tapsOf(points[k], extent_, W, H);
+        if (taps[k].inside) {
+            rowMin = std::min(rowMin, taps[k].j0);
+            rowMax = std::max(rowMax, taps[k].j1);
+            if (reference < 0) {
+                reference = extent_.global() ? taps[k].i0 : 0;
+                offsetMin = offsetMax = offset(taps[k].i0);
+            }
+            for (const int64_t i : {taps[k].i0, taps[k].i1}) {
+                offsetMin = std::min(offsetMin, offset(i));
+                offsetMax = std::max(offsetMax, offset(i));
+            }
+        }
+    }
+    std::fill(out, out + count * static_cast<size_t>(channels), 0.0f);
+    std::fill(valid, valid + count, uint8_t{0});
+    if (rowMax < 0) {
+        return;
+    }
+    int64_t colStart = 0, colCount = W;
+    if (!extent_.global() || offsetMax - offsetMin < W / 2) {
+        colStart = ((reference + offsetMin) % W + W) % W;
+        colCount = offsetMax - offsetMin + 1;
+    } else {
+        // Points spread around the globe: the shortest circular run of columns holding every
+        // used one is the complement of the longest run of unused ones.
+        std::vector<uint8_t> usedColumn(static_cast<size_t>(W), 0);
+        for (size_t k = 0; k < count; ++k) {
+            if (taps[k].inside) {
+                usedColumn[static_cast<size_t>(taps[k].i0)] = 1;
+                usedColumn[static_cast<size_t>(taps[k].i1)] = 1;
+            }
+        }
+        int64_t bestGap = 0, bestGapEnd = 0, gap = 0;
+        for (int64_t k = 0; k < 2 * W; ++k) {
+            gap = usedColumn[static_cast<size_t>(k % W)] ? 0 : gap + 1;
+            if (gap > bestGap && gap <= W) {
+                bestGap = gap;
+                bestGapEnd = k + 1;
+            }
+        }
+        colStart = bestGapEnd % W;
+        colCount = W - bestGap;
+    }
+
+    auto readBlock = [&](int64_t col, int64_t ncols, int64_t row, int64_t nrows) {
+        Block b{col, ncols, row, nrows, channels, W, {}};
+        b.values.resize(static_cast<size_t>(ncols * nrows * channels));
+        // At most two pieces: up to the east edge, then from column 0 on.
+        for (int64_t done = 0; done < ncols;) {
+            const int64_t c = (col + done) % W;
+            const int64_t n = std::min(ncols - done, W - c);
+            const size_t piece = static_cast<size_t>(n * nrows * channels);
+            std::vector<float> values(piece);
+            if (read_ == SampleRead::UInt16) {
+                std::vector<uint16_t> ints(piece);
+                source_.readUInt16(static_cast<int>(c), static_cast<int>(row), static_cast<int>(c + n),
+                                   static_cast<int>(row + nrows), c0_, c1_, ints.data());
+                std::copy(ints.begin(), ints.end(), values.begin());
+            } else {
+                std::vector<float> plane(static_cast<size_t>(n * nrows));
+                for (int ch = 0; ch < channels; ++ch) {
+                    source_.readFloat(static_cast<int>(c), static_cast<int>(row), static_cast<int>(c + n),
+                                      static_cast<int>(row + nrows), c0_ + ch, plane.data());
+                    for (size_t k = 0; k < plane.size(); ++k) {
+                        values[k * static_cast<size_t>(channels) + static_cast<size_t>(ch)] = plane[k];
+                    }
+                }
+            }
+            for (int64_t r = 0; r < nrows; ++r) {
+                std::copy_n(&values[static_cast<size_t>(r * n * channels)], n * channels,
+                            &b.values[static_cast<size_t>((r * ncols + done) * channels)]);
+            }
+            done += n;
+        }
+        return b;
+    };
+
+    const bool nanNodata = nodata_ && std::isnan(*nodata_);
+    auto usable = [&](const float* v, int64_t i, int64_t j) {
+        for (int ch = 0; ch < channels; ++ch) {
+            if (std::isnan(v[ch])) {
+                if (nanNodata) {
+                    return false;
+                }
+                fail(source_.path(), "NaN at column " + std::to_string(i) + ", row " + std::to_string(j) +
+                                         " (declare it with --nodata nan to treat it as missing)");
+            }
+            if (nodata_ && !nanNodata && v[ch] == static_cast<float>(*nodata_)) {
+                return false;
+            }
+        }
+        return true;
+    };
+    auto interpolate = [&](const Block& b, size_t k) {
+        const Taps& t = taps[k];
+        const double wx[2] = {1.0 - t.fx, t.fx};
+        const double wy[2] = {1.0 - t.fy, t.fy};
+        const int64_t is[2] = {t.i0, t.i1};
+        const int64_t js[2] = {t.j0, t.j1};
+        const float* v[2][2];
+        for (int b2 = 0; b2 < 2; ++b2) {
+            for (int a = 0; a < 2; ++a) {
+                v[b2][a] = b.at(is[a], js[b2]);
+                if (wx[a] * wy[b2] != 0.0 && !usable(v[b2][a], is[a], js[b2])) {
+                    return;
+                }
+            }
+        }
+        for (int ch = 0; ch < channels; ++ch) {
+            const double top = v[0][0][ch] + (static_cast<double>(v[0][1][ch]) - v[0][0][ch]) * t.fx;
+            const double bottom = v[1][0][ch] + (static_cast<double>(v[1][1][ch]) - v[1][0][ch]) * t.fx;
+            out[k * static_cast<size_t>(channels) + static_cast<size_t>(ch)] =
+                static_cast<float>(top + (bottom - top) * t.fy);
+        }
+        valid[k] = 1;
+    };
+
+    const int64_t rows = rowMax - rowMin + 1;
+    // One window when it is not much larger than the points need; else each point alone.
+    if (colCount * rows <= 8 * static_cast<int64_t>(count) + 65536) {
+        const Block block = readBlock(colStart, colCount, rowMin, rows);
+        for (size_t k = 0; k < count; ++k) {
+            if (taps[k].inside) {
+                interpolate(block, k);
+            }
+        }
+        return;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        const Taps& t = taps[k];
+        if (t.inside) {
+            interpolate(readBlock(t.i0, t.i1 == t.i0 ? 1 : 2, t.j0, t.j1 - t.j0 + 1), k);
+        }
+    }
+}
+
+} // namespace pyramid

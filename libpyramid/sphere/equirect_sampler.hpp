@@ -1,0 +1,62 @@
+// Sampling an equirectangular (plate carree) raster by geodetic latitude and longitude.
+//
+// The raster covers the extent [west, east] x [south, north] in degrees (default: the whole
+// globe), column 0 on the west, row 0 on the north. Samples are PIXEL CENTRES (area
+// convention): pixel (i, j) covers longitudes west + [i, i + 1] * (east - west) / W and its
+// value is that of its centre, latitude north - (j + 0.5) * (north - south) / H. A global map
+// of W x H pixels thus has its first column centred half a pixel east of -180 degrees. (A
+// grid-registered map, whose first and last columns both sit on +-180, is described by an
+// extent half a pixel wider on every side.)
+//
+// Values between pixel centres are interpolated bilinearly. A global extent (east - west = 360)
+// wraps around in longitude; between the last row of pixel centres and the pole (or the edge of
+// a partial extent) the nearest row is used (clamped), as is the nearest column at the west and
+// east edges of a partial extent. Points outside the extent have no value (nodata), as does a
+// point whose interpolation would use a nodata pixel with a non-zero weight.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "libpyramid/sphere/planet_body.hpp"
+#include "libpyramid/input/raster_source.hpp"
+
+namespace pyramid {
+
+struct GeoExtent {
+    double west = -180.0, south = -90.0, east = 180.0, north = 90.0; // degrees
+    // "WEST,SOUTH,EAST,NORTH" in degrees; west < east <= west + 360, -90 <= south < north <= 90.
+    static GeoExtent parse(const std::string& text, const std::string& where = "--extent");
+    bool global() const { return east - west >= 360.0; }
+};
+
+// How raster values are read: as numbers (readFloat), or as plain integers widened to uint16
+// (readUInt16: 8-bit 0..255, 16-bit 0..65535), for colours.
+enum class SampleRead { Float, UInt16 };
+
+class EquirectSampler {
+public:
+    // Channels [c0, c1) are sampled; `nodata` marks missing pixels (NaN allowed). Throws Error
+    // naming the file for channels it does not have.
+    EquirectSampler(const RasterSource& source, const GeoExtent& extent, int c0, int c1, SampleRead read,
+                    std::optional<double> nodata);
+
+    int channels() const { return c1_ - c0_; }
+    const GeoExtent& extent() const { return extent_; }
+
+    // Samples `count` points. out: count * channels() values, interleaved; valid: count flags
+    // (1 = a value, 0 = nodata; out is 0 there). Reads one window around the points when it is
+    // small, else a 2 x 2 window per point, so memory stays bounded by the number of points.
+    // Thread-safe.
+    void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const;
+
+private:
+    const RasterSource& source_;
+    GeoExtent extent_;
+    int c0_, c1_;
+    SampleRead read_;
+    std::optional<double> nodata_;
+};
+
+} // namespace pyramid

@@ -1,0 +1,55 @@
+// The values of a planet's map at the samples of one cube face: the bridge between a face grid
+// (cube_faces.hpp), the body's geodesy (planet_body.hpp) and an equirectangular raster
+// (equirect_sampler.hpp). Shared by the spherical DEM and ortho preprocessors.
+//
+// A face sample (x, y), borders included, is folded onto its cube point (so a border sample and
+// the neighbour face's sample at the same point get the same integer point, hence bit-identical
+// values), turned into a geocentric direction, mapped by the body to a geodetic latitude and
+// longitude, and the map is sampled there (bilinear, pixel centres; doc/spherical.md).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
+
+namespace pyramid {
+
+class FaceSampler {
+public:
+    // `scale` multiplies every sampled value (e.g. 10000/255 for heights stored as 8-bit red).
+    FaceSampler(const EquirectSampler& map, const PlanetBody& body, int face, FaceGrid grid, double scale = 1.0);
+
+    int face() const { return face_; }
+    const FaceGrid& grid() const { return grid_; }
+    int channels() const { return map_.channels(); }
+
+    // The geodetic point of face sample (x, y), which may lie in a border beyond the face.
+    GeodeticPoint geodeticOf(int64_t x, int64_t y) const;
+
+    // Samples columns x0 + i * stride (0 <= i < nx) of rows y0 + j * stride (0 <= j < ny), row
+    // j = 0 first (south first, as tiles are stored). out: nx * ny * channels() values,
+    // interleaved; valid: nx * ny flags (1 = a value, 0 = outside the map's extent or nodata).
+    // Thread-safe; reads the map block of points by block, so memory stays bounded.
+    void sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int64_t ny, float* out, uint8_t* valid) const;
+
+private:
+    const EquirectSampler& map_;
+    const PlanetBody& body_;
+    int face_;
+    FaceGrid grid_;
+    double scale_;
+};
+
+// The ground distance between neighbouring samples of a face grid, in metres: the smallest and
+// largest over the face (the cube projection packs samples closer near the face corners than at
+// the centre), measured as geodesics on the body between horizontal and vertical neighbours of
+// a regular 33 x 33 subset of the face's samples.
+struct GroundSampleDistance {
+    double min = 0.0;
+    double max = 0.0;
+};
+GroundSampleDistance faceGroundSampleDistance(const PlanetBody& body, int face, const FaceGrid& grid);
+
+} // namespace pyramid

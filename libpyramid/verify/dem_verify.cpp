@@ -1,0 +1,115 @@
+#include "libpyramid/verify/dem_verify.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "formats/error.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/support/parallel.hpp"
+
+namespace pyramid {
+
+bool DemVerifyReport::ok() const {
+    return std::all_of(levels.begin(), levels.end(), [](const DemVerifyLevel& l) { return l.beyondBound == 0; });
+}
+
+
+DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath, const DemVerifyOptions& options) {
+    const auto reader = ResidualFileReader::open(file);
+    const ResidualHeader h = reader->header();
+    if (h.rootLevel != 0) {
+        fail(file, "a region file cannot be verified on its own against a whole-map source");
+    }
+    const auto source = RasterSource::open(sourcePath);
+    std::optional<double> nodata = options.nodata;
+    if (!nodata && !options.ignoreDeclaredNodata) {
+        nodata = source->info().nodata;
+    }
+    const int M = h.maxLevel;
+    const int64_t R = h.tileSize >> h.minLevel;
+    const int64_t N = R << M;
+    const DemGeometry geometry = makeDemGeometry(source->info().width, source->info().height, N, options.stretch, sourcePath);
+    const DemSampler sampler(*source, geometry, options.band, nodata);
+    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    DemVerifyReport report;
+    report.file = file;
+    report.source = sourcePath;
+    report.scale = h.scale;
+    report.bound = h.scale / 2.0;
+    for (int l = 0; l <= M; ++l) {
+        const FileLevelProducer lp = makeFileLevelProducer(file, l);
+        const int side = 1 << (l - lp.delta);
+        const int64_t count = static_cast<int64_t>(side) * side;
+        const int64_t Nl = R << l;
+        struct TileResult {
+            int64_t samples = 0, beyond = 0;
+            double maxError = 0.0, sumSquares = 0.0;
+        };
+        std::vector<TileResult> results(static_cast<size_t>(count));
+        parallelFor(count, threads, [&](int64_t k) {
+            const int tx = static_cast<int>(k % side), ty = static_cast<int>(k / side);
+            const auto tile = lp.fileTile(l, tx, ty);
+            const int S = lp.n + 5;
+            // The samples this tile owns: [t*n, t*n + n), plus the map's last row and column.
+            SourceGrid grid;
+            grid.stride = int64_t{1} << (M - l);
+            const int64_t px0 = static_cast<int64_t>(tx) * lp.n, py0 = static_cast<int64_t>(ty) * lp.n;
+            grid.nx = std::min<int64_t>(lp.n, Nl - px0) + (px0 + lp.n >= Nl ? 1 : 0);
+            grid.ny = std::min<int64_t>(lp.n, Nl - py0) + (py0 + lp.n >= Nl ? 1 : 0);
+            grid.x0 = px0 * grid.stride;
+            grid.y0 = py0 * grid.stride;
+            sampler.sample(grid);
+            TileResult& r = results[static_cast<size_t>(k)];
+            for (int64_t j = 0; j < grid.ny; ++j) {
+                for (int64_t i = 0; i < grid.nx; ++i) {
+                    const size_t g = static_cast<size_t>(i + j * grid.nx);
+                    if (grid.valid[g] != 1) {
+                        continue;
+                    }
+                    const double src = grid.height[g];
+                    const double z = tile->zf[static_cast<size_t>((i + 2) + (j + 2) * S)];
+                    const double e = std::fabs(z - src);
+                    // scale/2, plus the float32 roundings of the reconstruction and the source.
+                    const double allowed = report.bound + std::ldexp(std::max(std::fabs(z), std::fabs(src)), -22);
+                    r.samples += 1;
+                    r.maxError = std::max(r.maxError, e);
+                    r.sumSquares += e * e;
+                    r.beyond += e > allowed;
+                }
+            }
+        });
+        DemVerifyLevel level;
+        level.level = l;
+        level.tiles = count;
+        double sum = 0.0;
+        for (const TileResult& r : results) {
+            level.samples += r.samples;
+            level.maxError = std::max(level.maxError, r.maxError);
+            level.beyondBound += r.beyond;
+            sum += r.sumSquares;
+        }
+        level.rmsError = level.samples ? std::sqrt(sum / static_cast<double>(level.samples)) : 0.0;
+        report.levels.push_back(level);
+    }
+    return report;
+}
+
+nlohmann::json toJson(const DemVerifyReport& r) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const DemVerifyLevel& l : r.levels) {
+        levels.push_back({{"level", l.level},
+                          {"tiles", l.tiles},
+                          {"samples", l.samples},
+                          {"max_error", l.maxError},
+                          {"rms_error", l.rmsError},
+                          {"beyond_bound", l.beyondBound}});
+    }
+    return {{"file", r.file}, {"source", r.source}, {"scale", r.scale}, {"bound", r.bound},
+            {"ok", r.ok()},   {"levels", levels}};
+}
+
+} // namespace pyramid

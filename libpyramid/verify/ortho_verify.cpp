@@ -1,0 +1,149 @@
+#include "libpyramid/verify/ortho_verify.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "formats/error.hpp"
+#include "formats/ortho_file.hpp"
+#include "formats/tiff_tile.hpp"
+#include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
+#include "libpyramid/support/parallel.hpp"
+
+namespace pyramid {
+
+namespace {
+
+struct TileResult {
+    int level = 0;
+    int maxError = 0;
+    double squares = 0.0;
+    int64_t samples = 0;
+    bool lossy = false;
+};
+
+// The true tile as the file stores it: without border when the file has none, grey expanded
+// to RGB for DXT files.
+std::vector<uint8_t> expected(const TrueTile& t, const OrthoHeader& h, int sourceChannels) {
+    const int b = h.border();
+    const int side = h.tilePixels();
+    const int c = t.pixels.channels;
+    const int outC = h.dxt() ? (c == 4 ? 4 : 3) : c;
+    std::vector<uint8_t> out(static_cast<size_t>(side) * side * outC);
+    for (int y = 0; y < side; ++y) {
+        for (int x = 0; x < side; ++x) {
+            const uint8_t* p = t.pixels.at(x + 2 - b, y + 2 - b);
+            uint8_t* q = &out[(static_cast<size_t>(y) * side + static_cast<size_t>(x)) * outC];
+            for (int k = 0; k < outC; ++k) {
+                q[k] = p[sourceChannels < 3 && outC == 3 ? 0 : k];
+            }
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source, const OrthoVerifyOptions& options) {
+    const auto reader = OrthoFileReader::open(file);
+    const OrthoHeader& h = reader->header();
+    if (h.rootLevel != 0) {
+        fail(file, "a region file cannot be verified on its own against a whole-map source");
+    }
+    OrthoLevelsOptions lo;
+    lo.tileSize = h.tileSize;
+    lo.maxLevel = h.maxLevel;
+    lo.colourSpace = options.colourSpace;
+    lo.stretch = options.stretch;
+    lo.threads = options.threads;
+    // A DXT1 file says 3 channels whatever the source had (1 to 3, expanded to RGB).
+    lo.channels = h.dxt() && h.channels == 3 ? std::min(3, RasterSource::open(source)->info().channels) : h.channels;
+    const OrthoLevels levels(source, lo);
+    std::shared_ptr<OrthoResidualProducer> residuals;
+    if (options.colourResiduals) {
+        residuals = std::make_shared<OrthoResidualProducer>(std::make_shared<OrthoProducer>(file), 1024);
+    }
+    OrthoVerifyReport report;
+    report.file = file;
+    report.source = source;
+    report.mode = options.colourResiduals ? "colour-residuals" : h.dxt() ? "dxt" : "tiles";
+    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    std::vector<TileResult> all;
+    levels.walk([&](std::vector<TileBatch>& group) {
+        std::vector<const TrueTile*> tiles;
+        for (const TileBatch& b : group) {
+            for (const TrueTile& t : b) {
+                tiles.push_back(&t);
+            }
+        }
+        std::vector<TileResult> results(tiles.size());
+        // The colour-residual producer rebuilds parents first: keep them in order per level.
+        const int workers = residuals ? 1 : threads;
+        parallelFor(static_cast<int64_t>(tiles.size()), workers, [&](int64_t i) {
+            const TrueTile& t = *tiles[static_cast<size_t>(i)];
+            TileResult& r = results[static_cast<size_t>(i)];
+            r.level = t.level;
+            std::vector<uint8_t> got, want;
+            if (residuals) {
+                got = *residuals->tile(t.level, t.tx, t.ty);
+                want = t.pixels.pixels;
+                r.lossy = describeTiff(reader->readTileBytes(t.level, t.tx, t.ty)).starts_with("jpeg");
+            } else {
+                got = reader->readTile(t.level, t.tx, t.ty);
+                want = expected(t, h, levels.channels());
+                r.lossy = h.dxt() || describeTiff(reader->readTileBytes(t.level, t.tx, t.ty)).starts_with("jpeg");
+            }
+            if (got.size() != want.size()) {
+                fail(file, "tile (" + std::to_string(t.level) + "," + std::to_string(t.tx) + "," + std::to_string(t.ty) +
+                               ") does not match the source's channels");
+            }
+            for (size_t k = 0; k < got.size(); ++k) {
+                const int e = std::abs(static_cast<int>(got[k]) - static_cast<int>(want[k]));
+                r.maxError = std::max(r.maxError, e);
+                r.squares += static_cast<double>(e) * e;
+            }
+            r.samples = static_cast<int64_t>(got.size());
+        });
+        all.insert(all.end(), results.begin(), results.end());
+    }, residuals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass);
+    report.levels.resize(static_cast<size_t>(h.maxLevel) + 1);
+    std::vector<double> squares(report.levels.size(), 0.0);
+    std::vector<int64_t> samples(report.levels.size(), 0);
+    for (const TileResult& r : all) {
+        OrthoVerifyLevel& l = report.levels[static_cast<size_t>(r.level)];
+        l.level = r.level;
+        l.tiles += 1;
+        l.maxError = std::max(l.maxError, r.maxError);
+        l.lossyTiles += r.lossy;
+        squares[static_cast<size_t>(r.level)] += r.squares;
+        samples[static_cast<size_t>(r.level)] += r.samples;
+        // Lossless tiles must match exactly; colour residuals are quantized in steps of 2.
+        const int allowed = residuals ? 1 : 0;
+        if (!r.lossy && r.maxError > allowed) {
+            report.ok = false;
+        }
+    }
+    for (size_t l = 0; l < report.levels.size(); ++l) {
+        const double mse = samples[l] ? squares[l] / static_cast<double>(samples[l]) : 0.0;
+        report.levels[l].rmsError = std::sqrt(mse);
+        report.levels[l].psnr = mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0;
+    }
+    return report;
+}
+
+nlohmann::json toJson(const OrthoVerifyReport& r) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const OrthoVerifyLevel& l : r.levels) {
+        levels.push_back({{"level", l.level},
+                          {"tiles", l.tiles},
+                          {"max_error", l.maxError},
+                          {"rms_error", l.rmsError},
+                          {"psnr_db", l.psnr},
+                          {"lossy_tiles", l.lossyTiles}});
+    }
+    return {{"file", r.file}, {"source", r.source}, {"mode", r.mode}, {"ok", r.ok}, {"levels", levels}};
+}
+
+} // namespace pyramid

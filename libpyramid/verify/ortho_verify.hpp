@@ -1,0 +1,42 @@
+// `pyramid verify RGB.dat --source INPUT` for ortho files: the true levels rebuilt from the
+// source (libpyramid/encode/ortho/ortho_levels.hpp, the preprocessor's own code) and compared with the
+// file's tiles: decoded TIFF or DXT tiles, or, with colourResiduals, the tiles the
+// colour-residual producer rebuilds.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "libpyramid/filters/colour_average.hpp"
+
+namespace pyramid {
+
+struct OrthoVerifyOptions {
+    ColourSpace colourSpace = ColourSpace::Srgb;
+    bool stretch = false;
+    bool colourResiduals = false; // the file holds colour residuals (residuals/RGB.dat)
+    int threads = 0;
+};
+
+struct OrthoVerifyLevel {
+    int level = 0;
+    int64_t tiles = 0;
+    int maxError = 0;
+    double rmsError = 0.0;
+    double psnr = 99.0;
+    int64_t lossyTiles = 0; // JPEG or DXT tiles, whose error is expected
+};
+
+struct OrthoVerifyReport {
+    std::string file, source, mode; // mode: "tiles", "dxt" or "colour-residuals"
+    std::vector<OrthoVerifyLevel> levels;
+    bool ok = true; // lossless tiles equal the source; colour residuals within 1
+};
+
+OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source, const OrthoVerifyOptions& options);
+
+nlohmann::json toJson(const OrthoVerifyReport& report);
+
+} // namespace pyramid
