@@ -33,6 +33,19 @@ void keepBuffersInTheHeap() {
 
 } // namespace
 
+std::string flagName(const std::string& option) {
+    std::string flag = "--";
+    for (const char c : option) {
+        if (c >= 'A' && c <= 'Z') {
+            flag += '-';
+            flag += static_cast<char>(c - 'A' + 'a');
+        } else {
+            flag += c;
+        }
+    }
+    return flag;
+}
+
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count) {
     keepBuffersInTheHeap();
     try {
@@ -55,6 +68,8 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
         }
         std::cerr << app.get_name() << ": no command given (see --help)\n";
         return kExitUsage;
+    } catch (const OptionError& e) {
+        std::cerr << app.get_name() << ": " << flagName(e.option()) << ": " << e.problem() << "\n";
     } catch (const Error& e) {
         std::cerr << app.get_name() << ": " << e.what() << "\n";
     } catch (const std::exception& e) {

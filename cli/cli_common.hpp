@@ -30,7 +30,12 @@ struct NamedRunner {
     CLI::App* app;
     CommandRunner run;
 };
+// An OptionError (the library's words for an option) is printed with the option's flag:
+// the library's option names are the flags in camel case ("tileSize" is --tile-size).
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count);
+
+// The flag of a library option name: "tileSize" -> "--tile-size".
+std::string flagName(const std::string& option);
 
 // Progress on stderr: "LABEL: 42% (1234/2938 tiles)". Redrawn in place on a terminal, a line
 // every 10% otherwise, nothing when quiet. Thread-safe.

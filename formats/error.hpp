@@ -1,9 +1,10 @@
-// The one exception type of libpyramid. Its message is a single line that names the
-// file (or the option) and the problem, ready to print as is: "DEM.dat: offset table
-// points past the end of the file (tile 12)".
+// The exception types of libpyramid. A message is a single line that names the file (or the
+// option) and the problem, ready to print as is: "DEM.dat: offset table points past the end of
+// the file (tile 12)".
 #pragma once
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace pyramid {
 
@@ -12,9 +13,29 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// An option value the library cannot use. The library names the option in its own words (the
+// options field, "tileSize") and speaks of the value ("7 is not an even number from 2 to
+// 8192"); a program maps the option to its own spelling (the programs: "--tile-size").
+class OptionError : public Error {
+public:
+    OptionError(std::string option, std::string problem)
+        : Error(option + ": " + problem), option_(std::move(option)), problem_(std::move(problem)) {}
+    const std::string& option() const { return option_; }
+    const std::string& problem() const { return problem_; }
+
+private:
+    std::string option_;
+    std::string problem_;
+};
+
 // "WHERE: WHAT", the shape of every error message.
 [[noreturn]] inline void fail(const std::string& where, const std::string& what) {
     throw Error(where.empty() ? what : where + ": " + what);
+}
+
+// "OPTION: WHAT" for an option value (OptionError).
+[[noreturn]] inline void failOption(const std::string& option, const std::string& what) {
+    throw OptionError(option, what);
 }
 
 } // namespace pyramid
