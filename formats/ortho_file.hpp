@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/tiff_tile.hpp"
 #include "formats/tile_table.hpp"
 
 namespace pyramid {
@@ -63,14 +64,6 @@ private:
     OrthoHeader header_;
     std::unique_ptr<TileTable> table_;
 };
-
-// Jpeg: RGB (or grey) components, no chroma subsampling, as the original runtime reads them.
-// JpegYCbCr: RGB tiles stored as YCbCr with 2 x 2 chroma subsampling (grey tiles as Jpeg):
-// about a third of the bytes; libtiff readers must ask for RGB (JPEGCOLORMODE), which the
-// original runtime does not.
-enum class TiffCompression { None, Deflate, Lzw, Jpeg, JpegYCbCr };
-
-inline bool isJpeg(TiffCompression c) { return c == TiffCompression::Jpeg || c == TiffCompression::JpegYCbCr; }
 
 struct OrthoTileEncoding {
     TiffCompression compression = TiffCompression::Deflate; // TIFF files

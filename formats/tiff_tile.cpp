@@ -151,9 +151,9 @@ struct CompressorDeleter {
 // without allocating and initialising a compressor for every tile: one per thread and level.
 std::vector<uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
     thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
-    auto& compressor = compressors[std::clamp(level, 1, 12)];
+    auto& compressor = compressors[level];
     if (!compressor) {
-        compressor.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 12)));
+        compressor.reset(libdeflate_alloc_compressor(level));
         if (!compressor) {
             fail("", "out of memory for a Deflate compressor");
         }
@@ -191,6 +191,12 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
                                  int jpegQuality, int deflateLevel, bool horizontalPredictor) {
     const bool jpeg = isJpeg(compression);
+    if (compression == TiffCompression::Deflate && (deflateLevel < 1 || deflateLevel > 12)) {
+        fail("", "Deflate level " + std::to_string(deflateLevel) + " is not 1..12");
+    }
+    if (jpeg && (jpegQuality < 1 || jpegQuality > 100)) {
+        fail("", "JPEG quality " + std::to_string(jpegQuality) + " is not 1..100");
+    }
     if (jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
                      std::to_string(bits) + " bits");
@@ -219,7 +225,7 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
         TIFFSetField(t, TIFFTAG_EXTRASAMPLES, 1, &extra);
     }
     if (jpeg) {
-        TIFFSetField(t, TIFFTAG_JPEGQUALITY, std::clamp(jpegQuality, 1, 100));
+        TIFFSetField(t, TIFFTAG_JPEGQUALITY, jpegQuality);
     }
     if (photometric == PHOTOMETRIC_YCBCR) {
         // The pixels given are RGB; libjpeg converts them and subsamples the chroma 2 x 2.
@@ -418,7 +424,7 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
         bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
     }
     return encodeStrip(bytes.data(), bytes.size(), size, size, 2, 8, PHOTOMETRIC_MINISBLACK, false,
-                       TiffCompression::Deflate, 0, std::clamp(deflateLevel, 1, 9), false);
+                       TiffCompression::Deflate, 0, deflateLevel, false);
 }
 
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {

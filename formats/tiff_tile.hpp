@@ -7,9 +7,15 @@
 #include <string>
 #include <vector>
 
-#include "formats/ortho_file.hpp" // TiffCompression
-
 namespace pyramid {
+
+// Jpeg: RGB (or grey) components, no chroma subsampling, as the original runtime reads them.
+// JpegYCbCr: RGB tiles stored as YCbCr with 2 x 2 chroma subsampling (grey tiles as Jpeg):
+// about a third of the bytes; libtiff readers must ask for RGB (JPEGCOLORMODE), which the
+// original runtime does not.
+enum class TiffCompression { None, Deflate, Lzw, Jpeg, JpegYCbCr };
+
+inline bool isJpeg(TiffCompression c) { return c == TiffCompression::Jpeg || c == TiffCompression::JpegYCbCr; }
 
 struct TiffImage {
     int width = 0;
@@ -21,8 +27,9 @@ struct TiffImage {
 };
 
 // Encodes 8-bit pixels (channels 1..4; 3 and 4 as RGB, 1 and 2 as min-is-black).
-// `deflateLevel` (1..12, libdeflate's levels) and `horizontalPredictor` (TIFF Predictor = 2: each sample stored as
-// its difference from the same channel of the pixel to its left) apply to Deflate only; both
+// `deflateLevel` (1..12, libdeflate's levels) and `horizontalPredictor` (TIFF Predictor = 2:
+// each sample stored as its difference from the same channel of the pixel to its left) apply to
+// Deflate only, `jpegQuality` (1..100) to JPEG; a level or quality out of range is an error. Both
 // are undone by any libtiff reader within TIFFReadEncodedStrip, so the decoded pixels are the
 // same whatever they are.
 std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
@@ -35,8 +42,8 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
 TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where);
 
 // Residual tiles: size x size int16 values stored as 2 samples x 8 bits (low byte, high byte),
-// Deflate, as the original tools write them. `deflateLevel` (1..9) only trades encoding time
-// for bytes: any level is the same standard Deflate stream to a reader.
+// Deflate, as the original tools write them. `deflateLevel` (1..12, libdeflate's levels) only
+// trades encoding time for bytes: any level is the same standard Deflate stream to a reader.
 std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel = 6);
 // Accepts the 2 x 8-bit layout and a genuine 1 x 16-bit layout; the image must be size x size.
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where);

@@ -15,7 +15,7 @@
 #include <memory>
 #include <string>
 
-#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/input/raster_info.hpp"
 
 namespace pyramid {
 

@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/input/raster_info.hpp"
 
 namespace pyramid {
 

@@ -10,24 +10,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 
+#include "libpyramid/input/raster_info.hpp"
+
 namespace pyramid {
-
-enum class SampleType { UInt8, Int8, UInt16, Int16, UInt32, Int32, Float16, Float32, Float64, Other };
-
-// "uint8", "int16", "float32", ...: for reports.
-const char* sampleTypeName(SampleType type);
-
-struct RasterInfo {
-    int width = 0;
-    int height = 0;
-    int channels = 0;
-    SampleType type = SampleType::Other;
-    std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any
-    std::string formatName;       // "tiff", "png", ...
-};
 
 class RasterSource {
 public:

@@ -12,7 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/input/raster_info.hpp"
 
 typedef struct tiff TIFF;
 

@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/input/raster_info.hpp"
 
 namespace pyramid {
 
