@@ -9,6 +9,7 @@
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/support/parse_number.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid::cli {
 
@@ -23,10 +24,17 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "Intervals of the level-0 tile; minLevel = log2(tile-size / root-tile-size)")
         ->capture_default_str();
     app.add_option("--max-level", o.maxLevel, maxLevelHelp);
+    app.add_option("--dst-max-level", o.dstMaxLevel,
+                   "The finest level as the original tools' preprocessDem counts it (dstMaxLevel): from the first "
+                   "level of full-size tiles, so the file's maxLevel is minLevel + this (with the defaults 192 and "
+                   "24, minLevel is 3: dstMaxLevel 2 is --max-level 5)")
+        ->excludes("--max-level");
     app.add_option("--scale", args->scale,
                    "Quantization step in height units, or 'auto' for the smallest 1-2-5 step without int16 overflow")
         ->capture_default_str();
-    app.add_option("--max-error", args->maxError, "Largest allowed error E: sets --scale to 2E")->excludes("--scale");
+    app.add_option("--max-error", args->maxError, "Largest allowed error E > 0: sets --scale to 2E")
+        ->excludes("--scale")
+        ->each([args](const std::string&) { args->maxErrorGiven = true; });
     app.add_option("--band", args->band, "Band (channel) holding the heights, from 1")->capture_default_str();
     app.add_option("--nodata", args->nodata,
                    "Value marking missing heights: a number, 'nan', or 'none' (default: what the file declares)");
@@ -38,23 +46,20 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
 
 DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     DemEncodeOptions options = args.options;
-    if (args.maxError > 0.0) {
+    if (args.maxErrorGiven) {
+        if (!(args.maxError > 0.0)) {
+            fail("--max-error", "must be a positive number, not " + numberText(args.maxError));
+        }
         options.scale = 2.0 * args.maxError;
     } else if (args.scale == "auto") {
         options.autoScale = true;
     } else {
-        options.scale = parseNumber(args.scale, "--scale", "a number or 'auto'");
-        if (!(options.scale > 0.0)) {
-            fail("--scale", "must be positive, not " + args.scale);
-        }
+        options.scale = parseNumber(args.scale, "--scale", "a number or 'auto'"); // its range: validate()
     }
     options.band = args.band - 1;
     const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");
     options.nodata = nodata.value;
     options.ignoreDeclaredNodata = nodata.ignoreDeclared;
-    if (options.threads < 0) {
-        fail("--threads", "must be 0 (all cores) or more");
-    }
     if (options.tileSize + 5 >= 256 && !args.quiet) {
         std::fprintf(stderr, "warning: tiles of %d samples: the original Proland runtime reads tiles of at most "
                              "255 samples (tile size 250)\n", options.tileSize + 5);
@@ -69,7 +74,7 @@ void printDemSummary(const DemReport& r) {
                  r.finestSamples ? 8.0 * static_cast<double>(r.bytes) / static_cast<double>(r.finestSamples) : 0.0,
                  r.seconds);
     double worst = 0.0;
-    for (const DemLevelReport& l : r.levels) {
+    for (const ResidualLevelReport& l : r.levels) {
         worst = std::max(worst, l.maxError);
     }
     std::fprintf(stderr, "  max error %g (bound scale/2 = %g), %lld nodata samples filled; %s\n", worst,

@@ -18,6 +18,7 @@ struct DemArgs {
     std::string output; // a file (preprocessDem) or a directory (preprocessSphericalDem)
     std::string scale = "1";
     double maxError = 0.0;
+    bool maxErrorGiven = false;
     int band = 1;
     std::string nodata;
     std::string report;

@@ -71,7 +71,8 @@ TEST_F(DemCli, ScaleAutoPicksTheSmallestFittingStepAndVerifies) {
                             " --tile-size 16 --root-tile-size 4 --scale 0.05");
     EXPECT_EQ(failed.exitCode, 1);
     EXPECT_NE(failed.err.find("overflow int16 at scale 0.05"), std::string::npos) << failed.err;
-    EXPECT_NE(failed.err.find("use --scale 0."), std::string::npos) << failed.err;
+    EXPECT_NE(failed.err.find("--scale: "), std::string::npos) << failed.err;
+    EXPECT_NE(failed.err.find("use 0."), std::string::npos) << failed.err;
     EXPECT_FALSE(test::fileExists(dir.file("s.dat")));
 }
 
@@ -98,6 +99,24 @@ TEST_F(DemCli, MaxLevelResamplesAndBandSelectsAChannel) {
     EXPECT_EQ(nlohmann::json::parse(r.out)["levels"].back()["samples"], 33 * 33);
 }
 
+TEST_F(DemCli, DstMaxLevelCountsAsTheOriginalTools) {
+    // The original preprocessDem(..., 4, 16, 2, ...): minLevel = log2(16 / 4) = 2, so its
+    // dstMaxLevel 2 is the file's maxLevel 4, and the file is the one --max-level 4 writes.
+    auto report = encode(input, "--tile-size 16 --root-tile-size 4 --dst-max-level 2");
+    EXPECT_EQ(report["header"]["min_level"], 2);
+    EXPECT_EQ(report["header"]["max_level"], 4);
+    const std::string dst = test::readFile(dir.file("DEM.dat"));
+    report = encode(input, "--tile-size 16 --root-tile-size 4 --max-level 4");
+    EXPECT_EQ(test::readFile(dir.file("DEM.dat")), dst);
+    // Both at once is a command-line error.
+    const auto r = run(programPath("preprocessDem") + " " + shellQuoted(input) + " -o " + shellQuoted(dir.file("x.dat")) +
+                       " --max-level 4 --dst-max-level 2");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    const auto help = run(programPath("preprocessDem") + " --help");
+    EXPECT_NE(help.out.find("--dst-max-level"), std::string::npos);
+    EXPECT_NE(help.out.find("minLevel + this"), std::string::npos);
+}
+
 TEST_F(DemCli, WarnsAboutTilesTheOriginalRuntimeCannotRead) {
     auto r = run(programPath("preprocessDem") + " " + shellQuoted(input) + " -o " + shellQuoted(dir.file("big.dat")) +
                  " --tile-size 256 --root-tile-size 64");
@@ -109,12 +128,14 @@ TEST_F(DemCli, WarnsAboutTilesTheOriginalRuntimeCannotRead) {
 }
 
 TEST_F(DemCli, ImpossibleValuesFailOnOneLine) {
-    expectError("--tile-size 7", "--tile-size");
+    expectError("--tile-size 7", "--tile-size: 7 is not an even number from 2 to 8192");
     expectError("--tile-size 16 --root-tile-size 6", "--root-tile-size");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 1", "--max-level");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 25", "--max-level");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 24", "tiles, more than");
-    expectError("--scale -1", "--scale");
+    expectError("--scale -1", "--scale: must be a positive number, not -1");
+    expectError("--max-error 0", "--max-error: must be a positive number, not 0");
+    expectError("--tile-size 16 --root-tile-size 4 --dst-max-level 23", "--dst-max-level: 23 makes maxLevel");
     expectError("--scale fine", "--scale");
     expectError("--nodata low", "--nodata");
     expectError("--band 0", "--band");

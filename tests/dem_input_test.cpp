@@ -207,7 +207,7 @@ TEST(DemInput, SixteenBitIntegerHeightsEncodeWithinHalfAStep) {
     EXPECT_EQ(json["input"]["type"], "int16");
     EXPECT_EQ(json["input"]["nodata"], nullptr);
     EXPECT_GT(report.levels.back().maxAbsResidual, 0);
-    for (const DemLevelReport& l : report.levels) {
+    for (const ResidualLevelReport& l : report.levels) {
         EXPECT_LE(l.maxError, 0.25 + 1e-3) << "level " << l.level;
     }
     const DemVerifyReport verify = verifyDem(dir.file("DEM.dat"), dir.file("i16.tif"), {});

@@ -73,7 +73,7 @@ TEST(SphericalDem, ReconstructionEqualsProducerAndAnalyticMapWithinBound) {
         EXPECT_GT(fr.gsd[3].min, 150e3);
         EXPECT_LT(fr.gsd[3].max, 450e3);
         EXPECT_GT(fr.gsd[3].max, fr.gsd[3].min * 1.3);
-        for (const DemLevelReport& l : fr.dem.levels) {
+        for (const ResidualLevelReport& l : fr.dem.levels) {
             EXPECT_LE(l.maxError, 0.125 + 1e-3) << "face " << fr.face << " level " << l.level;
         }
         const int64_t N = 32;
@@ -271,15 +271,15 @@ TEST(SphericalDem, BadInputWritesNothing) {
     };
     SphericalDemOptions o = smallOptions();
     o.body = "jupiter";
-    expectError(o, map, "--body");
+    expectError(o, map, "body: ");
     o = smallOptions();
     o.faces = {1, 7};
-    expectError(o, map, "--faces");
+    expectError(o, map, "faces: ");
     o = smallOptions();
     expectError(o, dir.file("missing.tif"), "missing.tif");
     o = smallOptions();
     o.dem.band = 3;
-    expectError(o, map, "--band");
+    expectError(o, map, "band: ");
     // An overflow at the last face: the first five faces must not be left behind.
     o = smallOptions();
     o.dem.scale = 0.001;

@@ -6,7 +6,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
-#include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -26,27 +26,43 @@ int log2Exact(int v) {
 
 } // namespace
 
+void DemEncodeOptions::validate() const {
+    ResidualEncodeOptions::validate();
+    if (tileSize < 2 || tileSize > 8192 || tileSize % 2 != 0) {
+        failOption("tileSize", std::to_string(tileSize) + " is not an even number from 2 to 8192");
+    }
+    if (rootTileSize < 1 || rootTileSize > tileSize || tileSize % rootTileSize != 0 ||
+        log2Exact(tileSize / rootTileSize) < 0) {
+        failOption("rootTileSize", std::to_string(rootTileSize) + " must be the tile size (" +
+                                       std::to_string(tileSize) + ") divided by a power of two");
+    }
+    if (maxLevel >= 0 && dstMaxLevel >= 0) {
+        failOption("dstMaxLevel", "and maxLevel name the same level: give one of them");
+    }
+    if (dstMaxLevel >= 0 && minLevel() + dstMaxLevel > 24) {
+        failOption("dstMaxLevel", std::to_string(dstMaxLevel) + " makes maxLevel = minLevel " +
+                                      std::to_string(minLevel()) + " + " + std::to_string(dstMaxLevel) +
+                                      ", beyond 24");
+    }
+}
+
+int DemEncodeOptions::minLevel() const { return log2Exact(tileSize / rootTileSize); }
+
 ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o, const std::string& where) {
-    if (o.tileSize < 2 || o.tileSize > 8192 || o.tileSize % 2 != 0) {
-        fail("--tile-size", std::to_string(o.tileSize) + " is not an even number from 2 to 8192");
-    }
-    if (o.rootTileSize < 1 || o.rootTileSize > o.tileSize || o.tileSize % o.rootTileSize != 0 ||
-        log2Exact(o.tileSize / o.rootTileSize) < 0) {
-        fail("--root-tile-size", std::to_string(o.rootTileSize) + " must be the tile size (" +
-                                     std::to_string(o.tileSize) + ") divided by a power of two");
-    }
-    const int minLevel = log2Exact(o.tileSize / o.rootTileSize);
+    o.validate();
+    const int minLevel = o.minLevel();
     const int64_t longest = std::max(input.width, input.height);
-    int maxLevel = o.maxLevel;
-    if (maxLevel < 0) {
+    int maxLevel = o.dstMaxLevel >= 0 ? minLevel + o.dstMaxLevel : o.maxLevel;
+    const bool given = maxLevel >= 0;
+    if (!given) {
         maxLevel = minLevel;
         while ((static_cast<int64_t>(o.rootTileSize) << maxLevel) + 1 < longest) {
             ++maxLevel;
         }
     }
     if (maxLevel < minLevel || maxLevel > 24) {
-        fail("--max-level", std::to_string(maxLevel) + " is outside " + std::to_string(minLevel) +
-                                "..24 (the file needs at least minLevel = log2(tile size / root tile size) levels)");
+        failOption("maxLevel", std::to_string(maxLevel) + " is outside " + std::to_string(minLevel) +
+                                   "..24 (the file needs at least minLevel = log2(tile size / root tile size) levels)");
     }
     ResidualHeader h;
     h.minLevel = minLevel;
@@ -54,11 +70,14 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
     h.tileSize = o.tileSize;
     h.scale = static_cast<float>(o.scale);
     // Every tile needs at least a shared blob's offsets and a hash in memory: a bound that keeps
-    // a mistyped --max-level from exhausting memory (8193 x 8193 samples make 5461 tiles).
+    // a mistyped maxLevel from exhausting memory (8193 x 8193 samples make 5461 tiles).
     if (h.tileCount() > kMaxTiles) {
-        fail(o.maxLevel < 0 ? where : std::string("--max-level"),
-             "maxLevel " + std::to_string(maxLevel) + " makes " + std::to_string(h.tileCount()) + " tiles, more than " +
-                 std::to_string(kMaxTiles) + " in one file");
+        const std::string what = "maxLevel " + std::to_string(maxLevel) + " makes " + std::to_string(h.tileCount()) +
+                                 " tiles, more than " + std::to_string(kMaxTiles) + " in one file";
+        if (given) {
+            failOption(o.dstMaxLevel >= 0 ? "dstMaxLevel" : "maxLevel", what);
+        }
+        fail(where, what);
     }
     return h;
 }
@@ -66,7 +85,7 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
 std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncodeOptions& options,
                                          const std::string& where) {
     if (options.band < 0 || options.band >= input.channels) {
-        fail("--band", std::to_string(options.band + 1) + " is not a band of " + where + " (it has " +
+        failOption("band", std::to_string(options.band + 1) + " is not a band of " + where + " (it has " +
                            std::to_string(input.channels) + ")");
     }
     if (options.nodata || options.ignoreDeclaredNodata) {
@@ -77,9 +96,7 @@ std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncod
 
 DemReport encodeDem(const std::string& input, const std::string& output, const DemEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    if (!options.autoScale && (!std::isfinite(options.scale) || options.scale <= 0.0)) {
-        fail("--scale", "must be a positive number, not " + numberText(options.scale));
-    }
+    options.validate();
     auto source = RasterSource::open(input, options.cacheMegabytes);
     DemReport report;
     report.input = input;
@@ -118,7 +135,7 @@ nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int
 
 nlohmann::json toJson(const DemReport& r) {
     nlohmann::json levels = nlohmann::json::array();
-    for (const DemLevelReport& l : r.levels) {
+    for (const ResidualLevelReport& l : r.levels) {
         levels.push_back({{"level", l.level},
                           {"tiles", l.tiles},
                           {"samples", l.samples},

@@ -4,7 +4,6 @@
 // encoder measured.
 #pragma once
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,64 +11,55 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/residual_file.hpp"
+#include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/input/raster_source.hpp"
 
 namespace pyramid {
 
-struct DemEncodeOptions {
+// The options of a DEM pyramid: its shape and how the input is read, on top of the residual
+// encoder's (scale, threads, hooks).
+struct DemEncodeOptions : ResidualEncodeOptions {
     int tileSize = 192;
     int rootTileSize = 24;          // tileSize >> minLevel
-    int maxLevel = -1;              // -1: the smallest pyramid whose finest level holds every input sample
-    double scale = 1.0;             // quantization step (height units per residual unit)
-    bool autoScale = false;         // choose the smallest 1-2-5 x 10^k scale without int16 overflow
+    // The file's maxLevel, counted from the root (level 0, one tile of rootTileSize
+    // intervals); -1: the smallest pyramid whose finest level holds every input sample.
+    int maxLevel = -1;
+    // The same level counted as the original tools' preprocessDem counts it (dstMaxLevel), from
+    // the first level of full-size tiles: maxLevel = minLevel + dstMaxLevel, with minLevel =
+    // log2(tileSize / rootTileSize). -1: not given. At most one of maxLevel and dstMaxLevel.
+    int dstMaxLevel = -1;
     int band = 0;                   // 0-based
     std::optional<double> nodata;   // overrides what the file declares
     bool ignoreDeclaredNodata = false;
     bool stretch = false;           // map width and height independently (the original behaviour)
-    int threads = 0;                // 0: all cores
     int cacheMegabytes = 256;       // input cache budget
-    // Called from one thread at a time with (tiles done, total tiles).
-    std::function<void(int64_t, int64_t)> progress;
-    // Called from one thread at a time with each tile's reconstruction ((n+5)^2 float32, row 0 =
-    // bottom), exactly what a producer rebuilds from the file: for tests and inspection.
-    std::function<void(int level, int tx, int ty, const std::vector<float>&)> reconstruction;
+
+    // Throws OptionError for values no input can take: tileSize, rootTileSize, maxLevel and
+    // dstMaxLevel (together, or beyond 24), scale.
+    void validate() const;
+    // minLevel = log2(tileSize / rootTileSize), of options that validate().
+    int minLevel() const;
 };
 
-struct DemLevelReport {
-    int level = 0;
-    int64_t tiles = 0;
-    int64_t samples = 0;     // valid source samples compared
-    double maxError = 0.0;   // max |reconstruction - source|
-    double rmsError = 0.0;
-    int maxAbsResidual = 0;
-};
-
-struct DemReport {
+// What the encoder measured (ResidualPyramidReport), and of which input.
+struct DemReport : ResidualPyramidReport {
     std::string input;
     std::string output;
     RasterInfo inputInfo;
     int band = 0;                 // 0-based, as DemEncodeOptions
     std::optional<double> nodata; // the nodata value used (option or declared), if any
-    std::string sampling;    // the geometry rule applied
-    ResidualHeader header;
-    int64_t tiles = 0;
-    int64_t sharedTiles = 0;
-    uint64_t bytes = 0;      // file size
-    int64_t finestSamples = 0;
-    int64_t nodataFilled = 0; // finest-grid samples without a source height, filled
-    std::vector<DemLevelReport> levels;
-    std::vector<double> scalesTried; // --scale auto
-    int threads = 0;
+    std::string sampling;         // the geometry rule applied
     double seconds = 0.0;
 };
 
-// The height band and nodata value the options select in an input: throws Error naming --band
+// The height band and nodata value the options select in an input: throws OptionError("band")
 // when the input has no such band; the nodata value is the option's, else what the file declares
 // (unless options.ignoreDeclaredNodata), else none.
 std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncodeOptions& options,
                                          const std::string& where);
 
-// The finest level's interval count for an input and options (maxLevel resolved).
+// The pyramid's header for an input and options: maxLevel resolved (the default from the
+// input's size; `where` names the input when that default makes too many tiles).
 ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& options, const std::string& where);
 
 // Encodes `input` into the residual file `output` (written atomically). Throws Error with a

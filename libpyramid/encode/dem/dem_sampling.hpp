@@ -15,8 +15,8 @@
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <vector>
 
+#include "libpyramid/encode/residual/height_source.hpp"
 #include "libpyramid/input/raster_source.hpp"
 
 namespace pyramid {
@@ -42,27 +42,6 @@ struct DemGeometry {
 
 // Throws Error (naming `where`) for inputs smaller than 2 x 2.
 DemGeometry makeDemGeometry(int width, int height, int64_t N, bool stretch, const std::string& where);
-
-// Heights of finest-grid samples x0 + i*stride (0 <= i < nx), y0 + j*stride (0 <= j < ny),
-// all inside [0, N]. valid: 1 = a height, 0 = nodata (2 is used by the encoder for filled).
-struct SourceGrid {
-    int64_t x0 = 0, y0 = 0, stride = 1;
-    int64_t nx = 0, ny = 0;
-    std::vector<float> height;
-    std::vector<uint8_t> valid;
-
-    size_t index(int64_t fx, int64_t fy) const {
-        return static_cast<size_t>((fx - x0) / stride) + static_cast<size_t>((fy - y0) / stride) * static_cast<size_t>(nx);
-    }
-};
-
-// Where a residual pyramid's heights come from: fills grid.height and grid.valid for the
-// positions grid describes (allocating them). Thread-safe.
-class HeightSource {
-public:
-    virtual ~HeightSource() = default;
-    virtual void sample(SourceGrid& grid) const = 0;
-};
 
 // The heights of a planar raster.
 class DemSampler final : public HeightSource {

@@ -10,6 +10,7 @@
 #include "formats/error.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -32,7 +33,7 @@ private:
 void checkFaces(const std::vector<int>& faces) {
     const std::set<int> unique(faces.begin(), faces.end());
     if (faces.empty() || unique.size() != faces.size() || *unique.begin() < 1 || *unique.rbegin() > kCubeFaceCount) {
-        fail("--faces", "needs distinct face numbers from 1 to 6");
+        failOption("faces", "needs distinct face numbers from 1 to 6");
     }
 }
 
@@ -42,17 +43,15 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
                                       const SphericalDemOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     const DemEncodeOptions& o = options.dem;
-    if (!o.autoScale && (!std::isfinite(o.scale) || o.scale <= 0.0)) {
-        fail("--scale", "must be a positive number, not " + numberText(o.scale));
-    }
+    o.validate();
     if (!std::isfinite(options.heightScale) || options.heightScale == 0.0) {
-        fail("--height-scale", "must be a finite non-zero number, not " + numberText(options.heightScale));
+        failOption("heightScale", "must be a finite non-zero number, not " + numberText(options.heightScale));
     }
     checkFaces(options.faces);
     if (o.rootTileSize < 2) {
         // The root tile's 2-interval borders fold onto the neighbouring faces: at most a face deep.
-        fail("--root-tile-size", "cube faces need a root tile of at least 2 intervals, not " +
-                                     std::to_string(o.rootTileSize));
+        failOption("rootTileSize", "cube faces need a root tile of at least 2 intervals, not " +
+                                       std::to_string(o.rootTileSize));
     }
     const PlanetBody body = PlanetBody::parse(options.body);
     auto source = RasterSource::open(input, o.cacheMegabytes);
@@ -71,7 +70,7 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
     DemEncodeOptions faceOptions = o;
     faceOptions.stretch = false;
     faceOptions.reconstruction = nullptr;
-    if (faceOptions.maxLevel < 0 && faceOptions.rootTileSize > 0) {
+    if (faceOptions.maxLevel < 0 && faceOptions.dstMaxLevel < 0) {
         const double equatorWidth = static_cast<double>(source->info().width) * 360.0 /
                                     (options.extent.east - options.extent.west) / 4.0;
         faceOptions.maxLevel = 0;
@@ -79,8 +78,7 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
                static_cast<double>(static_cast<int64_t>(faceOptions.rootTileSize) << faceOptions.maxLevel) < equatorWidth) {
             ++faceOptions.maxLevel;
         }
-        const int minLevel = static_cast<int>(std::lround(std::log2(std::max(1, o.tileSize / o.rootTileSize))));
-        faceOptions.maxLevel = std::max(faceOptions.maxLevel, minLevel);
+        faceOptions.maxLevel = std::max(faceOptions.maxLevel, o.minLevel());
     }
     const ResidualHeader header = planDemPyramid(source->info(), faceOptions, input);
     const int64_t N = static_cast<int64_t>(header.tileSize >> header.minLevel) << header.maxLevel;

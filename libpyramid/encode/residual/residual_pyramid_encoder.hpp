@@ -7,35 +7,71 @@
 // HeightSource is asked for those positions too, with negative coordinates or beyond N
 // (GridEdges::Folded), and answers with the neighbour face's samples.
 #pragma once
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "formats/residual_file.hpp"
-#include "libpyramid/encode/dem/dem_encoder.hpp"
-#include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/encode/residual/height_source.hpp"
 
 namespace pyramid {
 
 enum class GridEdges { Clamped, Folded };
+
+// How residuals are quantized and the encoding is run: the options every residual pyramid
+// takes, whatever its heights' source (the DEM front ends' options extend them).
+struct ResidualEncodeOptions {
+    double scale = 1.0;             // quantization step (height units per residual unit)
+    bool autoScale = false;         // choose the smallest 1-2-5 x 10^k scale without int16 overflow
+    int threads = 0;                // 0: all cores
+    // Called from one thread at a time with (tiles done, total tiles).
+    std::function<void(int64_t, int64_t)> progress;
+    // Called from one thread at a time with each tile's reconstruction ((n+5)^2 float32, row 0 =
+    // bottom), exactly what a producer rebuilds from the file: for tests and inspection.
+    std::function<void(int level, int tx, int ty, const std::vector<float>&)> reconstruction;
+
+    // Throws OptionError unless the scale is positive and finite (or automatic) and threads >= 0.
+    void validate() const;
+};
+
+struct ResidualLevelReport {
+    int level = 0;
+    int64_t tiles = 0;
+    int64_t samples = 0;     // valid source samples compared
+    double maxError = 0.0;   // max |reconstruction - source|
+    double rmsError = 0.0;
+    int maxAbsResidual = 0;
+};
+
+// What the encoder measured of the pyramid it wrote.
+struct ResidualPyramidReport {
+    ResidualHeader header;
+    int64_t tiles = 0;
+    int64_t sharedTiles = 0;
+    uint64_t bytes = 0;       // file size
+    int64_t finestSamples = 0;
+    int64_t nodataFilled = 0; // finest-grid samples without a source height, filled
+    std::vector<ResidualLevelReport> levels;
+    std::vector<double> scalesTried; // automatic scale
+    int threads = 0;
+};
 
 struct ResidualPyramidJob {
     ResidualHeader header;           // minLevel, maxLevel and tileSize; the scale comes from the options
     const HeightSource* heights = nullptr;
     GridEdges edges = GridEdges::Clamped;
     // The height given to every sample of a pyramid that has no valid sample at all (a cube face
-    // outside a partial --extent); none: such a pyramid is an error.
+    // outside a partial extent); none: such a pyramid is an error.
     std::optional<float> emptyFill;
     std::string input;               // names the input in messages
 };
 
-// Encodes the pyramid into `output` (written atomically) with options' scale (or --scale auto),
-// threads, progress and reconstruction hook, and fills report's header, tiles, sharedTiles,
-// bytes, finestSamples, nodataFilled, levels, scalesTried and threads. Throws Error on int16
-// overflow (naming the smallest scale that would fit) and when no sample is valid.
-void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output, const DemEncodeOptions& options,
-                           DemReport& report);
-
-// A number as messages print it: up to 6 significant digits, no trailing zeros.
-std::string numberText(double x);
+// Encodes the pyramid into `output` (written atomically) with the options' scale (or the
+// automatic one), threads, progress and reconstruction hook, and fills `report`. Throws Error
+// on int16 overflow (naming the smallest scale that would fit) and when no sample is valid.
+void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output,
+                           const ResidualEncodeOptions& options, ResidualPyramidReport& report);
 
 } // namespace pyramid
