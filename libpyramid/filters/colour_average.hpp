@@ -6,28 +6,13 @@
 // value; the alpha-like last channel of 2- and 4-channel images is averaged as stored. All
 // arithmetic is on integers, so every machine computes the same bytes.
 #pragma once
-#include <cstddef>
 #include <cstdint>
-#include <vector>
+
+#include "libpyramid/filters/image8.hpp"
 
 namespace pyramid {
 
 enum class ColourSpace { Srgb, Linear };
-
-// An 8-bit image, row-major, row 0 = bottom (south).
-struct Image8 {
-    int width = 0, height = 0, channels = 0;
-    std::vector<uint8_t> pixels;
-    Image8() = default;
-    Image8(int w, int h, int c)
-        : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(c)) {}
-    uint8_t* at(int x, int y) {
-        return &pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * static_cast<size_t>(channels)];
-    }
-    const uint8_t* at(int x, int y) const {
-        return &pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * static_cast<size_t>(channels)];
-    }
-};
 
 class ColourAverager {
 public:
