@@ -226,7 +226,7 @@ void DemSampler::sample(SourceGrid& grid) const {
                 return false;
             }
             fail(source_.path(), "NaN height at column " + std::to_string(c) + ", row " + std::to_string(r) +
-                                     " (declare it with --nodata nan to treat it as missing)");
+                                     " (declare NaN the nodata value to treat it as missing)");
         }
         if (nodata_ && !nanNodata && s == nodataValue) {
             return false;
