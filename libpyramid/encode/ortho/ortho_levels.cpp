@@ -18,13 +18,13 @@ constexpr int kBorder = kTileBorder;
 constexpr int kSubtreeDepth = 4;
 constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
-void checkTileSize(const OrthoLevelsOptions& o) {
-    if (o.tileSize < 2 || o.tileSize > 8192 || o.tileSize % 2 != 0) {
-        fail("--tile-size", std::to_string(o.tileSize) + " is not an even number from 2 to 8192");
+} // namespace
+
+void OrthoLevelsOptions::validate() const {
+    if (tileSize < 2 || tileSize > 8192 || tileSize % 2 != 0) {
+        failOption("tileSize", std::to_string(tileSize) + " is not an even number from 2 to 8192");
     }
 }
-
-} // namespace
 
 struct OrthoLevels::Impl {
     std::unique_ptr<RasterSource> ownedSource; // planar: opened here
@@ -113,7 +113,7 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
         fail(input, std::to_string(info.channels) + " channels (1 to 4 expected; --channels selects the first ones)");
     }
     if (o.channels < 0 || o.channels > std::min(4, info.channels)) {
-        fail("--channels", std::to_string(o.channels) + " is not 1.." + std::to_string(std::min(4, info.channels)));
+        failOption("channels", std::to_string(o.channels) + " is not 1.." + std::to_string(std::min(4, info.channels)));
     }
     channels = o.channels ? o.channels : info.channels;
     T = o.tileSize;
@@ -125,7 +125,7 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
         }
     }
     if (M > 20) {
-        fail("--max-level", std::to_string(M) + " is beyond 20");
+        failOption("maxLevel", std::to_string(M) + " is beyond 20");
     }
     C = std::max(0, M - kSubtreeDepth);
     // One pass assembles level C from the subtrees: subtrees of 3 levels rather than 4 start
@@ -147,7 +147,7 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
 
 OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
-    checkTileSize(o);
+    o.validate();
     m.ownedSource = RasterSource::open(input, o.cacheMegabytes);
     m.source = m.ownedSource.get();
     const RasterInfo& info = m.source->info();
@@ -160,11 +160,11 @@ OrthoLevels::OrthoLevels(const RasterSource& source, const GeoExtent& extent, co
                          const OrthoLevelsOptions& o)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
-    checkTileSize(o);
+    o.validate();
     if (o.tileSize < 4) {
         // The level images reach 4 / tileSize of a face beyond its edges; more than half a
         // face would fold past the neighbour face.
-        fail("--tile-size", std::to_string(o.tileSize) + " is below 4, the smallest for a cube face");
+        failOption("tileSize", std::to_string(o.tileSize) + " is below 4, the smallest for a cube face");
     }
     m.source = &source;
     m.init(o, (static_cast<int64_t>(source.info().width) + 3) / 4);

@@ -60,6 +60,10 @@ struct OrthoLevelsOptions {
     bool stretch = false; // planar only
     int threads = 0;
     int cacheMegabytes = 256;
+
+    // The checks that do not need the input (tileSize); OrthoLevels checks the others against
+    // it. Throws OptionError naming the field.
+    void validate() const;
 };
 
 // One tile of the pyramid with a 2-pixel border: (tileSize + 4)^2 x channels, row 0 = south.
