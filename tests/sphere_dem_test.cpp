@@ -271,7 +271,7 @@ TEST(SphericalDem, BadInputWritesNothing) {
     };
     SphericalDemOptions o = smallOptions();
     o.body = "jupiter";
-    expectError(o, map, "--body");
+    expectError(o, map, "body: ");
     o = smallOptions();
     o.faces = {1, 7};
     expectError(o, map, "--faces");
