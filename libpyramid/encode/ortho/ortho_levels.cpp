@@ -14,7 +14,6 @@ namespace pyramid {
 
 namespace {
 
-constexpr int kBorder = kTileBorder;
 constexpr int kSubtreeDepth = 4;
 constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
@@ -49,16 +48,17 @@ struct OrthoLevels::Impl {
         t.level = l;
         t.tx = tx;
         t.ty = ty;
-        const int side = T + 2 * kBorder;
+        const int side = T + 2 * kTileBorder;
         t.pixels = Image8(side, side, channels);
         // The columns are the same for every row: runs of consecutive source columns (all of
         // them but clamped edge pixels) are copied as one block.
+        const int64_t width = levelWidth(l);
         std::vector<int64_t> gx(static_cast<size_t>(side));
         for (int x = 0; x < side; ++x) {
-            gx[static_cast<size_t>(x)] = pixels->borderPixel(static_cast<int64_t>(tx) * T + x - kBorder, levelWidth(l)) - ox;
+            gx[static_cast<size_t>(x)] = pixels->borderPixel(static_cast<int64_t>(tx) * T + x - kTileBorder, width) - ox;
         }
         for (int y = 0; y < side; ++y) {
-            const int64_t gy = pixels->borderPixel(static_cast<int64_t>(ty) * T + y - kBorder, levelWidth(l)) - oy;
+            const int64_t gy = pixels->borderPixel(static_cast<int64_t>(ty) * T + y - kTileBorder, width) - oy;
             for (int x = 0; x < side;) {
                 int run = 1;
                 while (x + run < side && gx[static_cast<size_t>(x + run)] == gx[static_cast<size_t>(x)] + run) {
@@ -234,10 +234,10 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
     // beyond the edge (which is wider than the border).
     const int64_t lo = -margin(top);
     const int64_t hi = levelWidth(top) + margin(top);
-    const int64_t x0 = std::max<int64_t>(lo, static_cast<int64_t>(tx) * T - kBorder);
-    const int64_t y0 = std::max<int64_t>(lo, static_cast<int64_t>(ty) * T - kBorder);
-    const int64_t x1 = std::min<int64_t>(hi, (static_cast<int64_t>(tx) + 1) * T + kBorder);
-    const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) + 1) * T + kBorder);
+    const int64_t x0 = std::max<int64_t>(lo, static_cast<int64_t>(tx) * T - kTileBorder);
+    const int64_t y0 = std::max<int64_t>(lo, static_cast<int64_t>(ty) * T - kTileBorder);
+    const int64_t x1 = std::min<int64_t>(hi, (static_cast<int64_t>(tx) + 1) * T + kTileBorder);
+    const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) + 1) * T + kTileBorder);
     if (blankStaysBlank && pixels->knownBlank(x0 << d, y0 << d, (x1 - x0) << d, (y1 - y0) << d)) {
         // Wholly beyond the input: every pixel of every level is 0 (and so is levelC, as
         // created). No sampling, no reduction.
@@ -306,7 +306,7 @@ void OrthoLevels::Impl::blankSubtree(int l, int tx, int ty, TileBatch& out) cons
     t.level = l;
     t.tx = tx;
     t.ty = ty;
-    t.pixels = Image8(T + 2 * kBorder, T + 2 * kBorder, channels);
+    t.pixels = Image8(T + 2 * kTileBorder, T + 2 * kTileBorder, channels);
     out.push_back(std::move(t));
     if (l < M) {
         for (int c = 0; c < 4; ++c) {
