@@ -41,7 +41,7 @@ TEST(PlanetBody, BadBodiesAreOneLineErrors) {
         } catch (const Error& e) {
             const std::string m = e.what();
             EXPECT_EQ(m.find('\n'), std::string::npos);
-            EXPECT_EQ(m.rfind("--body: ", 0), 0u) << m;
+            EXPECT_EQ(m.rfind("body: ", 0), 0u) << m;
         }
     }
 }

@@ -201,5 +201,24 @@ TEST(CubeFaces, BeyondCornerSamplesExtendThePlane) {
     EXPECT_THROW(cubePoint(g, {1, 20, 4}), Error); // farther beyond the edge than a face
 }
 
+// The one check of a face list, for every spherical encoder: the option and the value named.
+TEST(CubeFaces, FaceListCheck) {
+    EXPECT_NO_THROW(checkFaceList({1, 2, 3, 4, 5, 6}));
+    EXPECT_NO_THROW(checkFaceList({6, 2}));
+    const auto problem = [](const std::vector<int>& faces) -> std::string {
+        try {
+            checkFaceList(faces);
+        } catch (const OptionError& e) {
+            EXPECT_EQ(e.option(), "faces");
+            return e.problem();
+        }
+        return "no error";
+    };
+    EXPECT_EQ(problem({}), "selects no face");
+    EXPECT_EQ(problem({1, 7}), "7 is not a face number (1..6)");
+    EXPECT_EQ(problem({0}), "0 is not a face number (1..6)");
+    EXPECT_EQ(problem({2, 3, 2}), "face 2 is named twice");
+}
+
 } // namespace
 } // namespace pyramid

@@ -139,5 +139,29 @@ TEST(EquirectSampler, BadExtentsAndChannels) {
     EXPECT_THROW(EquirectSampler(*src, GeoExtent{}, 1, 2, SampleRead::Float, std::nullopt), Error);
 }
 
+// One rule for an extent, parsed from text or given as numbers: OptionError("extent") with the
+// broken rule (and the text it came from); a program's flag in its stead on request.
+TEST(EquirectSampler, ExtentRuleOnceForTextAndNumbers) {
+    const auto problem = [](const auto& check) -> std::string {
+        try {
+            check();
+        } catch (const OptionError& e) {
+            EXPECT_EQ(e.option(), "extent");
+            return e.problem();
+        }
+        return "no error";
+    };
+    EXPECT_EQ(problem([] { GeoExtent::parse("10,0,5,10"); }), "needs WEST < EAST <= WEST + 360, not 10,0,5,10");
+    EXPECT_EQ(problem([] { GeoExtent{0, -100, 10, 0}.validate(); }), "needs -90 <= SOUTH < NORTH <= 90");
+    EXPECT_EQ(problem([] { GeoExtent::parse("0,x,1,1"); }), "'x' is not a number of degrees");
+    EXPECT_EQ(problem([] { GeoExtent{}.validate(); }), "no error");
+    try {
+        GeoExtent::parse("0,10,10,5", "--extent");
+        ADD_FAILURE();
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "--extent: needs -90 <= SOUTH < NORTH <= 90, not 0,10,10,5");
+    }
+}
+
 } // namespace
 } // namespace pyramid

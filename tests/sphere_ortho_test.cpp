@@ -326,24 +326,24 @@ TEST(SphereOrtho, BadInputWritesNothing) {
     EXPECT_NE(message(dir.file("missing.png"), good).find("missing.png"), std::string::npos);
     SphericalOrthoOptions o = good;
     o.body = "jupiter";
-    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("--body: ", 0), 0u);
+    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("body: ", 0), 0u);
     o = good;
     o.faces = {1, 7};
-    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("--faces: ", 0), 0u);
+    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("faces: ", 0), 0u);
     o.faces = {2, 2};
-    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("--faces: ", 0), 0u);
+    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("faces: ", 0), 0u);
     o = good;
     o.ortho.levels.tileSize = 2;
-    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("--tile-size: ", 0), 0u);
+    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("tileSize: ", 0), 0u);
     o = good;
     o.extent.south = -100.0;
-    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("--extent: ", 0), 0u);
+    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("extent: ", 0), 0u);
     o = good;
     o.ortho.levels.channels = 4;
-    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("--channels: ", 0), 0u);
+    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("channels: ", 0), 0u);
     o = good;
     o.ortho.name = "";
-    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("--name: ", 0), 0u);
+    EXPECT_EQ(message(dir.file("globe.png"), o).rfind("name: ", 0), 0u);
     EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
 }
 

@@ -1,11 +1,26 @@
 #include "libpyramid/sphere/cube_faces.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 
 #include "formats/error.hpp"
 
 namespace pyramid {
+
+void checkFaceList(const std::vector<int>& faces) {
+    if (faces.empty()) {
+        failOption("faces", "selects no face");
+    }
+    for (auto f = faces.begin(); f != faces.end(); ++f) {
+        if (*f < 1 || *f > kCubeFaceCount) {
+            failOption("faces", std::to_string(*f) + " is not a face number (1..6)");
+        }
+        if (std::find(faces.begin(), f, *f) != f) {
+            failOption("faces", "face " + std::to_string(*f) + " is named twice");
+        }
+    }
+}
 
 namespace {
 

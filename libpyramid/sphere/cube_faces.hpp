@@ -22,10 +22,15 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace pyramid {
 
 inline constexpr int kCubeFaceCount = 6;
+
+// A list of faces to build (an option of the spherical encoders): at least one, each 1..6,
+// none twice. Throws OptionError("faces", ...) otherwise.
+void checkFaceList(const std::vector<int>& faces);
 
 enum class FaceGridKind {
     Vertices,     // DEM samples: n + 1 per side

@@ -8,26 +8,46 @@
 
 namespace pyramid {
 
-GeoExtent GeoExtent::parse(const std::string& text, const std::string& where) {
+GeoExtent GeoExtent::parse(const std::string& text) {
     double v[4];
     size_t start = 0;
     for (int k = 0; k < 4; ++k) {
         const size_t comma = k < 3 ? text.find(',', start) : text.size();
         if (comma == std::string::npos) {
-            fail(where, "'" + text + "' is not WEST,SOUTH,EAST,NORTH in degrees");
+            failOption("extent", "'" + text + "' is not WEST,SOUTH,EAST,NORTH in degrees");
         }
-        const std::string part = text.substr(start, comma - start);
-        v[k] = parseNumber(part, where, "a number of degrees");
+        v[k] = parseOptionNumber(text.substr(start, comma - start), "extent", "a number of degrees");
         start = comma + 1;
     }
-    GeoExtent e{v[0], v[1], v[2], v[3]};
-    if (!(e.west < e.east) || e.east - e.west > 360.0 || e.west < -540.0 || e.east > 540.0) {
-        fail(where, "needs WEST < EAST <= WEST + 360, not " + text);
-    }
-    if (!(e.south < e.north) || e.south < -90.0 || e.north > 90.0) {
-        fail(where, "needs -90 <= SOUTH < NORTH <= 90, not " + text);
+    const GeoExtent e{v[0], v[1], v[2], v[3]};
+    if (const char* rule = e.brokenRule()) {
+        failOption("extent", std::string(rule) + ", not " + text);
     }
     return e;
+}
+
+GeoExtent GeoExtent::parse(const std::string& text, const std::string& where) {
+    try {
+        return parse(text);
+    } catch (const OptionError& e) {
+        fail(where, e.problem());
+    }
+}
+
+void GeoExtent::validate() const {
+    if (const char* rule = brokenRule()) {
+        failOption("extent", rule);
+    }
+}
+
+const char* GeoExtent::brokenRule() const {
+    if (!(west < east) || east - west > 360.0 || west < -540.0 || east > 540.0) {
+        return "needs WEST < EAST <= WEST + 360";
+    }
+    if (!(south < north) || south < -90.0 || north > 90.0) {
+        return "needs -90 <= SOUTH < NORTH <= 90";
+    }
+    return nullptr;
 }
 
 EquirectSampler::EquirectSampler(const RasterSource& source, const GeoExtent& extent, int c0, int c1,

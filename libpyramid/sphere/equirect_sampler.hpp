@@ -26,8 +26,16 @@ namespace pyramid {
 
 struct GeoExtent {
     double west = -180.0, south = -90.0, east = 180.0, north = 90.0; // degrees
-    // "WEST,SOUTH,EAST,NORTH" in degrees; west < east <= west + 360, -90 <= south < north <= 90.
-    static GeoExtent parse(const std::string& text, const std::string& where = "--extent");
+    // "WEST,SOUTH,EAST,NORTH" in degrees, an extent as validate() wants it. Throws
+    // OptionError("extent", ...) otherwise.
+    static GeoExtent parse(const std::string& text);
+    // The same, the error naming `where` (e.g. a program's flag) instead of the option.
+    static GeoExtent parse(const std::string& text, const std::string& where);
+    // west < east <= west + 360 (within -540..540), -90 <= south < north <= 90. Throws
+    // OptionError("extent", ...) otherwise.
+    void validate() const;
+    // The rule of validate() this extent breaks, or nullptr.
+    const char* brokenRule() const;
     bool global() const { return east - west >= 360.0; }
 };
 

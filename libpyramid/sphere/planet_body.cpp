@@ -38,7 +38,7 @@ PlanetBody::PlanetBody(std::string name, double equatorialRadius, double flatten
     geodesic_ = std::make_shared<const GeographicLib::Geodesic>(a_, f_);
 }
 
-PlanetBody PlanetBody::parse(const std::string& text, const std::string& where) {
+PlanetBody PlanetBody::parse(const std::string& text) {
     if (text == "wgs84" || text == "WGS84") {
         return PlanetBody("wgs84", GeographicLib::Constants::WGS84_a(), GeographicLib::Constants::WGS84_f());
     }
@@ -53,14 +53,22 @@ PlanetBody PlanetBody::parse(const std::string& text, const std::string& where) 
     }
     const size_t comma = text.find(',');
     if (comma == std::string::npos) {
-        fail(where, "'" + text + "' is not wgs84, sphere, moon, mars or A,F (radius in metres, flattening)");
+        failOption("body", "'" + text + "' is not wgs84, sphere, moon, mars or A,F (radius in metres, flattening)");
     }
-    const double a = parseNumber(text.substr(0, comma), where);
-    const double f = parseNumber(text.substr(comma + 1), where);
+    const double a = parseOptionNumber(text.substr(0, comma), "body");
+    const double f = parseOptionNumber(text.substr(comma + 1), "body");
     if (!(a > 0.0) || !(f >= 0.0) || f == 1.0) {
-        fail(where, "'" + text + "': the radius must be positive and the flattening in [0, 1) or an inverse flattening > 1");
+        failOption("body", "'" + text + "': the radius must be positive and the flattening in [0, 1) or an inverse flattening > 1");
     }
     return PlanetBody(text, a, f);
+}
+
+PlanetBody PlanetBody::parse(const std::string& text, const std::string& where) {
+    try {
+        return parse(text);
+    } catch (const OptionError& e) {
+        fail(where, e.problem());
+    }
 }
 
 std::string PlanetBody::describe() const {

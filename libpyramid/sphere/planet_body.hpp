@@ -35,8 +35,10 @@ class PlanetBody {
 public:
     // "wgs84" (the default), "sphere" (the Earth's mean radius, flattening 0), "moon", "mars",
     // or "A,F": equatorial radius A in metres and flattening F (F > 1 is taken as the inverse
-    // flattening, e.g. "6378137,298.257223563"). Throws Error naming `where` otherwise.
-    static PlanetBody parse(const std::string& text, const std::string& where = "--body");
+    // flattening, e.g. "6378137,298.257223563"). Throws OptionError("body", ...) otherwise.
+    static PlanetBody parse(const std::string& text);
+    // The same, the error naming `where` (e.g. a program's flag) instead of the option.
+    static PlanetBody parse(const std::string& text, const std::string& where);
     PlanetBody(std::string name, double equatorialRadius, double flattening);
 
     const std::string& name() const { return name_; }

@@ -27,4 +27,12 @@ double parseNumber(const std::string& text, const std::string& where, const std:
     return *v;
 }
 
+double parseOptionNumber(const std::string& text, const std::string& option, const std::string& what) {
+    const std::optional<double> v = tryParseNumber(text);
+    if (!v) {
+        failOption(option, "'" + text + "' is not " + what);
+    }
+    return *v;
+}
+
 } // namespace pyramid

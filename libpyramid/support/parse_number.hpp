@@ -10,5 +10,7 @@ std::optional<double> tryParseNumber(const std::string& text);
 
 // Throws Error("WHERE: 'TEXT' is not WHAT").
 double parseNumber(const std::string& text, const std::string& where, const std::string& what = "a number");
+// The same for the value of a library option: throws OptionError(option, "'TEXT' is not WHAT").
+double parseOptionNumber(const std::string& text, const std::string& option, const std::string& what = "a number");
 
 } // namespace pyramid

@@ -44,6 +44,10 @@ struct OrthoEncodeOptions {
     // Called from one thread at a time with each tile's colour-residual reconstruction
     // ((tileSize+4)^2 x channels), exactly what the colour-residual producer rebuilds: for tests.
     std::function<void(int level, int tx, int ty, const std::vector<uint8_t>&)> colourReconstruction;
+
+    // The checks that do not need the input (levels has its own); encodeOrtho checks the others
+    // against it. Throws OptionError naming the field.
+    void validate() const;
 };
 
 struct OrthoLevelReport {

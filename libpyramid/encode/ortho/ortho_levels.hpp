@@ -33,6 +33,11 @@
 // face, level C is built with 2 << C pixels beyond each side (level l then has 2 << l, at least
 // the border), and a footprint is the tile and its border, wherever they lie; tileSize must be
 // at least 4 so that the margin stays within half a face of the edge.
+//
+// The code. What differs between a plane and a face is behind PixelSource (pixel_source.hpp):
+// the finest pixels, the margin beyond the map and the border rule, from planar_pixels.hpp or
+// face_pixels.hpp; ortho_levels.cpp reduces the levels, cuts the tiles and walks them in either
+// order for both.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -55,6 +60,10 @@ struct OrthoLevelsOptions {
     bool stretch = false; // planar only
     int threads = 0;
     int cacheMegabytes = 256;
+
+    // The checks that do not need the input (tileSize); OrthoLevels checks the others against
+    // it. Throws OptionError naming the field.
+    void validate() const;
 };
 
 // One tile of the pyramid with a 2-pixel border: (tileSize + 4)^2 x channels, row 0 = south.

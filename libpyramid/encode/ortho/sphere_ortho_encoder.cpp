@@ -1,6 +1,5 @@
 #include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -12,44 +11,14 @@
 
 namespace pyramid {
 
-namespace {
-
-void checkFaces(const std::vector<int>& faces) {
-    if (faces.empty()) {
-        fail("--faces", "selects no face");
-    }
-    std::vector<int> seen;
-    for (const int f : faces) {
-        if (f < 1 || f > kCubeFaceCount) {
-            fail("--faces", std::to_string(f) + " is not a face number (1..6)");
-        }
-        if (std::find(seen.begin(), seen.end(), f) != seen.end()) {
-            fail("--faces", "face " + std::to_string(f) + " is named twice");
-        }
-        seen.push_back(f);
-    }
-}
-
-// The rules of GeoExtent::parse, for an extent that did not come from text.
-void checkExtent(const GeoExtent& e) {
-    if (!(e.west < e.east) || e.east - e.west > 360.0 || e.west < -540.0 || e.east > 540.0) {
-        fail("--extent", "needs WEST < EAST <= WEST + 360");
-    }
-    if (!(e.south < e.north) || e.south < -90.0 || e.north > 90.0) {
-        fail("--extent", "needs -90 <= SOUTH < NORTH <= 90");
-    }
-}
-
-} // namespace
-
 SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::string& directory,
                                           const SphericalOrthoOptions& o) {
     const auto start = std::chrono::steady_clock::now();
-    const PlanetBody body = PlanetBody::parse(o.body, "--body");
-    checkFaces(o.faces);
-    checkExtent(o.extent);
+    const PlanetBody body = PlanetBody::parse(o.body);
+    checkFaceList(o.faces);
+    o.extent.validate();
     if (o.ortho.name.empty()) {
-        fail("--name", "'' is not a plain file name"); // the face number alone would pass for one
+        failOption("name", "'' is not a plain file name"); // the face number alone would pass for one
     }
     const std::unique_ptr<RasterSource> source = RasterSource::open(input, o.ortho.levels.cacheMegabytes);
     // Every face set up before any is written: the input and the options are checked once, and a

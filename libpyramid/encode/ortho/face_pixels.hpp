@@ -1,0 +1,45 @@
+// The finest pixels of one cube face of a spherical planet (ortho_levels.hpp, "Cube faces"):
+// the face grid of pixel centres, each the equirectangular input sampled bilinearly at the
+// geodetic point of its cube point (face_sampler.hpp) and brought to 8 bits; 0 in every channel
+// outside the input's extent. The face has pixels beyond its edges too (folded onto the
+// neighbouring faces), from which its tiles take their borders.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "libpyramid/encode/ortho/pixel_source.hpp"
+#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/sphere/face_sampler.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
+
+namespace pyramid {
+
+class FacePixels final : public PixelSource {
+public:
+    // Face `face` (1..6) of `body`, `width` pixels across at the finest level, from the first
+    // `channels` channels of `source` (which must outlive this object) covering `extent`.
+    FacePixels(const RasterSource& source, const GeoExtent& extent, const PlanetBody& body, int face, int channels,
+               int64_t width);
+    FacePixels(const FacePixels&) = delete; // map_ and face_ refer to the members before them
+    FacePixels& operator=(const FacePixels&) = delete;
+
+    Image8 sample(int64_t x0, int64_t y0, int w, int h) const override;
+    // Whether a point lies in the input's extent is known only by sampling it.
+    bool knownBlank(int64_t, int64_t, int64_t, int64_t) const override { return false; }
+    // Tiles at every level up to l take their borders from beyond the face, and reducing level l
+    // to level 0 halves the margin l times, down to the border.
+    int64_t margin(int l) const override { return int64_t{kTileBorder} << l; }
+    int64_t borderPixel(int64_t p, int64_t) const override { return p; }
+    const std::string& sampling() const override { return sampling_; }
+
+private:
+    int channels_ = 0;
+    bool sixteen_ = false;
+    PlanetBody body_;
+    EquirectSampler map_;
+    FaceSampler face_;
+    std::string sampling_;
+};
+
+} // namespace pyramid

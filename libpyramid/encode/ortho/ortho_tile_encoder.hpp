@@ -1,0 +1,65 @@
+// One ortho tile encoded for each output of encodeOrtho (ortho_encoder.hpp): its TIFF tile,
+// its DXT tile and its colour residual tile (closed loop), with the statistics of their errors.
+// Thread-safe: the tiles of a group are encoded in parallel.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <tuple>
+#include <vector>
+
+#include "formats/ortho_file.hpp"
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
+
+namespace pyramid {
+
+// What a tile adds to its level's statistics (OrthoLevelReport).
+struct OrthoTileStats {
+    int tiffMaxError = 0;
+    int64_t jpegTiles = 0;
+    double dxtSquares = 0.0;
+    int64_t dxtSamples = 0;
+    int residualMaxError = 0;
+    double residualSquares = 0.0;
+    int64_t residualSamples = 0;
+    int64_t clamped = 0;
+};
+
+// A tile's bytes in each output (empty for an output not written).
+struct EncodedOrthoTile {
+    int level = 0, tx = 0, ty = 0;
+    std::vector<uint8_t> tiff, dxt, residual;
+    std::vector<uint8_t> recon; // colour-residual reconstruction, for the children
+    OrthoTileStats stats;
+};
+
+class OrthoTileEncoder {
+public:
+    OrthoTileEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& o) : o_(o) {
+        channels_ = levels.channels();
+        tileSize_ = levels.tileSize();
+    }
+
+    // `parentRecon`: the parent's colour-residual reconstruction (residuals written, level > 0),
+    // else nullptr.
+    EncodedOrthoTile encode(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
+
+private:
+    // A uniform tile's colour (its 1 to 4 channels packed) and TIFF compression (which may
+    // depend on the tile's place).
+    using UniformKey = std::tuple<uint32_t, TiffCompression>;
+
+    std::optional<UniformKey> uniformKey(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
+    static EncodedOrthoTile placed(const EncodedOrthoTile& shared, const TrueTile& t);
+    TiffCompression tiffCompressionOf(const TrueTile& t) const;
+    EncodedOrthoTile encodeNew(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
+    void encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedOrthoTile& e) const;
+
+    const OrthoEncodeOptions& o_;
+    int channels_ = 0, tileSize_ = 0;
+    mutable std::mutex uniformMutex_;
+    mutable std::map<UniformKey, EncodedOrthoTile> uniform_;
+};
+
+} // namespace pyramid

@@ -1,0 +1,40 @@
+// Where the finest pixels of an ortho pyramid come from (ortho_levels.hpp): a plane resampled
+// from an image (planar_pixels.hpp) or one cube face of a spherical planet (face_pixels.hpp).
+// Everything that differs between the two is behind this interface, so that the code that
+// reduces the levels and cuts the tiles (ortho_levels.cpp) is the same for both.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "libpyramid/filters/colour_average.hpp"
+
+namespace pyramid {
+
+// Pixels of border on each side of a tile (TrueTile).
+inline constexpr int kTileBorder = 2;
+
+class PixelSource {
+public:
+    virtual ~PixelSource() = default;
+
+    // Finest-level pixels [x0, x0 + w) x [y0, y0 + h) (y up), 8 bits. Thread-safe.
+    virtual Image8 sample(int64_t x0, int64_t y0, int w, int h) const = 0;
+
+    // True when finest pixels [x0, x0 + w) x [y0, y0 + h) are known, without sampling them, to
+    // be 0 in every channel (beyond the input); false when they are not, or not known.
+    virtual bool knownBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) const = 0;
+
+    // Pixels that exist beyond each side of level l, the map's edge: 0 for a plane. A cube face
+    // has its neighbours there, and its tiles take their borders from them.
+    virtual int64_t margin(int l) const = 0;
+
+    // Coordinate p of a tile border pixel on a level `width` pixels across: the pixel whose
+    // value the border takes (a plane repeats its edge pixels; a face's borders are real
+    // pixels, within the margin).
+    virtual int64_t borderPixel(int64_t p, int64_t width) const = 0;
+
+    // The geometry rule applied, one sentence (reports).
+    virtual const std::string& sampling() const = 0;
+};
+
+} // namespace pyramid

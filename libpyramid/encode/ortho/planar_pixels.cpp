@@ -1,0 +1,184 @@
+#include "libpyramid/encode/ortho/planar_pixels.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "libpyramid/support/row_pair_cache.hpp"
+#include "libpyramid/support/vector_clones.hpp"
+
+namespace pyramid {
+
+namespace {
+
+// The two halves of the separable bilinear interpolation of PlanarPixels::sample, in
+// functions of their own so that they are compiled for wider vectors too (vector_clones.hpp:
+// the same operations, so the same bytes). A channel count known at compile time lets the
+// compiler vectorise across the pixels of a row.
+//
+// Input row `in` interpolated at `columns` output columns: column i lies between the input
+// pixels at element offsets first[i] and second[i], at `weight[i]` from the first.
+template <int Channels>
+void interpolateRowOf(const uint16_t* __restrict in, const size_t* __restrict first, const size_t* __restrict second,
+                      const double* __restrict weight, int columns, double* __restrict out) {
+    for (int i = 0; i < columns; ++i) {
+        const double fx = weight[i];
+        for (int ch = 0; ch < Channels; ++ch) {
+            const double v = in[first[i] + ch];
+            out[i * Channels + ch] = v + (static_cast<double>(in[second[i] + ch]) - v) * fx;
+        }
+    }
+}
+
+PYRAMID_VECTOR_CLONES
+void interpolateRow(const uint16_t* in, const size_t* first, const size_t* second, const double* weight,
+                    int columns, int channels, double* out) {
+    switch (channels) {
+    case 1: return interpolateRowOf<1>(in, first, second, weight, columns, out);
+    case 2: return interpolateRowOf<2>(in, first, second, weight, columns, out);
+    case 3: return interpolateRowOf<3>(in, first, second, weight, columns, out);
+    default: return interpolateRowOf<4>(in, first, second, weight, columns, out);
+    }
+}
+
+// An output row from its two interpolated input rows, `fy` of the way from `top` to `bottom`,
+// converted to 8 bits: v * 255 / full (full = 255, or 65535 for 16-bit input), rounded half
+// up. The values lie within [0, full], where the conversion to an integer truncates (floor)
+// and x - floor(x) is exact: std::lround's result without a branch or a library call.
+PYRAMID_VECTOR_CLONES
+void combineRows(const double* __restrict top, const double* __restrict bottom, double fy, double full, size_t count,
+                 uint8_t* __restrict row) {
+    for (size_t k = 0; k < count; ++k) {
+        const double x = (top[k] + (bottom[k] - top[k]) * fy) * 255.0 / full;
+        const auto i = static_cast<int32_t>(x);
+        row[k] = static_cast<uint8_t>(i + static_cast<int32_t>(x - static_cast<double>(i) >= 0.5));
+    }
+}
+
+} // namespace
+
+PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t width, bool stretch)
+    : source_(source), channels_(channels) {
+    const RasterInfo& info = source.info();
+    sixteen_ = info.type == SampleType::UInt16;
+    const int64_t W = width;
+    ax_.output = ay_.output = W;
+    ax_.input = info.width;
+    ay_.input = info.height;
+    ay_.flip = true;
+    if (info.width == W && info.height == W) {
+        ax_.exact = ay_.exact = true;
+        sampling_ = "input pixels are the finest level's pixels (no resampling)";
+    } else if (stretch) {
+        ax_.scale = static_cast<double>(info.width) / static_cast<double>(W);
+        ay_.scale = static_cast<double>(info.height) / static_cast<double>(W);
+        sampling_ = "bilinear resampling, width and height stretched independently onto " + std::to_string(W) + "x" +
+                    std::to_string(W) + " pixels";
+    } else {
+        const int64_t longest = std::max(info.width, info.height);
+        ax_.scale = ay_.scale = static_cast<double>(longest) / static_cast<double>(W);
+        sampling_ = "bilinear resampling onto " + std::to_string(W) + "x" + std::to_string(W) +
+                    " pixels, aspect ratio kept" +
+                    (info.width != info.height ? ", input at the north-west corner, the rest black and transparent" : "");
+    }
+}
+
+Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
+    Image8 out(w, h, channels_);
+    if (ax_.exact && ay_.exact && !sixteen_) {
+        // 8-bit input pixels are the finest pixels: the rows are read straight into place,
+        // bottom up (output row j is input row W - 1 - (y0 + j)). The general path below
+        // gives the same bytes through a 16-bit window and a copy.
+        const auto rowBytes = static_cast<std::ptrdiff_t>(w) * channels_;
+        const auto top = static_cast<int>(ay_.output - y0 - h);
+        source_.readUInt8(static_cast<int>(x0), top, static_cast<int>(x0) + w, top + h, 0, channels_,
+                          out.at(0, h - 1), -rowBytes);
+        return out;
+    }
+    std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
+    double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
+    for (int i = 0; i < w; ++i) {
+        px[static_cast<size_t>(i)] = ax_.position(x0 + i);
+        if (ax_.inside(px[static_cast<size_t>(i)])) {
+            minX = std::min(minX, px[static_cast<size_t>(i)]);
+            maxX = std::max(maxX, px[static_cast<size_t>(i)]);
+        }
+    }
+    for (int j = 0; j < h; ++j) {
+        py[static_cast<size_t>(j)] = ay_.position(y0 + j);
+        if (ay_.inside(py[static_cast<size_t>(j)])) {
+            minY = std::min(minY, py[static_cast<size_t>(j)]);
+            maxY = std::max(maxY, py[static_cast<size_t>(j)]);
+        }
+    }
+    if (minX > maxX || minY > maxY) {
+        return out; // beyond the input: zeros
+    }
+    const int cx0 = std::clamp(static_cast<int>(std::floor(minX)), 0, ax_.input - 1);
+    const int cx1 = std::clamp(static_cast<int>(std::floor(maxX)) + 1, 0, ax_.input - 1);
+    const int ry0 = std::clamp(static_cast<int>(std::floor(minY)), 0, ay_.input - 1);
+    const int ry1 = std::clamp(static_cast<int>(std::floor(maxY)) + 1, 0, ay_.input - 1);
+    const int ww = cx1 - cx0 + 1;
+    std::vector<uint16_t> window(static_cast<size_t>(ww) * static_cast<size_t>(ry1 - ry0 + 1) * channels_);
+    source_.readUInt16(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels_, window.data());
+    // The columns' neighbours and weights are the same on every row: computed once (the
+    // same values as per pixel, so the same bytes). Columns inside the input are a prefix
+    // [0, insideEnd), as positions grow with the column.
+    std::vector<size_t> off0(static_cast<size_t>(w)), off1(static_cast<size_t>(w));
+    std::vector<double> colFx(static_cast<size_t>(w));
+    int insideEnd = 0;
+    for (int i = 0; i < w; ++i) {
+        const double X = px[static_cast<size_t>(i)];
+        insideEnd = ax_.inside(X) ? i + 1 : insideEnd;
+        const double fx0 = std::floor(X);
+        colFx[static_cast<size_t>(i)] = X - fx0;
+        off0[static_cast<size_t>(i)] =
+            static_cast<size_t>(std::clamp(static_cast<int>(fx0), 0, ax_.input - 1) - cx0) * channels_;
+        off1[static_cast<size_t>(i)] =
+            static_cast<size_t>(std::clamp(static_cast<int>(fx0) + 1, 0, ax_.input - 1) - cx0) * channels_;
+    }
+    // Separable evaluation of the formula: `top` and `bottom` are each the horizontal
+    // interpolation of one input row, computed once per input row and shared by the output
+    // rows that use it (RowPairCache); then `v = top + (bottom - top) * fy`
+    // for a whole output row at once. Where fx or fy is 0 the formula gives the sample
+    // itself, exactly, so no case needs a path of its own.
+    const size_t rowSamples = static_cast<size_t>(insideEnd) * channels_;
+    RowPairCache rows(rowSamples);
+    const auto horizontal = [&](int64_t r, double* interpolated) {
+        interpolateRow(&window[static_cast<size_t>(r - ry0) * ww * channels_], off0.data(), off1.data(),
+                       colFx.data(), insideEnd, channels_, interpolated);
+    };
+    for (int j = 0; j < h; ++j) {
+        const double Y = py[static_cast<size_t>(j)];
+        if (!ay_.inside(Y) || insideEnd == 0) {
+            continue;
+        }
+        const double fy0 = std::floor(Y);
+        const double fy = Y - fy0;
+        const int r0 = std::clamp(static_cast<int>(fy0), 0, ay_.input - 1);
+        const int r1 = std::clamp(static_cast<int>(fy0) + 1, 0, ay_.input - 1);
+        uint8_t* row = out.at(0, j);
+        if (ax_.exact && !sixteen_) {
+            // 8-bit input pixels are the finest pixels (every column inside the input): the
+            // interpolation and conversion below would give each sample unchanged.
+            const size_t first = (static_cast<size_t>(r0 - ry0) * ww + static_cast<size_t>(x0 - cx0)) * channels_;
+            std::copy_n(&window[first], static_cast<size_t>(w) * channels_, row);
+            continue;
+        }
+        const double* top = rows.row(r0, r1, horizontal);
+        const double* bottom = rows.row(r1, r0, horizontal);
+        combineRows(top, bottom, fy, sixteen_ ? 65535.0 : 255.0, rowSamples, row);
+    }
+    return out;
+}
+
+// Positions grow with x, and shrink with y (flipped): the nearest pixel to the input is the
+// first column, and the last row.
+bool PlanarPixels::knownBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) const {
+    return !ax_.inside(ax_.position(x0)) || !ay_.inside(ay_.position(y0 + h - 1)) || w <= 0 || h <= 0;
+}
+
+// The map's edge pixels repeat.
+int64_t PlanarPixels::borderPixel(int64_t p, int64_t width) const { return std::clamp<int64_t>(p, 0, width - 1); }
+
+} // namespace pyramid

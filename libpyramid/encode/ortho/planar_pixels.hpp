@@ -1,0 +1,50 @@
+// The finest pixels of a planar ortho pyramid, resampled from an image (ortho_levels.hpp,
+// "Geometry"): pixel exact when the image is as wide and high as the finest level, otherwise
+// bilinear at pixel centres, aspect kept (the image at the north-west corner, black and
+// transparent beyond it) or stretched; 16-bit input brought to 8 bits.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "libpyramid/encode/ortho/pixel_source.hpp"
+#include "libpyramid/input/raster_source.hpp"
+
+namespace pyramid {
+
+class PlanarPixels final : public PixelSource {
+public:
+    // The first `channels` channels of `source` (which must outlive this object) onto a finest
+    // level `width` pixels across.
+    PlanarPixels(const RasterSource& source, int channels, int64_t width, bool stretch);
+
+    Image8 sample(int64_t x0, int64_t y0, int w, int h) const override;
+    bool knownBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) const override;
+    int64_t margin(int) const override { return 0; }
+    int64_t borderPixel(int64_t p, int64_t width) const override;
+    const std::string& sampling() const override { return sampling_; }
+
+private:
+    // Input position of output pixel centres along one axis.
+    struct Axis {
+        bool exact = false;
+        double scale = 1.0; // input pixels per output pixel
+        int input = 0;      // input pixels on this axis
+        bool flip = false;  // rows: output y = 0 is the input's last row
+        int64_t output = 0; // output pixels across (W)
+
+        // Input coordinate of output pixel p's centre, minus 0.5 (so that integers are centres).
+        double position(int64_t p) const {
+            const int64_t q = flip ? output - 1 - p : p;
+            return exact ? static_cast<double>(q) : (static_cast<double>(q) + 0.5) * scale - 0.5;
+        }
+        bool inside(double pos) const { return pos <= static_cast<double>(input) - 0.5; }
+    };
+
+    const RasterSource& source_;
+    int channels_ = 0;
+    bool sixteen_ = false;
+    Axis ax_, ay_;
+    std::string sampling_;
+};
+
+} // namespace pyramid
