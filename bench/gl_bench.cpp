@@ -71,15 +71,15 @@ void benchElevation(const std::string& path) {
 void benchColours(const std::string& path) {
     auto residuals = std::make_shared<const OrthoProducer>(path);
     const int last = residuals->maxLevel() + 2; // two levels refined without residuals
-    OrthoResidualProducer cpu(residuals);
-    GlOrthoResidualProducer gl(residuals);
-    GlOrthoResidualProducer glRead(residuals);
+    ColourProducer cpu(residuals);
+    GlColourProducer gl(residuals);
+    GlColourProducer glRead(residuals);
     const double cpuRate = rate(last, [&](int l, int x, int y) { cpu.tile(l, x, y); });
     const double glRate = rate(last, [&](int l, int x, int y) {
         gl.tile(l, x, y);
         glFinish();
     });
-    const double readRate = rate(last, [&](int l, int x, int y) { GlOrthoResidualProducer::read(*glRead.tile(l, x, y)); });
+    const double readRate = rate(last, [&](int l, int x, int y) { GlColourProducer::read(*glRead.tile(l, x, y)); });
     std::printf("%s\n  %-22s %12s %12s %12s\n  %-22s %12.0f %12.0f %12.0f\n", path.c_str(), "colour tiles", "CPU t/s",
                 "GL t/s", "GL+read t/s", ("levels 0.." + std::to_string(last)).c_str(), cpuRate, glRate, readRate);
 }

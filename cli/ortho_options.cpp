@@ -94,9 +94,6 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     } else {
         fail("--colour-space", "'" + a.colourSpace + "' is not srgb or linear");
     }
-    if (options.levels.threads < 0) {
-        fail("--threads", "must be 0 (all cores) or more");
-    }
     if (options.compression == TilePolicy::JpegYCbCr && options.writeTiff && !a.quiet) {
         std::fprintf(stderr, "warning: --compression jpeg-ycbcr: the original Proland runtime cannot read these "
                              "tiles (libpyramid's readers can)\n");

@@ -26,10 +26,10 @@ void addSphereOptions(CLI::App& app, const std::shared_ptr<SphereArgs>& args) {
 SphereChoice resolveSphereOptions(const SphereArgs& args) {
     SphereChoice c;
     if (!args.extent.empty()) {
-        c.extent = GeoExtent::parse(args.extent, "--extent");
+        c.extent = GeoExtent::parse(args.extent);
     }
     c.body = args.body;
-    (void)PlanetBody::parse(args.body, "--body");
+    (void)PlanetBody::parse(args.body); // a bad body fails before the input is opened
     size_t start = 0;
     while (start <= args.faces.size()) {
         const size_t comma = std::min(args.faces.find(',', start), args.faces.size());

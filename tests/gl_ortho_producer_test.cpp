@@ -1,7 +1,7 @@
 // The GL ortho producers: plain tiles of the original tools' RGB.dat sampled back unchanged,
 // DXT tiles uploaded as compressed textures whose bytes read back unchanged and whose GPU
 // decoding stays within the documented tolerance of the CPU decoder, and colour-residual tiles
-// rebuilt on the GPU bit for bit as the CPU OrthoResidualProducer rebuilds them, also below the
+// rebuilt on the GPU bit for bit as the CPU ColourProducer rebuilds them, also below the
 // file's deepest level.
 #include <gtest/gtest.h>
 
@@ -126,7 +126,7 @@ TEST(GlOrthoProducer, DxtTilesKeepTheirBytesAndDecodeWithinTolerance) {
     }
 }
 
-TEST(GlOrthoResidualProducer, ColourResidualsRebuildBitForBit) {
+TEST(GlColourProducer, ColourResidualsRebuildBitForBit) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     test::TempDir dir;
     std::mt19937 rng(5);
@@ -144,14 +144,14 @@ TEST(GlOrthoResidualProducer, ColourResidualsRebuildBitForBit) {
             return p;
         });
         auto residuals = std::make_shared<const OrthoProducer>(path);
-        GlOrthoResidualProducer gl(residuals);
-        OrthoResidualProducer cpu(residuals);
+        GlColourProducer gl(residuals);
+        ColourProducer cpu(residuals);
         auto reader = OrthoFileReader::open(path);
         for (int level = 0; level <= 3; ++level) { // levels 2 and 3 have no residuals
             for (int ty = 0; ty < (1 << level); ++ty) {
                 for (int tx = 0; tx < (1 << level); ++tx) {
                     const std::vector<uint8_t> expected = *cpu.tile(level, tx, ty);
-                    ASSERT_EQ(GlOrthoResidualProducer::read(*gl.tile(level, tx, ty)), expected)
+                    ASSERT_EQ(GlColourProducer::read(*gl.tile(level, tx, ty)), expected)
                         << "channels " << channels << " tile " << level << "," << tx << "," << ty;
                     if (level == 1) {
                         EXPECT_NE(expected, reader->readTile(level, tx, ty)); // the parent contributed
@@ -168,15 +168,15 @@ TEST(GlOrthoResidualProducer, ColourResidualsRebuildBitForBit) {
         };
         const int prediction = (1 * at(root, 1, 1) + 3 * at(root, 2, 1) + 3 * at(root, 1, 2) + 9 * at(root, 2, 2)) >> 4;
         const int value = std::clamp(prediction + 2 * (at(stored, 2, 2) - 128), 0, 255);
-        EXPECT_EQ(at(GlOrthoResidualProducer::read(*gl.tile(1, 0, 0)), 2, 2), value);
+        EXPECT_EQ(at(GlColourProducer::read(*gl.tile(1, 0, 0)), 2, 2), value);
     }
 }
 
-TEST(GlOrthoResidualProducer, RejectsDxtFiles) {
+TEST(GlColourProducer, RejectsDxtFiles) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
     test::TempDir dir;
     const std::string path = writeOrtho(dir, 60, 3, OrthoHeader::kFlagDxt, [](int, int, int) { return image(64, 3, 1); });
-    EXPECT_THROW(GlOrthoResidualProducer{std::make_shared<const OrthoProducer>(path)}, Error);
+    EXPECT_THROW(GlColourProducer{std::make_shared<const OrthoProducer>(path)}, Error);
 }
 
 } // namespace

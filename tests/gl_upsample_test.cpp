@@ -1,7 +1,7 @@
 // The GLSL upsample kernels against the CPU reference arithmetic, bit for bit: the elevation
 // upsample-and-add (pyramid::upsampleAndAdd) on random tiles full of values that expose any
 // reassociation, fused multiply-add or flush to zero, and the integer colour upsample
-// (pyramid::upsampleOrtho) for 1 to 4 channels.
+// (pyramid::upsampleColour) for 1 to 4 channels.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -124,7 +124,7 @@ TEST(GlUpsample, ElevationOfSmoothTerrainIsBitIdentical) {
 
 TEST(GlUpsample, OrthoIsBitIdentical) {
     PYRAMID_GL_CONTEXT_OR_SKIP();
-    GlOrthoUpsampler gl;
+    GlColourUpsampler gl;
     std::mt19937 rng(42);
     std::uniform_int_distribution<int> byte(0, 255);
     std::uniform_int_distribution<int> extreme(0, 3);
@@ -142,8 +142,8 @@ TEST(GlUpsample, OrthoIsBitIdentical) {
                 }
                 const int tx = q & 1, ty = q >> 1;
                 std::vector<uint8_t> cpu(bytes), cpuFlat(bytes);
-                upsampleOrtho(parent.data(), tileSize, channels, tx, ty, residual.data(), cpu.data());
-                upsampleOrtho(parent.data(), tileSize, channels, tx, ty, nullptr, cpuFlat.data());
+                upsampleColour(parent.data(), tileSize, channels, tx, ty, residual.data(), cpu.data());
+                upsampleColour(parent.data(), tileSize, channels, tx, ty, nullptr, cpuFlat.data());
                 EXPECT_EQ(gl.upsample(parent, tileSize, channels, tx, ty, residual), cpu)
                     << "tileSize " << tileSize << " channels " << channels << " quadrant " << q;
                 EXPECT_EQ(gl.upsample(parent, tileSize, channels, tx, ty, {}), cpuFlat)

@@ -162,7 +162,7 @@ TEST(OrthoEncoder, ColourResidualsRebuildBitForBit) {
         const OrthoReport report = encodeOrtho(dir.file("in.png"), dir.file("out"), o);
         ASSERT_EQ(report.maxLevel, 4);
         ASSERT_EQ(static_cast<int64_t>(recon.size()), report.tiles);
-        OrthoResidualProducer producer(std::make_shared<OrthoProducer>(dir.file("out/residuals/RGB.dat")));
+        ColourProducer producer(std::make_shared<OrthoProducer>(dir.file("out/residuals/RGB.dat")));
         for (const auto& [key, tile] : recon) {
             const auto [l, tx, ty] = key;
             ASSERT_EQ(*producer.tile(l, tx, ty), tile) << "tile (" << l << "," << tx << "," << ty << ")";

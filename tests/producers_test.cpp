@@ -233,7 +233,7 @@ TEST(OrthoProducer, ReadsTheOriginalFile) {
     }
 }
 
-TEST(OrthoResidualProducer, RebuildsChildrenFromResiduals) {
+TEST(ColourProducer, RebuildsChildrenFromResiduals) {
     test::TempDir dir;
     OrthoHeader h;
     h.maxLevel = 1;
@@ -257,7 +257,7 @@ TEST(OrthoResidualProducer, RebuildsChildrenFromResiduals) {
         w.writeTile(1, 1, 1, flat);
         w.commit();
     }
-    OrthoResidualProducer p(std::make_shared<OrthoProducer>(dir.file("residuals.dat")));
+    ColourProducer p(std::make_shared<OrthoProducer>(dir.file("residuals.dat")));
     EXPECT_EQ(*p.tile(0, 0, 0), root);
     const auto child = p.tile(1, 1, 0);
     // Child (3, 2) of quadrant (1, 0): bx = (3+1)/2 + 2 = 4, by = (2+1)/2 + 0 = 1; odd x weighs
@@ -265,11 +265,11 @@ TEST(OrthoResidualProducer, RebuildsChildrenFromResiduals) {
     auto p0 = [&](int x, int y) { return static_cast<unsigned>(root[static_cast<size_t>(x + 8 * y)]); };
     const unsigned prediction = (1 * (3 * p0(4, 1) + p0(5, 1)) + 3 * (3 * p0(4, 2) + p0(5, 2))) >> 4;
     EXPECT_EQ((*child)[3 + 8 * 2], prediction + 20);
-    EXPECT_EQ((*child)[2 + 8 * 2], predictOrtho(root.data(), 8, 1, 0, 2, 0, 2, 2));
+    EXPECT_EQ((*child)[2 + 8 * 2], predictColour(root.data(), 8, 1, 0, 2, 0, 2, 2));
     // Beyond the file: "no residual" everywhere, the prediction alone.
     const auto beyond = p.tile(2, 2, 0);
     std::vector<uint8_t> expected(64);
-    upsampleOrtho(child->data(), 4, 1, 2, 0, nullptr, expected.data());
+    upsampleColour(child->data(), 4, 1, 2, 0, nullptr, expected.data());
     EXPECT_EQ(*beyond, expected);
 }
 
@@ -288,11 +288,11 @@ TEST(OrthoUpsample, RowPredictionIsThePerSampleFormula) {
             for (int q = 0; q < 4; ++q) {
                 const int rx = (q & 1) * (tileSize / 2), ry = (q >> 1) * (tileSize / 2);
                 for (int y = 0; y < side; ++y) {
-                    predictOrthoRow(parent.data(), rowBytes, channels, rx, ry, y, side, row.data());
+                    predictColourRow(parent.data(), rowBytes, channels, rx, ry, y, side, row.data());
                     for (int x = 0; x < side; ++x) {
                         for (int c = 0; c < channels; ++c) {
                             ASSERT_EQ(row[static_cast<size_t>(x * channels + c)],
-                                      predictOrtho(parent.data(), rowBytes, channels, c, rx, ry, x, y))
+                                      predictColour(parent.data(), rowBytes, channels, c, rx, ry, x, y))
                                 << tileSize << " " << channels << " channels, quadrant " << q << ", pixel " << x
                                 << "," << y << " channel " << c;
                         }

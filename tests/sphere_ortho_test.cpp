@@ -253,7 +253,7 @@ TEST(SphereOrtho, ColourResidualsRebuildBitForBit) {
     const SphericalOrthoReport report = encodeSphericalOrtho(dir.file("globe.png"), dir.file("out"), o);
     ASSERT_EQ(report.faces.size(), 1u);
     ASSERT_EQ(static_cast<int64_t>(recon.size()), report.faces[0].ortho.tiles);
-    OrthoResidualProducer producer(std::make_shared<OrthoProducer>(dir.file("out/residuals/RGB4.dat")));
+    ColourProducer producer(std::make_shared<OrthoProducer>(dir.file("out/residuals/RGB4.dat")));
     for (const auto& [key, tile] : recon) {
         const auto [l, tx, ty] = key;
         ASSERT_EQ(*producer.tile(l, tx, ty), tile) << "tile (" << l << "," << tx << "," << ty << ")";

@@ -28,7 +28,7 @@ struct pyramid_elevation {
 
 struct pyramid_ortho {
     std::shared_ptr<pyramid::OrthoProducer> tiles;
-    std::unique_ptr<pyramid::OrthoResidualProducer> residuals; // when colour residuals
+    std::unique_ptr<pyramid::ColourProducer> residuals; // when colour residuals
 };
 
 namespace {
@@ -313,7 +313,7 @@ pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* r
         auto p = std::make_unique<pyramid_ortho>();
         p->tiles = std::make_shared<pyramid::OrthoProducer>(path, regions);
         if (colour_residuals) {
-            p->residuals = std::make_unique<pyramid::OrthoResidualProducer>(p->tiles, cache_tiles == 0 ? 1 : cache_tiles);
+            p->residuals = std::make_unique<pyramid::ColourProducer>(p->tiles, cache_tiles == 0 ? 1 : cache_tiles);
         }
         *producer = p.release();
         return PYRAMID_OK;

@@ -36,7 +36,7 @@ void predictFromBlend(const uint16_t* __restrict v, int rx, int side, uint8_t* _
 
 } // namespace
 
-void predictOrthoRow(const uint8_t* parent, size_t rowBytes, int channels, int rx, int ry, int y, int side,
+void predictColourRow(const uint8_t* parent, size_t rowBytes, int channels, int rx, int ry, int y, int side,
                      uint8_t* out) {
     const size_t by = static_cast<size_t>((y + 1) / 2 + ry);
     const unsigned wy0 = (y & 1) ? 3u : 1u;
@@ -51,7 +51,7 @@ void predictOrthoRow(const uint8_t* parent, size_t rowBytes, int channels, int r
     }
 }
 
-uint8_t predictOrtho(const uint8_t* parent, size_t rowBytes, int channels, int channel, int rx, int ry,
+uint8_t predictColour(const uint8_t* parent, size_t rowBytes, int channels, int channel, int rx, int ry,
                      int x, int y) {
     const size_t bx = static_cast<size_t>((x + 1) / 2 + rx);
     const size_t by = static_cast<size_t>((y + 1) / 2 + ry);
@@ -68,7 +68,7 @@ uint8_t predictOrtho(const uint8_t* parent, size_t rowBytes, int channels, int c
     return static_cast<uint8_t>(sum >> 4);
 }
 
-void upsampleOrtho(const uint8_t* parent, int tileSize, int channels, int tx, int ty,
+void upsampleColour(const uint8_t* parent, int tileSize, int channels, int tx, int ty,
                    const uint8_t* residual, uint8_t* out) {
     const int side = tileSize + 4;
     const size_t rowBytes = static_cast<size_t>(side) * static_cast<size_t>(channels);
@@ -76,7 +76,7 @@ void upsampleOrtho(const uint8_t* parent, int tileSize, int channels, int tx, in
     const int ry = (ty & 1) * (tileSize / 2);
     for (int y = 0; y < side; ++y) {
         uint8_t* row = out + static_cast<size_t>(y) * rowBytes;
-        predictOrthoRow(parent, rowBytes, channels, rx, ry, y, side, row);
+        predictColourRow(parent, rowBytes, channels, rx, ry, y, side, row);
         if (residual) { // without, every stored value is 128: the prediction itself
             const uint8_t* stored = residual + static_cast<size_t>(y) * rowBytes;
             for (size_t k = 0; k < rowBytes; ++k) {

@@ -14,13 +14,13 @@
 namespace pyramid {
 
 // The prediction of one channel of child pixel (x, y).
-uint8_t predictOrtho(const uint8_t* parent, size_t parentRowBytes, int channels, int channel, int rx,
+uint8_t predictColour(const uint8_t* parent, size_t parentRowBytes, int channels, int channel, int rx,
                      int ry, int x, int y);
 
 // The predictions of a whole child row y (side = T + 4 pixels, every channel): out[x * channels
-// + c] = predictOrtho(parent, ..., c, rx, ry, x, y), the same integers summed in another order
+// + c] = predictColour(parent, ..., c, rx, ry, x, y), the same integers summed in another order
 // (the rows blended first: wx0 (wy0 a + wy1 c) + wx1 (wy0 b + wy1 d)), which vectorises.
-void predictOrthoRow(const uint8_t* parent, size_t parentRowBytes, int channels, int rx, int ry, int y, int side,
+void predictColourRow(const uint8_t* parent, size_t parentRowBytes, int channels, int rx, int ry, int y, int side,
                      uint8_t* out);
 
 // Decodes a stored colour residual against its prediction:
@@ -41,10 +41,10 @@ inline uint8_t encodeColourResidual(uint8_t value, uint8_t prediction, bool* cla
     return static_cast<uint8_t>(c);
 }
 
-// Rebuilds a whole child tile: out = applyColourResidual(predictOrtho(parent...), residual)
+// Rebuilds a whole child tile: out = applyColourResidual(predictColour(parent...), residual)
 // for every pixel and channel. `residual` and `out` are (T+4)^2 x channels bytes; pass
 // residual = nullptr for "no residual" (every stored value 128).
-void upsampleOrtho(const uint8_t* parent, int tileSize, int channels, int tx, int ty,
+void upsampleColour(const uint8_t* parent, int tileSize, int channels, int tx, int ty,
                    const uint8_t* residual, uint8_t* out);
 
 } // namespace pyramid

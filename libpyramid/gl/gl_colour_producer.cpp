@@ -8,10 +8,10 @@
 
 namespace pyramid {
 
-struct GlOrthoResidualProducer::Impl {
+struct GlColourProducer::Impl {
     std::shared_ptr<const OrthoProducer> residuals;
     TileCache<GlOrthoTile> cache;
-    GlOrthoUpsampler upsampler;
+    GlColourUpsampler upsampler;
 
     Impl(std::shared_ptr<const OrthoProducer> producer, size_t capacity)
         : residuals(std::move(producer)), cache(capacity) {}
@@ -48,7 +48,7 @@ struct GlOrthoResidualProducer::Impl {
     }
 };
 
-GlOrthoResidualProducer::GlOrthoResidualProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity)
+GlColourProducer::GlColourProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity)
     : impl_(std::make_unique<Impl>(std::move(residuals), cacheCapacity)) {
     const OrthoHeader& h = impl_->residuals->header();
     if (h.dxt() || h.border() != 2 || h.tileSize % 2 != 0) {
@@ -56,11 +56,11 @@ GlOrthoResidualProducer::GlOrthoResidualProducer(std::shared_ptr<const OrthoProd
     }
 }
 
-GlOrthoResidualProducer::~GlOrthoResidualProducer() = default;
+GlColourProducer::~GlColourProducer() = default;
 
-const OrthoHeader& GlOrthoResidualProducer::header() const { return impl_->residuals->header(); }
+const OrthoHeader& GlColourProducer::header() const { return impl_->residuals->header(); }
 
-std::shared_ptr<const GlOrthoTile> GlOrthoResidualProducer::tile(int level, int tx, int ty) {
+std::shared_ptr<const GlOrthoTile> GlColourProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
         fail(impl_->residuals->path(),
              "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
@@ -68,7 +68,7 @@ std::shared_ptr<const GlOrthoTile> GlOrthoResidualProducer::tile(int level, int 
     return impl_->produce(level, tx, ty);
 }
 
-std::vector<uint8_t> GlOrthoResidualProducer::read(const GlOrthoTile& tile) {
+std::vector<uint8_t> GlColourProducer::read(const GlOrthoTile& tile) {
     std::vector<uint8_t> pixels(static_cast<size_t>(tile.size) * static_cast<size_t>(tile.size) *
                                 static_cast<size_t>(tile.channels));
     tile.texture.read(pixelFormat(tile.channels, true), GL_UNSIGNED_BYTE, pixels.data());

@@ -1,6 +1,6 @@
-// OrthoResidualProducer on the GPU: colour tiles rebuilt from colour residual files (doc/format.md,
+// ColourProducer on the GPU: colour tiles rebuilt from colour residual files (doc/format.md,
 // "Colour residual files"). The root tile holds plain colours, every other tile is the integer
-// colour upsample of its parent plus its stored residual (GlOrthoUpsampler), or plus no residual
+// colour upsample of its parent plus its stored residual (GlColourUpsampler), or plus no residual
 // (128) beyond the files' deepest level, bit for bit equal to the CPU producer. Tiles are RGBA8UI
 // textures (texelFetch on a usampler2D); the lanes beyond the files' channels are unspecified.
 //
@@ -16,11 +16,11 @@
 
 namespace pyramid {
 
-class GlOrthoResidualProducer {
+class GlColourProducer {
 public:
     // Throws Error unless the residual tiles are TIFF tiles with 2-pixel borders and an even size.
-    explicit GlOrthoResidualProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity = 256);
-    ~GlOrthoResidualProducer();
+    explicit GlColourProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity = 256);
+    ~GlColourProducer();
 
     const OrthoHeader& header() const;
     // Any tile of levels 0..30; throws Error for coordinates outside the quadtree.

@@ -40,11 +40,11 @@ void main() {
 
 } // namespace
 
-GlOrthoUpsampler::GlOrthoUpsampler() : program_(std::make_unique<GlProgram>("ortho upsample", kOrthoKernel)) {}
+GlColourUpsampler::GlColourUpsampler() : program_(std::make_unique<GlProgram>("ortho upsample", kOrthoKernel)) {}
 
-GlOrthoUpsampler::~GlOrthoUpsampler() = default;
+GlColourUpsampler::~GlColourUpsampler() = default;
 
-void GlOrthoUpsampler::run(const GlTexture& parent, int tileSize, int tx, int ty, const GlTexture* residual,
+void GlColourUpsampler::run(const GlTexture& parent, int tileSize, int tx, int ty, const GlTexture* residual,
                            GlTexture& out) const {
     const int side = tileSize + 4;
     if (parent.width() != side || out.width() != side || (residual != nullptr && residual->width() != side)) {
@@ -61,7 +61,7 @@ void GlOrthoUpsampler::run(const GlTexture& parent, int tileSize, int tx, int ty
     program_->dispatch(side, side, kLocalSize);
 }
 
-std::vector<uint8_t> GlOrthoUpsampler::upsample(const std::vector<uint8_t>& parent, int tileSize, int channels,
+std::vector<uint8_t> GlColourUpsampler::upsample(const std::vector<uint8_t>& parent, int tileSize, int channels,
                                                 int tx, int ty, const std::vector<uint8_t>& residual) const {
     const int side = tileSize + 4;
     const GLenum format = pixelFormat(channels, true);

@@ -1,5 +1,5 @@
 // The colour-residual upsample of doc/format.md ("Colour residual arithmetic") as an OpenGL
-// compute shader, bit for bit equal to pyramid::upsampleOrtho: integer arithmetic only
+// compute shader, bit for bit equal to pyramid::upsampleColour: integer arithmetic only
 // (uint sums, >> 4, clamp), pixels fetched with texelFetch from RGBA8UI textures. Tiles of 1 to
 // 4 channels all live in RGBA8UI textures; the unused channels are ignored.
 #pragma once
@@ -11,12 +11,12 @@
 
 namespace pyramid {
 
-class GlOrthoUpsampler {
+class GlColourUpsampler {
 public:
-    GlOrthoUpsampler(); // compiles the shader: needs a current context
-    ~GlOrthoUpsampler();
+    GlColourUpsampler(); // compiles the shader: needs a current context
+    ~GlColourUpsampler();
 
-    // out = applyColourResidual(predictOrtho(parent, quadrant of (tx, ty)), residual) over the
+    // out = applyColourResidual(predictColour(parent, quadrant of (tx, ty)), residual) over the
     // (tileSize+4)^2 child tile. All three are RGBA8UI textures of (tileSize+4)^2 texels;
     // residual = nullptr means "no residual" (every stored value 128).
     void run(const GlTexture& parent, int tileSize, int tx, int ty, const GlTexture* residual, GlTexture& out) const;

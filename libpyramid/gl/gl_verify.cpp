@@ -110,11 +110,11 @@ void verifyOrthoTiles(const std::shared_ptr<const OrthoProducer>& cpu, const GlV
 
 void verifyColourResiduals(const std::shared_ptr<const OrthoProducer>& residuals, const GlVerifyOptions& options,
                            GlVerifyReport& report) {
-    OrthoResidualProducer cpu(residuals, kCacheTiles);
-    GlOrthoResidualProducer gl(residuals, kCacheTiles);
+    ColourProducer cpu(residuals, kCacheTiles);
+    GlColourProducer gl(residuals, kCacheTiles);
     GlVerifyPart part{"colour residuals", "abs"};
     walk(0, 0, 0, lastLevel(residuals->maxLevel(), options), [&](int level, int tx, int ty) {
-        record(part, maxAbs(*cpu.tile(level, tx, ty), GlOrthoResidualProducer::read(*gl.tile(level, tx, ty))));
+        record(part, maxAbs(*cpu.tile(level, tx, ty), GlColourProducer::read(*gl.tile(level, tx, ty))));
     });
     report.parts.push_back(part);
 }

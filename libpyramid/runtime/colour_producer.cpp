@@ -6,7 +6,7 @@
 
 namespace pyramid {
 
-struct OrthoResidualProducer::Impl {
+struct ColourProducer::Impl {
     std::shared_ptr<const OrthoProducer> residuals;
     TileCache<std::vector<uint8_t>> cache;
 
@@ -25,16 +25,16 @@ struct OrthoResidualProducer::Impl {
             out = std::make_shared<std::vector<uint8_t>>(parent->size());
             if (residuals->hasTile(level, tx, ty)) {
                 const std::vector<uint8_t> r = residuals->tile(level, tx, ty);
-                upsampleOrtho(parent->data(), h.tileSize, h.channels, tx, ty, r.data(), out->data());
+                upsampleColour(parent->data(), h.tileSize, h.channels, tx, ty, r.data(), out->data());
             } else {
-                upsampleOrtho(parent->data(), h.tileSize, h.channels, tx, ty, nullptr, out->data());
+                upsampleColour(parent->data(), h.tileSize, h.channels, tx, ty, nullptr, out->data());
             }
         }
         return cache.insert({level, tx, ty}, std::move(out));
     }
 };
 
-OrthoResidualProducer::OrthoResidualProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity)
+ColourProducer::ColourProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity)
     : impl_(std::make_unique<Impl>(cacheCapacity)) {
     const OrthoHeader& h = residuals->header();
     if (h.border() != 2 || h.dxt()) {
@@ -46,12 +46,12 @@ OrthoResidualProducer::OrthoResidualProducer(std::shared_ptr<const OrthoProducer
     impl_->residuals = std::move(residuals);
 }
 
-OrthoResidualProducer::~OrthoResidualProducer() = default;
+ColourProducer::~ColourProducer() = default;
 
-int OrthoResidualProducer::tilePixels() const { return impl_->residuals->header().tilePixels(); }
-int OrthoResidualProducer::channels() const { return impl_->residuals->header().channels; }
+int ColourProducer::tilePixels() const { return impl_->residuals->header().tilePixels(); }
+int ColourProducer::channels() const { return impl_->residuals->header().channels; }
 
-std::shared_ptr<const std::vector<uint8_t>> OrthoResidualProducer::tile(int level, int tx, int ty) {
+std::shared_ptr<const std::vector<uint8_t>> ColourProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
         fail(impl_->residuals->path(),
              "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");

@@ -1,6 +1,6 @@
 // The colour-residual producer (the seeds' "Ortho producer" fed by an ortho CPU producer of
 // colour residuals): the root tile is the file's plain colours; every other tile is
-// upsampleOrtho(parent, stored residuals) (libpyramid/filters/colour_upsample.hpp, doc/format.md
+// upsampleColour(parent, stored residuals) (libpyramid/filters/colour_upsample.hpp, doc/format.md
 // section 4), and beyond the files' deepest level the residuals are "none" (128), which keeps
 // refining smoothly. Results are kept in an LRU cache. Thread-safe.
 #pragma once
@@ -12,11 +12,11 @@
 
 namespace pyramid {
 
-class OrthoResidualProducer {
+class ColourProducer {
 public:
     // The residual tiles must have 2-pixel borders and be TIFF (lossless or JPEG) tiles.
-    explicit OrthoResidualProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity = 256);
-    ~OrthoResidualProducer();
+    explicit ColourProducer(std::shared_ptr<const OrthoProducer> residuals, size_t cacheCapacity = 256);
+    ~ColourProducer();
 
     int tilePixels() const; // tileSize + 4
     int channels() const;

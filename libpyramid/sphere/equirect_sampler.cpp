@@ -26,14 +26,6 @@ GeoExtent GeoExtent::parse(const std::string& text) {
     return e;
 }
 
-GeoExtent GeoExtent::parse(const std::string& text, const std::string& where) {
-    try {
-        return parse(text);
-    } catch (const OptionError& e) {
-        fail(where, e.problem());
-    }
-}
-
 void GeoExtent::validate() const {
     if (const char* rule = brokenRule()) {
         failOption("extent", rule);

@@ -29,8 +29,6 @@ struct GeoExtent {
     // "WEST,SOUTH,EAST,NORTH" in degrees, an extent as validate() wants it. Throws
     // OptionError("extent", ...) otherwise.
     static GeoExtent parse(const std::string& text);
-    // The same, the error naming `where` (e.g. a program's flag) instead of the option.
-    static GeoExtent parse(const std::string& text, const std::string& where);
     // west < east <= west + 360 (within -540..540), -90 <= south < north <= 90. Throws
     // OptionError("extent", ...) otherwise.
     void validate() const;

@@ -63,14 +63,6 @@ PlanetBody PlanetBody::parse(const std::string& text) {
     return PlanetBody(text, a, f);
 }
 
-PlanetBody PlanetBody::parse(const std::string& text, const std::string& where) {
-    try {
-        return parse(text);
-    } catch (const OptionError& e) {
-        fail(where, e.problem());
-    }
-}
-
 std::string PlanetBody::describe() const {
     char text[160];
     if (f_ == 0.0) {

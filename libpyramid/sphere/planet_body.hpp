@@ -37,8 +37,6 @@ public:
     // or "A,F": equatorial radius A in metres and flattening F (F > 1 is taken as the inverse
     // flattening, e.g. "6378137,298.257223563"). Throws OptionError("body", ...) otherwise.
     static PlanetBody parse(const std::string& text);
-    // The same, the error naming `where` (e.g. a program's flag) instead of the option.
-    static PlanetBody parse(const std::string& text, const std::string& where);
     PlanetBody(std::string name, double equatorialRadius, double flattening);
 
     const std::string& name() const { return name_; }

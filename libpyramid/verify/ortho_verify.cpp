@@ -61,9 +61,9 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     // A DXT1 file says 3 channels whatever the source had (1 to 3, expanded to RGB).
     lo.channels = h.dxt() && h.channels == 3 ? std::min(3, RasterSource::open(source)->info().channels) : h.channels;
     const OrthoLevels levels(source, lo);
-    std::shared_ptr<OrthoResidualProducer> residuals;
+    std::shared_ptr<ColourProducer> residuals;
     if (options.colourResiduals) {
-        residuals = std::make_shared<OrthoResidualProducer>(std::make_shared<OrthoProducer>(file), 1024);
+        residuals = std::make_shared<ColourProducer>(std::make_shared<OrthoProducer>(file), 1024);
     }
     OrthoVerifyReport report;
     report.file = file;

@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <set>
 
 #include "formats/error.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/support/text.hpp"
 
 namespace pyramid {
@@ -30,13 +30,6 @@ private:
     const FaceSampler& sampler_;
 };
 
-void checkFaces(const std::vector<int>& faces) {
-    const std::set<int> unique(faces.begin(), faces.end());
-    if (faces.empty() || unique.size() != faces.size() || *unique.begin() < 1 || *unique.rbegin() > kCubeFaceCount) {
-        failOption("faces", "needs distinct face numbers from 1 to 6");
-    }
-}
-
 } // namespace
 
 SphericalDemReport encodeSphericalDem(const std::string& input, const std::string& directory,
@@ -47,7 +40,7 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
     if (!std::isfinite(options.heightScale) || options.heightScale == 0.0) {
         failOption("heightScale", "must be a finite non-zero number, not " + numberText(options.heightScale));
     }
-    checkFaces(options.faces);
+    checkFaceList(options.faces);
     if (o.rootTileSize < 2) {
         // The root tile's 2-interval borders fold onto the neighbouring faces: at most a face deep.
         failOption("rootTileSize", "cube faces need a root tile of at least 2 intervals, not " +

@@ -23,6 +23,9 @@ void OrthoLevelsOptions::validate() const {
     if (tileSize < 2 || tileSize > 8192 || tileSize % 2 != 0) {
         failOption("tileSize", std::to_string(tileSize) + " is not an even number from 2 to 8192");
     }
+    if (threads < 0) {
+        failOption("threads", "must be 0 (all cores) or more");
+    }
 }
 
 struct OrthoLevels::Impl {
@@ -110,7 +113,7 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
         fail(input, "imagery must have 8- or 16-bit unsigned samples");
     }
     if (info.channels > 4 && o.channels == 0) {
-        fail(input, std::to_string(info.channels) + " channels (1 to 4 expected; --channels selects the first ones)");
+        fail(input, std::to_string(info.channels) + " channels (1 to 4 expected; the channels option selects the first ones)");
     }
     if (o.channels < 0 || o.channels > std::min(4, info.channels)) {
         failOption("channels", std::to_string(o.channels) + " is not 1.." + std::to_string(std::min(4, info.channels)));

@@ -61,7 +61,7 @@ struct OrthoLevelsOptions {
     int threads = 0;
     int cacheMegabytes = 256;
 
-    // The checks that do not need the input (tileSize); OrthoLevels checks the others against
+    // The checks that do not need the input (tileSize, threads); OrthoLevels checks the others against
     // it. Throws OptionError naming the field.
     void validate() const;
 };

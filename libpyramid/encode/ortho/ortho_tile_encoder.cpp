@@ -17,7 +17,7 @@ namespace {
 // Blue Marble (residual file only): level 6 gives 5 % fewer bytes in 1.9 and 1.25 times the
 // time, level 1 8 to 9 % more bytes for 35 % less time on the synthetic image and none on the
 // Blue Marble.
-constexpr int kResidualDeflateLevel = 4;
+constexpr int kColourResidualDeflateLevel = 4;
 
 // The encoded uniform tiles kept for reuse (OrthoTileEncoder::encode): a few hundred KB each.
 constexpr size_t kUniformTilesKept = 64;
@@ -188,7 +188,7 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
         const int rx = (t.tx & 1) * (tileSize_ / 2);
         const int ry = (t.ty & 1) * (tileSize_ / 2);
         for (int y = 0; y < side; ++y) {
-            predictOrthoRow(parent->data(), rowBytes, channels_, rx, ry, y, side,
+            predictColourRow(parent->data(), rowBytes, channels_, rx, ry, y, side,
                             &predicted[static_cast<size_t>(y) * rowBytes]);
         }
         int64_t clampedCount = 0;
@@ -201,7 +201,7 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
     }
     const bool jpeg = o_.residualCompression == TilePolicy::Jpeg;
     e.residual = encodeTiff8(stored, side, side, channels_, jpeg ? TiffCompression::Jpeg : TiffCompression::Deflate,
-                             o_.jpegQuality, kResidualDeflateLevel);
+                             o_.jpegQuality, kColourResidualDeflateLevel);
     const std::vector<uint8_t> decoded = jpeg ? decodeOrthoTiff(e.residual, side, channels_, "JPEG residual tile") : stored;
     if (t.level == 0) {
         e.recon = decoded;
