@@ -14,7 +14,8 @@ CommandRunner setupDemCommand(CLI::App& app) {
     auto args = std::make_shared<DemArgs>();
     addDemOptions(app, args, "Elevation raster (any format OpenImageIO reads)",
                   "Residual pyramid file to write (e.g. DEM.dat)",
-                  "The file's maxLevel (default: the smallest pyramid whose finest level holds every input sample)");
+                  "The file's maxLevel, counted from the root tile (default: the smallest pyramid whose finest level holds "
+                  "every input sample); the original tools' dstMaxLevel counts otherwise: see --dst-max-level");
     app.add_flag("--stretch", args->options.stretch, "Stretch width and height independently onto the square root quad");
     return [args]() {
         DemEncodeOptions options = resolveDemOptions(*args);

@@ -21,7 +21,8 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
                   "Equirectangular elevation map: column 0 at longitude -180 (or the extent's west), row 0 at the "
                   "north; pixel centres",
                   "Directory to write NAME1.dat .. NAME6.dat into",
-                  "maxLevel of every face (default: the smallest whose faces are as fine as the map at the equator)");
+                  "maxLevel of every face, counted from the root tile (default: the smallest whose faces are as fine as the "
+                  "map at the equator); the original tools' dstMaxLevel counts otherwise: see --dst-max-level");
     addSphereOptions(app, sphere);
     app.add_option("--height-scale", *heightScale,
                    "Multiply every sample by this number or ratio (e.g. 10000/255 for heights stored as 8-bit red)")

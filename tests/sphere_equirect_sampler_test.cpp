@@ -140,7 +140,7 @@ TEST(EquirectSampler, BadExtentsAndChannels) {
 }
 
 // One rule for an extent, parsed from text or given as numbers: OptionError("extent") with the
-// broken rule (and the text it came from); a program's flag in its stead on request.
+// broken rule (and the text it came from).
 TEST(EquirectSampler, ExtentRuleOnceForTextAndNumbers) {
     const auto problem = [](const auto& check) -> std::string {
         try {
@@ -156,10 +156,10 @@ TEST(EquirectSampler, ExtentRuleOnceForTextAndNumbers) {
     EXPECT_EQ(problem([] { GeoExtent::parse("0,x,1,1"); }), "'x' is not a number of degrees");
     EXPECT_EQ(problem([] { GeoExtent{}.validate(); }), "no error");
     try {
-        GeoExtent::parse("0,10,10,5", "--extent");
+        GeoExtent::parse("0,10,10,5");
         ADD_FAILURE();
     } catch (const Error& e) {
-        EXPECT_STREQ(e.what(), "--extent: needs -90 <= SOUTH < NORTH <= 90, not 0,10,10,5");
+        EXPECT_STREQ(e.what(), "extent: needs -90 <= SOUTH < NORTH <= 90, not 0,10,10,5");
     }
 }
 
