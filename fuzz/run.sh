@@ -26,5 +26,6 @@ run residual_file_fuzz "$src/tests/data/proland/DEM.dat" "$corpus"/residual/*.da
 run ortho_file_fuzz "$src/tests/data/proland/RGB.dat" "$corpus"/ortho/*.dat
 run tiff_tile_fuzz "$corpus"/tiff/*.tif
 run dxt_tile_fuzz "$corpus"/dxt/*.bin
+run raster_input_fuzz "$corpus"/input/* "$corpus"/tiff/*.tif
 ls "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* 2>/dev/null && exit 1
 echo "no crash, leak, timeout or out-of-memory"

@@ -56,7 +56,7 @@ PngRasterReader::~PngRasterReader() {
     }
 }
 
-std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) {
+std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path, int cacheMegabytes) {
     std::unique_ptr<PngRasterReader> reader(new PngRasterReader());
     reader->path_ = path;
     reader->decoding_ = std::make_unique<Decoding>();
@@ -112,6 +112,21 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path) 
     info.channels = channels;
     info.type = depth == 8 ? SampleType::UInt8 : SampleType::UInt16;
     info.formatName = "png";
+    reader->rowBytes_ = rowSamples * static_cast<size_t>(depth / 8);
+    const size_t budget = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
+    if (reader->rowBytes_ * height > budget) {
+        // Larger than the cache: decoded row by row into a scratch file, read back by window.
+        const size_t megabytes = (reader->rowBytes_ * height + (size_t{1} << 20) - 1) >> 20;
+        if (interlaced) {
+            failOption("cacheMegabytes", path + ": an interlaced PNG is decoded whole, " + std::to_string(megabytes) +
+                                             " MB, more than a cache of " + std::to_string(cacheMegabytes) +
+                                             " MB: give a cache of at least " + std::to_string(megabytes) +
+                                             " MB, or save the image without interlacing");
+        }
+        reader->scratch_ = std::make_unique<ScratchFile>(path);
+        reader->decoder_ = std::thread([r = reader.get()] { r->decodeRows(); });
+        return reader;
+    }
     d->rows.resize(height);
     if (depth == 8) {
         reader->bytes_.reset(new uint8_t[samples]);
@@ -148,11 +163,22 @@ void PngRasterReader::decodeRows() {
         progress_.notify_all();
     };
     if (setjmp(png_jmpbuf(d->png))) {
-        publish(rowsDecoded_.load(std::memory_order_relaxed), d->error);
+        publish(rowsDecoded_.load(std::memory_order_relaxed), path_ + ": " + damaged(d->error));
         return;
     }
+    std::vector<png_byte> row(scratch_ ? rowBytes_ : 0); // a scratch file's rows pass through it
     for (int y = 0; y < height && !stop_; ++y) {
-        png_read_row(d->png, d->rows[static_cast<size_t>(y)], nullptr);
+        if (scratch_) {
+            png_read_row(d->png, row.data(), nullptr);
+            try {
+                scratch_->write(static_cast<uint64_t>(y) * rowBytes_, row.data(), rowBytes_);
+            } catch (const Error& e) {
+                publish(rowsDecoded_.load(std::memory_order_relaxed), e.what());
+                return;
+            }
+        } else {
+            png_read_row(d->png, d->rows[static_cast<size_t>(y)], nullptr);
+        }
         // The last rows are held back until the rest of the file is read and checked.
         if ((y + 1) % kRowsPerStep == 0 && y + 1 < height - kRowsPerStep) {
             publish(y + 1, "");
@@ -172,60 +198,74 @@ void PngRasterReader::waitForRows(int y1) const {
     std::unique_lock<std::mutex> lock(mutex_);
     progress_.wait(lock, [&] { return rowsDecoded_.load(std::memory_order_acquire) >= y1 || !error_.empty(); });
     if (rowsDecoded_.load(std::memory_order_acquire) < y1) {
-        fail(path_, damaged(error_));
+        throw Error(error_);
     }
 }
 
 namespace {
 
-// Channels [c0, c1) of a window of interleaved samples, each converted to Out by value.
+// Channels [c0, c1) of `count` interleaved pixels of `channels` samples, each converted to Out
+// by value; returns the end of what it wrote.
 template <typename T, typename Out>
-void copyWindow(const T* samples, int width, int channels, int x0, int y0, int x1, int y1, int c0, int c1,
-                Out* out) {
+Out* copyPixels(const T* from, size_t count, int channels, int c0, int c1, Out* out) {
     const size_t n = static_cast<size_t>(channels);
-    for (int y = y0; y < y1; ++y) {
-        const T* from = samples + (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x0)) * n;
-        if (c0 == 0 && c1 == channels) {
-            out = std::copy(from, from + static_cast<size_t>(x1 - x0) * n, out);
-            continue;
-        }
-        for (int x = x0; x < x1; ++x, from += n) {
-            out = std::copy(from + c0, from + c1, out);
-        }
+    if (c0 == 0 && c1 == channels) {
+        return std::copy(from, from + count * n, out);
     }
+    for (size_t x = 0; x < count; ++x, from += n) {
+        out = std::copy(from + c0, from + c1, out);
+    }
+    return out;
 }
 
 } // namespace
 
-void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+// Columns [x0, x1) of row y, every channel, as T: in memory, or read from the scratch file
+// into `buffer`.
+template <typename T>
+const T* PngRasterReader::rowSpan(int y, int x0, int x1, std::vector<uint8_t>& buffer) const {
+    const size_t pixelBytes = static_cast<size_t>(info_.channels) * sizeof(T);
+    const size_t offset = static_cast<size_t>(y) * rowBytes_ + static_cast<size_t>(x0) * pixelBytes;
+    if (!scratch_) {
+        const uint8_t* base = bytes_ ? bytes_.get() : reinterpret_cast<const uint8_t*>(words_.get());
+        return reinterpret_cast<const T*>(base + offset);
+    }
+    buffer.resize(static_cast<size_t>(x1 - x0) * pixelBytes);
+    scratch_->read(offset, buffer.data(), buffer.size());
+    return reinterpret_cast<const T*>(buffer.data());
+}
+
+template <typename Out>
+void PngRasterReader::copyWindow(int x0, int y0, int x1, int y1, int c0, int c1, Out* out) const {
     waitForRows(y1);
-    if (bytes_) {
-        copyWindow(bytes_.get(), info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
-    } else {
-        copyWindow(words_.get(), info_.width, info_.channels, x0, y0, x1, y1, channel, channel + 1, out);
+    thread_local std::vector<uint8_t> buffer;
+    const size_t count = static_cast<size_t>(x1 - x0);
+    for (int y = y0; y < y1; ++y) {
+        out = info_.type == SampleType::UInt8
+                  ? copyPixels(rowSpan<uint8_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out)
+                  : copyPixels(rowSpan<uint16_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
     }
 }
 
+void PngRasterReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    copyWindow(x0, y0, x1, y1, channel, channel + 1, out);
+}
+
 void PngRasterReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
-    waitForRows(y1);
-    if (bytes_) {
-        copyWindow(bytes_.get(), info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
-    } else {
-        copyWindow(words_.get(), info_.width, info_.channels, x0, y0, x1, y1, c0, c1, out);
-    }
+    copyWindow(x0, y0, x1, y1, c0, c1, out);
 }
 
 bool PngRasterReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
                                 std::ptrdiff_t rowStride) const {
-    if (!bytes_) {
+    if (info_.type != SampleType::UInt8) {
         return false;
     }
     waitForRows(y1);
+    thread_local std::vector<uint8_t> buffer;
     const size_t channels = static_cast<size_t>(info_.channels);
     const size_t wanted = static_cast<size_t>(c1 - c0);
     for (int y = y0; y < y1; ++y) {
-        const uint8_t* from = bytes_.get() + (static_cast<size_t>(y) * static_cast<size_t>(info_.width) +
-                                               static_cast<size_t>(x0)) * channels;
+        const uint8_t* from = rowSpan<uint8_t>(y, x0, x1, buffer);
         uint8_t* to = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride;
         if (wanted == channels) {
             std::memcpy(to, from, static_cast<size_t>(x1 - x0) * channels);

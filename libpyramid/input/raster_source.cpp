@@ -76,7 +76,7 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
             impl.pixels = TiffPixelReader::open(path, info.width, info.height, info.channels,
                                                 info.type == SampleType::UInt8 ? 1 : 2);
         }
-    } else if ((impl.png = PngRasterReader::open(path))) {
+    } else if ((impl.png = PngRasterReader::open(path, cacheMegabytes))) {
         info = impl.png->info();
     } else {
         info = impl.viaModule().info();

@@ -4,11 +4,12 @@
 #include <tiffio.h>
 
 #include <algorithm>
-#include <bit>
 #include <cstring>
 
 #include "formats/error.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
+#include "libpyramid/input/tiff_samples.hpp"
+#include "libpyramid/input/tiff_strip_stream.hpp"
 
 namespace pyramid {
 
@@ -60,8 +61,33 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &predictor);
     b->floatPredictorDeflate_ = real && predictor == PREDICTOR_FLOATINGPOINT &&
                                 (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE);
+    // A tile may reach past the image (to a multiple of 16, or a common size like 256 for a
+    // small image), never far beyond: anything larger is a damaged or hostile declaration, and
+    // is refused before a block is allocated.
+    const auto plausible = [](uint32_t block, uint32_t image) {
+        return block <= std::max<uint32_t>(image, 256) + 15;
+    };
+    if (!plausible(b->blockWidth_, width) || !plausible(b->blockHeight_, height)) {
+        TIFFClose(tif);
+        fail(path, "damaged TIFF: " + std::string(b->tiled_ ? "tiles" : "strips") + " of " +
+                       std::to_string(b->blockWidth_) + " x " + std::to_string(b->blockHeight_) + " samples for a " +
+                       std::to_string(width) + " x " + std::to_string(height) + " image");
+    }
     b->blocksAcross_ = (width + b->blockWidth_ - 1) / b->blockWidth_;
-    b->budget_ = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
+    const size_t budget = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
+    const size_t blockSamples = static_cast<size_t>(b->blockWidth_) * b->blockHeight_;
+    // Blocks up to a quarter of the budget: the cache keeps at least four, which the reads of
+    // a window across block boundaries need.
+    if (blockSamples * sizeof(float) <= budget / 4) {
+        b->cache_ = std::make_unique<BlockCache>(budget, blockSamples);
+    } else if (b->tiled_) {
+        TIFFClose(tif);
+        const size_t megabytes = (blockSamples * sizeof(float) + (size_t{1} << 20) - 1) >> 20;
+        failOption("cacheMegabytes", path + ": tiles of " + std::to_string(b->blockWidth_) + " x " +
+                                         std::to_string(b->blockHeight_) + " samples (" + std::to_string(megabytes) +
+                                         " MB decoded) need a cache of at least " + std::to_string(4 * megabytes) +
+                                         " MB, not " + std::to_string(cacheMegabytes));
+    }
     b->idle_.push_back(tif);
     return b;
 }
@@ -73,11 +99,66 @@ TiffBlockReader::~TiffBlockReader() {
 }
 
 void TiffBlockReader::read(int x0, int y0, int x1, int y1, float* out) {
+    if (cache_) {
+        readBlocks(x0, y0, x1, y1, out);
+        return;
+    }
+    // Strips beyond the cache: the whole image decoded once, at the first read, into the
+    // scratch file (opening stays cheap, and a caller that only describes the file pays nothing).
+    std::call_once(spilled_, [this] {
+        TIFF* tif = openHandle();
+        if (!tif) {
+            fail(path_, "cannot reopen the file");
+        }
+        struct Close {
+            TIFF* tif;
+            ~Close() { TIFFClose(tif); }
+        } close{tif};
+        auto rows = std::make_unique<ScratchFile>(path_);
+        const size_t rowBytes = static_cast<size_t>(width_) * sizeof(float);
+        streamTiffRows(tif, path_, [&](uint32_t y, const float* values) {
+            rows->write(static_cast<uint64_t>(y) * rowBytes, values, rowBytes);
+        });
+        rows_ = std::move(rows);
+    });
     const size_t outWidth = static_cast<size_t>(x1 - x0);
+    for (int y = y0; y < y1; ++y) {
+        rows_->read((static_cast<uint64_t>(y) * width_ + static_cast<uint64_t>(x0)) * sizeof(float),
+                    out + static_cast<size_t>(y - y0) * outWidth, outWidth * sizeof(float));
+    }
+}
+
+void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, float* out) {
+    const size_t outWidth = static_cast<size_t>(x1 - x0);
+    const auto decodeWith = [this](uint32_t index) {
+        return [this, index](std::vector<float>& values) {
+            TIFF* tif = nullptr;
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                if (!idle_.empty()) {
+                    tif = idle_.back();
+                    idle_.pop_back();
+                }
+            }
+            if (!tif && !(tif = openHandle())) {
+                fail(path_, "cannot reopen the file");
+            }
+            struct Return {
+                TiffBlockReader& r;
+                TIFF* tif;
+                ~Return() {
+                    std::lock_guard<std::mutex> lock(r.mutex_);
+                    r.idle_.push_back(tif);
+                }
+            } back{*this, tif};
+            decode(tif, index, values);
+        };
+    };
     for (uint32_t by = static_cast<uint32_t>(y0) / blockHeight_; by * blockHeight_ < static_cast<uint32_t>(y1); ++by) {
         for (uint32_t bx = static_cast<uint32_t>(x0) / blockWidth_; bx * blockWidth_ < static_cast<uint32_t>(x1);
              ++bx) {
-            const std::shared_ptr<const std::vector<float>> block = get(bx, by);
+            const uint32_t index = by * blocksAcross_ + bx;
+            const std::shared_ptr<const std::vector<float>> block = cache_->get(index, decodeWith(index));
             const int bx0 = static_cast<int>(bx * blockWidth_), by0 = static_cast<int>(by * blockHeight_);
             const int cx0 = std::max(x0, bx0), cx1 = std::min(x1, bx0 + static_cast<int>(blockWidth_));
             const int cy0 = std::max(y0, by0), cy1 = std::min(y1, by0 + static_cast<int>(blockHeight_));
@@ -89,54 +170,11 @@ void TiffBlockReader::read(int x0, int y0, int x1, int y1, float* out) {
     }
 }
 
+// Without memory mapping ("m"): libtiff would otherwise read compressed blocks through a map
+// of the whole file, whose touched pages count against the process's memory as they stay
+// resident; read() copies each block into a buffer of its size instead.
 TIFF* TiffBlockReader::openHandle() const {
-    return openTiffQuietly(path_, "r");
-}
-
-// Block (bx, by), decoded; from the cache or decoded now (outside the lock).
-std::shared_ptr<const std::vector<float>> TiffBlockReader::get(uint32_t bx, uint32_t by) {
-    const uint32_t index = by * blocksAcross_ + bx;
-    TIFF* tif = nullptr;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (auto it = cache_.find(index); it != cache_.end()) {
-            it->second.lastUse = ++clock_;
-            return it->second.values;
-        }
-        if (!idle_.empty()) {
-            tif = idle_.back();
-            idle_.pop_back();
-        }
-    }
-    if (!tif && !(tif = openHandle())) {
-        fail(path_, "cannot reopen the file");
-    }
-    auto values = std::make_shared<std::vector<float>>();
-    const bool ok = decode(tif, index, *values);
-    std::lock_guard<std::mutex> lock(mutex_);
-    idle_.push_back(tif);
-    if (!ok) {
-        fail(path_, std::string("read failed: cannot decode ") + (tiled_ ? "tile " : "strip ") +
-                        std::to_string(index));
-    }
-    const size_t bytes = values->size() * sizeof(float);
-    // Evict the least recently used blocks beyond the budget (a block in use stays alive
-    // through its shared_ptr).
-    while (!cache_.empty() && used_ + bytes > budget_) {
-        auto oldest = cache_.begin();
-        for (auto it = cache_.begin(); it != cache_.end(); ++it) {
-            if (it->second.lastUse < oldest->second.lastUse) {
-                oldest = it;
-            }
-        }
-        used_ -= oldest->second.values->size() * sizeof(float);
-        cache_.erase(oldest);
-    }
-    auto [it, inserted] = cache_.try_emplace(index, Entry{values, ++clock_});
-    if (inserted) {
-        used_ += bytes;
-    }
-    return it->second.values;
+    return openTiffQuietly(path_, "rm");
 }
 
 namespace {
@@ -144,28 +182,6 @@ namespace {
 struct DecompressorDeleter {
     void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
 };
-
-// Undoes TIFF's floating-point predictor (Predictor = 3, TIFF Technical Note 3) on one row of
-// `count` float32 samples of one channel: the row's bytes are differences from the byte before
-// them (a running sum modulo 256 restores them), laid out as planes of the samples' bytes from
-// the most significant one down. The samples come out in the host's byte order, whatever the
-// file's.
-void undoFloatPredictor(uint8_t* bytes, size_t count, float* out) {
-    uint8_t sum = 0;
-    for (size_t k = 0; k < 4 * count; ++k) {
-        sum = static_cast<uint8_t>(sum + bytes[k]);
-        bytes[k] = sum;
-    }
-    const uint8_t* b3 = bytes;             // most significant bytes
-    const uint8_t* b2 = bytes + count;
-    const uint8_t* b1 = bytes + 2 * count;
-    const uint8_t* b0 = bytes + 3 * count; // least significant
-    for (size_t i = 0; i < count; ++i) {
-        const uint32_t word = static_cast<uint32_t>(b0[i]) | static_cast<uint32_t>(b1[i]) << 8 |
-                              static_cast<uint32_t>(b2[i]) << 16 | static_cast<uint32_t>(b3[i]) << 24;
-        out[i] = std::bit_cast<float>(word);
-    }
-}
 
 } // namespace
 
@@ -176,7 +192,10 @@ void undoFloatPredictor(uint8_t* bytes, size_t count, float* out) {
 bool TiffBlockReader::decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows,
                                                   std::vector<float>& values) const {
     const uint64_t rawBytes = TIFFGetStrileByteCount(tif, index);
-    if (rawBytes == 0 || rawBytes > (uint64_t{1} << 31)) {
+    // Deflate never grows data by more than a few bytes per 16 KB: a larger count is damage,
+    // which libtiff's own path then reports, without this allocating it.
+    const uint64_t plainBytes = static_cast<uint64_t>(blockWidth_) * rows * 4;
+    if (rawBytes == 0 || rawBytes > plainBytes + plainBytes / 64 + 4096) {
         return false;
     }
     thread_local std::vector<uint8_t> raw, plain;
@@ -202,42 +221,31 @@ bool TiffBlockReader::decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uin
     return true;
 }
 
-bool TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<float>& values) const {
+void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<float>& values) const {
     if (floatPredictorDeflate_) {
         // Every row of a tile is stored; a strip holds the rows left at the image's bottom.
         const uint32_t rows = tiled_ ? blockHeight_ : std::min(blockHeight_, height_ - (index * blockHeight_));
         if (decodeFloatPredictorDeflate(tif, index, rows, values)) {
-            return true;
+            return;
         }
     }
     const size_t count = static_cast<size_t>(blockWidth_) * blockHeight_;
-    std::vector<uint8_t> raw(count * (bits_ / 8));
-    const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()))
-                                : TIFFReadEncodedStrip(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()));
+    // float32 samples are decoded in place; integers through a buffer kept per thread.
+    const bool floats = format_ == SAMPLEFORMAT_IEEEFP;
+    thread_local std::vector<uint8_t> raw;
+    if (!floats) {
+        raw.resize(count * (bits_ / 8));
+    }
+    void* into = floats ? static_cast<void*>(values.data()) : raw.data();
+    const auto bytes = static_cast<tmsize_t>(count * (bits_ / 8));
+    const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, into, bytes) : TIFFReadEncodedStrip(tif, index, into, bytes);
     // The last strip may hold fewer rows; missing rows are never read (outside the image).
     if (got < 0) {
-        return false;
+        fail(path_, std::string("read failed: cannot decode ") + (tiled_ ? "tile " : "strip ") + std::to_string(index));
     }
-    values.resize(count);
-    const auto convert = [&](auto type) {
-        using T = decltype(type);
-        for (size_t k = 0; k < count; ++k) {
-            T v;
-            std::memcpy(&v, raw.data() + k * sizeof(T), sizeof(T));
-            values[k] = static_cast<float>(v);
-        }
-    };
-    const bool isSigned = format_ == SAMPLEFORMAT_INT;
-    if (format_ == SAMPLEFORMAT_IEEEFP) {
-        std::memcpy(values.data(), raw.data(), count * sizeof(float));
-    } else if (bits_ == 8) {
-        isSigned ? convert(int8_t{}) : convert(uint8_t{});
-    } else if (bits_ == 16) {
-        isSigned ? convert(int16_t{}) : convert(uint16_t{});
-    } else {
-        isSigned ? convert(int32_t{}) : convert(uint32_t{});
+    if (!floats) {
+        samplesToFloat(raw.data(), count, bits_, format_, values.data());
     }
-    return true;
 }
 
 } // namespace pyramid

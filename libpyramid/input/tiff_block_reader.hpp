@@ -1,18 +1,28 @@
 // Single-band TIFF files of 8, 16 or 32-bit integers or float32, compressed or not, striped
-// or tiled (whatever libtiff decodes losslessly), decoded one whole strip or tile at a time,
-// in parallel (one TIFF handle per reading thread), into a cache of decoded blocks bounded by
-// --cache-mb. OpenImageIO's ImageCache decodes such files one scanline at a time under one
-// lock per file, through zlib rather than libdeflate: several times slower, and serial.
-// Integer values are converted to float32 by value (never normalised).
+// or tiled, BigTIFF or not (whatever libtiff decodes losslessly), in memory bounded by the
+// cache budget whatever the file's size and layout:
+// * strips and tiles up to a quarter of the budget are decoded one whole block at a time, in
+//   parallel (one TIFF handle per reading thread), into the shared block cache
+//   (block_cache.hpp: recycled buffers, one decode per block however many threads want it);
+// * larger strips (a whole image in one strip, say) are decoded once, row by row
+//   (tiff_strip_stream.hpp), at the first read, into a scratch file (scratch_file.hpp) read
+//   back by window;
+// * larger tiles cannot be decoded piecewise: the file is refused, naming the cache they need.
+// Blocks are checked against the image before anything is allocated: a file declaring tiles
+// far larger than its image is refused as damaged.
+// OpenImageIO's ImageCache decodes such files one scanline at a time under one lock per file,
+// through zlib rather than libdeflate: several times slower, and serial. Integer values are
+// converted to float32 by value (never normalised).
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
+#include "libpyramid/input/block_cache.hpp"
 #include "libpyramid/input/raster_info.hpp"
+#include "libpyramid/input/scratch_file.hpp"
 
 typedef struct tiff TIFF;
 
@@ -20,7 +30,8 @@ namespace pyramid {
 
 class TiffBlockReader {
 public:
-    // Null when the file is not such a TIFF, or its size is not info's.
+    // Null when the file is not such a TIFF, or its size is not info's. Throws Error for blocks
+    // no image of its size has, and OptionError("cacheMegabytes") for tiles beyond the budget.
     static std::unique_ptr<TiffBlockReader> open(const std::string& path, const RasterInfo& info, int cacheMegabytes);
     ~TiffBlockReader();
     TiffBlockReader(const TiffBlockReader&) = delete;
@@ -31,15 +42,10 @@ public:
     void read(int x0, int y0, int x1, int y1, float* out);
 
 private:
-    struct Entry {
-        std::shared_ptr<const std::vector<float>> values;
-        uint64_t lastUse = 0;
-    };
-
     TiffBlockReader() = default;
     TIFF* openHandle() const;
-    std::shared_ptr<const std::vector<float>> get(uint32_t bx, uint32_t by);
-    bool decode(TIFF* tif, uint32_t index, std::vector<float>& values) const;
+    void readBlocks(int x0, int y0, int x1, int y1, float* out);
+    void decode(TIFF* tif, uint32_t index, std::vector<float>& values) const;
     bool decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows, std::vector<float>& values) const;
 
     std::string path_;
@@ -48,12 +54,11 @@ private:
     uint16_t bits_ = 0, format_ = 1; // SAMPLEFORMAT_UINT
     bool tiled_ = false;
     bool floatPredictorDeflate_ = false; // float32, Deflate, Predictor = 3: decoded here
-    size_t budget_ = 0;
+    std::unique_ptr<BlockCache> cache_;   // blocks within the budget
+    std::unique_ptr<ScratchFile> rows_;   // or the whole image, float32 rows, for huge strips
+    std::once_flag spilled_;              // rows_ filled
     std::mutex mutex_;
-    std::vector<TIFF*> idle_;                    // open handles not in use
-    std::unordered_map<uint32_t, Entry> cache_; // decoded blocks by index
-    size_t used_ = 0;
-    uint64_t clock_ = 0;
+    std::vector<TIFF*> idle_;             // open handles not in use
 };
 
 } // namespace pyramid

@@ -1,0 +1,145 @@
+// Writes the seed inputs of raster_input_fuzz into tests/corpus/input/: small valid rasters in
+// every layout the input readers take, for the fuzzer to mutate. Deterministic; run by hand
+// after changing it:
+//   g++ -std=c++20 fuzz/make_input_corpus.cpp -o /tmp/make_input_corpus -ltiff -lpng
+//   /tmp/make_input_corpus tests/corpus/input
+#include <png.h>
+#include <tiffio.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr uint32_t kWidth = 40, kHeight = 24;
+// One-strip images are larger: 300 x 240 samples decode to 288 KB, more than a quarter of the
+// fuzzer's 1 MB cache, so that they go through the strip stream and the scratch file.
+constexpr uint32_t kStripWidth = 300, kStripHeight = 240;
+
+struct Tiff {
+    const char* name;
+    uint16_t bits, format, compression, predictor;
+    uint32_t tile, rowsPerStrip; // rowsPerStrip 0: the whole image in one strip
+    const char* mode;
+};
+
+bool writeTiff(const std::string& dir, const Tiff& l) {
+    TIFF* t = TIFFOpen((dir + "/" + l.name).c_str(), l.mode);
+    if (!t) {
+        return false;
+    }
+    const bool oneStrip = l.tile == 0 && l.rowsPerStrip == 0;
+    const uint32_t width = oneStrip ? kStripWidth : kWidth, height = oneStrip ? kStripHeight : kHeight;
+    TIFFSetField(t, TIFFTAG_IMAGEWIDTH, width);
+    TIFFSetField(t, TIFFTAG_IMAGELENGTH, height);
+    TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, l.bits);
+    TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, l.format);
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, uint16_t{1});
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(t, TIFFTAG_COMPRESSION, l.compression);
+    if (l.predictor != PREDICTOR_NONE) {
+        TIFFSetField(t, TIFFTAG_PREDICTOR, l.predictor);
+    }
+    const size_t bytes = l.bits / 8;
+    const auto sample = [&](uint32_t x, uint32_t y, uint8_t* to) {
+        const double v = static_cast<double>((x * 37 + y * 101) % 997) - 300.0;
+        if (l.format == SAMPLEFORMAT_IEEEFP) {
+            const auto f = static_cast<float>(v * 0.5);
+            std::memcpy(to, &f, 4);
+        } else if (bytes == 2) {
+            const auto s = static_cast<int16_t>(v);
+            std::memcpy(to, &s, 2);
+        } else {
+            to[0] = static_cast<uint8_t>(static_cast<int>(v) & 0xff);
+        }
+    };
+    const uint32_t tile = l.tile, rows = oneStrip ? height : l.rowsPerStrip;
+    if (tile) {
+        TIFFSetField(t, TIFFTAG_TILEWIDTH, tile);
+        TIFFSetField(t, TIFFTAG_TILELENGTH, tile);
+        std::vector<uint8_t> block(static_cast<size_t>(tile) * tile * bytes);
+        for (uint32_t ty = 0; ty < height; ty += tile) {
+            for (uint32_t tx = 0; tx < width; tx += tile) {
+                std::memset(block.data(), 0, block.size());
+                for (uint32_t y = ty; y < ty + tile && y < height; ++y) {
+                    for (uint32_t x = tx; x < tx + tile && x < width; ++x) {
+                        sample(x, y, block.data() + ((y - ty) * tile + (x - tx)) * bytes);
+                    }
+                }
+                TIFFWriteEncodedTile(t, TIFFComputeTile(t, tx, ty, 0, 0), block.data(), static_cast<tmsize_t>(block.size()));
+            }
+        }
+    } else {
+        TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, rows);
+        for (uint32_t y0 = 0; y0 < height; y0 += rows) {
+            const uint32_t n = y0 + rows <= height ? rows : height - y0;
+            std::vector<uint8_t> strip(static_cast<size_t>(width) * n * bytes);
+            for (uint32_t y = y0; y < y0 + n; ++y) {
+                for (uint32_t x = 0; x < width; ++x) {
+                    sample(x, y, strip.data() + ((y - y0) * width + x) * bytes);
+                }
+            }
+            TIFFWriteEncodedStrip(t, TIFFComputeStrip(t, y0, 0), strip.data(), static_cast<tmsize_t>(strip.size()));
+        }
+    }
+    TIFFClose(t);
+    return true;
+}
+
+bool writePng(const std::string& dir, const char* name, int depth, int colour, int channels, bool interlaced) {
+    std::FILE* f = std::fopen((dir + "/" + name).c_str(), "wb");
+    if (!f) {
+        return false;
+    }
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png_create_info_struct(png);
+    png_init_io(png, f);
+    png_set_IHDR(png, info, kWidth, kHeight, depth, colour, interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    const size_t rowBytes = static_cast<size_t>(kWidth) * channels * (depth / 8);
+    std::vector<uint8_t> image(rowBytes * kHeight);
+    for (size_t k = 0; k < image.size(); ++k) {
+        image[k] = static_cast<uint8_t>((k * 2654435761u) >> 24);
+    }
+    std::vector<png_bytep> rows(kHeight);
+    for (uint32_t y = 0; y < kHeight; ++y) {
+        rows[y] = image.data() + y * rowBytes;
+    }
+    png_write_image(png, rows.data());
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    std::fclose(f);
+    return true;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: %s DIRECTORY\n", argv[0]);
+        return 2;
+    }
+    const std::string dir = argv[1];
+    const Tiff tiffs[] = {
+        {"f32-deflate-p3-tiled.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_FLOATINGPOINT, 16, 0, "w"},
+        {"f32-lzw-p3-strips.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_LZW, PREDICTOR_FLOATINGPOINT, 0, 5, "w"},
+        {"f32-deflate-rows.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 0, 1, "w"},
+        {"f32-deflate-one-strip-be.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 0, 0, "wb"},
+        {"i16-deflate-p2-one-strip.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 0, "w"},
+        {"i16-bigtiff-tiled.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 16, 0, "w8"},
+        {"u8-packbits-strips.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_PACKBITS, PREDICTOR_NONE, 0, 7, "w"},
+        {"u16-none-one-strip.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_NONE, PREDICTOR_NONE, 0, 0, "w"},
+    };
+    bool ok = true;
+    for (const Tiff& t : tiffs) {
+        ok = writeTiff(dir, t) && ok;
+    }
+    ok = writePng(dir, "grey16.png", 16, PNG_COLOR_TYPE_GRAY, 1, false) && ok;
+    ok = writePng(dir, "rgb8.png", 8, PNG_COLOR_TYPE_RGB, 3, false) && ok;
+    ok = writePng(dir, "rgba8-interlaced.png", 8, PNG_COLOR_TYPE_RGB_ALPHA, 4, true) && ok;
+    return ok ? 0 : 1;
+}

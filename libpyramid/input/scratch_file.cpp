@@ -1,0 +1,84 @@
+#include "libpyramid/input/scratch_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+std::string temporaryDirectory() {
+    const char* tmp = std::getenv("TMPDIR");
+    return tmp && *tmp ? tmp : "/tmp";
+}
+
+} // namespace
+
+ScratchFile::ScratchFile(const std::string& input) : input_(input) {
+    const std::string dir = temporaryDirectory();
+#ifdef O_TMPFILE
+    fd_ = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+#endif
+    if (fd_ < 0) {
+        // Without O_TMPFILE (some file systems): a named file, unlinked at once.
+        std::string name = (std::filesystem::path(dir) / "libpyramid-scratch-XXXXXX").string();
+        fd_ = ::mkstemp(name.data());
+        if (fd_ >= 0) {
+            ::unlink(name.c_str());
+        }
+    }
+    if (fd_ < 0) {
+        fail(input_, "cannot create a scratch file in " + dir + " for the decoded samples: " + std::strerror(errno) +
+                         " (set TMPDIR to a writable directory with room for them)");
+    }
+}
+
+ScratchFile::~ScratchFile() {
+    if (fd_ >= 0) {
+        ::close(fd_);
+    }
+}
+
+void ScratchFile::write(uint64_t offset, const void* data, size_t bytes) const {
+    const auto* p = static_cast<const char*>(data);
+    while (bytes > 0) {
+        const ssize_t n = ::pwrite(fd_, p, bytes, static_cast<off_t>(offset));
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            const int e = n < 0 ? errno : ENOSPC;
+            fail(input_, std::string("cannot write the decoded samples to the scratch file in ") + temporaryDirectory() +
+                             ": " + std::strerror(e) + (e == ENOSPC ? " (set TMPDIR to a directory with more room)" : ""));
+        }
+        p += n;
+        offset += static_cast<uint64_t>(n);
+        bytes -= static_cast<size_t>(n);
+    }
+}
+
+void ScratchFile::read(uint64_t offset, void* data, size_t bytes) const {
+    auto* p = static_cast<char*>(data);
+    while (bytes > 0) {
+        const ssize_t n = ::pread(fd_, p, bytes, static_cast<off_t>(offset));
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            fail(input_, std::string("cannot read the scratch file of decoded samples: ") +
+                             (n < 0 ? std::strerror(errno) : "file too short"));
+        }
+        p += n;
+        offset += static_cast<uint64_t>(n);
+        bytes -= static_cast<size_t>(n);
+    }
+}
+
+} // namespace pyramid

@@ -1,0 +1,82 @@
+#include "libpyramid/input/tiff_samples.hpp"
+
+#include <bit>
+#include <cstring>
+
+namespace pyramid {
+
+void undoFloatPredictor(uint8_t* bytes, size_t count, float* out) {
+    uint8_t sum = 0;
+    for (size_t k = 0; k < 4 * count; ++k) {
+        sum = static_cast<uint8_t>(sum + bytes[k]);
+        bytes[k] = sum;
+    }
+    const uint8_t* b3 = bytes;             // most significant bytes
+    const uint8_t* b2 = bytes + count;
+    const uint8_t* b1 = bytes + 2 * count;
+    const uint8_t* b0 = bytes + 3 * count; // least significant
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t word = static_cast<uint32_t>(b0[i]) | static_cast<uint32_t>(b1[i]) << 8 |
+                              static_cast<uint32_t>(b2[i]) << 16 | static_cast<uint32_t>(b3[i]) << 24;
+        out[i] = std::bit_cast<float>(word);
+    }
+}
+
+namespace {
+
+template <typename T>
+void accumulate(uint8_t* row, size_t count) {
+    T previous = 0;
+    for (size_t i = 0; i < count; ++i) {
+        T v;
+        std::memcpy(&v, row + i * sizeof(T), sizeof(T));
+        previous = static_cast<T>(previous + v);
+        std::memcpy(row + i * sizeof(T), &previous, sizeof(T));
+    }
+}
+
+template <typename T>
+void convert(const uint8_t* raw, size_t count, float* out) {
+    for (size_t k = 0; k < count; ++k) {
+        T v;
+        std::memcpy(&v, raw + k * sizeof(T), sizeof(T));
+        out[k] = static_cast<float>(v);
+    }
+}
+
+} // namespace
+
+void undoHorizontalPredictor(uint8_t* row, size_t count, int bits) {
+    switch (bits) {
+    case 8: return accumulate<uint8_t>(row, count);
+    case 16: return accumulate<uint16_t>(row, count);
+    default: return accumulate<uint32_t>(row, count);
+    }
+}
+
+void swapSampleBytes(uint8_t* row, size_t count, int bits) {
+    const size_t n = static_cast<size_t>(bits / 8);
+    for (size_t i = 0; i < count && n > 1; ++i) {
+        uint8_t* s = row + i * n;
+        for (size_t a = 0, b = n - 1; a < b; ++a, --b) {
+            const uint8_t t = s[a];
+            s[a] = s[b];
+            s[b] = t;
+        }
+    }
+}
+
+void samplesToFloat(const uint8_t* raw, size_t count, int bits, int sampleFormat, float* out) {
+    const bool isSigned = sampleFormat == 2;
+    if (sampleFormat == 3) {
+        std::memcpy(out, raw, count * sizeof(float));
+    } else if (bits == 8) {
+        isSigned ? convert<int8_t>(raw, count, out) : convert<uint8_t>(raw, count, out);
+    } else if (bits == 16) {
+        isSigned ? convert<int16_t>(raw, count, out) : convert<uint16_t>(raw, count, out);
+    } else {
+        isSigned ? convert<int32_t>(raw, count, out) : convert<uint32_t>(raw, count, out);
+    }
+}
+
+} // namespace pyramid

@@ -1,0 +1,319 @@
+// Inputs in bounded memory: every TIFF layout real DEMs ship in (strips, tiles, one strip for
+// the whole image, BigTIFF, both byte orders, each predictor) reads the file's samples through
+// the block cache and, for strips larger than the cache, through the strip stream and its
+// scratch file; a PNG larger than the cache reads back from its scratch file; blocks no image
+// has and tiles beyond the cache are refused with one line; the block cache decodes a block
+// once however many threads want it, and recycles its buffers within the budget.
+#include <gtest/gtest.h>
+
+#include <png.h>
+#include <tiffio.h>
+
+#include <atomic>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "formats/error.hpp"
+#include "libpyramid/input/block_cache.hpp"
+#include "libpyramid/input/raster_source.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+struct TiffLayout {
+    std::string name;
+    uint16_t bits = 32;
+    uint16_t format = SAMPLEFORMAT_IEEEFP;
+    uint16_t compression = COMPRESSION_ADOBE_DEFLATE;
+    uint16_t predictor = PREDICTOR_NONE;
+    uint32_t tile = 0;          // 0: strips
+    uint32_t rowsPerStrip = 16; // strips only
+    const char* mode = "w";     // "w8": BigTIFF; "wb": big-endian
+};
+
+// Sample (x, y) of the test images, exact in every sample type (within the type's range).
+double sampleAt(const TiffLayout& l, uint32_t x, uint32_t y) {
+    const double v = static_cast<double>((x * 37 + y * 101) % 997) - (l.format == SAMPLEFORMAT_UINT ? 0.0 : 400.0);
+    if (l.format == SAMPLEFORMAT_IEEEFP) {
+        return v + 0.25 * static_cast<double>((x + y) % 4);
+    }
+    return l.bits == 8 ? static_cast<double>(static_cast<int>(v) % 100) : v;
+}
+
+void putSample(const TiffLayout& l, double v, uint8_t* to) {
+    if (l.format == SAMPLEFORMAT_IEEEFP) {
+        const auto f = static_cast<float>(v);
+        std::memcpy(to, &f, 4);
+    } else if (l.bits == 8) {
+        const auto b = static_cast<int8_t>(v);
+        std::memcpy(to, &b, 1);
+    } else if (l.bits == 16) {
+        const auto s = static_cast<int16_t>(v);
+        std::memcpy(to, &s, 2);
+    } else {
+        const auto i = static_cast<int32_t>(v);
+        std::memcpy(to, &i, 4);
+    }
+}
+
+void writeTiff(const std::string& path, const TiffLayout& l, uint32_t w, uint32_t h) {
+    TIFF* t = TIFFOpen(path.c_str(), l.mode);
+    ASSERT_TRUE(t) << path;
+    TIFFSetField(t, TIFFTAG_IMAGEWIDTH, w);
+    TIFFSetField(t, TIFFTAG_IMAGELENGTH, h);
+    TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, l.bits);
+    TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, l.format);
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, uint16_t{1});
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(t, TIFFTAG_COMPRESSION, l.compression);
+    if (l.predictor != PREDICTOR_NONE) {
+        TIFFSetField(t, TIFFTAG_PREDICTOR, l.predictor);
+    }
+    const size_t bytes = l.bits / 8;
+    if (l.tile) {
+        TIFFSetField(t, TIFFTAG_TILEWIDTH, l.tile);
+        TIFFSetField(t, TIFFTAG_TILELENGTH, l.tile);
+        std::vector<uint8_t> tile(static_cast<size_t>(l.tile) * l.tile * bytes);
+        for (uint32_t ty = 0; ty < h; ty += l.tile) {
+            for (uint32_t tx = 0; tx < w; tx += l.tile) {
+                std::fill(tile.begin(), tile.end(), uint8_t{0});
+                for (uint32_t y = ty; y < std::min(h, ty + l.tile); ++y) {
+                    for (uint32_t x = tx; x < std::min(w, tx + l.tile); ++x) {
+                        putSample(l, sampleAt(l, x, y), tile.data() + ((y - ty) * l.tile + (x - tx)) * bytes);
+                    }
+                }
+                ASSERT_GE(TIFFWriteEncodedTile(t, TIFFComputeTile(t, tx, ty, 0, 0), tile.data(),
+                                               static_cast<tmsize_t>(tile.size())), 0);
+            }
+        }
+    } else {
+        const uint32_t rows = std::min(l.rowsPerStrip, h);
+        TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, rows);
+        for (uint32_t y0 = 0; y0 < h; y0 += rows) {
+            const uint32_t n = std::min(rows, h - y0);
+            std::vector<uint8_t> strip(static_cast<size_t>(w) * n * bytes);
+            for (uint32_t y = y0; y < y0 + n; ++y) {
+                for (uint32_t x = 0; x < w; ++x) {
+                    putSample(l, sampleAt(l, x, y), strip.data() + ((y - y0) * w + x) * bytes);
+                }
+            }
+            ASSERT_GE(TIFFWriteEncodedStrip(t, TIFFComputeStrip(t, y0, 0), strip.data(),
+                                            static_cast<tmsize_t>(strip.size())), 0);
+        }
+    }
+    TIFFClose(t);
+}
+
+// Reads the whole image and a window across block boundaries, from several threads at once.
+void expectSamples(const std::string& path, const TiffLayout& l, uint32_t w, uint32_t h, int cacheMegabytes) {
+    SCOPED_TRACE(path + " with a cache of " + std::to_string(cacheMegabytes) + " MB");
+    const auto source = RasterSource::open(path, cacheMegabytes);
+    ASSERT_EQ(source->info().width, static_cast<int>(w));
+    std::vector<std::string> failures(3);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 3; ++t) {
+        threads.emplace_back([&, t] {
+            const int x0 = t == 0 ? 0 : 7 * t, y0 = t == 0 ? 0 : 5 + 9 * t;
+            const int x1 = static_cast<int>(w) - (t == 0 ? 0 : 3), y1 = static_cast<int>(h) - (t == 0 ? 0 : 11);
+            std::vector<float> out(static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0));
+            source->readFloat(x0, y0, x1, y1, 0, out.data());
+            for (int y = y0; y < y1; ++y) {
+                for (int x = x0; x < x1; ++x) {
+                    const float got = out[static_cast<size_t>(y - y0) * static_cast<size_t>(x1 - x0) +
+                                          static_cast<size_t>(x - x0)];
+                    const auto want = static_cast<float>(sampleAt(l, static_cast<uint32_t>(x), static_cast<uint32_t>(y)));
+                    if (got != want) {
+                        failures[static_cast<size_t>(t)] = "(" + std::to_string(x) + "," + std::to_string(y) +
+                                                           "): " + std::to_string(got) + " instead of " +
+                                                           std::to_string(want);
+                        return;
+                    }
+                }
+            }
+        });
+    }
+    for (std::thread& t : threads) {
+        t.join();
+    }
+    for (const std::string& f : failures) {
+        EXPECT_EQ(f, "");
+    }
+}
+
+TEST(InputMemory, EveryTiffLayoutReadsItsSamples) {
+    const std::vector<TiffLayout> layouts = {
+        {"f32-deflate-p3-tiled.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_FLOATINGPOINT, 128},
+        {"f32-lzw-p3-strips.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_LZW, PREDICTOR_FLOATINGPOINT, 0, 16},
+        {"f32-deflate-rows.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 0, 1},
+        {"f32-deflate-p3-one-strip.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_FLOATINGPOINT, 0, 100000},
+        {"f32-deflate-one-strip-be.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 0, 100000, "wb"},
+        {"i16-deflate-p2-one-strip-be.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 100000, "wb"},
+        {"i16-deflate-p2-one-strip.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 100000},
+        {"u16-none-one-strip.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_NONE, PREDICTOR_NONE, 0, 100000},
+        {"i32-lzw-one-strip.tif", 32, SAMPLEFORMAT_INT, COMPRESSION_LZW, PREDICTOR_HORIZONTAL, 0, 100000},
+        {"i8-packbits-strips.tif", 8, SAMPLEFORMAT_INT, COMPRESSION_PACKBITS, PREDICTOR_NONE, 0, 7},
+        {"f32-zstd-tiled.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ZSTD, PREDICTOR_FLOATINGPOINT, 64},
+        {"f32-lzma-strips.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_LZMA, PREDICTOR_NONE, 0, 32},
+        {"f32-bigtiff-tiled.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_FLOATINGPOINT, 128, 0, "w8"},
+        {"i16-bigtiff-one-strip.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 100000, "w8"},
+    };
+    test::TempDir dir;
+    // 700 x 530 samples: a one-strip float32 image is 1.4 MB, beyond a quarter of a 1 MB cache,
+    // so that its rows go through the strip stream and the scratch file; with 256 MB they are
+    // one block of the cache.
+    const uint32_t w = 700, h = 530;
+    for (const TiffLayout& l : layouts) {
+        if (!TIFFIsCODECConfigured(l.compression)) {
+            continue; // a libtiff built without ZSTD or LZMA
+        }
+        const std::string path = dir.file(l.name);
+        writeTiff(path, l, w, h);
+        expectSamples(path, l, w, h, 256);
+        if (!l.tile) {
+            expectSamples(path, l, w, h, 1);
+        }
+    }
+}
+
+std::string errorOf(const std::string& path, int cacheMegabytes) {
+    try {
+        const auto source = RasterSource::open(path, cacheMegabytes);
+        std::vector<float> one(1);
+        source->readFloat(0, 0, 1, 1, 0, one.data());
+    } catch (const OptionError& e) {
+        return "option " + e.option() + ": " + e.problem();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+TEST(InputMemory, BlocksNoImageHasAndTilesBeyondTheCacheAreRefused) {
+    test::TempDir dir;
+    // A 40 x 30 image declaring 65536 x 65536 tiles: refused before 16 GiB are asked for.
+    const std::string hostile = dir.file("hostile.tif");
+    {
+        TIFF* t = TIFFOpen(hostile.c_str(), "w");
+        ASSERT_TRUE(t);
+        TIFFSetField(t, TIFFTAG_IMAGEWIDTH, 40);
+        TIFFSetField(t, TIFFTAG_IMAGELENGTH, 30);
+        TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 32);
+        TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, SAMPLEFORMAT_IEEEFP);
+        TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 1);
+        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+        TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
+        TIFFSetField(t, TIFFTAG_TILEWIDTH, 65536);
+        TIFFSetField(t, TIFFTAG_TILELENGTH, 65536);
+        std::vector<uint8_t> nothing(16);
+        TIFFWriteRawTile(t, 0, nothing.data(), static_cast<tmsize_t>(nothing.size()));
+        TIFFClose(t);
+    }
+    const std::string hostileError = errorOf(hostile, 256);
+    EXPECT_NE(hostileError.find("hostile.tif: damaged TIFF: tiles of 65536 x 65536 samples for a 40 x 30 image"),
+              std::string::npos)
+        << hostileError;
+    // 512 x 512 float32 tiles are 1 MB decoded: a 1 MB cache cannot hold the four a window needs.
+    const TiffLayout big{"big-tiles.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 512};
+    writeTiff(dir.file(big.name), big, 600, 520);
+    const std::string bigError = errorOf(dir.file(big.name), 1);
+    EXPECT_NE(bigError.find("option cacheMegabytes: "), std::string::npos) << bigError;
+    EXPECT_NE(bigError.find("tiles of 512 x 512 samples (1 MB decoded) need a cache of at least 4 MB, not 1"),
+              std::string::npos)
+        << bigError;
+    expectSamples(dir.file(big.name), big, 600, 520, 4);
+}
+
+// A PNG larger than the cache is decoded into its scratch file and reads the same samples; an
+// interlaced one, which decodes whole, must fit the cache.
+TEST(InputMemory, PngBeyondTheCacheReadsFromItsScratchFile) {
+    test::TempDir dir;
+    const int w = 800, h = 700; // 16-bit RGB: 3.4 MB
+    std::vector<uint16_t> pixels(static_cast<size_t>(w) * h * 3);
+    for (size_t k = 0; k < pixels.size(); ++k) {
+        pixels[k] = static_cast<uint16_t>((k * 2654435761u) >> 16);
+    }
+    for (const bool interlaced : {false, true}) {
+        const std::string path = dir.file(interlaced ? "interlaced.png" : "plain.png");
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        ASSERT_TRUE(f);
+        png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+        png_infop info = png_create_info_struct(png);
+        png_init_io(png, f);
+        png_set_IHDR(png, info, w, h, 16, PNG_COLOR_TYPE_RGB, interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+                     PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+        png_write_info(png, info);
+        png_set_swap(png);
+        std::vector<png_bytep> rows(static_cast<size_t>(h));
+        for (int y = 0; y < h; ++y) {
+            rows[static_cast<size_t>(y)] = reinterpret_cast<png_bytep>(pixels.data() + static_cast<size_t>(y) * w * 3);
+        }
+        png_write_image(png, rows.data());
+        png_write_end(png, nullptr);
+        png_destroy_write_struct(&png, &info);
+        std::fclose(f);
+        if (interlaced) {
+            const std::string error = errorOf(path, 1);
+            EXPECT_NE(error.find("option cacheMegabytes: " + path + ": an interlaced PNG is decoded whole, 4 MB"),
+                      std::string::npos)
+                << error;
+            continue;
+        }
+        const auto source = RasterSource::open(path, 1);
+        std::vector<uint16_t> window(static_cast<size_t>(w - 10) * 300 * 2);
+        source->readUInt16(5, 350, w - 5, 650, 1, 3, window.data());
+        for (int y = 350; y < 650; ++y) {
+            for (int x = 5; x < w - 5; ++x) {
+                for (int c = 1; c < 3; ++c) {
+                    ASSERT_EQ(window[(static_cast<size_t>(y - 350) * (w - 10) + (x - 5)) * 2 + (c - 1)],
+                              pixels[(static_cast<size_t>(y) * w + x) * 3 + c])
+                        << x << "," << y << "," << c;
+                }
+            }
+        }
+    }
+}
+
+TEST(InputMemory, BlockCacheDecodesOnceAndRecyclesWithinTheBudget) {
+    // Room for 4 blocks of 1000 floats.
+    BlockCache cache(4 * 1000 * sizeof(float), 1000);
+    std::atomic<int> decodes{0};
+    const auto decodeAs = [&](uint32_t index) {
+        return [&, index](BlockCache::Block& b) {
+            ++decodes;
+            std::this_thread::sleep_for(std::chrono::milliseconds(20)); // others arrive meanwhile
+            std::fill(b.begin(), b.end(), static_cast<float>(index));
+        };
+    };
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 6; ++t) {
+        threads.emplace_back([&] { EXPECT_EQ((*cache.get(7, decodeAs(7)))[999], 7.0f); });
+    }
+    for (std::thread& t : threads) {
+        t.join();
+    }
+    EXPECT_EQ(decodes.load(), 1); // six threads, one decode
+    for (uint32_t i = 0; i < 50; ++i) {
+        EXPECT_EQ((*cache.get(i, decodeAs(i)))[0], static_cast<float>(i));
+    }
+    EXPECT_EQ(cache.buffers(), 4u); // recycled, never more than the budget holds
+    // Held blocks are not recycled: a fifth buffer when all four are held.
+    std::vector<std::shared_ptr<const BlockCache::Block>> held;
+    for (uint32_t i = 100; i < 105; ++i) {
+        held.push_back(cache.get(i, decodeAs(i)));
+    }
+    EXPECT_EQ(cache.buffers(), 5u);
+    for (uint32_t i = 100; i < 105; ++i) {
+        EXPECT_EQ((*held[i - 100])[500], static_cast<float>(i));
+    }
+    // A failed decode leaves nothing behind: the next request decodes again.
+    EXPECT_THROW(cache.get(200, [](BlockCache::Block&) { throw std::runtime_error("damaged"); }), std::runtime_error);
+    EXPECT_EQ((*cache.get(200, decodeAs(200)))[1], 200.0f);
+}
+
+} // namespace
+} // namespace pyramid
