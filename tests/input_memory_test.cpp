@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -276,6 +277,23 @@ TEST(InputMemory, PngBeyondTheCacheReadsFromItsScratchFile) {
             }
         }
     }
+}
+
+// The input fuzzer's seeds are valid files of the layouts they name: each reads whole, with the
+// fuzzer's 1 MB cache.
+TEST(InputMemory, FuzzSeedsAreValidInputs) {
+    int files = 0;
+    for (const auto& f : std::filesystem::directory_iterator(test::corpusPath("input"))) {
+        SCOPED_TRACE(f.path().string());
+        const auto source = RasterSource::open(f.path().string(), 1);
+        const RasterInfo& info = source->info();
+        std::vector<float> all(static_cast<size_t>(info.width) * static_cast<size_t>(info.height));
+        for (int c = 0; c < info.channels; ++c) {
+            source->readFloat(0, 0, info.width, info.height, c, all.data());
+        }
+        ++files;
+    }
+    EXPECT_GE(files, 10);
 }
 
 TEST(InputMemory, BlockCacheDecodesOnceAndRecyclesWithinTheBudget) {
