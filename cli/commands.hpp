@@ -20,5 +20,6 @@ CommandRunner setupOrthoCommand(CLI::App& app);   // pyramid ortho / preprocessO
 CommandRunner setupSphereDemCommand(CLI::App& app);   // pyramid sphere-dem / preprocessSphericalDem
 CommandRunner setupSphereOrthoCommand(CLI::App& app); // pyramid sphere-ortho / preprocessSphericalOrtho
 CommandRunner setupVerifyCommand(CLI::App& app);  // pyramid verify FILE --source INPUT [--gl]
+CommandRunner setupHeightCommand(CLI::App& app);  // pyramid height FILE|DIR --grid/--pixel/--lonlat
 
 } // namespace pyramid::cli

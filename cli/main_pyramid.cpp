@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
         {"sphere-ortho", "Build six cube-face ortho pyramids from global imagery (same as preprocessSphericalOrtho)",
          setupSphereOrthoCommand},
         {"verify", "Rebuild every level and compare with the source (or CPU with GL)", setupVerifyCommand},
+        {"height", "Print the reconstructed height at a point (grid, source pixel, or longitude and latitude)",
+         setupHeightCommand},
     };
     NamedRunner runners[std::size(entries)];
     int count = 0;

@@ -61,6 +61,7 @@ static void test_elevation(const char* dir) {
     float* zf;
     float* zc;
     int side;
+    double height = 0.0;
     path_of(path, sizeof path, dir, "proland/DEM.dat");
     CHECK(pyramid_elevation_open(path, 24, 0, 16, &producer) == PYRAMID_OK);
     if (!producer) {
@@ -73,6 +74,16 @@ static void test_elevation(const char* dir) {
     CHECK(pyramid_elevation_tile(producer, 0, 0, 0, zf, zc, NULL, 29 * 29) == PYRAMID_OK);
     CHECK(zf[0] == 1400.0f * 0.1f);
     CHECK(zf[14 + 14 * 29] == 1470.0f * 0.1f);
+    /* The root tile's samples, at its corner and its centre; half-way between two samples. */
+    CHECK(pyramid_elevation_height(producer, 0, 0.0, 0.0, &height) == PYRAMID_OK);
+    CHECK(height == (double)zf[2 + 2 * 29]);
+    CHECK(pyramid_elevation_height(producer, 0, 0.5, 0.5, &height) == PYRAMID_OK);
+    CHECK(height == (double)zf[14 + 14 * 29]);
+    CHECK(pyramid_elevation_height(producer, 0, 0.5 + 0.5 / 24.0, 0.5, &height) == PYRAMID_OK);
+    CHECK(fabs(height - ((double)zf[14 + 14 * 29] + (double)zf[15 + 14 * 29]) / 2.0) < 1e-9);
+    CHECK(pyramid_elevation_height(producer, -1, 0.3, 0.7, &height) == PYRAMID_OK);
+    CHECK(isfinite(height) && height > 0.0);
+    CHECK(pyramid_elevation_height(producer, 0, 1.5, 0.5, &height) == PYRAMID_ERROR_ARGUMENT);
     CHECK(pyramid_elevation_tile(producer, 3, 5, 2, zf, zc, NULL, 29 * 29) == PYRAMID_OK);
     CHECK(isfinite(zf[100]) && zf[100] > 0.0f);
     CHECK(pyramid_elevation_tile(producer, 1, 2, 0, zf, NULL, NULL, 29 * 29) == PYRAMID_ERROR_ARGUMENT);

@@ -106,6 +106,11 @@ int pyramid_elevation_side(const pyramid_elevation* producer);
 pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, int level, int tx, int ty, float* zf, float* zc,
                                       float* zm, size_t count);
 
+/* The height at point (u, v) of the root quad (u east, v north, both in [0, 1]) in the tiles of
+ * `level` (-1: the deepest with residuals): the bilinear interpolation, in double precision, of
+ * the four zf samples around the point in the tile that holds it. */
+pyramid_status pyramid_elevation_height(pyramid_elevation* producer, int level, double u, double v, double* height);
+
 /* ---- Ortho producer ---------------------------------------------------------------------- */
 
 typedef struct pyramid_ortho pyramid_ortho;

@@ -13,6 +13,7 @@
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/height_query.hpp"
 #include "libpyramid/runtime/ortho_producer.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 
@@ -294,6 +295,20 @@ pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, int level, in
         if (zm) {
             std::memcpy(zm, tile->zm.data(), tile->zm.size() * sizeof(float));
         }
+        return PYRAMID_OK;
+    });
+}
+
+pyramid_status pyramid_elevation_height(pyramid_elevation* producer, int level, double u, double v, double* height) {
+    if (!producer || !height) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_elevation_height: null argument");
+    }
+    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0) || level < -1 || level > producer->producer->maxLevel()) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "point (" + std::to_string(u) + ", " + std::to_string(v) +
+                                                    ") at level " + std::to_string(level) + " is outside the pyramid");
+    }
+    return guarded([&] {
+        *height = pyramid::heightAt(*producer->producer, u, v, level).height;
         return PYRAMID_OK;
     });
 }

@@ -1,0 +1,124 @@
+// `pyramid height FILE|DIR (--grid X,Y | --pixel X,Y --source INPUT | --lonlat LON,LAT)`: the
+// reconstructed height at one point, through the runtime's own producer: a pipeline's check
+// that a build landed where it should.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/cli_common.hpp"
+#include "formats/error.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/runtime/height_query.hpp"
+#include "libpyramid/sphere/face_locate.hpp"
+#include "libpyramid/support/parse_number.hpp"
+
+namespace pyramid::cli {
+
+namespace {
+
+struct HeightArgs {
+    std::string target; // a residual file, or a directory of NAME1..6.dat
+    std::string grid, pixel, lonlat;
+    std::string source;
+    bool stretch = false;
+    std::string body = "wgs84";
+    std::string name = "DEM";
+    bool json = false;
+};
+
+std::pair<double, double> parsePair(const std::string& text, const std::string& option) {
+    const size_t comma = text.find(',');
+    if (comma == std::string::npos) {
+        fail(option, "'" + text + "' is not two numbers A,B");
+    }
+    return {parseNumber(text.substr(0, comma), option), parseNumber(text.substr(comma + 1), option)};
+}
+
+int64_t finestIntervals(const ResidualHeader& h) {
+    return static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
+}
+
+int runHeight(const HeightArgs& a) {
+    std::string file = a.target;
+    double u = 0.0, v = 0.0;
+    int face = 0;
+    if (!a.lonlat.empty()) {
+        const auto [lon, lat] = parsePair(a.lonlat, "--lonlat");
+        if (!(lat >= -90.0 && lat <= 90.0)) {
+            fail("--lonlat", "latitude " + std::to_string(lat) + " is outside -90..90");
+        }
+        const PlanetBody body = PlanetBody::parse(a.body);
+        const FacePoint p = facePointOf(directionOf(body, GeodeticPoint{lat, lon}));
+        face = p.face;
+        file = (std::filesystem::path(a.target) / (a.name + std::to_string(face) + ".dat")).string();
+        u = (p.u + 1.0) / 2.0;
+        v = (p.v + 1.0) / 2.0;
+    } else {
+        const ResidualHeader h = ResidualFileReader::open(file)->header();
+        const auto N = static_cast<double>(finestIntervals(h));
+        if (!a.grid.empty()) {
+            const auto [x, y] = parsePair(a.grid, "--grid");
+            u = x / N;
+            v = y / N;
+        } else {
+            if (a.source.empty()) {
+                fail("--pixel", "needs the source raster the file was built from (--source INPUT)");
+            }
+            const auto [px, py] = parsePair(a.pixel, "--pixel");
+            const RasterInfo info = RasterSource::open(a.source)->info();
+            // The encoder's own geometry (doc/dem-encoding.md, "Sampling"): X = x Lx / N,
+            // Y = (N - y) Ly / N.
+            const DemGeometry g = makeDemGeometry(info.width, info.height, finestIntervals(h), a.stretch, a.source);
+            u = px / static_cast<double>(g.lx);
+            v = 1.0 - py / static_cast<double>(g.ly);
+        }
+    }
+    const PointHeight p = fileHeightAt(file, u, v);
+    if (a.json) {
+        nlohmann::json j = {{"file", file}, {"height", p.height}, {"level", p.level}, {"tile", {p.tx, p.ty}},
+                            {"u", u}, {"v", v}};
+        if (face) {
+            j["face"] = face;
+        }
+        writeJson(j, "-");
+    } else {
+        std::printf("%.9g\n", p.height);
+        std::fprintf(stderr, "%s: level %d, tile (%d, %d), at %.6g, %.6g of the root quad\n", file.c_str(), p.level,
+                     p.tx, p.ty, u, v);
+    }
+    return kExitOk;
+}
+
+} // namespace
+
+CommandRunner setupHeightCommand(CLI::App& app) {
+    auto a = std::make_shared<HeightArgs>();
+    app.add_option("TARGET", a->target, "A residual (DEM) file, or with --lonlat the directory of a spherical set")
+        ->required();
+    auto* grid = app.add_option("--grid", a->grid,
+                                "X,Y in the finest level's sample intervals, from the south-west corner of the root quad");
+    auto* pixel = app.add_option("--pixel", a->pixel,
+                                 "X,Y in pixels of the source raster (column from the west, row from the north)");
+    auto* lonlat = app.add_option("--lonlat", a->lonlat, "LON,LAT in degrees, geodetic on --body: a spherical set");
+    grid->excludes(pixel)->excludes(lonlat);
+    pixel->excludes(lonlat);
+    app.add_option("--source", a->source, "With --pixel: the raster the file was built from")->needs(pixel);
+    app.add_flag("--stretch", a->stretch, "With --pixel: the file was built with --stretch")->needs(pixel);
+    app.add_option("--body", a->body, "With --lonlat: the body the set was built on")->capture_default_str()->needs(lonlat);
+    app.add_option("--name", a->name, "With --lonlat: the set's file name before the face number")
+        ->capture_default_str()
+        ->needs(lonlat);
+    app.add_flag("--json", a->json, "Print a JSON object instead of the height alone");
+    return [a, grid, pixel, lonlat]() {
+        if (!*grid && !*pixel && !*lonlat) {
+            fail("", "give the point: --grid X,Y, --pixel X,Y --source INPUT, or --lonlat LON,LAT");
+        }
+        return runHeight(*a);
+    };
+}
+
+} // namespace pyramid::cli

@@ -1,0 +1,59 @@
+#include "libpyramid/runtime/height_query.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "formats/error.hpp"
+#include "formats/residual_file.hpp"
+
+namespace pyramid {
+
+PointHeight heightAt(ElevationProducer& producer, double u, double v, int level) {
+    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0)) {
+        fail("", "point (" + std::to_string(u) + ", " + std::to_string(v) + ") is outside the root quad [0, 1]^2");
+    }
+    if (level < 0) {
+        level = producer.maxLevel();
+    }
+    if (level > producer.maxLevel()) {
+        fail("", "no level " + std::to_string(level) + " (levels 0.." + std::to_string(producer.maxLevel()) + ")");
+    }
+    const int n = producer.tileSize();
+    const int64_t tiles = int64_t{1} << level;
+    const double intervals = static_cast<double>(tiles * n);
+    PointHeight p;
+    p.level = level;
+    p.x = u * intervals;
+    p.y = v * intervals;
+    // The tile holding the point; the quad's east and north edges belong to the last tiles.
+    p.tx = static_cast<int>(std::min<int64_t>(tiles - 1, static_cast<int64_t>(p.x) / n));
+    p.ty = static_cast<int>(std::min<int64_t>(tiles - 1, static_cast<int64_t>(p.y) / n));
+    const auto tile = producer.tile(level, p.tx, p.ty);
+    // Sample i of the tile (without its 2-sample border) sits at interval tx * n + i.
+    const double fx = p.x - static_cast<double>(static_cast<int64_t>(p.tx) * n);
+    const double fy = p.y - static_cast<double>(static_cast<int64_t>(p.ty) * n);
+    const int i = std::min(n - 1, static_cast<int>(fx)), j = std::min(n - 1, static_cast<int>(fy));
+    const double wx = fx - i, wy = fy - j;
+    const auto z = [&](int a, int b) {
+        return static_cast<double>(tile->zf[static_cast<size_t>(b + 2) * static_cast<size_t>(tile->size) +
+                                            static_cast<size_t>(a + 2)]);
+    };
+    const double south = z(i, j) + (z(i + 1, j) - z(i, j)) * wx;
+    const double north = z(i, j + 1) + (z(i + 1, j + 1) - z(i, j + 1)) * wx;
+    p.height = south + (north - south) * wy;
+    return p;
+}
+
+PointHeight fileHeightAt(const std::string& file, double u, double v) {
+    const ResidualHeader header = ResidualFileReader::open(file)->header();
+    const FileLevelProducer finest = makeFileLevelProducer(file, header.maxLevel, 4);
+    try {
+        PointHeight p = heightAt(*finest.producer, u, v);
+        p.level += finest.delta; // the file's level
+        return p;
+    } catch (const Error& e) {
+        fail(file, e.what());
+    }
+}
+
+} // namespace pyramid

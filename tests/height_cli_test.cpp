@@ -1,0 +1,105 @@
+// `pyramid height`: the reconstructed height at a point lands where the source has it. A planar
+// file built sample for sample from its input gives each input pixel's height (within the
+// quantization bound) by --pixel and by --grid; a spherical set built from a map whose height
+// is a smooth function of longitude and latitude gives that function at points on every face
+// by --lonlat.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+using test::programPath;
+using test::run;
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+double heightOf(const std::string& args) {
+    const auto r = run(programPath("pyramid") + " height " + args + " --json");
+    EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.err;
+    return r.exitCode == 0 ? nlohmann::json::parse(r.out)["height"].get<double>() : NAN;
+}
+
+TEST(HeightCli, PlanarPixelsAndGridPointsGiveTheSourceHeights) {
+    test::TempDir dir;
+    const int side = 65; // 4 << 4 intervals: the finest grid is the input, sample for sample
+    const std::vector<float> heights = test::syntheticHeights(side, side, 900.0f);
+    const std::string input = dir.file("dem.tif");
+    test::writeFloatRaster(input, side, side, heights);
+    const std::string file = dir.file("DEM.dat");
+    const auto built = run(programPath("preprocessDem") + " -q " + quoted(input) + " -o " + quoted(file) +
+                           " --tile-size 16 --root-tile-size 4 --scale 0.5");
+    ASSERT_EQ(built.exitCode, 0) << built.err;
+    for (const auto& [x, y] : {std::pair{0, 0}, {64, 64}, {17, 40}, {64, 3}, {31, 0}}) {
+        const double want = heights[static_cast<size_t>(y) * side + static_cast<size_t>(x)];
+        SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+        EXPECT_NEAR(heightOf(quoted(file) + " --pixel " + std::to_string(x) + "," + std::to_string(y) + " --source " +
+                             quoted(input)),
+                    want, 0.25 + 1e-3);
+        // The same sample on the grid: x east, y north from the south-west corner.
+        EXPECT_NEAR(heightOf(quoted(file) + " --grid " + std::to_string(x) + "," + std::to_string(64 - y)), want,
+                    0.25 + 1e-3);
+    }
+    // Half-way between two samples: their mean, as the producer's tiles give them.
+    const double a = heightOf(quoted(file) + " --grid 10,20"), b = heightOf(quoted(file) + " --grid 11,20");
+    EXPECT_NEAR(heightOf(quoted(file) + " --grid 10.5,20"), (a + b) / 2, 1e-6);
+    // Outside the root quad, and without a point: one line, exit 1.
+    auto r = run(programPath("pyramid") + " height " + quoted(file) + " --grid 65,3");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("outside the root quad"), std::string::npos) << r.err;
+    r = run(programPath("pyramid") + " height " + quoted(file));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("give the point"), std::string::npos) << r.err;
+}
+
+double smoothHeight(double lon, double lat) {
+    constexpr double kDegree = 3.14159265358979323846 / 180.0;
+    return 1000.0 + 10.0 * lat + 300.0 * std::sin(lon * kDegree) + 200.0 * std::cos(lon * kDegree);
+}
+
+TEST(HeightCli, LongitudeAndLatitudeLandOnTheRightFace) {
+    test::TempDir dir;
+    const int w = 720, h = 360; // half-degree pixels, centres at -179.75.. and 89.75..
+    std::vector<float> map(static_cast<size_t>(w) * h);
+    for (int j = 0; j < h; ++j) {
+        for (int i = 0; i < w; ++i) {
+            map[static_cast<size_t>(j) * w + static_cast<size_t>(i)] =
+                static_cast<float>(smoothHeight(-180.0 + (i + 0.5) * 0.5, 90.0 - (j + 0.5) * 0.5));
+        }
+    }
+    const std::string input = dir.file("map.tif");
+    test::writeFloatRaster(input, w, h, map);
+    const std::string set = dir.file("planet");
+    const auto built = run(programPath("preprocessSphericalDem") + " -q " + quoted(input) + " -o " + quoted(set) +
+                           " --tile-size 32 --root-tile-size 8 --scale 0.5");
+    ASSERT_EQ(built.exitCode, 0) << built.err;
+    struct Point {
+        double lon, lat;
+        int face;
+    };
+    // Points away from the faces' centre lines, so that a sign or axis mistaken in the face
+    // table moves them.
+    for (const Point& p : {Point{20, 15, 3}, Point{70, 10, 4}, Point{-110, -10, 2}, Point{170, 5, 5},
+                           Point{-160, -20, 5}, Point{45, 70, 1}, Point{-120, -65, 6}, Point{-30, -30, 3}}) {
+        SCOPED_TRACE(std::to_string(p.lon) + "," + std::to_string(p.lat));
+        const std::string where = std::to_string(p.lon) + "," + std::to_string(p.lat);
+        const auto r = run(programPath("pyramid") + " height " + quoted(set) + " --lonlat " + where + " --json");
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const nlohmann::json j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["face"], p.face);
+        // Quantization (0.25), the map's bilinear resampling and the face grid's (about 0.1 m
+        // each for this smooth field).
+        EXPECT_NEAR(j["height"].get<double>(), smoothHeight(p.lon, p.lat), 1.0);
+    }
+}
+
+} // namespace
+} // namespace pyramid
