@@ -227,6 +227,10 @@ TEST(InputMemory, BlocksNoImageHasAndTilesBeyondTheCacheAreRefused) {
               std::string::npos)
         << bigError;
     expectSamples(dir.file(big.name), big, 600, 520, 4);
+    // Tiles larger than a small image, as COG writers make them, are fine.
+    const TiffLayout small{"small.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 512};
+    writeTiff(dir.file(small.name), small, 300, 200);
+    expectSamples(dir.file(small.name), small, 300, 200, 256);
 }
 
 // A PNG larger than the cache is decoded into its scratch file and reads the same samples; an

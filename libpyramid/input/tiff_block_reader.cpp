@@ -61,11 +61,11 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &predictor);
     b->floatPredictorDeflate_ = real && predictor == PREDICTOR_FLOATINGPOINT &&
                                 (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE);
-    // A tile may reach past the image (to a multiple of 16, or a common size like 256 for a
-    // small image), never far beyond: anything larger is a damaged or hostile declaration, and
-    // is refused before a block is allocated.
+    // A tile may reach past the image (to a multiple of 16, or a writer's usual size such as
+    // 512 for a small image), never far beyond: anything larger is a damaged or hostile
+    // declaration, and is refused before a block is allocated.
     const auto plausible = [](uint32_t block, uint32_t image) {
-        return block <= std::max<uint32_t>(image, 256) + 15;
+        return block <= std::max<uint32_t>(image + 15, 4096);
     };
     if (!plausible(b->blockWidth_, width) || !plausible(b->blockHeight_, height)) {
         TIFFClose(tif);
