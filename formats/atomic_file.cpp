@@ -10,6 +10,7 @@
 #include <random>
 
 #include "formats/error.hpp"
+#include "formats/file_io.hpp"
 
 namespace pyramid {
 
@@ -38,18 +39,8 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::writeAt(uint64_t offset, const void* data, size_t size) {
-    const char* p = static_cast<const char*>(data);
-    while (size > 0) {
-        const ssize_t n = ::pwrite(fd_, p, size, static_cast<off_t>(offset));
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            fail(path_, std::string("write failed: ") + (n < 0 ? std::strerror(errno) : "no space left"));
-        }
-        p += n;
-        size -= static_cast<size_t>(n);
-        offset += static_cast<uint64_t>(n);
+    if (!writeFully(fd_, data, size, offset)) {
+        fail(path_, std::string("write failed: ") + (errno == ENOSPC ? "no space left" : std::strerror(errno)));
     }
 }
 

@@ -11,24 +11,15 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/file_io.hpp"
 
 namespace pyramid {
 
 namespace {
 
-void readFully(int fd, uint64_t offset, void* out, size_t size, const std::string& path) {
-    char* p = static_cast<char*>(out);
-    while (size > 0) {
-        const ssize_t n = ::pread(fd, p, size, static_cast<off_t>(offset));
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            fail(path, n < 0 ? std::string("read failed: ") + std::strerror(errno) : "unexpected end of file");
-        }
-        p += n;
-        size -= static_cast<size_t>(n);
-        offset += static_cast<uint64_t>(n);
+void readOrFail(int fd, uint64_t offset, void* out, size_t size, const std::string& path) {
+    if (!readFully(fd, out, size, offset)) {
+        fail(path, errno ? std::string("read failed: ") + std::strerror(errno) : "unexpected end of file");
     }
 }
 
@@ -72,7 +63,7 @@ std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tab
     table->dataStart_ = tableStart + tableBytes;
     const uint64_t dataBytes = table->fileSize_ - table->dataStart_;
     std::vector<uint8_t> raw(tableBytes);
-    readFully(table->fd_, tableStart, raw.data(), raw.size(), path);
+    readOrFail(table->fd_, tableStart, raw.data(), raw.size(), path);
     table->ranges_.resize(static_cast<size_t>(tileCount));
     for (int64_t i = 0; i < tileCount; ++i) {
         const uint8_t* p = raw.data() + static_cast<size_t>(i) * pairBytes;
@@ -119,11 +110,11 @@ std::vector<uint8_t> TileTable::read(int64_t index) const {
         fail(path_, "tile " + std::to_string(index) + " is missing (empty byte range)");
     }
     std::vector<uint8_t> bytes(r.size());
-    readFully(fd_, dataStart_ + r.begin, bytes.data(), bytes.size(), path_);
+    readOrFail(fd_, dataStart_ + r.begin, bytes.data(), bytes.size(), path_);
     return bytes;
 }
 
-void TileTable::readAt(uint64_t offset, void* out, size_t size) const { readFully(fd_, offset, out, size, path_); }
+void TileTable::readAt(uint64_t offset, void* out, size_t size) const { readOrFail(fd_, offset, out, size, path_); }
 
 // ---------------------------------------------------------------------------------------------
 
@@ -146,7 +137,7 @@ struct TileTableWriter::Impl {
             return false;
         }
         std::vector<uint8_t> stored(r.size());
-        readFully(file.fd(), tableStart + ranges.size() * 2u * offsetBytes + r.begin, stored.data(), stored.size(),
+        readOrFail(file.fd(), tableStart + ranges.size() * 2u * offsetBytes + r.begin, stored.data(), stored.size(),
                   file.path());
         return std::memcmp(stored.data(), blob.data(), blob.size()) == 0;
     }

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "formats/error.hpp"
+#include "formats/file_io.hpp"
 
 namespace pyramid {
 
@@ -47,37 +48,17 @@ ScratchFile::~ScratchFile() {
 }
 
 void ScratchFile::write(uint64_t offset, const void* data, size_t bytes) const {
-    const auto* p = static_cast<const char*>(data);
-    while (bytes > 0) {
-        const ssize_t n = ::pwrite(fd_, p, bytes, static_cast<off_t>(offset));
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            const int e = n < 0 ? errno : ENOSPC;
-            fail(input_, std::string("cannot write the decoded samples to the scratch file in ") + temporaryDirectory() +
-                             ": " + std::strerror(e) + (e == ENOSPC ? " (set TMPDIR to a directory with more room)" : ""));
-        }
-        p += n;
-        offset += static_cast<uint64_t>(n);
-        bytes -= static_cast<size_t>(n);
+    if (!writeFully(fd_, data, bytes, offset)) {
+        const int e = errno;
+        fail(input_, std::string("cannot write the decoded samples to the scratch file in ") + temporaryDirectory() +
+                         ": " + std::strerror(e) + (e == ENOSPC ? " (set TMPDIR to a directory with more room)" : ""));
     }
 }
 
 void ScratchFile::read(uint64_t offset, void* data, size_t bytes) const {
-    auto* p = static_cast<char*>(data);
-    while (bytes > 0) {
-        const ssize_t n = ::pread(fd_, p, bytes, static_cast<off_t>(offset));
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            fail(input_, std::string("cannot read the scratch file of decoded samples: ") +
-                             (n < 0 ? std::strerror(errno) : "file too short"));
-        }
-        p += n;
-        offset += static_cast<uint64_t>(n);
-        bytes -= static_cast<size_t>(n);
+    if (!readFully(fd_, data, bytes, offset)) {
+        fail(input_, std::string("cannot read the scratch file of decoded samples: ") +
+                         (errno ? std::strerror(errno) : "file too short"));
     }
 }
 

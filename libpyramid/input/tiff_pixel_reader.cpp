@@ -10,31 +10,14 @@
 #include <cstdarg>
 #include <cstring>
 
+#include "formats/file_io.hpp"
+
 namespace pyramid {
 
 namespace {
 
 int ignoreTiffMessage(TIFF*, void*, const char*, const char*, va_list) { return 1; }
 
-// Reads `count` bytes at `offset`; false on an error or a short file.
-bool readAt(int fd, char* bytes, size_t count, uint64_t offset) {
-    while (count > 0) {
-        const ssize_t got = ::pread(fd, bytes, count, static_cast<off_t>(offset));
-        if (got < 0 && errno == EINTR) {
-            continue;
-        }
-        if (got == 0) {
-            errno = 0; // the file ends before the row
-        }
-        if (got <= 0) {
-            return false;
-        }
-        bytes += got;
-        count -= static_cast<size_t>(got);
-        offset += static_cast<uint64_t>(got);
-    }
-    return true;
-}
 
 } // namespace
 
@@ -126,7 +109,7 @@ bool TiffPixelReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1,
         const auto r = static_cast<uint32_t>(y);
         const uint64_t offset = stripOffsets_[r / rowsPerStrip_] + (r % rowsPerStrip_) * rowBytes +
                                 static_cast<uint64_t>(x0) * pixelBytes;
-        if (!readAt(fd_, reinterpret_cast<char*>(row.data()), row.size(), offset)) {
+        if (!readFully(fd_, reinterpret_cast<char*>(row.data()), row.size(), offset)) {
             return false;
         }
         uint16_t* o = out + static_cast<size_t>(y - y0) * pixels * wanted;
@@ -166,7 +149,7 @@ bool TiffPixelReader::readFloat(int x0, int y0, int x1, int y1, int channel, flo
                                 static_cast<uint64_t>(x0) * channels * 4u;
         float* o = out + static_cast<size_t>(y - y0) * pixels;
         // One band: straight into place.
-        if (!readAt(fd_, reinterpret_cast<char*>(channels == 1 ? o : row.data()), pixels * channels * 4u, offset)) {
+        if (!readFully(fd_, reinterpret_cast<char*>(channels == 1 ? o : row.data()), pixels * channels * 4u, offset)) {
             return false;
         }
         if (channels > 1) {
@@ -195,7 +178,7 @@ bool TiffPixelReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, 
                                 static_cast<uint64_t>(x0) * channels;
         uint8_t* o = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride;
         // All channels: straight into place, no intermediate copy.
-        if (!readAt(fd_, reinterpret_cast<char*>(whole ? o : row.data()), pixels * channels, offset)) {
+        if (!readFully(fd_, reinterpret_cast<char*>(whole ? o : row.data()), pixels * channels, offset)) {
             return false;
         }
         if (!whole) {

@@ -1,14 +1,13 @@
 #include "libpyramid/input/tiff_strip_stream.hpp"
 
 #include <tiffio.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <vector>
 
 #include "formats/error.hpp"
+#include "formats/file_io.hpp"
 #include "libpyramid/input/tiff_samples.hpp"
 
 namespace pyramid {
@@ -48,17 +47,13 @@ public:
     void read(uint64_t offset, uint64_t size, Consume consume) {
         chunk_.resize(static_cast<size_t>(std::min<uint64_t>(size, kChunkBytes)));
         while (size > 0) {
-            const size_t want = static_cast<size_t>(std::min<uint64_t>(size, chunk_.size()));
-            const ssize_t got = ::pread(fd_, chunk_.data(), want, static_cast<off_t>(offset));
-            if (got < 0 && errno == EINTR) {
-                continue;
-            }
-            if (got <= 0) {
+            const size_t n = static_cast<size_t>(std::min<uint64_t>(size, chunk_.size()));
+            if (!readFully(fd_, chunk_.data(), n, offset)) {
                 fail(path_, "read failed: a strip reaches past the end of the file");
             }
-            consume(chunk_.data(), static_cast<size_t>(got));
-            offset += static_cast<uint64_t>(got);
-            size -= static_cast<uint64_t>(got);
+            consume(chunk_.data(), n);
+            offset += n;
+            size -= n;
         }
     }
 
