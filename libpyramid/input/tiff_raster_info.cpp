@@ -49,6 +49,7 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     info.type = type;
     info.formatName = "tiff";
     info.nodata = geoTiffNodata(path);
+    info.georeference = readGeoTiffGeoreference(path);
     return info;
 }
 

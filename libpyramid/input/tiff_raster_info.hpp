@@ -1,5 +1,5 @@
 // What a TIFF input holds, read with libtiff alone (no OpenImageIO): size, channels, sample
-// type and GDAL's nodata tag.
+// type, GDAL's nodata tag and the GeoTIFF georeferencing (georeference.hpp).
 #pragma once
 #include <optional>
 #include <string>
