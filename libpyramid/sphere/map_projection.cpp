@@ -52,7 +52,9 @@ public:
                                                                          : std::nan("");
         north_ = std::isfinite(trueScale) ? trueScale > 0.0 : p_.originLatitude > 0.0;
         if (std::isfinite(trueScale)) {
-            ps_.SetScale(trueScale, 1.0); // variant B: true scale along a parallel
+            // Variant B: true scale along a parallel (GeographicLib takes its latitude in the
+            // northern hemisphere's terms).
+            ps_.SetScale(std::fabs(trueScale), 1.0);
         }
     }
     bool forward(double lat, double lon, double& x, double& y) const override {
@@ -154,9 +156,9 @@ std::unique_ptr<MapProjection> MapProjection::of(const Georeference& g, const st
     case ProjectionMethod::Other:
         break;
     }
-    fail(path, g.crsText() + " (" + g.projection.name +
-                   ") is not supported; reproject it to EPSG:4326 (or to transverse Mercator/UTM, polar "
-                   "stereographic, Lambert conformal conic or Mercator)");
+    fail(path, g.crsText() + " is in the " + g.projection.name +
+                   " projection, which is not supported; reproject it to EPSG:4326 (or to transverse Mercator/UTM, "
+                   "polar stereographic, Lambert conformal conic or Mercator)");
 }
 
 } // namespace pyramid

@@ -30,7 +30,8 @@ namespace pyramid {
 class MapProjection {
 public:
     // The projection of a projected CRS. Throws Error(path, "EPSG:3035 (...) is in the Lambert
-    // azimuthal equal-area projection, which is not supported; reproject it to EPSG:4326 ...").
+    // azimuthal equal-area projection, which is not supported; reproject it to EPSG:4326 ...")
+    // for the others.
     static std::unique_ptr<MapProjection> of(const Georeference& crs, const std::string& path);
     virtual ~MapProjection() = default;
 
