@@ -15,33 +15,43 @@ namespace {
 
 using GeographicLib::Math;
 
-// Projections whose x and y count from an origin of their own (the equator, a cone's central
-// latitude): the offsets that put the CRS's origin at its false easting and northing.
-struct FalseOrigin {
-    double x = 0.0, y = 0.0;
-};
-
-class TransverseMercatorProjection final : public MapProjection {
+// GeographicLib's projections about a central meridian (TransverseMercator,
+// LambertConformalConic), whose x and y count from an origin of their own (the equator, the
+// cone's central parallel): shifted so that the CRS's origin lies at its false easting and
+// northing.
+template <class Projector>
+class CentralMeridianProjection final : public MapProjection {
 public:
-    explicit TransverseMercatorProjection(const Georeference& g)
-        : p_(g.projection), tm_(g.semiMajorAxis, g.flattening, p_.scale) {
-        tm_.Forward(p_.originLongitude, p_.originLatitude, p_.originLongitude, origin_.x, origin_.y);
+    CentralMeridianProjection(const Projection& p, const Projector& projector) : p_(p), projector_(projector) {
+        projector_.Forward(p_.originLongitude, p_.originLatitude, p_.originLongitude, originX_, originY_);
     }
     bool forward(double lat, double lon, double& x, double& y) const override {
-        tm_.Forward(p_.originLongitude, lat, lon, x, y);
-        x += p_.falseEasting - origin_.x;
-        y += p_.falseNorthing - origin_.y;
+        projector_.Forward(p_.originLongitude, lat, lon, x, y);
+        x += p_.falseEasting - originX_;
+        y += p_.falseNorthing - originY_;
         return std::isfinite(x) && std::isfinite(y);
     }
     void reverse(double x, double y, double& lat, double& lon) const override {
-        tm_.Reverse(p_.originLongitude, x - p_.falseEasting + origin_.x, y - p_.falseNorthing + origin_.y, lat, lon);
+        projector_.Reverse(p_.originLongitude, x - p_.falseEasting + originX_, y - p_.falseNorthing + originY_, lat,
+                           lon);
     }
 
 private:
     Projection p_;
-    GeographicLib::TransverseMercator tm_;
-    FalseOrigin origin_;
+    Projector projector_;
+    double originX_ = 0.0, originY_ = 0.0;
 };
+
+// Lambert conformal conic, 2SP: two standard parallels (scale 1 on both); 1SP: the natural
+// origin's latitude, scale k0 there.
+GeographicLib::LambertConformalConic cone(const Georeference& g) {
+    const Projection& p = g.projection;
+    if (std::isfinite(p.standardParallel1)) {
+        const double sp2 = std::isfinite(p.standardParallel2) ? p.standardParallel2 : p.standardParallel1;
+        return GeographicLib::LambertConformalConic(g.semiMajorAxis, g.flattening, p.standardParallel1, sp2, 1.0);
+    }
+    return GeographicLib::LambertConformalConic(g.semiMajorAxis, g.flattening, p.originLatitude, p.scale);
+}
 
 class PolarStereographicProjection final : public MapProjection {
 public:
@@ -75,36 +85,6 @@ private:
     Projection p_;
     GeographicLib::PolarStereographic ps_;
     bool north_ = true;
-};
-
-class LambertConformalConicProjection final : public MapProjection {
-public:
-    explicit LambertConformalConicProjection(const Georeference& g) : p_(g.projection), lcc_(cone(g)) {
-        lcc_.Forward(p_.originLongitude, p_.originLatitude, p_.originLongitude, origin_.x, origin_.y);
-    }
-    bool forward(double lat, double lon, double& x, double& y) const override {
-        lcc_.Forward(p_.originLongitude, lat, lon, x, y);
-        x += p_.falseEasting - origin_.x;
-        y += p_.falseNorthing - origin_.y;
-        return std::isfinite(x) && std::isfinite(y);
-    }
-    void reverse(double x, double y, double& lat, double& lon) const override {
-        lcc_.Reverse(p_.originLongitude, x - p_.falseEasting + origin_.x, y - p_.falseNorthing + origin_.y, lat, lon);
-    }
-
-private:
-    // 2SP: two standard parallels (scale 1 on both); 1SP: the natural origin's latitude, scale k0.
-    static GeographicLib::LambertConformalConic cone(const Georeference& g) {
-        const Projection& p = g.projection;
-        if (std::isfinite(p.standardParallel1)) {
-            const double sp2 = std::isfinite(p.standardParallel2) ? p.standardParallel2 : p.standardParallel1;
-            return GeographicLib::LambertConformalConic(g.semiMajorAxis, g.flattening, p.standardParallel1, sp2, 1.0);
-        }
-        return GeographicLib::LambertConformalConic(g.semiMajorAxis, g.flattening, p.originLatitude, p.scale);
-    }
-    Projection p_;
-    GeographicLib::LambertConformalConic lcc_;
-    FalseOrigin origin_;
 };
 
 // Mercator: on the ellipsoid through the conformal latitude, or (Web Mercator) the sphere's
@@ -144,11 +124,12 @@ private:
 std::unique_ptr<MapProjection> MapProjection::of(const Georeference& g, const std::string& path) {
     switch (g.projection.method) {
     case ProjectionMethod::TransverseMercator:
-        return std::make_unique<TransverseMercatorProjection>(g);
+        return std::make_unique<CentralMeridianProjection<GeographicLib::TransverseMercator>>(
+            g.projection, GeographicLib::TransverseMercator(g.semiMajorAxis, g.flattening, g.projection.scale));
     case ProjectionMethod::PolarStereographic:
         return std::make_unique<PolarStereographicProjection>(g);
     case ProjectionMethod::LambertConformalConic:
-        return std::make_unique<LambertConformalConicProjection>(g);
+        return std::make_unique<CentralMeridianProjection<GeographicLib::LambertConformalConic>>(g.projection, cone(g));
     case ProjectionMethod::Mercator:
         return std::make_unique<MercatorProjection>(g, false);
     case ProjectionMethod::WebMercator:

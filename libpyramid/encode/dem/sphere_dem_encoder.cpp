@@ -150,18 +150,15 @@ nlohmann::json toJson(const SphericalDemReport& r) {
     }
     nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
     input["height_scale"] = r.heightScale;
-    nlohmann::json j = {{"input", input},
-                        {"directory", r.directory},
-                        {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
-                                    {"north", r.extent.north}}},
-                        {"body", r.body},
-                        {"faces", faces},
-                        {"threads", r.threads},
-                        {"seconds", r.seconds}};
-    if (!r.crs.empty()) {
-        j["crs"] = r.crs;
-    }
-    return j;
+    return {{"input", input},
+            {"directory", r.directory},
+            {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
+                        {"north", r.extent.north}}},
+            {"body", r.body},
+            {"crs", r.crs.empty() ? nlohmann::json() : nlohmann::json(r.crs)}, // null: not georeferenced
+            {"faces", faces},
+            {"threads", r.threads},
+            {"seconds", r.seconds}};
 }
 
 } // namespace pyramid

@@ -77,18 +77,15 @@ nlohmann::json toJson(const SphericalOrthoReport& r) {
         }
         faces.push_back({{"face", f.face}, {"ortho", toJson(f.ortho)}, {"ground_sample_distance", gsd}});
     }
-    nlohmann::json j = {{"input", r.input},
-                        {"directory", r.directory},
-                        {"body", r.body},
-                        {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
-                                    {"north", r.extent.north}}},
-                        {"faces", faces},
-                        {"threads", r.threads},
-                        {"seconds", r.seconds}};
-    if (!r.crs.empty()) {
-        j["crs"] = r.crs;
-    }
-    return j;
+    return {{"input", r.input},
+            {"directory", r.directory},
+            {"body", r.body},
+            {"crs", r.crs.empty() ? nlohmann::json() : nlohmann::json(r.crs)}, // null: not georeferenced
+            {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
+                        {"north", r.extent.north}}},
+            {"faces", faces},
+            {"threads", r.threads},
+            {"seconds", r.seconds}};
 }
 
 } // namespace pyramid
