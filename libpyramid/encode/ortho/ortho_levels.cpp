@@ -187,6 +187,7 @@ int OrthoLevels::channels() const { return impl_->channels; }
 int OrthoLevels::inputWidth() const { return impl_->source->info().width; }
 int OrthoLevels::inputHeight() const { return impl_->source->info().height; }
 const std::string& OrthoLevels::inputPath() const { return impl_->source->path(); }
+const RasterInfo& OrthoLevels::inputInfo() const { return impl_->source->info(); }
 const std::string& OrthoLevels::sampling() const { return impl_->pixels->sampling(); }
 int OrthoLevels::threads() const { return impl_->threads; }
 int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M + 1))) - 1) / 3; }

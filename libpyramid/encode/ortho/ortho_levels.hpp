@@ -94,6 +94,7 @@ public:
     int inputWidth() const;
     int inputHeight() const;
     const std::string& inputPath() const;
+    const RasterInfo& inputInfo() const;
     const std::string& sampling() const; // the geometry rule applied, one sentence
     int64_t tileCount() const;
     int threads() const;                 // options.threads, or every available thread
