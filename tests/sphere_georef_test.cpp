@@ -71,9 +71,10 @@ SphericalDemOptions placementOptions(int maxLevel) {
 // least 1.5 pixels inside the map (`pixelOf`: its pixel-centre coordinates) against `height`.
 template <class PixelOf, class Height>
 void expectPlaced(const std::string& map, double lat0, double lon0, int maxLevel, PixelOf pixelOf, int W, int H,
-                  Height height, double tolerance) {
+                  Height height, double tolerance, double scale = 0.25) {
     test::TempDir out;
     SphericalDemOptions o = placementOptions(maxLevel);
+    o.dem.scale = scale;
     const int face = faceOf(lat0, lon0);
     o.faces = {face};
     const PlanetBody body = PlanetBody::parse(o.body);
@@ -179,6 +180,32 @@ TEST(SphericalGeoreference, GeographicMapsLandWhereTheyAre) {
             return true;
         };
         expectPlaced(path, -11.0, 31.2, 8, pixelOf, W, H, height, 0.5);
+    }
+}
+
+TEST(SphericalGeoreference, GridRegisteredGlobalMapAcrossTheAntimeridian) {
+    // 361 x 181 PixelIsPoint samples on whole degrees, -180 and 180 both present: wider than the
+    // globe by a pixel, so placed through its transform, not wrapped.
+    test::TempDir dir;
+    const std::string path = dir.file("global.tif");
+    const int W = 361, H = 181;
+    const Slope height(0.0, 0.0);
+    std::vector<float> v(static_cast<size_t>(W * H));
+    for (int j = 0; j < H; ++j) {
+        for (int i = 0; i < W; ++i) {
+            v[static_cast<size_t>(i + j * W)] = static_cast<float>(height(90.0 - j, -180.0 + i));
+        }
+    }
+    test::writeGeoTiff(path, W, H, v, test::geographicTags(4326, -180.5, 90.5, 1.0, true));
+    auto pixelOf = [](const GeodeticPoint& p, double& col, double& row) {
+        col = p.longitude + 180.0;
+        row = 90.0 - p.latitude;
+        return true;
+    };
+    // 1-degree pixels of a 64 km/degree slope: bilinear interpolation is within 20 m; half a
+    // pixel off would be 500 m. Face 5 is centred on the antimeridian.
+    for (const double lon : {0.0, 180.0}) {
+        expectPlaced(path, 0.0, lon, 5, pixelOf, W, H, height, 20.0, 4.0);
     }
 }
 
