@@ -42,6 +42,17 @@ TEST(Georeference, GeographicTiepointAndScale) {
     EXPECT_EQ(g.pixelToCrs, expected);
 }
 
+TEST(Georeference, ReadForTiffsOfTheImageIoModuleToo) {
+    test::TempDir dir;
+    const std::string path = dir.file("half.tif");
+    test::writeGeoTiffHalf(path, 4, 3, std::vector<uint16_t>(12, 0x3c00), test::projectedTags(32610, 500000, 5200000, 30));
+    const auto source = RasterSource::open(path);
+    EXPECT_EQ(source->info().type, SampleType::Float16); // described by OpenImageIO, not libtiff
+    ASSERT_TRUE(source->info().georeference.has_value());
+    EXPECT_EQ(source->info().georeference->epsg, 32610);
+    EXPECT_EQ(source->info().georeference->pixelToCrs[0], 500000.0);
+}
+
 TEST(Georeference, PixelIsPointShiftsHalfAPixel) {
     test::TempDir dir;
     // The tiepoint names the first pixel's centre, at (86.125, 27.875): its corner is at (86, 28).

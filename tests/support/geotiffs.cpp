@@ -85,6 +85,11 @@ void writeGeoTiff(const std::string& path, int width, int height, const std::vec
     write(path, width, height, 1, 32, SAMPLEFORMAT_IEEEFP, values.data(), tags);
 }
 
+void writeGeoTiffHalf(const std::string& path, int width, int height, const std::vector<uint16_t>& values,
+                      const GeoTiffTags& tags) {
+    write(path, width, height, 1, 16, SAMPLEFORMAT_IEEEFP, values.data(), tags);
+}
+
 void writeGeoTiffRgb(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
                      const GeoTiffTags& tags) {
     write(path, width, height, 3, 8, SAMPLEFORMAT_UINT, values.data(), tags);

@@ -26,6 +26,10 @@ GeoTiffTags projectedTags(int epsg, double x0, double y0, double step);
 // Writes width x height float32 samples (row 0 first), one band.
 void writeGeoTiff(const std::string& path, int width, int height, const std::vector<float>& values,
                   const GeoTiffTags& tags);
+// Writes width x height half-float samples (IEEE binary16 bit patterns), one band: a layout only
+// the OpenImageIO module reads.
+void writeGeoTiffHalf(const std::string& path, int width, int height, const std::vector<uint16_t>& values,
+                      const GeoTiffTags& tags);
 // Writes width x height 8-bit RGB samples (interleaved, row 0 first).
 void writeGeoTiffRgb(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
                      const GeoTiffTags& tags);
