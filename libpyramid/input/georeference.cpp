@@ -1,19 +1,18 @@
 #include "libpyramid/input/georeference.hpp"
 
-#include <geotiff/geo_normalize.h>
-#include <geotiff/geotiff.h>
+#include <geotiff/geokeys.h>
 #include <geotiff/geovalues.h>
-#include <geotiff/xtiffio.h>
 #include <tiffio.h>
 
 #include <cmath>
 #include <cstdarg>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <vector>
 
+#include "libpyramid/input/geotiff_library.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
+#include "libpyramid/input/tiff_raster_info.hpp"
 
 namespace pyramid {
 
@@ -26,38 +25,26 @@ namespace {
 // libgeotiff reports malformed keys through this; the reader says what it cannot use instead.
 void ignoreGeoTiffMessage(GTIF*, int, const char*, ...) {}
 
-// A double array tag (tiepoints, pixel scale, transformation), whichever count type the tag
-// was registered with.
-std::vector<double> doubleTag(TIFF* tif, uint32_t tag) {
-    const TIFFField* field = TIFFFindField(tif, tag, TIFF_ANY);
-    double* values = nullptr;
-    uint32_t count = 0;
-    if (!field || !TIFFFieldPassCount(field)) {
-        return {};
-    }
-    if (TIFFFieldReadCount(field) == TIFF_VARIABLE2) {
-        if (TIFFGetField(tif, tag, &count, &values) != 1) {
-            return {};
-        }
-    } else {
-        uint16_t count16 = 0;
-        if (TIFFGetField(tif, tag, &count16, &values) != 1) {
-            return {};
-        }
-        count = count16;
-    }
-    return values ? std::vector<double>(values, values + count) : std::vector<double>{};
-}
+// The GeoTIFF tags (libtiff), read before libgeotiff is needed.
+constexpr uint32_t kTagPixelScale = 33550, kTagTiepoints = 33922, kTagTransformation = 34264;
+constexpr uint32_t kTagKeyDirectory = 34735, kTagDoubleParams = 34736, kTagAsciiParams = 34737;
 
-std::string asciiKey(GTIF* gtif, geokey_t key) {
+struct GeoTiffTags {
+    std::vector<uint16_t> keys;
+    std::vector<double> doubles;
+    std::optional<std::string> text;
+    std::vector<double> matrix, ties, scale;
+};
+
+std::string asciiKey(const GeoTiffLibrary& lib, GTIF* gtif, geokey_t key) {
     int size = 0;
     tagtype_t type{};
-    const int count = GTIFKeyInfo(gtif, key, &size, &type);
+    const int count = lib.keyInfo(gtif, key, &size, &type);
     if (count <= 0 || type != TYPE_ASCII) {
         return {};
     }
     std::vector<char> text(static_cast<size_t>(count) + 1, '\0');
-    GTIFKeyGet(gtif, key, text.data(), 0, count);
+    lib.keyGet(gtif, key, text.data(), 0, count);
     std::string s(text.data());
     while (!s.empty() && (s.back() == '|' || s.back() == ' ')) {
         s.pop_back(); // GDAL ends citations with '|'
@@ -66,13 +53,13 @@ std::string asciiKey(GTIF* gtif, geokey_t key) {
 }
 
 // The EPSG name of a CRS code, from PROJ's database through libgeotiff.
-std::string epsgName(int code, bool projected) {
+std::string epsgName(const GeoTiffLibrary& lib, int code, bool projected) {
     char* name = nullptr;
-    const int found = projected ? GTIFGetPCSInfo(code, &name, nullptr, nullptr, nullptr)
-                                : GTIFGetGCSInfo(code, &name, nullptr, nullptr, nullptr);
+    const int found = projected ? lib.pcsInfo(code, &name, nullptr, nullptr, nullptr)
+                                : lib.gcsInfo(code, &name, nullptr, nullptr, nullptr);
     std::string s = found && name ? name : "";
     if (name) {
-        GTIFFreeMemory(name);
+        lib.freeMemory(name);
     }
     return s;
 }
@@ -161,10 +148,10 @@ Projection projectionOf(const GTIFDefn& d, int pcs) {
 }
 
 // pixelToCrs from the ModelTransformation tag, or from one tiepoint and the pixel scale.
-std::string readTransform(TIFF* tif, Georeference& g) {
-    const std::vector<double> matrix = doubleTag(tif, TIFFTAG_GEOTRANSMATRIX);
-    const std::vector<double> ties = doubleTag(tif, TIFFTAG_GEOTIEPOINTS);
-    const std::vector<double> scale = doubleTag(tif, TIFFTAG_GEOPIXELSCALE);
+std::string readTransform(const GeoTiffTags& tags, Georeference& g) {
+    const std::vector<double>& matrix = tags.matrix;
+    const std::vector<double>& ties = tags.ties;
+    const std::vector<double>& scale = tags.scale;
     auto& t = g.pixelToCrs;
     if (matrix.size() >= 16) {
         t = {matrix[3], matrix[0], matrix[1], matrix[7], matrix[4], matrix[5]};
@@ -201,33 +188,58 @@ std::string readTransform(TIFF* tif, Georeference& g) {
 } // namespace
 
 std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
-    // libgeotiff's tag extender registers the GeoTIFF tags with libtiff for every later open;
-    // without it, libtiff keeps them as anonymous fields that GTIFNew does not read.
-    static std::once_flag registered;
-    std::call_once(registered, XTIFFInitialize);
-    TIFF* tif = openTiffQuietly(path, "r");
-    if (!tif) {
-        return std::nullopt;
+    GeoTiffTags tags;
+    if (TIFF* tif = openTiffQuietly(path, "r")) {
+        tags.keys = tiffShorts(tif, kTagKeyDirectory);
+        tags.doubles = tiffDoubles(tif, kTagDoubleParams);
+        tags.text = tiffText(tif, kTagAsciiParams);
+        tags.matrix = tiffDoubles(tif, kTagTransformation);
+        tags.ties = tiffDoubles(tif, kTagTiepoints);
+        tags.scale = tiffDoubles(tif, kTagPixelScale);
+        TIFFClose(tif);
     }
-    const std::unique_ptr<TIFF, void (*)(TIFF*)> tiff(tif, TIFFClose);
-    const std::unique_ptr<GTIF, void (*)(GTIF*)> gtif(GTIFNewEx(tif, ignoreGeoTiffMessage, nullptr), GTIFFree);
+    if (tags.keys.size() < 4) {
+        return std::nullopt; // no GeoKey directory: libgeotiff is not even loaded
+    }
+    Georeference g;
+    std::string why;
+    const GeoTiffLibrary* lib = geoTiffLibrary(why);
+    if (!lib) {
+        g.name = "a GeoTIFF CRS";
+        g.problem = "has GeoKeys, but libgeotiff cannot be loaded (" + why + ")";
+        return g;
+    }
+    // libgeotiff reads the keys from memory ("simple tags"), so that it never registers its
+    // tags with libtiff (a process-wide change) nor opens the file again.
+    const std::unique_ptr<ST_TIFF, void (*)(ST_TIFF*)> st(lib->stCreate(), lib->stDestroy);
+    lib->stSetKey(st.get(), kTagKeyDirectory, static_cast<int>(tags.keys.size()), STT_SHORT, tags.keys.data());
+    if (!tags.doubles.empty()) {
+        lib->stSetKey(st.get(), kTagDoubleParams, static_cast<int>(tags.doubles.size()), STT_DOUBLE, tags.doubles.data());
+    }
+    std::string text = tags.text.value_or("");
+    if (tags.text) {
+        lib->stSetKey(st.get(), kTagAsciiParams, static_cast<int>(text.size()) + 1, STT_ASCII, text.data());
+    }
+    TIFFMethod methods{};
+    lib->setSimpleTagsMethods(&methods);
+    const std::unique_ptr<GTIF, void (*)(GTIF*)> gtif(lib->newWithMethods(st.get(), &methods, ignoreGeoTiffMessage, nullptr),
+                                                      lib->free);
     if (!gtif) {
         return std::nullopt;
     }
-    const std::unique_ptr<GTIFDefn, void (*)(GTIFDefn*)> defn(GTIFAllocDefn(), GTIFFreeDefn);
-    if (!defn || !GTIFGetDefn(gtif.get(), defn.get()) || !defn->DefnSet) {
+    const std::unique_ptr<GTIFDefn, void (*)(GTIFDefn*)> defn(lib->allocDefn(), lib->freeDefn);
+    if (!defn || !lib->getDefn(gtif.get(), defn.get()) || !defn->DefnSet) {
         return std::nullopt;
     }
     const GTIFDefn& d = *defn;
-    Georeference g;
     unsigned short rasterType = RasterPixelIsArea;
-    GTIFKeyGet(gtif.get(), GTRasterTypeGeoKey, &rasterType, 0, 1);
+    lib->keyGet(gtif.get(), GTRasterTypeGeoKey, &rasterType, 0, 1);
     g.pixelIsPoint = rasterType == RasterPixelIsPoint;
-    g.problem = readTransform(tif, g);
+    g.problem = readTransform(tags, g);
 
     // PCS is a short in GTIFDefn; read the key itself for codes above 32767 (900913).
     unsigned short pcsKey = 0;
-    int pcs = GTIFKeyGet(gtif.get(), ProjectedCSTypeGeoKey, &pcsKey, 0, 1) == 1 ? pcsKey : d.PCS;
+    const int pcs = lib->keyGet(gtif.get(), ProjectedCSTypeGeoKey, &pcsKey, 0, 1) == 1 ? pcsKey : d.PCS;
     g.projected = d.Model == ModelTypeProjected;
     if (d.Model != ModelTypeProjected && d.Model != ModelTypeGeographic) {
         g.problem = d.Model == ModelTypeGeocentric ? "is in a geocentric (X, Y, Z) model, which places no surface"
@@ -236,13 +248,13 @@ std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
     const int code = g.projected ? pcs : d.GCS;
     g.epsg = code > 0 && code != KvUserDefined ? code : 0;
     if (g.epsg > 0) {
-        g.name = epsgName(g.epsg, g.projected);
+        g.name = epsgName(*lib, g.epsg, g.projected);
     }
     if (g.name.empty()) {
-        g.name = asciiKey(gtif.get(), g.projected ? PCSCitationGeoKey : GeogCitationGeoKey);
+        g.name = asciiKey(*lib, gtif.get(), g.projected ? PCSCitationGeoKey : GeogCitationGeoKey);
     }
     if (g.name.empty()) {
-        g.name = asciiKey(gtif.get(), GTCitationGeoKey);
+        g.name = asciiKey(*lib, gtif.get(), GTCitationGeoKey);
     }
     if (g.name.empty()) {
         g.name = g.projected ? "a user-defined projected CRS" : "a user-defined geographic CRS";

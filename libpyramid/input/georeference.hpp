@@ -1,5 +1,6 @@
 // Where a raster lies on its planet: the coordinate reference system (CRS) of a GeoTIFF and the
-// affine map from its pixels to that CRS, read with libgeotiff over libtiff (no GDAL).
+// affine map from its pixels to that CRS, read with libgeotiff over libtiff (no GDAL): libtiff
+// reads the tags, libgeotiff (loaded on demand, geotiff_library.hpp) interprets the keys.
 //
 // What is read: the GeoKeys (GTModelTypeGeoKey, the projected or geographic CRS, its datum's
 // ellipsoid, units, prime meridian and projection parameters, normalised by libgeotiff's
