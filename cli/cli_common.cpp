@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -137,6 +138,18 @@ void writeJson(const nlohmann::json& json, const std::string& path) {
     AtomicFile out(path);
     out.writeAt(0, text.data(), text.size());
     out.commit();
+}
+
+void checkReportIsNotSidecar(const std::string& report, const std::string& sidecar) {
+    if (!report.empty() && std::filesystem::path(report).lexically_normal() == std::filesystem::path(sidecar).lexically_normal()) {
+        fail("--report", "'" + report + "' is where the georeference sidecar goes; name the report otherwise");
+    }
+}
+
+void printGeoreferenceSummary(const std::optional<PyramidGeoreference>& georeference, const std::string& sidecar) {
+    if (georeference) {
+        std::fprintf(stderr, "%s: placement in %s\n", sidecar.c_str(), georeference->crs.crsText().c_str());
+    }
 }
 
 } // namespace pyramid::cli

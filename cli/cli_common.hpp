@@ -5,11 +5,13 @@
 #include <chrono>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "libpyramid/input/pyramid_georeference.hpp"
 
 namespace CLI {
 class App;
@@ -61,5 +63,11 @@ private:
 
 // Writes `json` (pretty, with a final newline) to `path` atomically; "-" means stdout.
 void writeJson(const nlohmann::json& json, const std::string& path);
+
+// The planar commands' georeference sidecar (input/pyramid_georeference.hpp) and --report must
+// be two files: throws Error naming --report otherwise.
+void checkReportIsNotSidecar(const std::string& report, const std::string& sidecar);
+// One line on stderr for a georeferenced input: its CRS and the sidecar written.
+void printGeoreferenceSummary(const std::optional<PyramidGeoreference>& georeference, const std::string& sidecar);
 
 } // namespace pyramid::cli

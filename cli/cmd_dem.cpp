@@ -19,6 +19,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
     app.add_flag("--stretch", args->options.stretch, "Stretch width and height independently onto the square root quad");
     return [args]() {
         DemEncodeOptions options = resolveDemOptions(*args);
+        checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t done, int64_t total) {
             if (!progress || done == 1) { // a new attempt (--scale auto) starts over
@@ -32,6 +33,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
         }
         if (!args->quiet) {
             printDemSummary(report);
+            printGeoreferenceSummary(report.georeference, georeferenceSidecarPath(args->output));
         }
         if (!args->report.empty()) {
             writeJson(toJson(report), args->report);

@@ -1,4 +1,5 @@
 // `pyramid ortho` / `preprocessOrtho`: imagery in, ortho pyramids out.
+#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -18,6 +19,9 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
     addOrthoRunOptions(app, a);
     return [a]() {
         OrthoEncodeOptions options = resolveOrthoOptions(*a);
+        const std::string sidecar =
+            (std::filesystem::path(a->output) / georeferenceSidecarPath(options.name + ".dat")).string();
+        checkReportIsNotSidecar(a->report, sidecar);
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t, int64_t total) {
             if (!progress) {
@@ -31,6 +35,7 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
         }
         if (!a->quiet) {
             printOrthoSummary(report);
+            printGeoreferenceSummary(report.georeference, sidecar);
         }
         if (!a->report.empty()) {
             writeJson(toJson(report), a->report);

@@ -16,8 +16,9 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
     auto a = std::make_shared<OrthoArgs>();
     auto sphere = std::make_shared<SphereArgs>();
     addOrthoOptions(app, a,
-                    "Equirectangular imagery (1-4 channels of 8 or 16 bits): column 0 at longitude -180 (or the "
-                    "extent's west), row 0 at the north; pixel centres",
+                    "Imagery (1-4 channels of 8 or 16 bits): a GeoTIFF where its georeferencing places it, else "
+                    "equirectangular with column 0 at longitude -180 (or the extent's west), row 0 at the north; "
+                    "pixel centres",
                     "Output directory: NAME1..6.dat, dxt/NAME1..6.dat, residuals/NAME1..6.dat",
                     "maxLevel of every face (default: the smallest whose faces are as fine as the map at the equator)");
     addSphereOptions(app, sphere);

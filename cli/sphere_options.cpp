@@ -13,8 +13,8 @@ namespace pyramid::cli {
 
 void addSphereOptions(CLI::App& app, const std::shared_ptr<SphereArgs>& args) {
     app.add_option("--extent", args->extent,
-                   "WEST,SOUTH,EAST,NORTH in degrees covered by the map (default: the whole globe); "
-                   "the rest is nodata");
+                   "WEST,SOUTH,EAST,NORTH in degrees covered by a map without georeferencing (default: the whole "
+                   "globe); the rest is nodata. A GeoTIFF places itself: --extent may only repeat its extent");
     app.add_option("--body", args->body,
                    "wgs84, sphere (the original tools' mapping), moon, mars, or A,F (equatorial radius in metres, "
                    "flattening or inverse flattening)")

@@ -2,6 +2,7 @@
 // to build, declared once and checked once the command line is parsed.
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,7 @@ struct SphereArgs {
 void addSphereOptions(CLI::App& app, const std::shared_ptr<SphereArgs>& args);
 
 struct SphereChoice {
-    GeoExtent extent;
+    std::optional<GeoExtent> extent; // given: a georeferenced input's must agree with it
     std::string body;
     std::vector<int> faces;
 };

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/residual_file.hpp"
+#include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {
@@ -124,6 +125,39 @@ TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
     expectBadInputWritesNothing("preprocessSphericalDem", cases, out);
 }
 
+TEST(SphereDemCli, GeoTiffPlacesItselfAndRefusesWhatItCannot) {
+    const std::string rainier = test::sharedFixturePath("inputs/mt_rainier_90m.tif");
+    if (rainier.empty()) {
+        GTEST_SKIP() << "../shared/fixtures/inputs/mt_rainier_90m.tif is not there";
+    }
+    test::TempDir dir;
+    const std::string out = dir.file("planet");
+    // The real SRTM tile without --extent: on face 1 (47 N), nowhere else.
+    const auto r = run(programPath("preprocessSphericalDem") + " " + rainier + " -o " + out +
+                       " --max-level 5 -q --report " + dir.file("r.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(test::readFile(dir.file("r.json")));
+    EXPECT_EQ(j["crs"], "EPSG:4326 (WGS 84)");
+    EXPECT_NEAR(j["extent"]["west"].get<double>(), -122.0 - 0.5 / 1200, 1e-9);
+    EXPECT_NEAR(j["extent"]["north"].get<double>(), 47.0 + 0.5 / 1200, 1e-9);
+    for (const nlohmann::json& face : j["faces"]) {
+        EXPECT_EQ(face["dem"]["levels"].back()["samples"].get<int64_t>() > 0, face["face"] == 1) << face["face"];
+    }
+
+    const std::string laea = dir.file("laea.tif");
+    test::writeGeoTiff(laea, 4, 4, std::vector<float>(16, 1.0f), test::projectedTags(3035, 4321000, 3210000, 1000));
+    const std::string bad = dir.file("bad");
+    const std::vector<BadCase> cases = {
+        {rainier + " -o " + bad + " --extent -180,-90,180,90", 1,
+         "preprocessSphericalDem: --extent: -180,-90,180,90 contradicts the file's georeferencing "
+         "(-122.0004167,45.99958333,-120.9995833,47.00041667 in EPSG:4326 (WGS 84)); leave --extent out"},
+        {laea + " -o " + bad, 1,
+         "laea.tif: EPSG:3035 (ETRS89-extended / LAEA Europe) is in the Lambert azimuthal equal-area projection, "
+         "which is not supported; reproject it to EPSG:4326"},
+    };
+    expectBadInputWritesNothing("preprocessSphericalDem", cases, bad);
+    expectBadInputWritesNothing("preprocessSphericalOrtho", {{laea + " -o " + bad, 1, "EPSG:3035"}}, bad);
+}
 
 TEST(SphereOrthoCli, SampleImageMakesEighteenFilesAndAReport) {
     test::TempDir dir;

@@ -336,7 +336,7 @@ TEST(SphereOrtho, BadInputWritesNothing) {
     o.ortho.levels.tileSize = 2;
     EXPECT_EQ(message(dir.file("globe.png"), o).rfind("tileSize: ", 0), 0u);
     o = good;
-    o.extent.south = -100.0;
+    o.extent = GeoExtent{-180.0, -100.0, 180.0, 90.0};
     EXPECT_EQ(message(dir.file("globe.png"), o).rfind("extent: ", 0), 0u);
     o = good;
     o.ortho.levels.channels = 4;

@@ -44,8 +44,8 @@ struct ImageIoModule {
                   const void* pixels, std::string& error) = nullptr;
 };
 
-// Bumped whenever ImageIoModule or ModuleImage change.
-inline constexpr int kImageIoModuleAbi = 1;
+// Bumped whenever ImageIoModule, ModuleImage or RasterInfo change (2: RasterInfo::georeference).
+inline constexpr int kImageIoModuleAbi = 2;
 
 // The module, loaded on first use: from $PYRAMID_OIIO_MODULE if set, else beside the
 // library or program that holds this code, else where the build put it. Throws

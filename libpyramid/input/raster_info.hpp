@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "libpyramid/input/georeference.hpp"
+
 namespace pyramid {
 
 enum class SampleType { UInt8, Int8, UInt16, Int16, UInt32, Int32, Float16, Float32, Float64, Other };
@@ -19,6 +21,7 @@ struct RasterInfo {
     SampleType type = SampleType::Other;
     std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any
     std::string formatName;       // "tiff", "png", ...
+    std::optional<Georeference> georeference; // a GeoTIFF's CRS and pixel-to-CRS transform, if any
 };
 
 } // namespace pyramid

@@ -83,6 +83,7 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
         if (!info.nodata && info.formatName == "tiff") {
             info.nodata = geoTiffNodata(path);
         }
+        if (info.formatName == "tiff") { info.georeference = readGeoTiffGeoreference(path); }
     }
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
         fail(path, "empty image");

@@ -49,7 +49,58 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     info.type = type;
     info.formatName = "tiff";
     info.nodata = geoTiffNodata(path);
+    info.georeference = readGeoTiffGeoreference(path);
     return info;
+}
+
+namespace {
+
+// A tag's values and their count, whichever count type the field was registered with.
+template <class T>
+std::vector<T> arrayTag(TIFF* tif, uint32_t tag) {
+    const TIFFField* field = TIFFFindField(tif, tag, TIFF_ANY);
+    if (!field || !TIFFFieldPassCount(field)) {
+        return {};
+    }
+    T* values = nullptr;
+    uint32_t count = 0;
+    int found = 0;
+    if (TIFFFieldReadCount(field) == TIFF_VARIABLE2) {
+        found = TIFFGetField(tif, tag, &count, &values);
+    } else {
+        uint16_t count16 = 0;
+        found = TIFFGetField(tif, tag, &count16, &values);
+        count = count16;
+    }
+    return found == 1 && values ? std::vector<T>(values, values + count) : std::vector<T>{};
+}
+
+} // namespace
+
+std::vector<double> tiffDoubles(void* tif, uint32_t tag) {
+    const TIFFField* field = TIFFFindField(static_cast<TIFF*>(tif), tag, TIFF_ANY);
+    return field && TIFFFieldDataType(field) == TIFF_DOUBLE ? arrayTag<double>(static_cast<TIFF*>(tif), tag)
+                                                            : std::vector<double>{};
+}
+
+std::vector<uint16_t> tiffShorts(void* tif, uint32_t tag) {
+    const TIFFField* field = TIFFFindField(static_cast<TIFF*>(tif), tag, TIFF_ANY);
+    return field && TIFFFieldDataType(field) == TIFF_SHORT ? arrayTag<uint16_t>(static_cast<TIFF*>(tif), tag)
+                                                           : std::vector<uint16_t>{};
+}
+
+std::optional<std::string> tiffText(void* handle, uint32_t tag) {
+    TIFF* tif = static_cast<TIFF*>(handle);
+    const TIFFField* field = TIFFFindField(tif, tag, TIFF_ANY);
+    if (!field || TIFFFieldDataType(field) != TIFF_ASCII) {
+        return std::nullopt;
+    }
+    if (TIFFFieldPassCount(field)) {
+        const std::vector<char> text = arrayTag<char>(tif, tag);
+        return text.empty() ? std::nullopt : std::optional<std::string>(std::string(text.data(), strnlen(text.data(), text.size())));
+    }
+    const char* text = nullptr;
+    return TIFFGetField(tif, tag, &text) == 1 && text ? std::optional<std::string>(text) : std::nullopt;
 }
 
 // GDAL keeps a GeoTIFF's nodata value in its own ASCII tag (42113), which OpenImageIO does not
@@ -59,32 +110,10 @@ std::optional<double> geoTiffNodata(const std::string& path) {
     if (!tif) {
         return std::nullopt;
     }
-    // libtiff builds without the tag's definition keep it as an anonymous field, read with a
-    // count before the pointer.
-    std::optional<double> nodata;
-    const TIFFField* field = TIFFFindField(tif, TIFFTAG_GDAL_NODATA, TIFF_ANY);
-    const char* text = nullptr;
-    if (field && TIFFFieldDataType(field) == TIFF_ASCII) {
-        int found = 0;
-        size_t length = 0;
-        if (!TIFFFieldPassCount(field)) {
-            found = TIFFGetField(tif, TIFFTAG_GDAL_NODATA, &text);
-            length = text ? std::strlen(text) : 0;
-        } else if (TIFFFieldReadCount(field) == TIFF_VARIABLE2) {
-            uint32_t count = 0;
-            found = TIFFGetField(tif, TIFFTAG_GDAL_NODATA, &count, &text);
-            length = count;
-        } else {
-            uint16_t count = 0;
-            found = TIFFGetField(tif, TIFFTAG_GDAL_NODATA, &count, &text);
-            length = count;
-        }
-        if (found == 1 && text) {
-            nodata = parseNodataText(std::string(text, strnlen(text, length)));
-        }
-    }
+    // libtiff builds without the tag's definition keep it as an anonymous field.
+    const std::optional<std::string> text = tiffText(tif, TIFFTAG_GDAL_NODATA);
     TIFFClose(tif);
-    return nodata;
+    return text ? parseNodataText(*text) : std::nullopt;
 }
 
 } // namespace pyramid

@@ -1,8 +1,10 @@
 // What a TIFF input holds, read with libtiff alone (no OpenImageIO): size, channels, sample
-// type and GDAL's nodata tag.
+// type, GDAL's nodata tag and the GeoTIFF georeferencing (georeference.hpp).
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "libpyramid/input/raster_info.hpp"
 
@@ -17,5 +19,12 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path);
 
 // The nodata value of GDAL's ASCII tag 42113, if the file is a TIFF that has one.
 std::optional<double> geoTiffNodata(const std::string& path);
+
+// A tag of an open TIFF (libtiff's TIFF*) as doubles, shorts or text, however libtiff holds it:
+// registered (its own tags, or GeoTIFF's when libgeotiff registered them in this process) or as
+// an anonymous field (read with a count before the pointer). Empty / nullopt when absent.
+std::vector<double> tiffDoubles(void* tif, uint32_t tag);
+std::vector<uint16_t> tiffShorts(void* tif, uint32_t tag);
+std::optional<std::string> tiffText(void* tif, uint32_t tag);
 
 } // namespace pyramid

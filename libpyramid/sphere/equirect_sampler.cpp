@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid {
@@ -44,7 +45,12 @@ const char* GeoExtent::brokenRule() const {
 
 EquirectSampler::EquirectSampler(const RasterSource& source, const GeoExtent& extent, int c0, int c1,
                                  SampleRead read, std::optional<double> nodata)
-    : source_(source), extent_(extent), c0_(c0), c1_(c1), read_(read), nodata_(nodata) {
+    : EquirectSampler(source, MapPlacement(extent), c0, c1, read, nodata) {}
+
+EquirectSampler::EquirectSampler(const RasterSource& source, const MapPlacement& placement, int c0, int c1,
+                                 SampleRead read, std::optional<double> nodata)
+    : source_(source), extent_(placement.extent), map_(placement.map), wraps_(!map_ && extent_.global()), c0_(c0),
+      c1_(c1), read_(read), nodata_(nodata) {
     if (c0 < 0 || c1 > source.info().channels || c0 >= c1) {
         fail(source.path(), "has " + std::to_string(source.info().channels) + " channel(s), channel " +
                                 std::to_string(std::max(c0, c1 - 1) + 1) + " was asked for");
@@ -60,6 +66,27 @@ struct Taps {
     bool inside = false;
 };
 
+// The taps around pixel-centre position (x, y) (columns wrapping around a global map).
+Taps tapsAt(Taps t, double x, double yUnclamped, bool global, int64_t W, int64_t H) {
+    const double y = std::clamp(yUnclamped, 0.0, static_cast<double>(H - 1));
+    t.j0 = std::min(static_cast<int64_t>(y), H - 1);
+    t.fy = y - static_cast<double>(t.j0);
+    t.j1 = std::min(t.j0 + 1, H - 1);
+    if (global) {
+        const double fl = std::floor(x);
+        t.fx = x - fl;
+        t.i0 = (static_cast<int64_t>(fl) % W + W) % W;
+        t.i1 = (t.i0 + 1) % W;
+    } else {
+        const double cx = std::clamp(x, 0.0, static_cast<double>(W - 1));
+        t.i0 = std::min(static_cast<int64_t>(cx), W - 1);
+        t.fx = cx - static_cast<double>(t.i0);
+        t.i1 = std::min(t.i0 + 1, W - 1);
+    }
+    return t;
+}
+
+// The taps of a plate carree's point.
 Taps tapsOf(const GeodeticPoint& p, const GeoExtent& e, int64_t W, int64_t H) {
     Taps t;
     if (!(p.latitude >= e.south && p.latitude <= e.north)) {
@@ -74,23 +101,16 @@ Taps tapsOf(const GeodeticPoint& p, const GeoExtent& e, int64_t W, int64_t H) {
     }
     t.inside = true;
     const double x = (lon - e.west) * static_cast<double>(W) / (e.east - e.west) - 0.5;
-    const double y = std::clamp((e.north - p.latitude) * static_cast<double>(H) / (e.north - e.south) - 0.5, 0.0,
-                                static_cast<double>(H - 1));
-    t.j0 = std::min(static_cast<int64_t>(y), H - 1);
-    t.fy = y - static_cast<double>(t.j0);
-    t.j1 = std::min(t.j0 + 1, H - 1);
-    if (e.global()) {
-        const double fl = std::floor(x);
-        t.fx = x - fl;
-        t.i0 = (static_cast<int64_t>(fl) % W + W) % W;
-        t.i1 = (t.i0 + 1) % W;
-    } else {
-        const double cx = std::clamp(x, 0.0, static_cast<double>(W - 1));
-        t.i0 = std::min(static_cast<int64_t>(cx), W - 1);
-        t.fx = cx - static_cast<double>(t.i0);
-        t.i1 = std::min(t.i0 + 1, W - 1);
-    }
-    return t;
+    const double y = (e.north - p.latitude) * static_cast<double>(H) / (e.north - e.south) - 0.5;
+    return tapsAt(t, x, y, e.global(), W, H);
+}
+
+// The taps of a georeferenced map's point: never wrapping.
+Taps tapsOf(const GeodeticPoint& p, const GeoreferencedMap& map, int64_t W, int64_t H) {
+    Taps t;
+    double x = 0.0, y = 0.0;
+    t.inside = map.pixelOf(p, x, y);
+    return t.inside ? tapsAt(t, x, y, false, W, H) : t;
 }
 
 // A block of pixels, columns [col, col + ncols) taken modulo the width, rows [row, row + nrows),
@@ -120,19 +140,19 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     // shortest run of columns that holds them all directly from their extreme offsets.
     int64_t reference = -1, offsetMin = 0, offsetMax = 0;
     auto offset = [&](int64_t i) {
-        if (!extent_.global()) {
+        if (!wraps_) {
             return i;
         }
         int64_t d = ((i - reference) % W + W) % W;
         return d > W / 2 ? d - W : d;
     };
     for (size_t k = 0; k < count; ++k) {
-        taps[k] = tapsOf(points[k], extent_, W, H);
+        taps[k] = map_ ? tapsOf(points[k], *map_, W, H) : tapsOf(points[k], extent_, W, H);
         if (taps[k].inside) {
             rowMin = std::min(rowMin, taps[k].j0);
             rowMax = std::max(rowMax, taps[k].j1);
             if (reference < 0) {
-                reference = extent_.global() ? taps[k].i0 : 0;
+                reference = wraps_ ? taps[k].i0 : 0;
                 offsetMin = offsetMax = offset(taps[k].i0);
             }
             for (const int64_t i : {taps[k].i0, taps[k].i1}) {
@@ -147,7 +167,7 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
         return;
     }
     int64_t colStart = 0, colCount = W;
-    if (!extent_.global() || offsetMax - offsetMin < W / 2) {
+    if (!wraps_ || offsetMax - offsetMin < W / 2) {
         colStart = ((reference + offsetMin) % W + W) % W;
         colCount = offsetMax - offsetMin + 1;
     } else {

@@ -1,4 +1,7 @@
-// Sampling an equirectangular (plate carree) raster by geodetic latitude and longitude.
+// Sampling a planet's map by geodetic latitude and longitude: an equirectangular (plate carree)
+// raster, described below, or a georeferenced one whose pixel a point finds through its CRS
+// (GeoreferencedMap, map_placement.hpp; then there is no wrapping and the map's own pixel edges
+// bound it, with the same interpolation, clamping and nodata rules).
 //
 // The raster covers the extent [west, east] x [south, north] in degrees (default: the whole
 // globe), column 0 on the west, row 0 on the north. Samples are PIXEL CENTRES (area
@@ -18,6 +21,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <memory>
 
 #include "libpyramid/sphere/planet_body.hpp"
 #include "libpyramid/input/raster_source.hpp"
@@ -41,11 +46,17 @@ struct GeoExtent {
 // (readUInt16: 8-bit 0..255, 16-bit 0..65535), for colours.
 enum class SampleRead { Float, UInt16 };
 
+class GeoreferencedMap;
+struct MapPlacement;
+
 class EquirectSampler {
 public:
     // Channels [c0, c1) are sampled; `nodata` marks missing pixels (NaN allowed). Throws Error
     // naming the file for channels it does not have.
     EquirectSampler(const RasterSource& source, const GeoExtent& extent, int c0, int c1, SampleRead read,
+                    std::optional<double> nodata);
+    // The map placed by its georeferencing or extent (map_placement.hpp).
+    EquirectSampler(const RasterSource& source, const MapPlacement& placement, int c0, int c1, SampleRead read,
                     std::optional<double> nodata);
 
     int channels() const { return c1_ - c0_; }
@@ -60,6 +71,8 @@ public:
 private:
     const RasterSource& source_;
     GeoExtent extent_;
+    std::shared_ptr<const GeoreferencedMap> map_; // null: a plate carree over extent_
+    bool wraps_ = false;                           // a global plate carree
     int c0_, c1_;
     SampleRead read_;
     std::optional<double> nodata_;

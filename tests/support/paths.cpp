@@ -16,6 +16,10 @@ std::string dataPath(const std::string& relative) { return std::string(PYRAMID_T
 std::string corpusPath(const std::string& relative) { return std::string(PYRAMID_TEST_CORPUS) + "/" + relative; }
 std::string samplePath(const std::string& relative) { return std::string(PYRAMID_SAMPLES) + "/" + relative; }
 std::string programPath(const std::string& name) { return std::string(PYRAMID_BIN_DIR) + "/" + name; }
+std::string sharedFixturePath(const std::string& relative) {
+    const std::string path = std::string(PYRAMID_SHARED_FIXTURES) + "/" + relative;
+    return fileExists(path) ? path : std::string();
+}
 
 TempDir::TempDir() {
     std::random_device rd;

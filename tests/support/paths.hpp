@@ -8,6 +8,9 @@ std::string dataPath(const std::string& relative);    // tests/data/RELATIVE
 std::string corpusPath(const std::string& relative);  // tests/corpus/RELATIVE
 std::string samplePath(const std::string& relative);  // samples/RELATIVE
 std::string programPath(const std::string& name);     // the built CLI program NAME
+// The real inputs shared beside the checkout (../shared/fixtures/RELATIVE, e.g.
+// "inputs/mt_rainier_90m.tif"); empty when that folder is not there.
+std::string sharedFixturePath(const std::string& relative);
 
 // A fresh empty directory under the system temporary directory, removed at exit of scope.
 class TempDir {

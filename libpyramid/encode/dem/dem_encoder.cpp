@@ -114,6 +114,18 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
     const DemSampler sampler(*source, geometry, options.band, nodata);
     job.heights = &sampler;
     encodeResidualPyramid(job, output, options, report);
+    if (const auto& g = source->info().georeference; g && g->problem.empty()) {
+        // Sample x of the finest grid is at input column x * lx / N, a pixel centre: +0.5 in
+        // PixelIsArea coordinates.
+        std::vector<int64_t> intervals;
+        for (int l = 0; l <= job.header.maxLevel; ++l) {
+            intervals.push_back(static_cast<int64_t>(job.header.tileSize >> job.header.minLevel) << l);
+        }
+        const std::array<double, 4> root{0.5, 0.5, static_cast<double>(geometry.lx) + 0.5,
+                                         static_cast<double>(geometry.ly) + 0.5};
+        report.georeference = georeferencePyramid(*g, geometry.width, geometry.height, root, intervals, "vertices");
+        writeGeoreferenceSidecar(georeferenceSidecarPath(output), output, *report.georeference);
+    }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }
@@ -158,6 +170,7 @@ nlohmann::json toJson(const DemReport& r) {
             {"finest_samples", r.finestSamples},
             {"nodata_filled", r.nodataFilled},
             {"levels", levels},
+            {"georeference", r.georeference ? toJson(*r.georeference) : nlohmann::json()}, // null: not georeferenced
             {"threads", r.threads},
             {"seconds", r.seconds}};
 }

@@ -12,6 +12,7 @@
 
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
+#include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/input/raster_source.hpp"
 
 namespace pyramid {
@@ -49,6 +50,9 @@ struct DemReport : ResidualPyramidReport {
     int band = 0;                 // 0-based, as DemEncodeOptions
     std::optional<double> nodata; // the nodata value used (option or declared), if any
     std::string sampling;         // the geometry rule applied
+    // A georeferenced input's placement of the pyramid, also written beside the output
+    // (georeferenceSidecarPath(output)).
+    std::optional<PyramidGeoreference> georeference;
     double seconds = 0.0;
 };
 
@@ -62,7 +66,8 @@ std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncod
 // input's size; `where` names the input when that default makes too many tiles).
 ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& options, const std::string& where);
 
-// Encodes `input` into the residual file `output` (written atomically). Throws Error with a
+// Encodes `input` into the residual file `output` (written atomically), and a georeferenced
+// input's placement into the sidecar georeferenceSidecarPath(output) (atomically, after it). Throws Error with a
 // one-line message on bad input, impossible options or int16 overflow (which names the
 // smallest scale that would fit).
 DemReport encodeDem(const std::string& input, const std::string& output, const DemEncodeOptions& options);

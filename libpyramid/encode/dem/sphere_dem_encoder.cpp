@@ -10,6 +10,7 @@
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/support/text.hpp"
 
 namespace pyramid {
@@ -55,7 +56,9 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
     report.band = o.band;
     report.heightScale = options.heightScale;
     report.body = body.describe();
-    report.extent = options.extent;
+    const MapPlacement placement = placeMap(source->info(), input, options.extent, body);
+    report.extent = placement.extent;
+    report.crs = placement.crs;
     const std::optional<double> nodata = checkBandAndNodata(source->info(), o, input);
     report.nodata = nodata;
 
@@ -64,8 +67,7 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
     faceOptions.stretch = false;
     faceOptions.reconstruction = nullptr;
     if (faceOptions.maxLevel < 0 && faceOptions.dstMaxLevel < 0) {
-        const double equatorWidth = static_cast<double>(source->info().width) * 360.0 /
-                                    (options.extent.east - options.extent.west) / 4.0;
+        const double equatorWidth = placement.columnsAround / 4.0;
         faceOptions.maxLevel = 0;
         while (faceOptions.maxLevel < 24 &&
                static_cast<double>(static_cast<int64_t>(faceOptions.rootTileSize) << faceOptions.maxLevel) < equatorWidth) {
@@ -75,7 +77,7 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
     }
     const ResidualHeader header = planDemPyramid(source->info(), faceOptions, input);
     const int64_t N = static_cast<int64_t>(header.tileSize >> header.minLevel) << header.maxLevel;
-    const EquirectSampler map(*source, options.extent, o.band, o.band + 1, SampleRead::Float, nodata);
+    const EquirectSampler map(*source, placement, o.band, o.band + 1, SampleRead::Float, nodata);
     report.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
 
     StagingDirectory staging(directory);
@@ -153,6 +155,7 @@ nlohmann::json toJson(const SphericalDemReport& r) {
             {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
                         {"north", r.extent.north}}},
             {"body", r.body},
+            {"crs", r.crs.empty() ? nlohmann::json() : nlohmann::json(r.crs)}, // null: not georeferenced
             {"faces", faces},
             {"threads", r.threads},
             {"seconds", r.seconds}};

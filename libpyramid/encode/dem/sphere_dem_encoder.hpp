@@ -23,7 +23,9 @@ struct SphericalDemOptions {
     // maxLevel >= width / 4); dem.stretch does not apply; dem.progress sees the tiles of every
     // face, dem.reconstruction is not called (see `reconstruction` below).
     DemEncodeOptions dem;
-    GeoExtent extent;             // of the map; default global
+    // Of a map without georeferencing (default: the globe). A georeferenced input places itself
+    // (sphere/map_placement.hpp): an extent then may only repeat a geographic file's own.
+    std::optional<GeoExtent> extent;
     std::string body = "wgs84";   // PlanetBody::parse
     double heightScale = 1.0;     // height = sample value x heightScale (e.g. 10000/255)
     std::string name = "DEM";     // files NAME1.dat .. NAME6.dat
@@ -46,7 +48,8 @@ struct SphericalDemReport {
     std::optional<double> nodata; // used, if any
     double heightScale = 1.0;
     std::string body;             // PlanetBody::describe()
-    GeoExtent extent;
+    GeoExtent extent;             // the map's (a projected map: a geographic box around it)
+    std::string crs;              // the input's CRS, if georeferenced
     std::vector<SphericalDemFaceReport> faces;
     int threads = 0;
     double seconds = 0.0;

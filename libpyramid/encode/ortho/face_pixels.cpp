@@ -35,14 +35,16 @@ std::string degrees(double d) {
 
 } // namespace
 
-FacePixels::FacePixels(const RasterSource& source, const GeoExtent& extent, const PlanetBody& body, int face,
+FacePixels::FacePixels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,
                        int channels, int64_t width)
     : channels_(channels), sixteen_(source.info().type == SampleType::UInt16), body_(body),
-      map_(source, extent, 0, channels, SampleRead::UInt16, std::nullopt),
+      map_(source, placement, 0, channels, SampleRead::UInt16, std::nullopt),
       face_(map_, body_, face, FaceGrid{width, FaceGridKind::PixelCentres}) {
     const int64_t W = width;
+    const GeoExtent& extent = placement.extent;
+    const std::string from = placement.map ? "the map in " + placement.crs + " within " : "the map's extent ";
     sampling_ = "face " + std::to_string(face) + " of the cube, " + std::to_string(W) + " pixels across, sampled " +
-                "bilinearly on the " + body.name() + " body from the map's extent " + degrees(extent.west) + "," +
+                "bilinearly on the " + body.name() + " body from " + from + degrees(extent.west) + "," +
                 degrees(extent.south) + "," + degrees(extent.east) + "," + degrees(extent.north) +
                 " (0 outside); borders from the neighbouring faces";
 }

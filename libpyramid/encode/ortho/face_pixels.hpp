@@ -11,6 +11,7 @@
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/sphere/equirect_sampler.hpp"
 #include "libpyramid/sphere/face_sampler.hpp"
+#include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/sphere/planet_body.hpp"
 
 namespace pyramid {
@@ -18,8 +19,8 @@ namespace pyramid {
 class FacePixels final : public PixelSource {
 public:
     // Face `face` (1..6) of `body`, `width` pixels across at the finest level, from the first
-    // `channels` channels of `source` (which must outlive this object) covering `extent`.
-    FacePixels(const RasterSource& source, const GeoExtent& extent, const PlanetBody& body, int face, int channels,
+    // `channels` channels of `source` (which must outlive this object) placed by `placement`.
+    FacePixels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face, int channels,
                int64_t width);
     FacePixels(const FacePixels&) = delete; // map_ and face_ refer to the members before them
     FacePixels& operator=(const FacePixels&) = delete;

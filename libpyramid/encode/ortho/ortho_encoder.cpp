@@ -293,6 +293,20 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
     const OrthoLevels levels(input, o.levels);
     StagingDirectory staging(directory);
     OrthoReport report = encodeLevels(levels, directory, staging, o, start);
+    if (const auto& g = levels.inputInfo().georeference; g && g->problem.empty()) {
+        // The finest level's pixels tile the root quad: the input's pixels, or its longer side's
+        // square with the aspect kept (planar_pixels.hpp).
+        const int w = levels.inputWidth(), h = levels.inputHeight(), longest = std::max(w, h);
+        const std::array<double, 4> root{0.0, 0.0, static_cast<double>(o.levels.stretch ? w : longest),
+                                         static_cast<double>(o.levels.stretch ? h : longest)};
+        std::vector<int64_t> pixels;
+        for (int l = 0; l <= levels.maxLevel(); ++l) {
+            pixels.push_back(static_cast<int64_t>(levels.tileSize()) << l);
+        }
+        report.georeference = georeferencePyramid(*g, w, h, root, pixels, "pixel centres");
+        const std::string name = georeferenceSidecarPath(o.name + ".dat");
+        writeGeoreferenceSidecar(staging.path(name), o.name + ".dat", *report.georeference);
+    }
     staging.commit(); // the outputs appear together, or none of them
     return report;
 }
@@ -330,6 +344,7 @@ nlohmann::json toJson(const OrthoReport& r) {
             {"border", r.border},
             {"tiles", r.tiles},
             {"levels", levels},
+            {"georeference", r.georeference ? toJson(*r.georeference) : nlohmann::json()}, // null: not georeferenced
             {"threads", r.threads},
             {"seconds", r.seconds}};
 }

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "formats/ortho_file.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/input/pyramid_georeference.hpp"
 
 namespace pyramid {
 
@@ -73,6 +75,9 @@ struct OrthoReport {
     std::vector<int64_t> sharedTiles;
     std::vector<OrthoLevelReport> levels;
     bool jpegErrorMeasured = false; // options.measureJpegError
+    // A georeferenced input's placement of the pyramid (planar pyramids only), also written as
+    // DIR/NAME.dat.georef.json.
+    std::optional<PyramidGeoreference> georeference;
     int threads = 0;
     double seconds = 0.0;
 };

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/ortho/face_pixels.hpp"
@@ -159,7 +160,7 @@ OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) 
     m.pixels = std::make_unique<PlanarPixels>(*m.source, m.channels, m.levelWidth(m.M), o.stretch);
 }
 
-OrthoLevels::OrthoLevels(const RasterSource& source, const GeoExtent& extent, const PlanetBody& body, int face,
+OrthoLevels::OrthoLevels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,
                          const OrthoLevelsOptions& o)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
@@ -170,8 +171,12 @@ OrthoLevels::OrthoLevels(const RasterSource& source, const GeoExtent& extent, co
         failOption("tileSize", std::to_string(o.tileSize) + " is below 4, the smallest for a cube face");
     }
     m.source = &source;
-    m.init(o, (static_cast<int64_t>(source.info().width) + 3) / 4);
-    m.pixels = std::make_unique<FacePixels>(source, extent, body, face, m.channels, m.levelWidth(m.M));
+    // A face spans a quarter of the equator. An image without georeferencing is taken as global
+    // here whatever its extent (as before georeferencing was read); a georeferenced one by its
+    // resolution.
+    m.init(o, placement.crs.empty() ? (static_cast<int64_t>(source.info().width) + 3) / 4
+                                    : static_cast<int64_t>(std::ceil(placement.columnsAround / 4.0)));
+    m.pixels = std::make_unique<FacePixels>(source, placement, body, face, m.channels, m.levelWidth(m.M));
 }
 
 OrthoLevels::~OrthoLevels() = default;
@@ -182,6 +187,7 @@ int OrthoLevels::channels() const { return impl_->channels; }
 int OrthoLevels::inputWidth() const { return impl_->source->info().width; }
 int OrthoLevels::inputHeight() const { return impl_->source->info().height; }
 const std::string& OrthoLevels::inputPath() const { return impl_->source->path(); }
+const RasterInfo& OrthoLevels::inputInfo() const { return impl_->source->info(); }
 const std::string& OrthoLevels::sampling() const { return impl_->pixels->sampling(); }
 int OrthoLevels::threads() const { return impl_->threads; }
 int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M + 1))) - 1) / 3; }

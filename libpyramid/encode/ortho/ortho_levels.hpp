@@ -47,6 +47,7 @@
 
 #include "libpyramid/filters/colour_average.hpp"
 #include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/sphere/planet_body.hpp"
 #include "libpyramid/input/raster_source.hpp"
 
@@ -80,9 +81,10 @@ class OrthoLevels {
 public:
     // A planar pyramid of the image file `input`.
     OrthoLevels(const std::string& input, const OrthoLevelsOptions& options);
-    // Cube face `face` (1..6) of `body`, from the equirectangular image `source` covering
-    // `extent`. `source` must outlive this object; it may serve several faces at once.
-    OrthoLevels(const RasterSource& source, const GeoExtent& extent, const PlanetBody& body, int face,
+    // Cube face `face` (1..6) of `body`, from the image `source` placed by `placement` (a plate
+    // carree over an extent, or georeferenced). `source` must outlive this object; it may serve
+    // several faces at once.
+    OrthoLevels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,
                 const OrthoLevelsOptions& options);
     ~OrthoLevels();
 
@@ -92,6 +94,7 @@ public:
     int inputWidth() const;
     int inputHeight() const;
     const std::string& inputPath() const;
+    const RasterInfo& inputInfo() const;
     const std::string& sampling() const; // the geometry rule applied, one sentence
     int64_t tileCount() const;
     int threads() const;                 // options.threads, or every available thread

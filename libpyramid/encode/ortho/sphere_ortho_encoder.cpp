@@ -6,6 +6,7 @@
 #include "formats/error.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/sphere/planet_body.hpp"
 #include "libpyramid/input/raster_source.hpp"
 
@@ -16,17 +17,20 @@ SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::s
     const auto start = std::chrono::steady_clock::now();
     const PlanetBody body = PlanetBody::parse(o.body);
     checkFaceList(o.faces);
-    o.extent.validate();
+    if (o.extent) {
+        o.extent->validate();
+    }
     if (o.ortho.name.empty()) {
         failOption("name", "'' is not a plain file name"); // the face number alone would pass for one
     }
     const std::unique_ptr<RasterSource> source = RasterSource::open(input, o.ortho.levels.cacheMegabytes);
+    const MapPlacement placement = placeMap(source->info(), input, o.extent, body);
     // Every face set up before any is written: the input and the options are checked once, and a
     // bad one leaves no file behind.
     std::vector<std::unique_ptr<OrthoLevels>> faces;
     int64_t total = 0;
     for (const int f : o.faces) {
-        faces.push_back(std::make_unique<OrthoLevels>(*source, o.extent, body, f, o.ortho.levels));
+        faces.push_back(std::make_unique<OrthoLevels>(*source, placement, body, f, o.ortho.levels));
         total += faces.back()->tileCount();
     }
 
@@ -34,7 +38,8 @@ SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::s
     report.input = input;
     report.directory = directory;
     report.body = body.describe();
-    report.extent = o.extent;
+    report.extent = placement.extent;
+    report.crs = placement.crs;
     report.threads = faces.front()->threads();
     StagingDirectory staging(directory); // the faces appear together at the end, or none of them
     int64_t done = 0;
@@ -75,6 +80,7 @@ nlohmann::json toJson(const SphericalOrthoReport& r) {
     return {{"input", r.input},
             {"directory", r.directory},
             {"body", r.body},
+            {"crs", r.crs.empty() ? nlohmann::json() : nlohmann::json(r.crs)}, // null: not georeferenced
             {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
                         {"north", r.extent.north}}},
             {"faces", faces},

@@ -5,6 +5,7 @@
 // (ortho_levels.hpp, "Cube faces"), and its tile borders are its neighbours' pixels, so that the
 // faces join without seams at every level.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,9 @@ struct SphericalOrthoOptions {
     // smallest level at least width / 4 pixels wide); ortho.levels.stretch is not used;
     // ortho.progress counts the tiles of all faces together.
     OrthoEncodeOptions ortho;
-    GeoExtent extent;             // of the input image; default global
+    // Of an image without georeferencing (default: the globe). A georeferenced input places
+    // itself (sphere/map_placement.hpp): an extent then may only repeat a geographic file's own.
+    std::optional<GeoExtent> extent;
     std::string body = "wgs84";   // PlanetBody::parse
     std::vector<int> faces{1, 2, 3, 4, 5, 6};
 };
@@ -36,7 +39,8 @@ struct SphericalOrthoReport {
     std::string input;
     std::string directory;
     std::string body; // PlanetBody::describe()
-    GeoExtent extent;
+    GeoExtent extent; // the image's (a projected one: a geographic box around it)
+    std::string crs;  // the input's CRS, if georeferenced
     std::vector<SphericalOrthoFaceReport> faces;
     int threads = 0;
     double seconds = 0.0;

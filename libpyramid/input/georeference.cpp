@@ -1,0 +1,276 @@
+#include "libpyramid/input/georeference.hpp"
+
+#include <geotiff/geokeys.h>
+#include <geotiff/geovalues.h>
+#include <tiffio.h>
+
+#include <cmath>
+#include <cstdarg>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "libpyramid/input/geotiff_library.hpp"
+#include "libpyramid/input/tiff_pixel_reader.hpp"
+#include "libpyramid/input/tiff_raster_info.hpp"
+
+namespace pyramid {
+
+std::string Georeference::crsText() const {
+    return epsg > 0 ? "EPSG:" + std::to_string(epsg) + " (" + name + ")" : name;
+}
+
+namespace {
+
+// libgeotiff reports malformed keys through this; the reader says what it cannot use instead.
+void ignoreGeoTiffMessage(GTIF*, int, const char*, ...) {}
+
+// The GeoTIFF tags (libtiff), read before libgeotiff is needed.
+constexpr uint32_t kTagPixelScale = 33550, kTagTiepoints = 33922, kTagTransformation = 34264;
+constexpr uint32_t kTagKeyDirectory = 34735, kTagDoubleParams = 34736, kTagAsciiParams = 34737;
+
+struct GeoTiffTags {
+    std::vector<uint16_t> keys;
+    std::vector<double> doubles;
+    std::optional<std::string> text;
+    std::vector<double> matrix, ties, scale;
+};
+
+std::string asciiKey(const GeoTiffLibrary& lib, GTIF* gtif, geokey_t key) {
+    int size = 0;
+    tagtype_t type{};
+    const int count = lib.keyInfo(gtif, key, &size, &type);
+    if (count <= 0 || type != TYPE_ASCII) {
+        return {};
+    }
+    std::vector<char> text(static_cast<size_t>(count) + 1, '\0');
+    lib.keyGet(gtif, key, text.data(), 0, count);
+    std::string s(text.data());
+    while (!s.empty() && (s.back() == '|' || s.back() == ' ')) {
+        s.pop_back(); // GDAL ends citations with '|'
+    }
+    return s;
+}
+
+// The EPSG name of a CRS code, from PROJ's database through libgeotiff.
+std::string epsgName(const GeoTiffLibrary& lib, int code, bool projected) {
+    char* name = nullptr;
+    const int found = projected ? lib.pcsInfo(code, &name, nullptr, nullptr, nullptr)
+                                : lib.gcsInfo(code, &name, nullptr, nullptr, nullptr);
+    std::string s = found && name ? name : "";
+    if (name) {
+        lib.freeMemory(name);
+    }
+    return s;
+}
+
+// Readable names of the GeoTIFF coordinate transformations, for the messages that refuse them.
+const char* methodName(int ct) {
+    static const std::map<int, const char*> names{
+        {CT_TransverseMercator, "transverse Mercator"},
+        {CT_TransvMercator_Modified_Alaska, "modified transverse Mercator (Alaska)"},
+        {CT_ObliqueMercator, "Hotine oblique Mercator"},
+        {CT_ObliqueMercator_Laborde, "Laborde oblique Mercator"},
+        {CT_ObliqueMercator_Rosenmund, "Swiss oblique cylindrical"},
+        {CT_ObliqueMercator_Spherical, "spherical oblique Mercator"},
+        {CT_Mercator, "Mercator"},
+        {CT_LambertConfConic_2SP, "Lambert conformal conic (2SP)"},
+        {CT_LambertConfConic_1SP, "Lambert conformal conic (1SP)"},
+        {CT_LambertAzimEqualArea, "Lambert azimuthal equal-area"},
+        {CT_AlbersEqualArea, "Albers equal-area"},
+        {CT_AzimuthalEquidistant, "azimuthal equidistant"},
+        {CT_EquidistantConic, "equidistant conic"},
+        {CT_Stereographic, "stereographic"},
+        {CT_PolarStereographic, "polar stereographic"},
+        {CT_ObliqueStereographic, "oblique stereographic"},
+        {CT_Equirectangular, "projected equirectangular"},
+        {CT_CassiniSoldner, "Cassini-Soldner"},
+        {CT_Gnomonic, "gnomonic"},
+        {CT_MillerCylindrical, "Miller cylindrical"},
+        {CT_Orthographic, "orthographic"},
+        {CT_Polyconic, "polyconic"},
+        {CT_Robinson, "Robinson"},
+        {CT_Sinusoidal, "sinusoidal"},
+        {CT_VanDerGrinten, "Van der Grinten"},
+        {CT_NewZealandMapGrid, "New Zealand map grid"},
+        {CT_TransvMercator_SouthOrientated, "south-orientated transverse Mercator"},
+        {CT_CylindricalEqualArea, "cylindrical equal-area"},
+        {CT_HotineObliqueMercatorAzimuthCenter, "Hotine oblique Mercator (azimuth at centre)"},
+    };
+    const auto it = names.find(ct);
+    return it == names.end() ? "an unknown projection method" : it->second;
+}
+
+// EPSG:3857 and its retired aliases: spherical Mercator formulas applied to WGS84 coordinates,
+// which no GeoTIFF coordinate transformation code describes.
+bool isWebMercator(int pcs) { return pcs == 3857 || pcs == 3785 || pcs == 900913; }
+
+Projection projectionOf(const GTIFDefn& d, int pcs) {
+    Projection p;
+    p.name = methodName(d.CTProjection);
+    std::map<int, double> parm;
+    for (int k = 0; k < d.nParms && k < MAX_GTIF_PROJPARMS; ++k) {
+        if (d.ProjParmId[k] != 0) {
+            parm[d.ProjParmId[k]] = d.ProjParm[k];
+        }
+    }
+    auto get = [&](std::initializer_list<int> keys, double fallback) {
+        for (const int key : keys) {
+            if (const auto it = parm.find(key); it != parm.end()) {
+                return it->second;
+            }
+        }
+        return fallback;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    p.originLatitude = get({ProjNatOriginLatGeoKey, ProjFalseOriginLatGeoKey, ProjCenterLatGeoKey}, 0.0);
+    p.originLongitude = get({ProjNatOriginLongGeoKey, ProjFalseOriginLongGeoKey, ProjCenterLongGeoKey,
+                             ProjStraightVertPoleLongGeoKey},
+                            0.0);
+    p.scale = get({ProjScaleAtNatOriginGeoKey, ProjScaleAtCenterGeoKey}, 1.0);
+    p.standardParallel1 = get({ProjStdParallel1GeoKey}, nan);
+    p.standardParallel2 = get({ProjStdParallel2GeoKey}, nan);
+    p.falseEasting = get({ProjFalseEastingGeoKey, ProjFalseOriginEastingGeoKey, ProjCenterEastingGeoKey}, 0.0);
+    p.falseNorthing = get({ProjFalseNorthingGeoKey, ProjFalseOriginNorthingGeoKey, ProjCenterNorthingGeoKey}, 0.0);
+    if (isWebMercator(pcs)) {
+        p.method = ProjectionMethod::WebMercator;
+        p.name = "popular visualisation pseudo-Mercator";
+    } else if (d.CTProjection == CT_TransverseMercator) {
+        p.method = ProjectionMethod::TransverseMercator;
+    } else if (d.CTProjection == CT_PolarStereographic) {
+        p.method = ProjectionMethod::PolarStereographic;
+    } else if (d.CTProjection == CT_LambertConfConic_1SP || d.CTProjection == CT_LambertConfConic_2SP) {
+        p.method = ProjectionMethod::LambertConformalConic;
+    } else if (d.CTProjection == CT_Mercator) {
+        p.method = ProjectionMethod::Mercator;
+    }
+    return p;
+}
+
+// pixelToCrs from the ModelTransformation tag, or from one tiepoint and the pixel scale.
+std::string readTransform(const GeoTiffTags& tags, Georeference& g) {
+    const std::vector<double>& matrix = tags.matrix;
+    const std::vector<double>& ties = tags.ties;
+    const std::vector<double>& scale = tags.scale;
+    auto& t = g.pixelToCrs;
+    if (matrix.size() >= 16) {
+        t = {matrix[3], matrix[0], matrix[1], matrix[7], matrix[4], matrix[5]};
+    } else if (ties.size() >= 6 && scale.size() >= 2) {
+        if (ties.size() > 6) {
+            return "has " + std::to_string(ties.size() / 6) +
+                   " tie points (ground control points), which place no regular grid; warp it to one first";
+        }
+        // Rows go down while y goes up: ModelPixelScale's y is positive for north-up images.
+        t = {ties[3] - ties[0] * scale[0], scale[0], 0.0, ties[4] + ties[1] * scale[1], 0.0, -scale[1]};
+    } else if (ties.size() >= 6) {
+        return "has " + std::to_string(ties.size() / 6) +
+               " tie point(s) and no pixel scale (ground control points); warp it to a regular grid first";
+    } else {
+        return "has GeoKeys but neither a ModelTransformation nor a tie point and pixel scale";
+    }
+    if (g.pixelIsPoint) {
+        // The file's (0, 0) is the first pixel's centre, half a pixel inside its corner.
+        t[0] -= 0.5 * (t[1] + t[2]);
+        t[3] -= 0.5 * (t[4] + t[5]);
+    }
+    const double det = t[1] * t[5] - t[2] * t[4];
+    for (const double v : t) {
+        if (!std::isfinite(v)) {
+            return "has a pixel-to-model transform that is not finite";
+        }
+    }
+    if (det == 0.0) {
+        return "has a singular pixel-to-model transform (a zero pixel size)";
+    }
+    return {};
+}
+
+} // namespace
+
+std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
+    GeoTiffTags tags;
+    if (TIFF* tif = openTiffQuietly(path, "r")) {
+        tags.keys = tiffShorts(tif, kTagKeyDirectory);
+        tags.doubles = tiffDoubles(tif, kTagDoubleParams);
+        tags.text = tiffText(tif, kTagAsciiParams);
+        tags.matrix = tiffDoubles(tif, kTagTransformation);
+        tags.ties = tiffDoubles(tif, kTagTiepoints);
+        tags.scale = tiffDoubles(tif, kTagPixelScale);
+        TIFFClose(tif);
+    }
+    if (tags.keys.size() < 4) {
+        return std::nullopt; // no GeoKey directory: libgeotiff is not even loaded
+    }
+    Georeference g;
+    std::string why;
+    const GeoTiffLibrary* lib = geoTiffLibrary(why);
+    if (!lib) {
+        g.name = "a GeoTIFF CRS";
+        g.problem = "has GeoKeys, but libgeotiff cannot be loaded (" + why + ")";
+        return g;
+    }
+    // libgeotiff reads the keys from memory ("simple tags"), so that it never registers its
+    // tags with libtiff (a process-wide change) nor opens the file again.
+    const std::unique_ptr<ST_TIFF, void (*)(ST_TIFF*)> st(lib->stCreate(), lib->stDestroy);
+    lib->stSetKey(st.get(), kTagKeyDirectory, static_cast<int>(tags.keys.size()), STT_SHORT, tags.keys.data());
+    if (!tags.doubles.empty()) {
+        lib->stSetKey(st.get(), kTagDoubleParams, static_cast<int>(tags.doubles.size()), STT_DOUBLE, tags.doubles.data());
+    }
+    std::string text = tags.text.value_or("");
+    if (tags.text) {
+        lib->stSetKey(st.get(), kTagAsciiParams, static_cast<int>(text.size()) + 1, STT_ASCII, text.data());
+    }
+    TIFFMethod methods{};
+    lib->setSimpleTagsMethods(&methods);
+    const std::unique_ptr<GTIF, void (*)(GTIF*)> gtif(lib->newWithMethods(st.get(), &methods, ignoreGeoTiffMessage, nullptr),
+                                                      lib->free);
+    if (!gtif) {
+        return std::nullopt;
+    }
+    const std::unique_ptr<GTIFDefn, void (*)(GTIFDefn*)> defn(lib->allocDefn(), lib->freeDefn);
+    if (!defn || !lib->getDefn(gtif.get(), defn.get()) || !defn->DefnSet) {
+        return std::nullopt;
+    }
+    const GTIFDefn& d = *defn;
+    unsigned short rasterType = RasterPixelIsArea;
+    lib->keyGet(gtif.get(), GTRasterTypeGeoKey, &rasterType, 0, 1);
+    g.pixelIsPoint = rasterType == RasterPixelIsPoint;
+    g.problem = readTransform(tags, g);
+
+    // PCS is a short in GTIFDefn; read the key itself for codes above 32767 (900913).
+    unsigned short pcsKey = 0;
+    const int pcs = lib->keyGet(gtif.get(), ProjectedCSTypeGeoKey, &pcsKey, 0, 1) == 1 ? pcsKey : d.PCS;
+    g.projected = d.Model == ModelTypeProjected;
+    if (d.Model != ModelTypeProjected && d.Model != ModelTypeGeographic) {
+        g.problem = d.Model == ModelTypeGeocentric ? "is in a geocentric (X, Y, Z) model, which places no surface"
+                                                   : "has GeoKeys without a model type (projected or geographic)";
+    }
+    const int code = g.projected ? pcs : d.GCS;
+    g.epsg = code > 0 && code != KvUserDefined ? code : 0;
+    if (g.epsg > 0) {
+        g.name = epsgName(*lib, g.epsg, g.projected);
+    }
+    if (g.name.empty()) {
+        g.name = asciiKey(*lib, gtif.get(), g.projected ? PCSCitationGeoKey : GeogCitationGeoKey);
+    }
+    if (g.name.empty()) {
+        g.name = asciiKey(*lib, gtif.get(), GTCitationGeoKey);
+    }
+    if (g.name.empty()) {
+        g.name = g.projected ? "a user-defined projected CRS" : "a user-defined geographic CRS";
+    }
+    g.semiMajorAxis = d.SemiMajor;
+    g.flattening = d.SemiMajor > 0.0 ? 1.0 - d.SemiMinor / d.SemiMajor : 0.0;
+    if (!(g.semiMajorAxis > 0.0) && g.problem.empty()) {
+        g.problem = "names no ellipsoid for its datum";
+    }
+    g.primeMeridian = d.PMLongToGreenwich;
+    g.unitInMetres = d.UOMLengthInMeters > 0.0 ? d.UOMLengthInMeters : 1.0;
+    g.unitInDegrees = d.UOMAngleInDegrees > 0.0 ? d.UOMAngleInDegrees : 1.0;
+    if (g.projected) {
+        g.projection = projectionOf(d, pcs);
+    }
+    return g;
+}
+
+} // namespace pyramid

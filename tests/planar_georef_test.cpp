@@ -1,0 +1,92 @@
+// preprocessDem and preprocessOrtho carry a georeferenced input's placement: the report's
+// `georeference` object and the sidecar beside the output give the CRS, the root quad's and the
+// data's ground extent and the CRS units between samples at every level; the pyramid itself is
+// the one an unreferenced input with the same pixels makes, and unreferenced inputs get no
+// sidecar.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "tests/support/geotiffs.hpp"
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+TEST(PlanarGeoreference, DemReportAndSidecar) {
+    test::TempDir dir;
+    // 65 x 65 samples in UTM 10N, 30 m apart: the finest grid of 64 intervals, sample for sample.
+    const double x0 = 590000, y0 = 5190000, step = 30;
+    const std::vector<float> heights = test::syntheticHeights(65, 65);
+    test::writeGeoTiff(dir.file("utm.tif"), 65, 65, heights, test::projectedTags(32610, x0, y0, step));
+    test::writeFloatRaster(dir.file("plain.tif"), 65, 65, heights);
+    DemEncodeOptions o;
+    o.tileSize = 32;
+    o.rootTileSize = 8;
+    o.maxLevel = 3;
+    const DemReport r = encodeDem(dir.file("utm.tif"), dir.file("utm.dat"), o);
+    ASSERT_TRUE(r.georeference.has_value());
+    const PyramidGeoreference& g = *r.georeference;
+    EXPECT_EQ(g.crs.crsText(), "EPSG:32610 (WGS 84 / UTM zone 10N)");
+    // Vertices: the root quad runs from the first sample's centre to the last one's.
+    const std::array<double, 4> root{x0 + 15, y0 - 64 * 30 - 15, x0 + 64 * 30 + 15, y0 - 15};
+    EXPECT_EQ(g.rootExtent, root);
+    const std::array<double, 4> data{x0, y0 - 65 * 30, x0 + 65 * 30, y0};
+    EXPECT_EQ(g.dataExtent, data);
+    ASSERT_EQ(g.unitsPerSample.size(), 4u);
+    EXPECT_DOUBLE_EQ(g.unitsPerSample[3][0], 30.0);
+    EXPECT_DOUBLE_EQ(g.unitsPerSample[3][1], 30.0);
+    EXPECT_DOUBLE_EQ(g.unitsPerSample[0][0], 240.0); // 8 intervals across the root
+
+    const nlohmann::json report = toJson(r);
+    EXPECT_EQ(report["georeference"]["crs"]["epsg"], 32610);
+    EXPECT_EQ(report["georeference"]["crs"]["projection"], "transverse Mercator");
+    EXPECT_EQ(report["georeference"]["root_extent"]["min_x"], x0 + 15);
+    const nlohmann::json sidecar = nlohmann::json::parse(test::readFile(dir.file("utm.dat.georef.json")));
+    EXPECT_EQ(sidecar["pyramid"], "utm.dat");
+    EXPECT_EQ(sidecar["root_extent"], report["georeference"]["root_extent"]);
+    EXPECT_EQ(sidecar["units_per_sample"], report["georeference"]["units_per_sample"]);
+
+    // The same pixels without georeferencing: the same pyramid, no sidecar, a null object.
+    const DemReport plain = encodeDem(dir.file("plain.tif"), dir.file("plain.dat"), o);
+    EXPECT_EQ(test::readFile(dir.file("plain.dat")), test::readFile(dir.file("utm.dat")));
+    EXPECT_FALSE(plain.georeference.has_value());
+    EXPECT_TRUE(toJson(plain)["georeference"].is_null());
+    EXPECT_FALSE(std::filesystem::exists(dir.file("plain.dat.georef.json")));
+}
+
+TEST(PlanarGeoreference, OrthoReportAndSidecar) {
+    test::TempDir dir;
+    // 100 x 60 pixels of 0.01 degree, aspect kept: the root quad is the 100-pixel square at the
+    // north-west corner.
+    std::vector<uint8_t> rgb(100 * 60 * 3);
+    for (size_t k = 0; k < rgb.size(); ++k) {
+        rgb[k] = static_cast<uint8_t>(k * 7);
+    }
+    test::writeGeoTiffRgb(dir.file("img.tif"), 100, 60, rgb, test::geographicTags(4326, 10.0, 50.0, 0.01));
+    OrthoEncodeOptions o;
+    o.levels.tileSize = 16;
+    const OrthoReport r = encodeOrtho(dir.file("img.tif"), dir.file("out"), o);
+    ASSERT_TRUE(r.georeference.has_value());
+    const PyramidGeoreference& g = *r.georeference;
+    EXPECT_EQ(r.maxLevel, 3); // 128 pixels hold 100
+    EXPECT_NEAR(g.rootExtent[0], 10.0, 1e-12);
+    EXPECT_NEAR(g.rootExtent[1], 49.0, 1e-12);
+    EXPECT_NEAR(g.rootExtent[2], 11.0, 1e-12);
+    EXPECT_NEAR(g.rootExtent[3], 50.0, 1e-12);
+    EXPECT_NEAR(g.dataExtent[1], 49.4, 1e-12);
+    EXPECT_NEAR(g.unitsPerSample[3][0], 1.0 / 128, 1e-15);
+    EXPECT_NEAR(g.unitsPerSample[0][1], 1.0 / 16, 1e-15);
+    const nlohmann::json sidecar = nlohmann::json::parse(test::readFile(dir.file("out") + "/RGB.dat.georef.json"));
+    EXPECT_EQ(sidecar["crs"]["epsg"], 4326);
+    EXPECT_EQ(sidecar["samples"], "pixel centres");
+    EXPECT_EQ(sidecar["pyramid"], "RGB.dat");
+}
+
+} // namespace
+} // namespace pyramid

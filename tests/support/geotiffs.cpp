@@ -1,0 +1,98 @@
+#include "tests/support/geotiffs.hpp"
+
+#include <geotiff/geotiff.h>
+#include <geotiff/geovalues.h>
+#include <geotiff/xtiffio.h>
+#include <tiffio.h>
+
+#include <stdexcept>
+
+namespace pyramid::test {
+
+GeoTiffTags geographicTags(int epsg, double west, double north, double step, bool pixelIsPoint) {
+    GeoTiffTags t;
+    t.shortKeys = {{GTModelTypeGeoKey, ModelTypeGeographic},
+                   {GTRasterTypeGeoKey, pixelIsPoint ? RasterPixelIsPoint : RasterPixelIsArea},
+                   {GeographicTypeGeoKey, epsg}};
+    t.tiepoints = {0.0, 0.0, 0.0, west + (pixelIsPoint ? step / 2 : 0.0), north - (pixelIsPoint ? step / 2 : 0.0), 0.0};
+    t.pixelScale = {step, step, 0.0};
+    return t;
+}
+
+GeoTiffTags projectedTags(int epsg, double x0, double y0, double step) {
+    GeoTiffTags t;
+    t.shortKeys = {{GTModelTypeGeoKey, ModelTypeProjected},
+                   {GTRasterTypeGeoKey, RasterPixelIsArea},
+                   {ProjectedCSTypeGeoKey, epsg}};
+    t.tiepoints = {0.0, 0.0, 0.0, x0, y0, 0.0};
+    t.pixelScale = {step, step, 0.0};
+    return t;
+}
+
+namespace {
+
+void write(const std::string& path, int width, int height, int channels, int bits, int format, const void* values,
+           const GeoTiffTags& tags) {
+    TIFF* tif = XTIFFOpen(path.c_str(), "w");
+    if (!tif) {
+        throw std::runtime_error("cannot write " + path);
+    }
+    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(width));
+    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(height));
+    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, static_cast<uint16_t>(channels));
+    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, static_cast<uint16_t>(bits));
+    TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, static_cast<uint16_t>(format));
+    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, channels == 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, 16u);
+    if (!tags.tiepoints.empty()) {
+        TIFFSetField(tif, TIFFTAG_GEOTIEPOINTS, static_cast<uint16_t>(tags.tiepoints.size()), tags.tiepoints.data());
+    }
+    if (!tags.pixelScale.empty()) {
+        TIFFSetField(tif, TIFFTAG_GEOPIXELSCALE, static_cast<uint16_t>(tags.pixelScale.size()), tags.pixelScale.data());
+    }
+    if (!tags.transformation.empty()) {
+        TIFFSetField(tif, TIFFTAG_GEOTRANSMATRIX, static_cast<uint16_t>(tags.transformation.size()),
+                     tags.transformation.data());
+    }
+    GTIF* gtif = GTIFNew(tif);
+    for (const auto& [key, value] : tags.shortKeys) {
+        GTIFKeySet(gtif, static_cast<geokey_t>(key), TYPE_SHORT, 1, value);
+    }
+    for (const auto& [key, value] : tags.doubleKeys) {
+        GTIFKeySet(gtif, static_cast<geokey_t>(key), TYPE_DOUBLE, 1, value);
+    }
+    for (const auto& [key, text] : tags.asciiKeys) {
+        GTIFKeySet(gtif, static_cast<geokey_t>(key), TYPE_ASCII, 0, text.c_str());
+    }
+    GTIFWriteKeys(gtif);
+    GTIFFree(gtif);
+    const size_t rowBytes = static_cast<size_t>(width) * static_cast<size_t>(channels * bits / 8);
+    for (int j = 0; j < height; ++j) {
+        const auto* row = static_cast<const uint8_t*>(values) + rowBytes * static_cast<size_t>(j);
+        if (TIFFWriteScanline(tif, const_cast<uint8_t*>(row), static_cast<uint32_t>(j), 0) != 1) {
+            XTIFFClose(tif);
+            throw std::runtime_error("cannot write " + path);
+        }
+    }
+    XTIFFClose(tif);
+}
+
+} // namespace
+
+void writeGeoTiff(const std::string& path, int width, int height, const std::vector<float>& values,
+                  const GeoTiffTags& tags) {
+    write(path, width, height, 1, 32, SAMPLEFORMAT_IEEEFP, values.data(), tags);
+}
+
+void writeGeoTiffHalf(const std::string& path, int width, int height, const std::vector<uint16_t>& values,
+                      const GeoTiffTags& tags) {
+    write(path, width, height, 1, 16, SAMPLEFORMAT_IEEEFP, values.data(), tags);
+}
+
+void writeGeoTiffRgb(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
+                     const GeoTiffTags& tags) {
+    write(path, width, height, 3, 8, SAMPLEFORMAT_UINT, values.data(), tags);
+}
+
+} // namespace pyramid::test

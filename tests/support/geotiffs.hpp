@@ -1,0 +1,37 @@
+// Small GeoTIFFs for tests, written with libtiff and libgeotiff (no GDAL): float32 heights or
+// 8-bit RGB, with the GeoKeys and placement tags a test chooses.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pyramid::test {
+
+struct GeoTiffTags {
+    std::vector<std::pair<int, int>> shortKeys;          // (GeoKey, value): GTModelTypeGeoKey, ProjectedCSTypeGeoKey...
+    std::vector<std::pair<int, double>> doubleKeys;      // (GeoKey, value): projection parameters
+    std::vector<std::pair<int, std::string>> asciiKeys;  // (GeoKey, text): citations
+    std::vector<double> tiepoints;                       // ModelTiepoint: I, J, K, X, Y, Z (several for GCPs)
+    std::vector<double> pixelScale;                      // ModelPixelScale: sx, sy, sz
+    std::vector<double> transformation;                  // ModelTransformation: 16 values, row by row
+};
+
+// A geographic CRS by EPSG code, north-up, pixel (0, 0)'s top-left corner at (west, north),
+// pixels of `step` degrees (PixelIsArea), or with `pixelIsPoint` the tiepoint on its centre.
+GeoTiffTags geographicTags(int epsg, double west, double north, double step, bool pixelIsPoint = false);
+// A projected CRS by EPSG code, north-up, top-left corner at (x0, y0), pixels of `step` CRS units.
+GeoTiffTags projectedTags(int epsg, double x0, double y0, double step);
+
+// Writes width x height float32 samples (row 0 first), one band.
+void writeGeoTiff(const std::string& path, int width, int height, const std::vector<float>& values,
+                  const GeoTiffTags& tags);
+// Writes width x height half-float samples (IEEE binary16 bit patterns), one band: a layout only
+// the OpenImageIO module reads.
+void writeGeoTiffHalf(const std::string& path, int width, int height, const std::vector<uint16_t>& values,
+                      const GeoTiffTags& tags);
+// Writes width x height 8-bit RGB samples (interleaved, row 0 first).
+void writeGeoTiffRgb(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
+                     const GeoTiffTags& tags);
+
+} // namespace pyramid::test
