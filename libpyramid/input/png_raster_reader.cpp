@@ -19,6 +19,7 @@ struct PngRasterReader::Decoding {
     png_infop pngInfo = nullptr;
     std::string error;
     std::vector<png_bytep> rows;
+    std::vector<png_byte> scratchRow; // a row on its way to the scratch file
 
     ~Decoding() {
         if (png) {
@@ -124,6 +125,7 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path, 
                                              " MB, or save the image without interlacing");
         }
         reader->scratch_ = std::make_unique<ScratchFile>(path);
+        d->scratchRow.resize(reader->rowBytes_);
         reader->decoder_ = std::thread([r = reader.get()] { r->decodeRows(); });
         return reader;
     }
@@ -166,12 +168,11 @@ void PngRasterReader::decodeRows() {
         publish(rowsDecoded_.load(std::memory_order_relaxed), path_ + ": " + damaged(d->error));
         return;
     }
-    std::vector<png_byte> row(scratch_ ? rowBytes_ : 0); // a scratch file's rows pass through it
     for (int y = 0; y < height && !stop_; ++y) {
         if (scratch_) {
-            png_read_row(d->png, row.data(), nullptr);
+            png_read_row(d->png, d->scratchRow.data(), nullptr);
             try {
-                scratch_->write(static_cast<uint64_t>(y) * rowBytes_, row.data(), rowBytes_);
+                scratch_->write(static_cast<uint64_t>(y) * rowBytes_, d->scratchRow.data(), rowBytes_);
             } catch (const Error& e) {
                 publish(rowsDecoded_.load(std::memory_order_relaxed), e.what());
                 return;
