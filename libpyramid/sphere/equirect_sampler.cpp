@@ -233,7 +233,7 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
                     return false;
                 }
                 fail(source_.path(), "NaN at column " + std::to_string(i) + ", row " + std::to_string(j) +
-                                         " (declare it with --nodata nan to treat it as missing)");
+                                         " (declare NaN the nodata value to treat it as missing)");
             }
             if (nodata_ && !nanNodata && v[ch] == static_cast<float>(*nodata_)) {
                 return false;
