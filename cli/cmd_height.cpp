@@ -1,4 +1,4 @@
-// `pyramid height FILE|DIR (--grid X,Y | --pixel X,Y --source INPUT | --lonlat LON,LAT)`: the
+// `pyramid height FILE|DIR (--grid X,Y | --pixel X,Y --source INPUT | --xy X,Y | --lonlat LON,LAT)`: the
 // reconstructed height at one point, through the runtime's own producer: a pipeline's check
 // that a build landed where it should.
 #include <cstdio>
@@ -22,7 +22,7 @@ namespace {
 
 struct HeightArgs {
     std::string target; // a residual file, or a directory of NAME1..6.dat
-    std::string grid, pixel, lonlat;
+    std::string grid, pixel, lonlat, xy;
     std::string source;
     bool stretch = false;
     std::string body = "wgs84";
@@ -46,7 +46,15 @@ int runHeight(const HeightArgs& a) {
     std::string file = a.target;
     double u = 0.0, v = 0.0;
     int face = 0;
-    if (!a.lonlat.empty()) {
+    const bool planar = std::filesystem::is_regular_file(a.target);
+    if (!a.xy.empty() || (!a.lonlat.empty() && planar)) {
+        // A planar file of a georeferenced input: placed by its sidecar.
+        const bool lonlat = a.xy.empty();
+        const auto [x, y] = parsePair(lonlat ? a.lonlat : a.xy, lonlat ? "--lonlat" : "--xy");
+        const std::array<double, 2> uv = crsToRootQuad(file, x, y, lonlat);
+        u = uv[0];
+        v = uv[1];
+    } else if (!a.lonlat.empty()) {
         const auto [lon, lat] = parsePair(a.lonlat, "--lonlat");
         if (!(lat >= -90.0 && lat <= 90.0)) {
             fail("--lonlat", "latitude " + std::to_string(lat) + " is outside -90..90");
@@ -103,9 +111,13 @@ CommandRunner setupHeightCommand(CLI::App& app) {
                                 "X,Y in the finest level's sample intervals, from the south-west corner of the root quad");
     auto* pixel = app.add_option("--pixel", a->pixel,
                                  "X,Y in pixels of the source raster (column from the west, row from the north)");
-    auto* lonlat = app.add_option("--lonlat", a->lonlat, "LON,LAT in degrees, geodetic on --body: a spherical set");
-    grid->excludes(pixel)->excludes(lonlat);
-    pixel->excludes(lonlat);
+    auto* lonlat = app.add_option("--lonlat", a->lonlat,
+                                  "LON,LAT in degrees: on a spherical set (geodetic on --body), or on a planar file of "
+                                  "an input in a geographic CRS");
+    auto* xy = app.add_option("--xy", a->xy, "X,Y in the CRS units of the georeferenced input a planar file was built from");
+    grid->excludes(pixel)->excludes(lonlat)->excludes(xy);
+    pixel->excludes(lonlat)->excludes(xy);
+    lonlat->excludes(xy);
     app.add_option("--source", a->source, "With --pixel: the raster the file was built from")->needs(pixel);
     app.add_flag("--stretch", a->stretch, "With --pixel: the file was built with --stretch")->needs(pixel);
     app.add_option("--body", a->body, "With --lonlat: the body the set was built on")->capture_default_str()->needs(lonlat);
@@ -113,9 +125,9 @@ CommandRunner setupHeightCommand(CLI::App& app) {
         ->capture_default_str()
         ->needs(lonlat);
     app.add_flag("--json", a->json, "Print a JSON object instead of the height alone");
-    return [a, grid, pixel, lonlat]() {
-        if (!*grid && !*pixel && !*lonlat) {
-            fail("", "give the point: --grid X,Y, --pixel X,Y --source INPUT, or --lonlat LON,LAT");
+    return [a, grid, pixel, lonlat, xy]() {
+        if (!*grid && !*pixel && !*lonlat && !*xy) {
+            fail("", "give the point: --grid X,Y, --pixel X,Y --source INPUT, --xy X,Y or --lonlat LON,LAT");
         }
         return runHeight(*a);
     };

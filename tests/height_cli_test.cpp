@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,47 @@ TEST(HeightCli, PlanarPixelsAndGridPointsGiveTheSourceHeights) {
     r = run(programPath("pyramid") + " height " + quoted(file));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("give the point"), std::string::npos) << r.err;
+}
+
+// A planar file built from a georeferenced input takes points in the input's CRS (and, for a
+// geographic one, as longitude and latitude), placed by the sidecar beside it: the real SRTM
+// tile's pixel centres give the heights of those pixels, and its summit is where it should be.
+TEST(HeightCli, PlanarFilesOfGeoreferencedInputsTakeCrsPoints) {
+    const std::string rainier = test::sharedFixturePath("inputs/mt_rainier_90m.tif");
+    if (rainier.empty()) {
+        GTEST_SKIP() << "../shared/fixtures/inputs/mt_rainier_90m.tif is not there";
+    }
+    test::TempDir dir;
+    const std::string file = dir.file("rainier.dat");
+    // 1201 samples: 75 << 4 intervals, the input sample for sample.
+    const auto built = run(programPath("preprocessDem") + " -q " + quoted(rainier) + " -o " + quoted(file) +
+                           " --tile-size 150 --root-tile-size 75");
+    ASSERT_EQ(built.exitCode, 0) << built.err;
+    // Pixel (X, Y)'s centre: 1/1200 degree pixels from 122 W, 47 N (the file's PixelIsArea
+    // corner lies half a pixel beyond).
+    for (const auto& [x, y] : {std::pair{0, 0}, {600, 600}, {1200, 1200}, {287, 918}, {1199, 2}}) {
+        SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+        char lonlat[64];
+        std::snprintf(lonlat, sizeof lonlat, "%.12f,%.12f", -122.0 + x / 1200.0, 47.0 - y / 1200.0);
+        const double byPixel = heightOf(quoted(file) + " --pixel " + std::to_string(x) + "," + std::to_string(y) +
+                                        " --source " + quoted(rainier));
+        EXPECT_NEAR(heightOf(quoted(file) + " --lonlat " + lonlat), byPixel, 1e-6);
+        EXPECT_NEAR(heightOf(quoted(file) + " --xy " + lonlat), byPixel, 1e-6);
+    }
+    // Mount Rainier's summit (4392 m; 90 m samples round it down a little).
+    const double summit = heightOf(quoted(file) + " --lonlat -121.7603,46.8528");
+    EXPECT_GT(summit, 4150.0);
+    EXPECT_LT(summit, 4400.0);
+    // A file of an input without georeferencing has no sidecar: one line, exit 1.
+    const std::string plain = dir.file("plain.tif");
+    test::writeFloatRaster(plain, 33, 33, test::syntheticHeights(33, 33));
+    ASSERT_EQ(run(programPath("preprocessDem") + " -q " + quoted(plain) + " -o " + quoted(dir.file("plain.dat")) +
+                  " --tile-size 8 --root-tile-size 4")
+                  .exitCode,
+              0);
+    const auto r = run(programPath("pyramid") + " height " + quoted(dir.file("plain.dat")) + " --xy 3,4");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("not built from a georeferenced input"), std::string::npos) << r.err;
 }
 
 double smoothHeight(double lon, double lat) {

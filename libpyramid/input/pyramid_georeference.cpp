@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "formats/atomic_file.hpp"
+#include "formats/error.hpp"
 
 namespace pyramid {
 
@@ -79,6 +81,24 @@ void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyr
     AtomicFile file(sidecar);
     file.writeAt(0, text.data(), text.size());
     file.commit();
+}
+
+SidecarPlacement readGeoreferenceSidecar(const std::string& sidecar) {
+    std::ifstream in(sidecar);
+    if (!in) {
+        fail(sidecar, "no such file: the pyramid was not built from a georeferenced input");
+    }
+    try {
+        const nlohmann::json j = nlohmann::json::parse(in);
+        SidecarPlacement p;
+        p.geographic = j.at("crs").at("kind").get<std::string>() == "geographic";
+        const nlohmann::json& box = j.at("root_extent");
+        p.rootExtent = {box.at("min_x").get<double>(), box.at("min_y").get<double>(), box.at("max_x").get<double>(),
+                        box.at("max_y").get<double>()};
+        return p;
+    } catch (const nlohmann::json::exception& e) {
+        fail(sidecar, std::string("not a georeference sidecar: ") + e.what());
+    }
 }
 
 } // namespace pyramid

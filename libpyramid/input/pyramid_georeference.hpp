@@ -43,4 +43,13 @@ std::string georeferenceSidecarPath(const std::string& path);
 // Writes toJson(g) (and the pyramid file's name) to `sidecar` atomically (formats/atomic_file.hpp).
 void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g);
 
+// What a reader of a sidecar needs to place points on the pyramid: its CRS's kind and its root
+// quad's extent, as writeGeoreferenceSidecar wrote them.
+struct SidecarPlacement {
+    bool geographic = false;
+    std::array<double, 4> rootExtent{}; // min x, min y, max x, max y
+};
+// Throws Error naming `sidecar` when it is missing or is not such a file.
+SidecarPlacement readGeoreferenceSidecar(const std::string& sidecar);
+
 } // namespace pyramid

@@ -5,6 +5,7 @@
 
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/input/pyramid_georeference.hpp"
 
 namespace pyramid {
 
@@ -54,6 +55,16 @@ PointHeight fileHeightAt(const std::string& file, double u, double v) {
     } catch (const Error& e) {
         fail(file, e.what());
     }
+}
+
+std::array<double, 2> crsToRootQuad(const std::string& file, double x, double y, bool geographic) {
+    const std::string sidecar = georeferenceSidecarPath(file);
+    const SidecarPlacement p = readGeoreferenceSidecar(sidecar);
+    if (geographic && !p.geographic) {
+        fail(sidecar, "the input's CRS is projected: give the point in its units, not as longitude and latitude");
+    }
+    const auto& e = p.rootExtent;
+    return {(x - e[0]) / (e[2] - e[0]), (y - e[1]) / (e[3] - e[1])};
 }
 
 } // namespace pyramid

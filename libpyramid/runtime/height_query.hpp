@@ -4,6 +4,7 @@
 // the chosen level that holds it: the tile's own float32 elevations (zf), exactly as the
 // producer rebuilds them from the file.
 #pragma once
+#include <array>
 #include <string>
 
 #include "libpyramid/runtime/elevation_producer.hpp"
@@ -24,5 +25,11 @@ PointHeight heightAt(ElevationProducer& producer, double u, double v, int level 
 // The same at the finest level of the residual file `file`, with elevation tiles that coincide
 // with the file's own tiles.
 PointHeight fileHeightAt(const std::string& file, double u, double v);
+
+// The root quad's (u, v) of the point (x, y) in the CRS of the input a planar file was built
+// from (longitude and latitude for a geographic CRS, which `geographic` then requires), placed by
+// the sidecar written beside the file (input/pyramid_georeference.hpp). Throws Error when the
+// file has no sidecar, or its CRS is not geographic when required.
+std::array<double, 2> crsToRootQuad(const std::string& file, double x, double y, bool geographic);
 
 } // namespace pyramid
