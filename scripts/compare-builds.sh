@@ -9,7 +9,8 @@
 # input generators in bench/ when built with -DPYRAMID_BUILD_BENCH=ON, else the synthetic
 # cases are skipped). WORK (default /tmp/pyramid-compare) holds the inputs and outputs. SIZE
 # sets the synthetic inputs' side (default 2049 for the DEM, SIZE - 1 for the image).
-# Prints one line per case, "same" or "DIFFERENT", and exits 1 if any case differs.
+# Prints one line per case, "same" (naming files only the new build writes) or "DIFFERENT",
+# and exits 1 if any file of the old build differs or is missing.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 old=$(cd "$1" && pwd)
@@ -39,8 +40,18 @@ compare() {
         local args=("${@//OUT/out-$side/o}")
         "$bin/cli/$program" "${args[@]}" --quiet >/dev/null
     done
-    if diff -r out-old out-new >/dev/null; then
-        printf 'same       %s (%s files)\n' "$name" "$(find out-new -type f | wc -l)"
+    # Every file the old build wrote must be the same; files only the new one writes (a feature
+    # added since, such as a georeference sidecar) are named.
+    local f same=1 added=()
+    while IFS= read -r f; do
+        cmp -s "out-old/$f" "out-new/$f" || same=0
+    done < <(cd out-old && find . -type f | sort)
+    while IFS= read -r f; do
+        [ -f "out-old/$f" ] || added+=("${f#./}")
+    done < <(cd out-new && find . -type f | sort)
+    if [ $same = 1 ]; then
+        printf 'same       %s (%s files)%s\n' "$name" "$(find out-old -type f | wc -l)" \
+            "${added:+; new: ${added[*]}}"
     else
         printf 'DIFFERENT  %s\n' "$name"
         failed=1
