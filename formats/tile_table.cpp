@@ -128,6 +128,10 @@ struct TileTableWriter::Impl {
     std::unordered_multimap<size_t, int64_t> byHash; // content hash -> a tile holding those bytes
     uint64_t dataEnd = 0;
     int64_t shared = 0;
+    // The bytes of the range shared last: runs of identical tiles (all-zero residuals over a
+    // face a small map does not reach) are matched without reading the file back.
+    std::vector<uint8_t> lastShared;
+    TileTable::Range lastSharedRange{};
     std::mutex mutex;
 
     explicit Impl(const std::string& path) : file(path) {}
@@ -171,12 +175,21 @@ void TileTableWriter::write(int64_t index, std::span<const uint8_t> blob) {
     if (blob.empty()) {
         fail(w.file.path(), "tile " + std::to_string(index) + " is empty");
     }
+    if (!w.lastShared.empty() && w.lastShared.size() == blob.size() &&
+        std::memcmp(w.lastShared.data(), blob.data(), blob.size()) == 0) {
+        w.ranges[static_cast<size_t>(index)] = w.lastSharedRange;
+        w.written[static_cast<size_t>(index)] = true;
+        ++w.shared;
+        return;
+    }
     const size_t hash = std::hash<std::string_view>{}(
         std::string_view(reinterpret_cast<const char*>(blob.data()), blob.size()));
     auto [first, last] = w.byHash.equal_range(hash);
     for (auto it = first; it != last; ++it) {
         const TileTable::Range r = w.ranges[static_cast<size_t>(it->second)];
         if (w.sameBytes(r, blob)) {
+            w.lastShared.assign(blob.begin(), blob.end());
+            w.lastSharedRange = r;
             w.ranges[static_cast<size_t>(index)] = r;
             w.written[static_cast<size_t>(index)] = true;
             ++w.shared;

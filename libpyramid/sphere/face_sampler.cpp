@@ -1,6 +1,7 @@
 #include "libpyramid/sphere/face_sampler.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pyramid {
 
@@ -48,6 +49,67 @@ void FaceSampler::sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int
             }
         }
     }
+}
+
+bool FaceSampler::mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    const GeoExtent& e = map_.extent();
+    if (e.global()) {
+        return true;
+    }
+    // The outline, counter-clockwise in face samples, K points per side.
+    constexpr int kSide = 64;
+    std::vector<GeodeticPoint> outline;
+    outline.reserve(4 * kSide);
+    const auto along = [](int64_t a, int64_t b, int k) {
+        return a + static_cast<int64_t>(std::llround(static_cast<double>(b - a) * k / kSide));
+    };
+    for (int k = 0; k < kSide; ++k) outline.push_back(geodeticOf(along(x0, x1, k), y0));
+    for (int k = 0; k < kSide; ++k) outline.push_back(geodeticOf(x1, along(y0, y1, k)));
+    for (int k = 0; k < kSide; ++k) outline.push_back(geodeticOf(along(x1, x0, k), y1));
+    for (int k = 0; k < kSide; ++k) outline.push_back(geodeticOf(x0, along(y1, y0, k)));
+    double south = 90.0, north = -90.0, west = 0.0, east = 0.0;
+    double longitude = outline[0].longitude; // unwrapped along the outline
+    double latitudeStep = 0.0, longitudeStep = 0.0; // the largest steps between neighbours
+    for (size_t k = 0; k < outline.size(); ++k) {
+        const GeodeticPoint& p = outline[k];
+        const GeodeticPoint& next = outline[(k + 1) % outline.size()];
+        south = std::min(south, p.latitude);
+        north = std::max(north, p.latitude);
+        west = std::min(west, longitude);
+        east = std::max(east, longitude);
+        double dl = next.longitude - p.longitude;
+        dl -= 360.0 * std::round(dl / 360.0);
+        latitudeStep = std::max(latitudeStep, std::fabs(next.latitude - p.latitude));
+        longitudeStep = std::max(longitudeStep, std::fabs(dl));
+        longitude += dl;
+    }
+    // An outline that winds around a pole holds it; one that comes within a step of a pole may
+    // hold it too, and its longitudes say nothing.
+    const bool aroundPole = std::fabs(longitude - outline[0].longitude) > 180.0;
+    south -= 2.0 * latitudeStep;
+    north += 2.0 * latitudeStep;
+    bool allLongitudes = false;
+    if (north >= 90.0 || (aroundPole && north > 0.0)) {
+        north = 90.0;
+        allLongitudes = true;
+    }
+    if (south <= -90.0 || (aroundPole && south < 0.0)) {
+        south = -90.0;
+        allLongitudes = true;
+    }
+    if (north < e.south || south > e.north) {
+        return false;
+    }
+    if (allLongitudes || aroundPole) {
+        return true;
+    }
+    const double margin = 2.0 * longitudeStep;
+    for (int turn = -2; turn <= 2; ++turn) {
+        if (east + margin >= e.west + 360.0 * turn && west - margin <= e.east + 360.0 * turn) {
+            return true;
+        }
+    }
+    return false;
 }
 
 GroundSampleDistance faceGroundSampleDistance(const PlanetBody& body, int face, const FaceGrid& grid) {

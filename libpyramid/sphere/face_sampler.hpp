@@ -34,6 +34,15 @@ public:
     // Thread-safe; reads the map block of points by block, so memory stays bounded.
     void sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int64_t ny, float* out, uint8_t* valid) const;
 
+    // False only when no sample of the rectangle [x0, x1] x [y0, y1] (face samples, borders
+    // included, corners inclusive) can have a value: the rectangle lies wholly outside the map's
+    // geographic extent. The latitudes and longitudes of 64 points per side of its outline are
+    // taken, with a margin of twice the largest step between neighbours (the outline bounds the
+    // rectangle's image unless a pole lies inside, which the outline's winding shows: then all
+    // longitudes and the latitudes up to that pole). Conservative: true says nothing. A global
+    // map: true.
+    bool mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const;
+
 private:
     const EquirectSampler& map_;
     const PlanetBody& body_;

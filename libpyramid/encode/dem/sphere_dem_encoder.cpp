@@ -26,6 +26,9 @@ public:
         grid.valid.resize(grid.height.size());
         sampler_.sample(grid.x0, grid.y0, grid.stride, grid.nx, grid.ny, grid.height.data(), grid.valid.data());
     }
+    bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override {
+        return sampler_.mayHaveValues(x0, y0, x1, y1);
+    }
 
 private:
     const FaceSampler& sampler_;

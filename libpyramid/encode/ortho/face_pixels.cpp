@@ -51,21 +51,38 @@ FacePixels::FacePixels(const RasterSource& source, const MapPlacement& placement
 
 Image8 FacePixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     Image8 out(w, h, channels_);
-    // In bands of rows, so that the float samples never take much more memory than `out`.
-    const int bandRows = std::max(1, 65536 / std::max(w, 1));
+    if (w <= 0 || h <= 0 || !face_.mayHaveValues(x0, y0, x0 + w - 1, y0 + h - 1)) {
+        return out; // wholly outside the map: 0 everywhere
+    }
+    // In blocks of columns of at least 16384 pixels, those the map cannot reach left 0 (each
+    // pixel's value does not depend on the block it is sampled with); each block in bands of
+    // rows, so that the float samples never take much more memory than `out`.
+    const int blockColumns = std::max(64, 16384 / h);
     std::vector<float> values;
     std::vector<uint8_t> valid;
-    for (int j0 = 0; j0 < h; j0 += bandRows) {
-        const int rows = std::min(bandRows, h - j0);
-        const size_t points = static_cast<size_t>(w) * static_cast<size_t>(rows);
-        values.resize(points * static_cast<size_t>(channels_));
-        valid.resize(points);
-        face_.sample(x0, y0 + j0, 1, w, rows, values.data(), valid.data());
-        uint8_t* o = out.at(0, j0);
-        for (size_t k = 0; k < points; ++k) {
-            for (size_t c = 0; c < static_cast<size_t>(channels_); ++c) {
-                const size_t s = k * static_cast<size_t>(channels_) + c;
-                o[s] = valid[k] ? eightBits(static_cast<double>(values[s]), sixteen_) : 0; // nodata: as beyond the input
+    for (int i0 = 0; i0 < w; i0 += blockColumns) {
+        const int columns = std::min(blockColumns, w - i0);
+        if (columns < w && !face_.mayHaveValues(x0 + i0, y0, x0 + i0 + columns - 1, y0 + h - 1)) {
+            continue;
+        }
+        const int bandRows = std::max(1, 65536 / columns);
+        for (int j0 = 0; j0 < h; j0 += bandRows) {
+            const int rows = std::min(bandRows, h - j0);
+            const size_t points = static_cast<size_t>(columns) * static_cast<size_t>(rows);
+            values.resize(points * static_cast<size_t>(channels_));
+            valid.resize(points);
+            face_.sample(x0 + i0, y0 + j0, 1, columns, rows, values.data(), valid.data());
+            for (int j = 0; j < rows; ++j) {
+                uint8_t* o = out.at(i0, j0 + j);
+                const size_t first = static_cast<size_t>(j) * static_cast<size_t>(columns);
+                for (size_t k = 0; k < static_cast<size_t>(columns); ++k) {
+                    for (size_t c = 0; c < static_cast<size_t>(channels_); ++c) {
+                        const size_t s = (first + k) * static_cast<size_t>(channels_) + c;
+                        // nodata: as beyond the input
+                        o[k * static_cast<size_t>(channels_) + c] =
+                            valid[first + k] ? eightBits(static_cast<double>(values[s]), sixteen_) : 0;
+                    }
+                }
             }
         }
     }

@@ -26,8 +26,11 @@ public:
     FacePixels& operator=(const FacePixels&) = delete;
 
     Image8 sample(int64_t x0, int64_t y0, int w, int h) const override;
-    // Whether a point lies in the input's extent is known only by sampling it.
-    bool knownBlank(int64_t, int64_t, int64_t, int64_t) const override { return false; }
+    // Known when the pixels lie wholly outside the map's geographic extent
+    // (FaceSampler::mayHaveValues): a face, or part of one, that a small map does not reach.
+    bool knownBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) const override {
+        return w > 0 && h > 0 && !face_.mayHaveValues(x0, y0, x0 + w - 1, y0 + h - 1);
+    }
     // Tiles at every level up to l take their borders from beyond the face, and reducing level l
     // to level 0 halves the margin l times, down to the border.
     int64_t margin(int l) const override { return int64_t{kTileBorder} << l; }

@@ -78,6 +78,9 @@ struct OrthoLevels::Impl {
 
     // Finest pixels [x0, x0+w) x [y0, y0+h) reduced `times` times (w and h multiples of 2^times).
     Image8 reducedFinest(int64_t x0, int64_t y0, int w, int h, int times) const {
+        if (blankStaysBlank && pixels->knownBlank(x0, y0, w, h)) {
+            return Image8(w >> times, h >> times, channels); // what reducing the 0s gives
+        }
         Image8 img = pixels->sample(x0, y0, w, h);
         for (int r = 0; r < times; ++r) {
             img = averager.reduce(img);
@@ -316,6 +319,7 @@ void OrthoLevels::Impl::blankSubtree(int l, int tx, int ty, TileBatch& out) cons
     t.tx = tx;
     t.ty = ty;
     t.pixels = Image8(T + 2 * kTileBorder, T + 2 * kTileBorder, channels);
+    t.blank = true;
     out.push_back(std::move(t));
     if (l < M) {
         for (int c = 0; c < 4; ++c) {

@@ -71,6 +71,7 @@ struct OrthoLevelsOptions {
 struct TrueTile {
     int level = 0, tx = 0, ty = 0;
     Image8 pixels;
+    bool blank = false; // known to be 0 everywhere without looking (beyond the input)
 };
 
 // A unit of work handed to the consumer: tiles in pyramid order, each tile after its parent

@@ -107,7 +107,7 @@ std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const T
     const auto sameColourAsTile = [&](const std::vector<uint8_t>* parent) {
         return parent != nullptr && uniform(*parent) && std::memcmp(parent->data(), p.data(), c) == 0;
     };
-    if (!uniform(p) || (o_.writeResiduals && !sameColourAsTile(parentRecon))) {
+    if (!(t.blank || uniform(p)) || (o_.writeResiduals && !sameColourAsTile(parentRecon))) {
         return std::nullopt;
     }
     uint32_t colour = 0;

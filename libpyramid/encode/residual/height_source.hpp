@@ -27,6 +27,14 @@ class HeightSource {
 public:
     virtual ~HeightSource() = default;
     virtual void sample(SourceGrid& grid) const = 0;
+    // False only when no position of [x0, x1] x [y0, y1] (finest-grid coordinates, inclusive;
+    // beyond [0, N] where edges are folded) can have a valid height: the encoder then codes the
+    // tiles there as residual 0 (what all-nodata samples give) without sampling them. Claims
+    // nothing by default.
+    virtual bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+        (void)x0, (void)y0, (void)x1, (void)y1;
+        return true;
+    }
 };
 
 } // namespace pyramid

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <mutex>
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
@@ -158,6 +159,69 @@ private:
         }
     }
 
+    // Samples `footprint` where valid heights can be: in one call when they can be anywhere;
+    // else block by block, the blocks no valid height reaches left nodata (what sampling them
+    // gives).
+    void sampleReachable(SourceGrid& footprint) const {
+        constexpr int64_t kBlock = 64;
+        const int64_t across = (footprint.nx + kBlock - 1) / kBlock, down = (footprint.ny + kBlock - 1) / kBlock;
+        std::vector<uint8_t> reachable(static_cast<size_t>(across * down));
+        const auto at = [&](int64_t i) { return footprint.x0 + i * footprint.stride; };
+        const auto atY = [&](int64_t j) { return footprint.y0 + j * footprint.stride; };
+        for (int64_t by = 0; by < down; ++by) {
+            for (int64_t bx = 0; bx < across; ++bx) {
+                reachable[static_cast<size_t>(by * across + bx)] = sampler_.mayHaveHeights(
+                    at(bx * kBlock), atY(by * kBlock), at(std::min(footprint.nx, (bx + 1) * kBlock) - 1),
+                    atY(std::min(footprint.ny, (by + 1) * kBlock) - 1));
+            }
+        }
+        if (std::all_of(reachable.begin(), reachable.end(), [](uint8_t r) { return r != 0; })) {
+            sampler_.sample(footprint);
+            return;
+        }
+        const size_t count = static_cast<size_t>(footprint.nx * footprint.ny);
+        footprint.height.assign(count, 0.0f);
+        footprint.valid.assign(count, 0);
+        SourceGrid block;
+        block.stride = footprint.stride;
+        for (int64_t by = 0; by < down; ++by) {
+            for (int64_t bx = 0; bx < across; ++bx) {
+                if (!reachable[static_cast<size_t>(by * across + bx)]) {
+                    continue;
+                }
+                block.x0 = at(bx * kBlock);
+                block.y0 = atY(by * kBlock);
+                block.nx = std::min(footprint.nx, (bx + 1) * kBlock) - bx * kBlock;
+                block.ny = std::min(footprint.ny, (by + 1) * kBlock) - by * kBlock;
+                sampler_.sample(block);
+                for (int64_t j = 0; j < block.ny; ++j) {
+                    const size_t to = footprint.index(block.x0, block.y0 + j * block.stride);
+                    const size_t from = static_cast<size_t>(j * block.nx);
+                    std::copy_n(block.height.begin() + static_cast<std::ptrdiff_t>(from), block.nx,
+                                footprint.height.begin() + static_cast<std::ptrdiff_t>(to));
+                    std::copy_n(block.valid.begin() + static_cast<std::ptrdiff_t>(from), block.nx,
+                                footprint.valid.begin() + static_cast<std::ptrdiff_t>(to));
+                }
+            }
+        }
+    }
+
+    // The tiles of a subtree without valid heights, in encodeSubtree's order: residuals 0.
+    void emptySubtree(int l, int tx, int ty, std::vector<EncodedTile>& out) {
+        std::call_once(zeroBlobOnce_, [this] { zeroBlob_ = zeroResidualBlob(plan_.T + 5); });
+        EncodedTile tile;
+        tile.level = l;
+        tile.tx = tx;
+        tile.ty = ty;
+        tile.blob = zeroBlob_;
+        out.push_back(std::move(tile));
+        if (l < plan_.M) {
+            for (int c = 0; c < 4; ++c) {
+                emptySubtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), out);
+            }
+        }
+    }
+
     // Subtrees go to the threads in Z order and are written in Z order by the ordered writer
     // while later ones are encoded. At most `window` subtrees' tiles are held at once.
     std::optional<Overflow> runSubtrees(ResidualFileWriter& writer, std::vector<LevelStats>& stats,
@@ -212,12 +276,22 @@ private:
                 const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit);
                 footprint.nx = x1 - footprint.x0 + 1;
                 footprint.ny = y1 - footprint.y0 + 1;
-                sampler_.sample(footprint);
                 // Finest samples this subtree owns: [tx*T << d, (tx+1)*T << d), plus the map's edge.
                 const int64_t ox0 = static_cast<int64_t>(tx) * T << d, ox1 = (static_cast<int64_t>(tx) + 1) * T << d;
                 const int64_t oy0 = static_cast<int64_t>(ty) * T << d, oy1 = (static_cast<int64_t>(ty) + 1) * T << d;
                 const int64_t rowEnd = oy1 == plan_.N ? oy1 + 1 : oy1;
                 const int64_t columnEnd = ox1 == plan_.N ? ox1 + 1 : ox1;
+                // A subtree no valid height can reach (a face beyond a small map) is all residual
+                // 0, exactly what encoding its all-nodata samples gives, without sampling it. With
+                // the reconstruction hook every tile is encoded, as the hook wants each one.
+                if (!options_.reconstruction &&
+                    !sampler_.mayHaveHeights(footprint.x0, footprint.y0, x1, y1)) {
+                    result.filled = (rowEnd - oy0) * (columnEnd - ox0);
+                    emptySubtree(top, static_cast<int>(tx), static_cast<int>(ty), result.tiles);
+                    ordered.deliver(m, std::move(result));
+                    return;
+                }
+                sampleReachable(footprint);
                 for (int64_t fy = oy0; fy < rowEnd; ++fy) {
                     const uint8_t* valid = footprint.valid.data() + footprint.index(ox0, fy);
                     result.filled += std::count(valid, valid + (columnEnd - ox0), uint8_t{0});
@@ -244,6 +318,8 @@ private:
     int threads_;
     int64_t total_ = 0;
     int64_t done_ = 0;
+    std::once_flag zeroBlobOnce_;
+    std::vector<uint8_t> zeroBlob_;
 };
 
 } // namespace
@@ -273,16 +349,40 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
     grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
     grid.valid.resize(grid.height.size());
+    // Blocks of kBlock x kBlock grid samples that no valid height can reach are left nodata
+    // without sampling (what sampling them gives); each row samples its other runs of blocks.
+    constexpr int64_t kBlock = 64;
+    const int64_t blocksAcross = (grid.nx + kBlock - 1) / kBlock;
+    const int64_t blocksDown = (grid.ny + kBlock - 1) / kBlock;
+    std::vector<uint8_t> reachable(static_cast<size_t>(blocksAcross * blocksDown));
+    parallelFor(blocksAcross * blocksDown, threads, [&](int64_t b) {
+        const int64_t bx = b % blocksAcross, by = b / blocksAcross;
+        const int64_t x0 = grid.x0 + bx * kBlock * grid.stride, y0 = grid.y0 + by * kBlock * grid.stride;
+        const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kBlock - 1) * grid.stride;
+        const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kBlock - 1) * grid.stride;
+        reachable[static_cast<size_t>(b)] = job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
+    });
     parallelFor(grid.ny, threads, [&](int64_t row) {
-        SourceGrid line;
-        line.stride = grid.stride;
-        line.x0 = grid.x0;
-        line.y0 = grid.y0 + row * grid.stride;
-        line.nx = grid.nx;
-        line.ny = 1;
-        job.heights->sample(line);
-        std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx);
-        std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx);
+        const uint8_t* blocks = reachable.data() + (row / kBlock) * blocksAcross;
+        for (int64_t b0 = 0; b0 < blocksAcross;) {
+            int64_t b1 = b0;
+            while (b1 < blocksAcross && blocks[b1] == blocks[b0]) {
+                ++b1;
+            }
+            const int64_t c0 = b0 * kBlock, c1 = std::min(grid.nx, b1 * kBlock);
+            if (blocks[b0]) {
+                SourceGrid line;
+                line.stride = grid.stride;
+                line.x0 = grid.x0 + c0 * grid.stride;
+                line.y0 = grid.y0 + row * grid.stride;
+                line.nx = c1 - c0;
+                line.ny = 1;
+                job.heights->sample(line);
+                std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx + c0);
+                std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx + c0);
+            }
+            b0 = b1;
+        }
     });
     fillRootNodata(plan, grid, job.emptyFill, job.input);
 

@@ -231,4 +231,9 @@ EncodedTile encodeResidualTile(const ResidualPlan& plan, int l, int tx, int ty, 
     return out;
 }
 
+std::vector<uint8_t> zeroResidualBlob(int size) {
+    const std::vector<int16_t> zeros(static_cast<size_t>(size) * static_cast<size_t>(size), 0);
+    return encodeResidualTiff(zeros, size, kElevationResidualDeflateLevel);
+}
+
 } // namespace pyramid

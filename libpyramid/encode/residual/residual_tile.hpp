@@ -61,4 +61,8 @@ struct EncodedTile {
 EncodedTile encodeResidualTile(const ResidualPlan& plan, int l, int tx, int ty, const std::vector<float>* parent,
                                const SourceGrid& src);
 
+// The blob encodeResidualTile writes for a tile of `size` samples a side whose residuals are all
+// 0 (a tile without valid samples: its heights are its parent's prediction).
+std::vector<uint8_t> zeroResidualBlob(int size);
+
 } // namespace pyramid
