@@ -1,5 +1,6 @@
-// Inputs in bounded memory: every TIFF layout real DEMs ship in (strips, tiles, one strip for
-// the whole image, BigTIFF, both byte orders, each predictor) reads the file's samples through
+// Inputs in bounded memory: every TIFF layout real DEMs and imagery ship in (strips, tiles, one
+// strip for the whole image, BigTIFF, both byte orders, each predictor, one band or interleaved
+// RGB, RGBA, grey and alpha) reads the file's samples through
 // the block cache and, for strips larger than the cache, through the strip stream and its
 // scratch file; a PNG larger than the cache reads back from its scratch file; blocks no image
 // has and tiles beyond the cache are refused with one line; the block cache decodes a block
@@ -34,6 +35,7 @@ struct TiffLayout {
     uint32_t tile = 0;          // 0: strips
     uint32_t rowsPerStrip = 16; // strips only
     const char* mode = "w";     // "w8": BigTIFF; "wb": big-endian
+    uint16_t channels = 1;      // interleaved; RGB from 3
 };
 
 // Sample (x, y) of the test images, exact in every sample type (within the type's range).
@@ -43,6 +45,11 @@ double sampleAt(const TiffLayout& l, uint32_t x, uint32_t y) {
         return v + 0.25 * static_cast<double>((x + y) % 4);
     }
     return l.bits == 8 ? static_cast<double>(static_cast<int>(v) % 100) : v;
+}
+
+// Channel c of sample (x, y): channel 0 is sampleAt, the others 30 x c above it.
+double sampleOf(const TiffLayout& l, uint32_t x, uint32_t y, uint32_t c) {
+    return sampleAt(l, x, y) + 30.0 * c;
 }
 
 void putSample(const TiffLayout& l, double v, uint8_t* to) {
@@ -68,14 +75,24 @@ void writeTiff(const std::string& path, const TiffLayout& l, uint32_t w, uint32_
     TIFFSetField(t, TIFFTAG_IMAGELENGTH, h);
     TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, l.bits);
     TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, l.format);
-    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, uint16_t{1});
-    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, l.channels);
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, l.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+    if (l.channels == 2 || l.channels == 4) {
+        const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
+        TIFFSetField(t, TIFFTAG_EXTRASAMPLES, uint16_t{1}, &alpha);
+    }
     TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
     TIFFSetField(t, TIFFTAG_COMPRESSION, l.compression);
     if (l.predictor != PREDICTOR_NONE) {
         TIFFSetField(t, TIFFTAG_PREDICTOR, l.predictor);
     }
-    const size_t bytes = l.bits / 8;
+    const size_t bytes = l.bits / 8u * l.channels; // of a pixel
+    const size_t sampleBytes = l.bits / 8u;
+    const auto putPixel = [&](uint32_t x, uint32_t y, uint8_t* to) {
+        for (uint32_t c = 0; c < l.channels; ++c) {
+            putSample(l, sampleOf(l, x, y, c), to + c * sampleBytes);
+        }
+    };
     if (l.tile) {
         TIFFSetField(t, TIFFTAG_TILEWIDTH, l.tile);
         TIFFSetField(t, TIFFTAG_TILELENGTH, l.tile);
@@ -85,7 +102,7 @@ void writeTiff(const std::string& path, const TiffLayout& l, uint32_t w, uint32_
                 std::fill(tile.begin(), tile.end(), uint8_t{0});
                 for (uint32_t y = ty; y < std::min(h, ty + l.tile); ++y) {
                     for (uint32_t x = tx; x < std::min(w, tx + l.tile); ++x) {
-                        putSample(l, sampleAt(l, x, y), tile.data() + ((y - ty) * l.tile + (x - tx)) * bytes);
+                        putPixel(x, y, tile.data() + ((y - ty) * l.tile + (x - tx)) * bytes);
                     }
                 }
                 ASSERT_GE(TIFFWriteEncodedTile(t, TIFFComputeTile(t, tx, ty, 0, 0), tile.data(),
@@ -100,7 +117,7 @@ void writeTiff(const std::string& path, const TiffLayout& l, uint32_t w, uint32_
             std::vector<uint8_t> strip(static_cast<size_t>(w) * n * bytes);
             for (uint32_t y = y0; y < y0 + n; ++y) {
                 for (uint32_t x = 0; x < w; ++x) {
-                    putSample(l, sampleAt(l, x, y), strip.data() + ((y - y0) * w + x) * bytes);
+                    putPixel(x, y, strip.data() + ((y - y0) * w + x) * bytes);
                 }
             }
             ASSERT_GE(TIFFWriteEncodedStrip(t, TIFFComputeStrip(t, y0, 0), strip.data(),
@@ -121,18 +138,43 @@ void expectSamples(const std::string& path, const TiffLayout& l, uint32_t w, uin
         threads.emplace_back([&, t] {
             const int x0 = t == 0 ? 0 : 7 * t, y0 = t == 0 ? 0 : 5 + 9 * t;
             const int x1 = static_cast<int>(w) - (t == 0 ? 0 : 3), y1 = static_cast<int>(h) - (t == 0 ? 0 : 11);
-            std::vector<float> out(static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0));
-            source->readFloat(x0, y0, x1, y1, 0, out.data());
-            for (int y = y0; y < y1; ++y) {
-                for (int x = x0; x < x1; ++x) {
-                    const float got = out[static_cast<size_t>(y - y0) * static_cast<size_t>(x1 - x0) +
-                                          static_cast<size_t>(x - x0)];
-                    const auto want = static_cast<float>(sampleAt(l, static_cast<uint32_t>(x), static_cast<uint32_t>(y)));
-                    if (got != want) {
-                        failures[static_cast<size_t>(t)] = "(" + std::to_string(x) + "," + std::to_string(y) +
-                                                           "): " + std::to_string(got) + " instead of " +
-                                                           std::to_string(want);
-                        return;
+            const size_t area = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0);
+            std::vector<float> out(area);
+            // Each channel alone as float32, and for 8/16-bit unsigned samples the channels
+            // [1, channels) together as uint16 (and as bytes for 8 bits), interleaved.
+            const uint32_t first = l.channels > 1 ? 1 : 0, wanted = l.channels - first;
+            const bool unsignedSmall = l.format == SAMPLEFORMAT_UINT && l.bits <= 16;
+            std::vector<uint16_t> words(unsignedSmall ? area * wanted : 0);
+            std::vector<uint8_t> bytes(unsignedSmall && l.bits == 8 ? area * wanted : 0);
+            if (unsignedSmall) {
+                source->readUInt16(x0, y0, x1, y1, static_cast<int>(first), l.channels, words.data());
+            }
+            if (!bytes.empty()) {
+                source->readUInt8(x0, y0, x1, y1, static_cast<int>(first), l.channels, bytes.data(),
+                                  static_cast<std::ptrdiff_t>(x1 - x0) * wanted);
+            }
+            for (uint32_t c = 0; c < l.channels; ++c) {
+                source->readFloat(x0, y0, x1, y1, static_cast<int>(c), out.data());
+                for (int y = y0; y < y1; ++y) {
+                    for (int x = x0; x < x1; ++x) {
+                        const size_t k = static_cast<size_t>(y - y0) * static_cast<size_t>(x1 - x0) + static_cast<size_t>(x - x0);
+                        const auto want = static_cast<float>(sampleOf(l, static_cast<uint32_t>(x), static_cast<uint32_t>(y), c));
+                        float got = out[k];
+                        std::string how = "float";
+                        if (got == want && c >= first && unsignedSmall) {
+                            got = words[k * wanted + (c - first)];
+                            how = "uint16";
+                            if (got == want && !bytes.empty()) {
+                                got = bytes[k * wanted + (c - first)];
+                                how = "uint8";
+                            }
+                        }
+                        if (got != want) {
+                            failures[static_cast<size_t>(t)] = "(" + std::to_string(x) + "," + std::to_string(y) +
+                                                               ") channel " + std::to_string(c) + " as " + how + ": " +
+                                                               std::to_string(got) + " instead of " + std::to_string(want);
+                            return;
+                        }
                     }
                 }
             }
@@ -162,6 +204,14 @@ TEST(InputMemory, EveryTiffLayoutReadsItsSamples) {
         {"f32-lzma-strips.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_LZMA, PREDICTOR_NONE, 0, 32},
         {"f32-bigtiff-tiled.tif", 32, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_FLOATINGPOINT, 128, 0, "w8"},
         {"i16-bigtiff-one-strip.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 100000, "w8"},
+        // Imagery: interleaved bands (RGB, RGBA, grey and alpha).
+        {"rgb8-deflate-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 128, 0, "w", 3},
+        {"rgb8-deflate-one-strip.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 0, 100000, "w", 3},
+        {"rgb8-lzw-p2-one-strip.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_LZW, PREDICTOR_HORIZONTAL, 0, 100000, "w", 3},
+        {"rgba16-deflate-p2-one-strip-be.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 100000, "wb", 4},
+        {"rgba16-none-one-strip-be.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_NONE, PREDICTOR_NONE, 0, 100000, "wb", 4},
+        {"ga8-packbits-strips.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_PACKBITS, PREDICTOR_NONE, 0, 7, "w", 2},
+        {"rgb8-zstd-bigtiff-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ZSTD, PREDICTOR_NONE, 64, 0, "w8", 3},
     };
     test::TempDir dir;
     // 700 x 530 samples: a one-strip float32 image is 1.4 MB, beyond a quarter of a 1 MB cache,

@@ -21,7 +21,7 @@ struct RasterSource::Impl {
     int cacheMegabytes = 256;
     // Direct readers, set for the files they can read, tried in this order.
     std::unique_ptr<TiffPixelReader> floats; // uncompressed float32 TIFF: one pread per row
-    std::unique_ptr<TiffBlockReader> blocks; // single-band lossless TIFF: libtiff, block by block
+    std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block
     std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
     std::unique_ptr<PngRasterReader> png;    // 8/16-bit PNG, decoded whole
     // Everything else goes through OpenImageIO's ImageCache in the image I/O module, opened
@@ -140,7 +140,7 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
         return;
     }
     if (impl.blocks) {
-        impl.blocks->read(x0, y0, x1, y1, out);
+        impl.blocks->read(x0, y0, x1, y1, channel, channel + 1, out);
         return;
     }
     if (impl.png) {
@@ -191,8 +191,8 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
     }
     const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0);
     if (impl.blocks && (info_.type == SampleType::UInt8 || info_.type == SampleType::UInt16)) {
-        std::vector<float> values(count); // one band of 8 or 16-bit values, exact in float32
-        impl.blocks->read(x0, y0, x1, y1, values.data());
+        std::vector<float> values(count); // 8 or 16-bit values, exact in float32
+        impl.blocks->read(x0, y0, x1, y1, c0, c1, values.data());
         std::transform(values.begin(), values.end(), out, [](float v) { return static_cast<uint16_t>(v); });
         return;
     }
@@ -225,9 +225,9 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
         return;
     }
     const size_t rowBytes = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
-    if (impl.blocks) { // one band of 8-bit values, exact in float32
+    if (impl.blocks) { // 8-bit values, exact in float32
         std::vector<float> values(rowBytes * static_cast<size_t>(y1 - y0));
-        impl.blocks->read(x0, y0, x1, y1, values.data());
+        impl.blocks->read(x0, y0, x1, y1, c0, c1, values.data());
         for (int y = y0; y < y1; ++y) {
             const float* from = &values[static_cast<size_t>(y - y0) * rowBytes];
             std::transform(from, from + rowBytes, out + static_cast<std::ptrdiff_t>(y - y0) * rowStride,

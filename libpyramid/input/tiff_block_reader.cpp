@@ -14,7 +14,7 @@
 namespace pyramid {
 
 std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, const RasterInfo& info, int cacheMegabytes) {
-    if (info.formatName != "tiff" || info.channels != 1) {
+    if (info.formatName != "tiff" || info.channels < 1) {
         return nullptr;
     }
     std::unique_ptr<TiffBlockReader> b(new TiffBlockReader());
@@ -24,7 +24,7 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
         return nullptr;
     }
     uint32_t width = 0, height = 0;
-    uint16_t compression = 0, channels = 0, photometric = 0;
+    uint16_t compression = 0, channels = 0, photometric = 0, planar = PLANARCONFIG_CONTIG;
     TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &width);
     TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &height);
     TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &compression);
@@ -32,6 +32,7 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLEFORMAT, &b->format_);
     TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLESPERPIXEL, &channels);
     TIFFGetFieldDefaulted(tif, TIFFTAG_PHOTOMETRIC, &photometric);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_PLANARCONFIG, &planar);
     b->tiled_ = TIFFIsTiled(tif) != 0;
     if (b->tiled_) {
         TIFFGetField(tif, TIFFTAG_TILEWIDTH, &b->blockWidth_);
@@ -50,7 +51,12 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     const bool integer = (b->format_ == SAMPLEFORMAT_INT || b->format_ == SAMPLEFORMAT_UINT) &&
                          (b->bits_ == 8 || b->bits_ == 16 || b->bits_ == 32);
     const bool real = b->format_ == SAMPLEFORMAT_IEEEFP && b->bits_ == 32;
-    const bool ok = lossless && (integer || real) && channels == 1 && photometric == PHOTOMETRIC_MINISBLACK &&
+    // One band of grey, or several interleaved: grey with extra samples, RGB, RGBA (planes
+    // stored separately, palettes and YCbCr are left to the image I/O module).
+    const bool layout = channels == static_cast<uint16_t>(info.channels) &&
+                        (photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3)) &&
+                        (channels == 1 || planar == PLANARCONFIG_CONTIG);
+    const bool ok = lossless && (integer || real) && layout &&
                     width == static_cast<uint32_t>(info.width) && height == static_cast<uint32_t>(info.height) &&
                     b->blockWidth_ > 0 && b->blockHeight_ > 0 && TIFFIsCODECConfigured(compression);
     if (!ok) {
@@ -59,7 +65,8 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     }
     uint16_t predictor = PREDICTOR_NONE;
     TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &predictor);
-    b->floatPredictorDeflate_ = real && predictor == PREDICTOR_FLOATINGPOINT &&
+    b->channels_ = channels;
+    b->floatPredictorDeflate_ = real && channels == 1 && predictor == PREDICTOR_FLOATINGPOINT &&
                                 (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE);
     // A tile may reach past the image (to a multiple of 16, or a writer's usual size such as
     // 512 for a small image), never far beyond: anything larger is a damaged or hostile
@@ -75,7 +82,7 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     }
     b->blocksAcross_ = (width + b->blockWidth_ - 1) / b->blockWidth_;
     const size_t budget = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
-    const size_t blockSamples = static_cast<size_t>(b->blockWidth_) * b->blockHeight_;
+    const size_t blockSamples = static_cast<size_t>(b->blockWidth_) * b->blockHeight_ * channels;
     // Blocks up to a quarter of the budget: the cache keeps at least four, which the reads of
     // a window across block boundaries need.
     if (blockSamples * sizeof(float) <= budget / 4) {
@@ -98,9 +105,9 @@ TiffBlockReader::~TiffBlockReader() {
     }
 }
 
-void TiffBlockReader::read(int x0, int y0, int x1, int y1, float* out) {
+void TiffBlockReader::read(int x0, int y0, int x1, int y1, int c0, int c1, float* out) {
     if (cache_) {
-        readBlocks(x0, y0, x1, y1, out);
+        readBlocks(x0, y0, x1, y1, c0, c1, out);
         return;
     }
     // Strips beyond the cache: the whole image decoded once, at the first read, into the
@@ -115,21 +122,36 @@ void TiffBlockReader::read(int x0, int y0, int x1, int y1, float* out) {
             ~Close() { TIFFClose(tif); }
         } close{tif};
         auto rows = std::make_unique<ScratchFile>(path_);
-        const size_t rowBytes = static_cast<size_t>(width_) * sizeof(float);
+        const size_t rowBytes = static_cast<size_t>(width_) * channels_ * sizeof(float);
         streamTiffRows(tif, path_, [&](uint32_t y, const float* values) {
             rows->write(static_cast<uint64_t>(y) * rowBytes, values, rowBytes);
         });
         rows_ = std::move(rows);
     });
     const size_t outWidth = static_cast<size_t>(x1 - x0);
+    const size_t pixelValues = channels_;
+    if (c0 == 0 && c1 == static_cast<int>(channels_)) {
+        for (int y = y0; y < y1; ++y) {
+            rows_->read((static_cast<uint64_t>(y) * width_ + static_cast<uint64_t>(x0)) * pixelValues * sizeof(float),
+                        out + static_cast<size_t>(y - y0) * outWidth * pixelValues, outWidth * pixelValues * sizeof(float));
+        }
+        return;
+    }
+    std::vector<float> row(outWidth * pixelValues);
+    const size_t wanted = static_cast<size_t>(c1 - c0);
     for (int y = y0; y < y1; ++y) {
-        rows_->read((static_cast<uint64_t>(y) * width_ + static_cast<uint64_t>(x0)) * sizeof(float),
-                    out + static_cast<size_t>(y - y0) * outWidth, outWidth * sizeof(float));
+        rows_->read((static_cast<uint64_t>(y) * width_ + static_cast<uint64_t>(x0)) * pixelValues * sizeof(float),
+                    row.data(), row.size() * sizeof(float));
+        float* to = out + static_cast<size_t>(y - y0) * outWidth * wanted;
+        for (size_t i = 0; i < outWidth; ++i) {
+            std::copy_n(&row[i * pixelValues + static_cast<size_t>(c0)], wanted, to + i * wanted);
+        }
     }
 }
 
-void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, float* out) {
+void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, int c0, int c1, float* out) {
     const size_t outWidth = static_cast<size_t>(x1 - x0);
+    const size_t pixelValues = channels_, wanted = static_cast<size_t>(c1 - c0);
     const auto decodeWith = [this](uint32_t index) {
         return [this, index](std::vector<float>& values) {
             TIFF* tif = nullptr;
@@ -163,8 +185,18 @@ void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, float* out) {
             const int cx0 = std::max(x0, bx0), cx1 = std::min(x1, bx0 + static_cast<int>(blockWidth_));
             const int cy0 = std::max(y0, by0), cy1 = std::min(y1, by0 + static_cast<int>(blockHeight_));
             for (int y = cy0; y < cy1; ++y) {
-                const float* from = block->data() + static_cast<size_t>(y - by0) * blockWidth_ + (cx0 - bx0);
-                std::copy(from, from + (cx1 - cx0), out + static_cast<size_t>(y - y0) * outWidth + (cx0 - x0));
+                const float* from =
+                    block->data() + (static_cast<size_t>(y - by0) * blockWidth_ + static_cast<size_t>(cx0 - bx0)) * pixelValues;
+                float* to = out + (static_cast<size_t>(y - y0) * outWidth + static_cast<size_t>(cx0 - x0)) * wanted;
+                if (wanted == pixelValues) {
+                    std::copy(from, from + static_cast<size_t>(cx1 - cx0) * pixelValues, to);
+                    continue;
+                }
+                for (int x = cx0; x < cx1; ++x) {
+                    std::copy_n(from + static_cast<size_t>(c0), wanted, to);
+                    from += pixelValues;
+                    to += wanted;
+                }
             }
         }
     }
@@ -229,7 +261,7 @@ void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<float>& valu
             return;
         }
     }
-    const size_t count = static_cast<size_t>(blockWidth_) * blockHeight_;
+    const size_t count = static_cast<size_t>(blockWidth_) * blockHeight_ * channels_;
     // float32 samples are decoded in place; integers through a buffer kept per thread.
     const bool floats = format_ == SAMPLEFORMAT_IEEEFP;
     thread_local std::vector<uint8_t> raw;

@@ -1,6 +1,7 @@
-// Single-band TIFF files of 8, 16 or 32-bit integers or float32, compressed or not, striped
-// or tiled, BigTIFF or not (whatever libtiff decodes losslessly), in memory bounded by the
-// cache budget whatever the file's size and layout:
+// TIFF files of 8, 16 or 32-bit integers or float32, one band or several interleaved (grey,
+// grey and alpha, RGB, RGBA), compressed or not, striped or tiled, BigTIFF or not (whatever
+// libtiff decodes losslessly), in memory bounded by the cache budget whatever the file's size
+// and layout:
 // * strips and tiles up to a quarter of the budget are decoded one whole block at a time, in
 //   parallel (one TIFF handle per reading thread), into the shared block cache
 //   (block_cache.hpp: recycled buffers, one decode per block however many threads want it);
@@ -37,20 +38,21 @@ public:
     TiffBlockReader(const TiffBlockReader&) = delete;
     TiffBlockReader& operator=(const TiffBlockReader&) = delete;
 
-    // Columns [x0, x1) of rows [y0, y1) into out, row-major. Throws Error on a decoding error.
-    // Thread-safe.
-    void read(int x0, int y0, int x1, int y1, float* out);
+    // Channels [c0, c1) of columns [x0, x1) of rows [y0, y1) into out, interleaved, row-major,
+    // as float32 by value. Throws Error on a decoding error. Thread-safe.
+    void read(int x0, int y0, int x1, int y1, int c0, int c1, float* out);
 
 private:
     TiffBlockReader() = default;
     TIFF* openHandle() const;
-    void readBlocks(int x0, int y0, int x1, int y1, float* out);
+    void readBlocks(int x0, int y0, int x1, int y1, int c0, int c1, float* out);
     void decode(TIFF* tif, uint32_t index, std::vector<float>& values) const;
     bool decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows, std::vector<float>& values) const;
 
     std::string path_;
     uint32_t width_ = 0, height_ = 0;
     uint32_t blockWidth_ = 0, blockHeight_ = 0, blocksAcross_ = 0;
+    uint32_t channels_ = 1; // interleaved samples per pixel, in blocks and scratch rows alike
     uint16_t bits_ = 0, format_ = 1; // SAMPLEFORMAT_UINT
     bool tiled_ = false;
     bool floatPredictorDeflate_ = false; // float32, Deflate, Predictor = 3: decoded here

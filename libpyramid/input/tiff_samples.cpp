@@ -1,6 +1,7 @@
 #include "libpyramid/input/tiff_samples.hpp"
 
 #include <bit>
+#include <algorithm>
 #include <cstring>
 
 namespace pyramid {
@@ -25,13 +26,15 @@ void undoFloatPredictor(uint8_t* bytes, size_t count, float* out) {
 namespace {
 
 template <typename T>
-void accumulate(uint8_t* row, size_t count) {
-    T previous = 0;
-    for (size_t i = 0; i < count; ++i) {
-        T v;
+void accumulate(uint8_t* row, size_t count, size_t channels) {
+    // Sample i adds the one `channels` samples before it (the same channel of the pixel to its
+    // left); the first pixel's samples stand as they are.
+    for (size_t i = channels; i < count * channels; ++i) {
+        T v, left;
         std::memcpy(&v, row + i * sizeof(T), sizeof(T));
-        previous = static_cast<T>(previous + v);
-        std::memcpy(row + i * sizeof(T), &previous, sizeof(T));
+        std::memcpy(&left, row + (i - channels) * sizeof(T), sizeof(T));
+        v = static_cast<T>(v + left);
+        std::memcpy(row + i * sizeof(T), &v, sizeof(T));
     }
 }
 
@@ -46,11 +49,12 @@ void convert(const uint8_t* raw, size_t count, float* out) {
 
 } // namespace
 
-void undoHorizontalPredictor(uint8_t* row, size_t count, int bits) {
+void undoHorizontalPredictor(uint8_t* row, size_t count, int bits, int channels) {
+    const auto c = static_cast<size_t>(std::max(channels, 1));
     switch (bits) {
-    case 8: return accumulate<uint8_t>(row, count);
-    case 16: return accumulate<uint16_t>(row, count);
-    default: return accumulate<uint32_t>(row, count);
+    case 8: return accumulate<uint8_t>(row, count, c);
+    case 16: return accumulate<uint16_t>(row, count, c);
+    default: return accumulate<uint32_t>(row, count, c);
     }
 }
 

@@ -14,10 +14,10 @@ namespace pyramid {
 // file's. `bytes` is used as scratch.
 void undoFloatPredictor(uint8_t* bytes, size_t count, float* out);
 
-// Undoes the horizontal predictor (Predictor = 2) on one row of `count` one-channel samples of
-// `bits` bits, already in the host's byte order: each sample is stored as its difference from
-// the one to its left, modulo 2^bits.
-void undoHorizontalPredictor(uint8_t* row, size_t count, int bits);
+// Undoes the horizontal predictor (Predictor = 2) on one row of `count` pixels of `channels`
+// interleaved samples of `bits` bits, already in the host's byte order: each sample is stored
+// as its difference from the same channel of the pixel to its left, modulo 2^bits.
+void undoHorizontalPredictor(uint8_t* row, size_t count, int bits, int channels = 1);
 
 // Reverses the byte order of `count` samples of `bits` bits in place (a file of the other
 // byte order).

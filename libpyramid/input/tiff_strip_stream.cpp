@@ -19,9 +19,11 @@ constexpr size_t kChunkBytes = size_t{1} << 20;
 
 struct Layout {
     uint32_t width = 0, height = 0, rowsPerStrip = 0;
+    uint16_t channels = 1; // interleaved
     uint16_t bits = 0, format = 1, compression = COMPRESSION_NONE, predictor = PREDICTOR_NONE;
     bool swapped = false;
-    size_t rowBytes() const { return static_cast<size_t>(width) * (bits / 8); }
+    size_t rowValues() const { return static_cast<size_t>(width) * channels; }
+    size_t rowBytes() const { return rowValues() * (bits / 8); }
 };
 
 // Turns one row of stored bytes (the file's order, predictors applied) into float32 values.
@@ -31,12 +33,12 @@ void finishRow(const Layout& l, uint8_t* bytes, float* out) {
         return;
     }
     if (l.swapped) {
-        swapSampleBytes(bytes, l.width, l.bits);
+        swapSampleBytes(bytes, l.rowValues(), l.bits);
     }
     if (l.predictor == PREDICTOR_HORIZONTAL) {
-        undoHorizontalPredictor(bytes, l.width, l.bits);
+        undoHorizontalPredictor(bytes, l.width, l.bits, l.channels);
     }
-    samplesToFloat(bytes, l.width, l.bits, l.format, out);
+    samplesToFloat(bytes, l.rowValues(), l.bits, l.format, out);
 }
 
 class StripReader {
@@ -70,6 +72,7 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
     TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &l.width);
     TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &l.height);
     TIFFGetFieldDefaulted(tif, TIFFTAG_ROWSPERSTRIP, &l.rowsPerStrip);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLESPERPIXEL, &l.channels);
     TIFFGetFieldDefaulted(tif, TIFFTAG_BITSPERSAMPLE, &l.bits);
     TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLEFORMAT, &l.format);
     TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &l.compression);
@@ -77,16 +80,18 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
     l.swapped = TIFFIsByteSwapped(tif) != 0;
     l.rowsPerStrip = std::clamp<uint32_t>(l.rowsPerStrip, 1, l.height);
     std::vector<uint8_t> bytes(l.rowBytes());
-    std::vector<float> values(l.width);
-    const bool streamed = l.compression == COMPRESSION_NONE || l.compression == COMPRESSION_ADOBE_DEFLATE ||
-                          l.compression == COMPRESSION_DEFLATE;
+    std::vector<float> values(l.rowValues());
+    // The floating-point predictor of interleaved samples is left to libtiff.
+    const bool streamed = (l.compression == COMPRESSION_NONE || l.compression == COMPRESSION_ADOBE_DEFLATE ||
+                           l.compression == COMPRESSION_DEFLATE) &&
+                          (l.channels == 1 || l.predictor != PREDICTOR_FLOATINGPOINT);
     if (!streamed) {
         for (uint32_t y = 0; y < l.height; ++y) {
             // libtiff undoes the predictor and the byte order itself here.
             if (TIFFReadScanline(tif, bytes.data(), y, 0) < 0) {
                 fail(path, "read failed: cannot decode row " + std::to_string(y));
             }
-            samplesToFloat(bytes.data(), l.width, l.bits, l.format, values.data());
+            samplesToFloat(bytes.data(), l.rowValues(), l.bits, l.format, values.data());
             row(y, values.data());
         }
         return;

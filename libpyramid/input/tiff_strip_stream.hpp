@@ -1,8 +1,9 @@
-// A striped single-band TIFF decoded row by row, north to south, in memory bounded by a few
-// rows and a read buffer, however large its strips: for files stored as a few huge strips (one
+// A striped TIFF (one band, or several interleaved) decoded row by row, north to south, in
+// memory bounded by a few rows and a read buffer, however large its strips: for files stored as a few huge strips (one
 // strip for the whole image is common), whose strips the block cache cannot hold. Deflate and
 // uncompressed strips are read in chunks and inflated as a stream (zlib); strips of other
-// compressions go through libtiff's scanline reading, which holds one compressed strip.
+// compressions, and interleaved float32 bands with the floating-point predictor, go through
+// libtiff's scanline reading, which holds one compressed strip.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -12,9 +13,9 @@ typedef struct tiff TIFF;
 
 namespace pyramid {
 
-// Calls `row(y, values)` for y = 0, 1, ... height - 1 with the row's `width` samples as
-// float32 by value. `tif` is an open handle of `path` (named in errors), striped, one band of
-// 8/16/32-bit integers or float32. Throws Error on a damaged strip.
+// Calls `row(y, values)` for y = 0, 1, ... height - 1 with the row's `width` x channels
+// samples (interleaved) as float32 by value. `tif` is an open handle of `path` (named in
+// errors), striped, of 8/16/32-bit integers or float32. Throws Error on a damaged strip.
 void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void(uint32_t, const float*)>& row);
 
 } // namespace pyramid
