@@ -24,6 +24,7 @@ struct Tiff {
     uint16_t bits, format, compression, predictor;
     uint32_t tile, rowsPerStrip; // rowsPerStrip 0: the whole image in one strip
     const char* mode;
+    uint16_t channels = 1; // interleaved; RGB from 3
 };
 
 bool writeTiff(const std::string& dir, const Tiff& l) {
@@ -37,23 +38,30 @@ bool writeTiff(const std::string& dir, const Tiff& l) {
     TIFFSetField(t, TIFFTAG_IMAGELENGTH, height);
     TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, l.bits);
     TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, l.format);
-    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, uint16_t{1});
-    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, l.channels);
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, l.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+    if (l.channels > 1) {
+        TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    }
     TIFFSetField(t, TIFFTAG_COMPRESSION, l.compression);
     if (l.predictor != PREDICTOR_NONE) {
         TIFFSetField(t, TIFFTAG_PREDICTOR, l.predictor);
     }
-    const size_t bytes = l.bits / 8;
-    const auto sample = [&](uint32_t x, uint32_t y, uint8_t* to) {
-        const double v = static_cast<double>((x * 37 + y * 101) % 997) - 300.0;
-        if (l.format == SAMPLEFORMAT_IEEEFP) {
-            const auto f = static_cast<float>(v * 0.5);
-            std::memcpy(to, &f, 4);
-        } else if (bytes == 2) {
-            const auto s = static_cast<int16_t>(v);
-            std::memcpy(to, &s, 2);
-        } else {
-            to[0] = static_cast<uint8_t>(static_cast<int>(v) & 0xff);
+    const size_t sampleBytes = l.bits / 8u;
+    const size_t bytes = sampleBytes * l.channels; // of a pixel
+    const auto sample = [&](uint32_t x, uint32_t y, uint8_t* pixel) {
+        for (uint32_t c = 0; c < l.channels; ++c) {
+            uint8_t* to = pixel + c * sampleBytes;
+            const double v = static_cast<double>((x * 37 + y * 101 + c * 53) % 997) - 300.0;
+            if (l.format == SAMPLEFORMAT_IEEEFP) {
+                const auto f = static_cast<float>(v * 0.5);
+                std::memcpy(to, &f, 4);
+            } else if (sampleBytes == 2) {
+                const auto s = static_cast<int16_t>(v);
+                std::memcpy(to, &s, 2);
+            } else {
+                to[0] = static_cast<uint8_t>(static_cast<int>(v) & 0xff);
+            }
         }
     };
     const uint32_t tile = l.tile, rows = oneStrip ? height : l.rowsPerStrip;
@@ -133,6 +141,8 @@ int main(int argc, char** argv) {
         {"i16-bigtiff-tiled.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 16, 0, "w8"},
         {"u8-packbits-strips.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_PACKBITS, PREDICTOR_NONE, 0, 7, "w"},
         {"u16-none-one-strip.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_NONE, PREDICTOR_NONE, 0, 0, "w"},
+        {"rgb8-deflate-p2-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 16, 0, "w", 3},
+        {"rgba16-deflate-p2-one-strip-be.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 0, "wb", 4},
     };
     bool ok = true;
     for (const Tiff& t : tiffs) {
