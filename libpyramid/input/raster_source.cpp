@@ -10,6 +10,7 @@
 #include "formats/error.hpp"
 #include "libpyramid/input/image_io_module.hpp"
 #include "libpyramid/input/png_raster_reader.hpp"
+#include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
@@ -24,6 +25,7 @@ struct RasterSource::Impl {
     std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block
     std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
     std::unique_ptr<PngRasterReader> png;    // 8/16-bit PNG, decoded whole
+    std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
     // Everything else goes through OpenImageIO's ImageCache in the image I/O module, opened
     // the first time a read needs it (or at once when no direct reader knows the file).
     mutable std::once_flag moduleOnce;
@@ -91,6 +93,20 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     return source;
 }
 
+std::unique_ptr<RasterSource> RasterSource::openMosaic(const std::vector<std::string>& paths, int cacheMegabytes) {
+    if (paths.size() == 1) {
+        return open(paths[0], cacheMegabytes);
+    }
+    std::unique_ptr<RasterSource> source(new RasterSource());
+    source->impl_ = std::make_unique<Impl>();
+    source->impl_->mosaic = std::make_unique<RasterMosaic>(paths, cacheMegabytes);
+    source->impl_->path = source->impl_->mosaic->name();
+    source->impl_->cacheMegabytes = cacheMegabytes;
+    source->path_ = source->impl_->mosaic->name();
+    source->info_ = source->impl_->mosaic->info();
+    return source;
+}
+
 RasterSource::~RasterSource() = default;
 
 namespace {
@@ -133,6 +149,10 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
         fail(path_, "no channel " + std::to_string(channel));
     }
     const Impl& impl = *impl_;
+    if (impl.mosaic) {
+        impl.mosaic->readFloat(x0, y0, x1, y1, channel, out);
+        return;
+    }
     if (impl.floats) {
         if (!impl.floats->readFloat(x0, y0, x1, y1, channel, out)) {
             failRead(path_);
@@ -179,6 +199,10 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
     checkWindow(path_, info_, x0, y0, x1, y1);
     checkChannels(path_, info_, c0, c1);
     const Impl& impl = *impl_;
+    if (impl.mosaic) {
+        impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, out);
+        return;
+    }
     if (impl.pixels) {
         if (!impl.pixels->readUInt16(x0, y0, x1, y1, c0, c1, out)) {
             failRead(path_);
@@ -215,6 +239,17 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
         fail(path_, "readUInt8 on samples that are not 8-bit unsigned");
     }
     const Impl& impl = *impl_;
+    if (impl.mosaic) {
+        const size_t rowValues = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
+        std::vector<uint16_t> words(rowValues * static_cast<size_t>(y1 - y0));
+        impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
+        for (int y = y0; y < y1; ++y) {
+            const uint16_t* from = words.data() + static_cast<size_t>(y - y0) * rowValues;
+            std::transform(from, from + rowValues,
+                           out + static_cast<std::ptrdiff_t>(y - y0) * rowStride, [](uint16_t v) { return static_cast<uint8_t>(v); });
+        }
+        return;
+    }
     if (impl.pixels) {
         if (!impl.pixels->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
             failRead(path_);

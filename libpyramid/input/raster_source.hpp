@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "libpyramid/input/raster_info.hpp"
 
@@ -20,6 +21,10 @@ class RasterSource {
 public:
     // Throws Error("PATH: ...") when the file is missing, unreadable or not an image.
     static std::unique_ptr<RasterSource> open(const std::string& path, int cacheMegabytes = 256);
+    // Several georeferenced files on one grid read as one raster (raster_mosaic.hpp: the rules
+    // of joining, overlaps and gaps); one path is open(path). path() names the first file and
+    // how many more. Throws Error naming a file that is missing or does not fit the grid.
+    static std::unique_ptr<RasterSource> openMosaic(const std::vector<std::string>& paths, int cacheMegabytes = 256);
     ~RasterSource();
     RasterSource(const RasterSource&) = delete;
     RasterSource& operator=(const RasterSource&) = delete;

@@ -1,0 +1,220 @@
+#include "libpyramid/input/raster_mosaic.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "formats/error.hpp"
+#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/support/text.hpp"
+
+namespace pyramid {
+
+namespace {
+
+bool sameNodata(const std::optional<double>& a, const std::optional<double>& b) {
+    if (a.has_value() != b.has_value()) {
+        return false;
+    }
+    return !a || (*a == *b || (std::isnan(*a) && std::isnan(*b)));
+}
+
+bool isNodata(double v, const std::optional<double>& nodata) {
+    return nodata && (v == *nodata || (std::isnan(*nodata) && std::isnan(v)));
+}
+
+} // namespace
+
+RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegabytes) {
+    if (paths.empty()) {
+        fail("mosaic", "no input files");
+    }
+    memberCacheMegabytes_ = std::max(2, cacheMegabytes / static_cast<int>(kOpenFiles));
+    std::optional<Georeference> grid;
+    double left = 0.0, top = 0.0; // CRS position of the first file's first pixel corner
+    std::vector<std::pair<int64_t, int64_t>> offsets; // pixels from the first file, x right, y down
+    for (const std::string& path : paths) {
+        const auto source = RasterSource::open(path, 1);
+        const RasterInfo& info = source->info();
+        if (!info.georeference) {
+            fail(path, "has no georeferencing: a mosaic places each file by its own");
+        }
+        const Georeference& g = *info.georeference;
+        if (!g.problem.empty()) {
+            fail(path, "georeferencing cannot be used: " + g.problem);
+        }
+        const auto& t = g.pixelToCrs;
+        if (!g.axisAligned() || t[1] <= 0.0 || t[5] >= 0.0) {
+            fail(path, "is rotated or flipped: a mosaic joins north-up files on one grid");
+        }
+        Member m;
+        m.path = path;
+        m.width = info.width;
+        m.height = info.height;
+        m.nodata = info.nodata;
+        if (!grid) {
+            grid = g;
+            left = t[0];
+            top = t[3];
+            info_ = info;
+            offsets.emplace_back(0, 0);
+            members_.push_back(m);
+            continue;
+        }
+        const RasterInfo& first = info_;
+        const std::string with = " from " + members_[0].path;
+        if (g.crsText() != grid->crsText() || g.projected != grid->projected) {
+            fail(path, "is in " + g.crsText() + ", not " + grid->crsText() + with);
+        }
+        if (info.channels != first.channels || info.type != first.type) {
+            fail(path, std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
+                           std::to_string(first.channels) + " of " + sampleTypeName(first.type) + with);
+        }
+        const auto& g0 = grid->pixelToCrs;
+        if (std::fabs(t[1] - g0[1]) > 1e-9 * std::fabs(g0[1]) || std::fabs(t[5] - g0[5]) > 1e-9 * std::fabs(g0[5])) {
+            fail(path, "pixels of " + numberText(t[1]) + " x " + numberText(-t[5]) + ", not " + numberText(g0[1]) +
+                           " x " + numberText(-g0[5]) + with + " (a mosaic joins files of one resolution)");
+        }
+        // (+ 0.0: a zero offset prints as 0, not -0.)
+        const double dx = (t[0] - left) / g0[1] + 0.0, dy = (t[3] - top) / g0[5] + 0.0;
+        if (std::fabs(dx - std::round(dx)) > 1e-6 || std::fabs(dy - std::round(dy)) > 1e-6) {
+            fail(path, "lies " + numberText(dx) + ", " + numberText(dy) + " pixels from " + members_[0].path +
+                           ": not on its grid");
+        }
+        if (!sameNodata(info.nodata, first.nodata)) {
+            fail(path, "declares another nodata value than " + members_[0].path);
+        }
+        offsets.emplace_back(static_cast<int64_t>(std::llround(dx)), static_cast<int64_t>(std::llround(dy)));
+        members_.push_back(m);
+    }
+    int64_t minX = std::numeric_limits<int64_t>::max(), minY = minX;
+    int64_t maxX = std::numeric_limits<int64_t>::min(), maxY = maxX;
+    for (size_t k = 0; k < members_.size(); ++k) {
+        minX = std::min(minX, offsets[k].first);
+        minY = std::min(minY, offsets[k].second);
+        maxX = std::max(maxX, offsets[k].first + members_[k].width);
+        maxY = std::max(maxY, offsets[k].second + members_[k].height);
+    }
+    if (maxX - minX > std::numeric_limits<int>::max() || maxY - minY > std::numeric_limits<int>::max()) {
+        fail(members_[0].path, "the mosaic would be " + std::to_string(maxX - minX) + " x " +
+                                   std::to_string(maxY - minY) + " pixels, beyond 2^31 - 1 a side");
+    }
+    int largestWidth = 1, largestHeight = 1;
+    for (size_t k = 0; k < members_.size(); ++k) {
+        members_[k].x = static_cast<int>(offsets[k].first - minX);
+        members_[k].y = static_cast<int>(offsets[k].second - minY);
+        largestWidth = std::max(largestWidth, members_[k].width);
+        largestHeight = std::max(largestHeight, members_[k].height);
+    }
+    info_.width = static_cast<int>(maxX - minX);
+    info_.height = static_cast<int>(maxY - minY);
+    if (!info_.nodata && info_.type != SampleType::UInt8 && info_.type != SampleType::UInt16) {
+        info_.nodata = std::numeric_limits<double>::quiet_NaN(); // gaps are holes
+    }
+    auto& t = info_.georeference->pixelToCrs;
+    t[0] = left + static_cast<double>(minX) * t[1];
+    t[3] = top + static_cast<double>(minY) * t[5];
+    name_ = members_[0].path + (members_.size() > 1 ? " and " + std::to_string(members_.size() - 1) + " more" : "");
+    cellWidth_ = largestWidth;
+    cellHeight_ = largestHeight;
+    cellsAcross_ = (info_.width + cellWidth_ - 1) / cellWidth_;
+    const int cellsDown = (info_.height + cellHeight_ - 1) / cellHeight_;
+    cells_.resize(static_cast<size_t>(cellsAcross_) * static_cast<size_t>(cellsDown));
+    for (size_t k = 0; k < members_.size(); ++k) {
+        const Member& m = members_[k];
+        for (int cy = m.y / cellHeight_; cy <= (m.y + m.height - 1) / cellHeight_; ++cy) {
+            for (int cx = m.x / cellWidth_; cx <= (m.x + m.width - 1) / cellWidth_; ++cx) {
+                cells_[static_cast<size_t>(cy) * static_cast<size_t>(cellsAcross_) + static_cast<size_t>(cx)].push_back(k);
+            }
+        }
+    }
+    open_.resize(members_.size());
+}
+
+RasterMosaic::~RasterMosaic() = default;
+
+std::vector<size_t> RasterMosaic::membersIn(int x0, int y0, int x1, int y1) const {
+    std::vector<size_t> found;
+    for (int cy = y0 / cellHeight_; cy <= (y1 - 1) / cellHeight_; ++cy) {
+        for (int cx = x0 / cellWidth_; cx <= (x1 - 1) / cellWidth_; ++cx) {
+            for (const size_t k : cells_[static_cast<size_t>(cy) * static_cast<size_t>(cellsAcross_) + static_cast<size_t>(cx)]) {
+                const Member& m = members_[k];
+                if (m.x < x1 && m.x + m.width > x0 && m.y < y1 && m.y + m.height > y0) {
+                    found.push_back(k);
+                }
+            }
+        }
+    }
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    return found;
+}
+
+std::shared_ptr<const RasterSource> RasterMosaic::openMember(size_t k) const {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (open_[k]) {
+        recent_.remove(k);
+        recent_.push_front(k);
+        return open_[k];
+    }
+    lock.unlock();
+    std::shared_ptr<const RasterSource> source = RasterSource::open(members_[k].path, memberCacheMegabytes_);
+    lock.lock();
+    if (open_[k]) {
+        return open_[k]; // opened by another thread meanwhile
+    }
+    open_[k] = source;
+    recent_.push_front(k);
+    // Beyond the limit, the least recently used is closed once its readers are done with it.
+    while (recent_.size() > kOpenFiles) {
+        open_[recent_.back()].reset();
+        recent_.pop_back();
+    }
+    return source;
+}
+
+template <typename T, typename Read>
+void RasterMosaic::compose(int x0, int y0, int x1, int y1, int values, T gap, Read read, T* out) const {
+    const size_t width = static_cast<size_t>(x1 - x0);
+    std::fill(out, out + width * static_cast<size_t>(y1 - y0) * static_cast<size_t>(values), gap);
+    const std::vector<size_t> found = membersIn(x0, y0, x1, y1);
+    std::vector<T> part;
+    // The last listed first: an earlier file's values are written over a later one's.
+    for (auto it = found.rbegin(); it != found.rend(); ++it) {
+        const Member& m = members_[*it];
+        const int cx0 = std::max(x0, m.x), cx1 = std::min(x1, m.x + m.width);
+        const int cy0 = std::max(y0, m.y), cy1 = std::min(y1, m.y + m.height);
+        const size_t partWidth = static_cast<size_t>(cx1 - cx0);
+        part.resize(partWidth * static_cast<size_t>(cy1 - cy0) * static_cast<size_t>(values));
+        const std::shared_ptr<const RasterSource> source = openMember(*it);
+        read(*source, cx0 - m.x, cy0 - m.y, cx1 - m.x, cy1 - m.y, part.data());
+        for (int y = cy0; y < cy1; ++y) {
+            const T* from = part.data() + static_cast<size_t>(y - cy0) * partWidth * static_cast<size_t>(values);
+            T* to = out + (static_cast<size_t>(y - y0) * width + static_cast<size_t>(cx0 - x0)) * static_cast<size_t>(values);
+            for (size_t i = 0; i < partWidth * static_cast<size_t>(values); ++i) {
+                if (!isNodata(static_cast<double>(from[i]), m.nodata)) {
+                    to[i] = from[i];
+                }
+            }
+        }
+    }
+}
+
+void RasterMosaic::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
+    compose<float>(x0, y0, x1, y1, 1, gap,
+                   [channel](const RasterSource& s, int a0, int b0, int a1, int b1, float* to) {
+                       s.readFloat(a0, b0, a1, b1, channel, to);
+                   },
+                   out);
+}
+
+void RasterMosaic::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    compose<uint16_t>(x0, y0, x1, y1, c1 - c0, 0,
+                      [c0, c1](const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) {
+                          s.readUInt16(a0, b0, a1, b1, c0, c1, to);
+                      },
+                      out);
+}
+
+} // namespace pyramid

@@ -1,0 +1,72 @@
+// Many georeferenced rasters read as one (RasterSource::openMosaic): files on one grid, as
+// SRTM and Copernicus tiles, national sheets and scenes ship, joined without resampling.
+//
+// * The grid: every file has the same CRS, band count, sample type and pixel size, no
+//   rotation, and lies at a whole number of pixels from the others (within 10^-6 pixel).
+//   Anything else is refused, naming the file and what differs.
+// * The mosaic covers the union of the files' extents; pixels no file holds are nodata.
+// * Overlaps: the first file in the list that has a value there (not its nodata) gives it.
+// * Nodata: the value the files declare (they must agree); when none declares one, NaN for
+//   heights read as float32 (so gaps are holes, filled as any nodata) and 0 for colours.
+// * Bounded: at most kOpenFiles files are open at once (least recently used closed first), each
+//   with a share of the cache budget; a file is opened only when a read needs it.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "libpyramid/input/raster_info.hpp"
+
+namespace pyramid {
+
+class RasterSource;
+
+class RasterMosaic {
+public:
+    static constexpr size_t kOpenFiles = 64;
+
+    // Describes every file (each is opened and closed once) and checks that they share a grid.
+    // Throws Error naming the file that does not fit, is missing or has no georeferencing.
+    RasterMosaic(const std::vector<std::string>& paths, int cacheMegabytes);
+    ~RasterMosaic();
+
+    const RasterInfo& info() const { return info_; }
+    const std::string& name() const { return name_; }
+
+    // As RasterSource's reads, over the mosaic's grid. Thread-safe.
+    void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
+    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
+
+    struct Member {
+        std::string path;
+        int x = 0, y = 0; // its first pixel's place in the mosaic
+        int width = 0, height = 0;
+        std::optional<double> nodata;
+    };
+    const std::vector<Member>& members() const { return members_; }
+
+private:
+    std::shared_ptr<const RasterSource> openMember(size_t k) const;
+    // Members whose pixels meet the window, in list order: from a grid of cells as large as the
+    // largest member, each listing the members that meet it.
+    std::vector<size_t> membersIn(int x0, int y0, int x1, int y1) const;
+    template <typename T, typename Read>
+    void compose(int x0, int y0, int x1, int y1, int values, T gap, Read read, T* out) const;
+
+    std::vector<Member> members_;
+    RasterInfo info_;
+    std::string name_;
+    int memberCacheMegabytes_ = 4;
+    int cellWidth_ = 1, cellHeight_ = 1, cellsAcross_ = 1;
+    std::vector<std::vector<size_t>> cells_;
+    mutable std::mutex mutex_;
+    mutable std::vector<std::shared_ptr<const RasterSource>> open_; // by member; null when closed
+    mutable std::list<size_t> recent_;                              // open members, most recent first
+};
+
+} // namespace pyramid
