@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -13,6 +14,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "libpyramid/input/input_list.hpp"
 
 namespace pyramid::cli {
 
@@ -150,6 +152,33 @@ void printGeoreferenceSummary(const std::optional<PyramidGeoreference>& georefer
     if (georeference) {
         std::fprintf(stderr, "%s: placement in %s\n", sidecar.c_str(), georeference->crs.crsText().c_str());
     }
+}
+
+std::vector<std::string> InputArgs::resolve() const {
+    std::vector<std::string> paths = expandInputs(inputs, list).paths;
+    if (priority == "last") {
+        std::reverse(paths.begin(), paths.end());
+    }
+    return paths;
+}
+
+void addInputOptions(CLI::App& app, InputArgs& args, const char* inputHelp) {
+    app.add_option("INPUT", args.inputs,
+                   std::string(inputHelp) +
+                       ". Several inputs make a mosaic, each file placed by its own georeferencing: files, "
+                       "directories (their .tif files), globs, GDAL VRT mosaics (.vrt)");
+    app.add_option("--input-list", args.list,
+                   "A text file naming more inputs, one per line (# comments; paths relative to the list)");
+    app.add_option("--priority", args.priority,
+                   "Where mosaic inputs of one resolution overlap: 'first' (the first listed wins) or 'last'")
+        ->check(CLI::IsMember({"first", "last"}))
+        ->capture_default_str();
+    app.callback([&app, &args] {
+        (void)app;
+        if (args.inputs.empty() && args.list.empty()) {
+            throw CLI::RequiredError("INPUT (or --input-list)");
+        }
+    });
 }
 
 } // namespace pyramid::cli

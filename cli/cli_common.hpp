@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -38,6 +39,19 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
 
 // The flag of a library option name: "tileSize" -> "--tile-size".
 std::string flagName(const std::string& option);
+
+// The inputs of a preprocessor: INPUT... (files, directories, globs, GDAL VRTs),
+// --input-list FILE and --priority first|last.
+struct InputArgs {
+    std::vector<std::string> inputs;
+    std::string list;
+    std::string priority = "first";
+    // The files to read, in priority order (libpyramid/input/input_list.hpp; reversed by
+    // --priority last). Throws Error naming a missing file, an empty directory, a bad VRT...
+    std::vector<std::string> resolve() const;
+};
+// Declares INPUT... (at least one unless --input-list is given), --input-list and --priority.
+void addInputOptions(CLI::App& app, InputArgs& args, const char* inputHelp);
 
 // Progress on stderr: "LABEL: 42% (1234/2938 tiles)". Redrawn in place on a terminal, a line
 // every 10% otherwise, nothing when quiet. Thread-safe.

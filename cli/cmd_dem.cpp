@@ -27,7 +27,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
             }
             progress->advance(1);
         };
-        const DemReport report = encodeDem(args->input, args->output, options);
+        const DemReport report = encodeDem(args->input.resolve(), args->output, options);
         if (progress) {
             progress->finish();
         }

@@ -29,7 +29,7 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
             }
             progress->advance(1);
         };
-        const OrthoReport report = encodeOrtho(a->input, a->output, options);
+        const OrthoReport report = encodeOrtho(a->input.resolve(), a->output, options);
         if (progress) {
             progress->finish();
         }

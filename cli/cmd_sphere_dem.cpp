@@ -46,7 +46,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
             progress->advance(done - shown);
             shown = done;
         };
-        const SphericalDemReport report = encodeSphericalDem(args->input, args->output, options);
+        const SphericalDemReport report = encodeSphericalDem(args->input.resolve(), args->output, options);
         if (progress) {
             progress->finish();
         }

@@ -39,7 +39,7 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
             progress->advance(done - shown);
             shown = done;
         };
-        const SphericalOrthoReport report = encodeSphericalOrtho(a->input, a->output, options);
+        const SphericalOrthoReport report = encodeSphericalOrtho(a->input.resolve(), a->output, options);
         if (progress) {
             progress->finish();
         }

@@ -16,7 +16,7 @@ namespace pyramid::cli {
 void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp,
                    const char* maxLevelHelp) {
     DemEncodeOptions& o = args->options;
-    app.add_option("INPUT", args->input, inputHelp)->required();
+    addInputOptions(app, args->input, inputHelp);
     app.add_option("-o,--output", args->output, outputHelp)->required();
     app.add_option("--tile-size", o.tileSize, "Tile size in intervals, without borders (tiles are size+5 samples)")
         ->capture_default_str();

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "cli/cli_common.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 
 namespace CLI {
@@ -14,7 +15,7 @@ class App;
 namespace pyramid::cli {
 
 struct DemArgs {
-    std::string input;
+    InputArgs input;
     std::string output; // a file (preprocessDem) or a directory (preprocessSphericalDem)
     std::string scale = "1";
     double maxError = 0.0;

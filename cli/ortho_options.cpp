@@ -48,7 +48,7 @@ void parseOutputs(const std::string& text, OrthoEncodeOptions& o) {
 void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const char* inputHelp, const char* outputHelp,
                      const char* maxLevelHelp) {
     OrthoEncodeOptions& o = a->options;
-    app.add_option("INPUT", a->input, inputHelp)->required();
+    addInputOptions(app, a->input, inputHelp);
     app.add_option("-o,--output", a->output, outputHelp)->required();
     app.add_option("--outputs", a->outputs, "Which files: a comma list of tiff, dxt, residuals")->capture_default_str();
     app.add_option("--name", o.name, "Base name of the files")->capture_default_str();

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "cli/cli_common.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
 
 namespace CLI {
@@ -14,7 +15,8 @@ class App;
 namespace pyramid::cli {
 
 struct OrthoArgs {
-    std::string input, output, outputs = "tiff,dxt,residuals", compression = "deflate",
+    InputArgs input;
+    std::string output, outputs = "tiff,dxt,residuals", compression = "deflate",
                                residualCompression = "deflate", colourSpace = "srgb", report;
     bool quiet = false;
     OrthoEncodeOptions options;

@@ -23,7 +23,55 @@ bool isNodata(double v, const std::optional<double>& nodata) {
     return nodata && (v == *nodata || (std::isnan(*nodata) && std::isnan(v)));
 }
 
+// The georeferencing a mosaic places a file by, checked.
+const Georeference& placedBy(const std::string& path, const RasterInfo& info) {
+    if (!info.georeference) {
+        fail(path, "has no georeferencing: a mosaic places each file by its own");
+    }
+    const Georeference& g = *info.georeference;
+    if (!g.problem.empty()) {
+        fail(path, "georeferencing cannot be used: " + g.problem);
+    }
+    return g;
+}
+
+// Whether two files lie on one grid (RasterMosaic's rules).
+bool oneGrid(const RasterInfo& a, const RasterInfo& b) {
+    const Georeference& g = *a.georeference;
+    const Georeference& h = *b.georeference;
+    if (g.crsText() != h.crsText() || g.projected != h.projected || a.channels != b.channels || a.type != b.type ||
+        !sameNodata(a.nodata, b.nodata) || !g.axisAligned() || !h.axisAligned()) {
+        return false;
+    }
+    const auto& t = g.pixelToCrs;
+    const auto& u = h.pixelToCrs;
+    if (std::fabs(t[1] - u[1]) > 1e-9 * std::fabs(t[1]) || std::fabs(t[5] - u[5]) > 1e-9 * std::fabs(t[5])) {
+        return false;
+    }
+    const double dx = (u[0] - t[0]) / t[1], dy = (u[3] - t[3]) / t[5];
+    return std::fabs(dx - std::round(dx)) <= 1e-6 && std::fabs(dy - std::round(dy)) <= 1e-6;
+}
+
 } // namespace
+
+std::vector<std::vector<std::string>> groupByGrid(const std::vector<std::string>& paths) {
+    std::vector<std::vector<std::string>> groups;
+    std::vector<RasterInfo> firsts; // each group's first file
+    for (const std::string& path : paths) {
+        const RasterInfo info = RasterSource::open(path, 1)->info();
+        (void)placedBy(path, info);
+        size_t k = 0;
+        while (k < groups.size() && !oneGrid(firsts[k], info)) {
+            ++k;
+        }
+        if (k == groups.size()) {
+            groups.emplace_back();
+            firsts.push_back(info);
+        }
+        groups[k].push_back(path);
+    }
+    return groups;
+}
 
 RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegabytes) {
     if (paths.empty()) {
@@ -36,13 +84,7 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
     for (const std::string& path : paths) {
         const auto source = RasterSource::open(path, 1);
         const RasterInfo& info = source->info();
-        if (!info.georeference) {
-            fail(path, "has no georeferencing: a mosaic places each file by its own");
-        }
-        const Georeference& g = *info.georeference;
-        if (!g.problem.empty()) {
-            fail(path, "georeferencing cannot be used: " + g.problem);
-        }
+        const Georeference& g = placedBy(path, info);
         const auto& t = g.pixelToCrs;
         if (!g.axisAligned() || t[1] <= 0.0 || t[5] >= 0.0) {
             fail(path, "is rotated or flipped: a mosaic joins north-up files on one grid");

@@ -26,6 +26,12 @@ namespace pyramid {
 
 class RasterSource;
 
+// The files of a mosaic grouped by grid: each group holds the files one RasterMosaic can join
+// (same CRS, bands, sample type, pixel size and nodata, at whole pixels from each other), in
+// list order; groups come in the order of their first file. Throws Error naming a file that is
+// missing, unreadable or without usable georeferencing.
+std::vector<std::vector<std::string>> groupByGrid(const std::vector<std::string>& paths);
+
 class RasterMosaic {
 public:
     static constexpr size_t kOpenFiles = 64;

@@ -43,6 +43,22 @@ const char* GeoExtent::brokenRule() const {
     return nullptr;
 }
 
+bool GeodeticMap::mayCover(double south, double north, double west, double east, bool allLongitudes) const {
+    const GeoExtent& e = extent();
+    if (north < e.south || south > e.north) {
+        return false;
+    }
+    if (allLongitudes || e.global()) {
+        return true;
+    }
+    for (int turn = -2; turn <= 2; ++turn) {
+        if (east >= e.west + 360.0 * turn && west <= e.east + 360.0 * turn) {
+            return true;
+        }
+    }
+    return false;
+}
+
 EquirectSampler::EquirectSampler(const RasterSource& source, const GeoExtent& extent, int c0, int c1,
                                  SampleRead read, std::optional<double> nodata)
     : EquirectSampler(source, MapPlacement(extent), c0, c1, read, nodata) {}

@@ -49,7 +49,26 @@ enum class SampleRead { Float, UInt16 };
 class GeoreferencedMap;
 struct MapPlacement;
 
-class EquirectSampler {
+// A planet's map as the face samplers see it: values at geodetic points. One raster
+// (EquirectSampler, below) or several, each placed by its own georeferencing (map_mosaic.hpp).
+class GeodeticMap {
+public:
+    virtual ~GeodeticMap() = default;
+    virtual int channels() const = 0;
+    // A geographic box holding every point that has a value (reports, coverage).
+    virtual const GeoExtent& extent() const = 0;
+    // True when every point may have a value (the coverage test is not worth making).
+    virtual bool everywhere() const { return extent().global(); }
+    // False only when no point of the box [south, north] x [west, east] (degrees, longitudes
+    // unwrapped: west may be below -180, east above 180; every longitude when `allLongitudes`)
+    // can have a value. By default, whether the box meets extent().
+    virtual bool mayCover(double south, double north, double west, double east, bool allLongitudes) const;
+    // Samples `count` points. out: count * channels() values, interleaved; valid: count flags
+    // (1 = a value, 0 = none; out is 0 there). Thread-safe.
+    virtual void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const = 0;
+};
+
+class EquirectSampler final : public GeodeticMap {
 public:
     // Channels [c0, c1) are sampled; `nodata` marks missing pixels (NaN allowed). Throws Error
     // naming the file for channels it does not have.
@@ -59,14 +78,14 @@ public:
     EquirectSampler(const RasterSource& source, const MapPlacement& placement, int c0, int c1, SampleRead read,
                     std::optional<double> nodata);
 
-    int channels() const { return c1_ - c0_; }
-    const GeoExtent& extent() const { return extent_; }
+    int channels() const override { return c1_ - c0_; }
+    const GeoExtent& extent() const override { return extent_; }
 
     // Samples `count` points. out: count * channels() values, interleaved; valid: count flags
     // (1 = a value, 0 = nodata; out is 0 there). Reads one window around the points when it is
     // small, else a 2 x 2 window per point, so memory stays bounded by the number of points.
     // Thread-safe.
-    void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const;
+    void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const override;
 
 private:
     const RasterSource& source_;

@@ -5,7 +5,7 @@
 
 namespace pyramid {
 
-FaceSampler::FaceSampler(const EquirectSampler& map, const PlanetBody& body, int face, FaceGrid grid, double scale)
+FaceSampler::FaceSampler(const GeodeticMap& map, const PlanetBody& body, int face, FaceGrid grid, double scale)
     : map_(map), body_(body), face_(face), grid_(grid), scale_(scale) {
     (void)cubePoint(grid_, FaceSample{face_, 0, 0}); // rejects a bad face number here, not mid-run
 }
@@ -52,8 +52,7 @@ void FaceSampler::sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int
 }
 
 bool FaceSampler::mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
-    const GeoExtent& e = map_.extent();
-    if (e.global()) {
+    if (map_.everywhere()) {
         return true;
     }
     // The outline, counter-clockwise in face samples, K points per side.
@@ -97,19 +96,8 @@ bool FaceSampler::mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) 
         south = -90.0;
         allLongitudes = true;
     }
-    if (north < e.south || south > e.north) {
-        return false;
-    }
-    if (allLongitudes || aroundPole) {
-        return true;
-    }
     const double margin = 2.0 * longitudeStep;
-    for (int turn = -2; turn <= 2; ++turn) {
-        if (east + margin >= e.west + 360.0 * turn && west - margin <= e.east + 360.0 * turn) {
-            return true;
-        }
-    }
-    return false;
+    return map_.mayCover(south, north, west - margin, east + margin, allLongitudes || aroundPole);
 }
 
 GroundSampleDistance faceGroundSampleDistance(const PlanetBody& body, int face, const FaceGrid& grid) {

@@ -19,7 +19,7 @@ namespace pyramid {
 class FaceSampler {
 public:
     // `scale` multiplies every sampled value (e.g. 10000/255 for heights stored as 8-bit red).
-    FaceSampler(const EquirectSampler& map, const PlanetBody& body, int face, FaceGrid grid, double scale = 1.0);
+    FaceSampler(const GeodeticMap& map, const PlanetBody& body, int face, FaceGrid grid, double scale = 1.0);
 
     int face() const { return face_; }
     const FaceGrid& grid() const { return grid_; }
@@ -44,7 +44,7 @@ public:
     bool mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const;
 
 private:
-    const EquirectSampler& map_;
+    const GeodeticMap& map_;
     const PlanetBody& body_;
     int face_;
     FaceGrid grid_;

@@ -95,11 +95,17 @@ std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncod
 }
 
 DemReport encodeDem(const std::string& input, const std::string& output, const DemEncodeOptions& options) {
+    return encodeDem(std::vector<std::string>{input}, output, options);
+}
+
+DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& output, const DemEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     options.validate();
-    auto source = RasterSource::open(input, options.cacheMegabytes);
+    auto source = RasterSource::openMosaic(inputs, options.cacheMegabytes);
+    const std::string& input = source->path();
     DemReport report;
     report.input = input;
+    report.inputs = inputs;
     report.output = output;
     report.inputInfo = source->info();
     report.band = options.band;
@@ -155,7 +161,9 @@ nlohmann::json toJson(const DemReport& r) {
                           {"rms_error", l.rmsError},
                           {"max_abs_residual", l.maxAbsResidual}});
     }
-    return {{"input", demInputJson(r.input, r.inputInfo, r.band, r.nodata)},
+    nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
+    input["files"] = r.inputs;
+    return {{"input", input},
             {"output", r.output},
             {"sampling", r.sampling},
             {"header", {{"min_level", r.header.minLevel},

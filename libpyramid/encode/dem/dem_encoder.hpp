@@ -44,7 +44,8 @@ struct DemEncodeOptions : ResidualEncodeOptions {
 
 // What the encoder measured (ResidualPyramidReport), and of which input.
 struct DemReport : ResidualPyramidReport {
-    std::string input;
+    std::string input;               // the input, or the first of several and how many more
+    std::vector<std::string> inputs; // every file read, in priority order
     std::string output;
     RasterInfo inputInfo;
     int band = 0;                 // 0-based, as DemEncodeOptions
@@ -71,6 +72,9 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
 // one-line message on bad input, impossible options or int16 overflow (which names the
 // smallest scale that would fit).
 DemReport encodeDem(const std::string& input, const std::string& output, const DemEncodeOptions& options);
+// A mosaic of georeferenced files on one grid, in priority order (input/raster_mosaic.hpp:
+// read as the stitched raster would be; files on other grids are refused by name).
+DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& output, const DemEncodeOptions& options);
 
 nlohmann::json toJson(const DemReport& report);
 

@@ -11,6 +11,7 @@
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 #include "libpyramid/support/text.hpp"
 
 namespace pyramid {
@@ -38,6 +39,11 @@ private:
 
 SphericalDemReport encodeSphericalDem(const std::string& input, const std::string& directory,
                                       const SphericalDemOptions& options) {
+    return encodeSphericalDem(std::vector<std::string>{input}, directory, options);
+}
+
+SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, const std::string& directory,
+                                      const SphericalDemOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     const DemEncodeOptions& o = options.dem;
     o.validate();
@@ -51,18 +57,26 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
                                        std::to_string(o.rootTileSize));
     }
     const PlanetBody body = PlanetBody::parse(options.body);
-    auto source = RasterSource::open(input, o.cacheMegabytes);
     SphericalDemReport report;
+    MapPlacement placement;
+    std::optional<double> nodata;
+    const MapSources sources = openMapSources(inputs, options.extent, body, o.cacheMegabytes, SampleRead::Float,
+                                              o.band, o.band + 1, [&](const RasterInfo& info, const std::string& name) {
+                                                  return checkBandAndNodata(info, o, name);
+                                              });
+    const std::string input = sources.name;
+    const GeodeticMap& map = *sources.map;
+    placement = sources.placement;
+    nodata = sources.nodata;
     report.input = input;
+    report.inputs = inputs;
     report.directory = directory;
-    report.inputInfo = source->info();
+    report.inputInfo = sources.info;
     report.band = o.band;
     report.heightScale = options.heightScale;
     report.body = body.describe();
-    const MapPlacement placement = placeMap(source->info(), input, options.extent, body);
     report.extent = placement.extent;
     report.crs = placement.crs;
-    const std::optional<double> nodata = checkBandAndNodata(source->info(), o, input);
     report.nodata = nodata;
 
     // One face spans a quarter of the equator: at least width / 4 intervals match the map there.
@@ -78,9 +92,8 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
         }
         faceOptions.maxLevel = std::max(faceOptions.maxLevel, o.minLevel());
     }
-    const ResidualHeader header = planDemPyramid(source->info(), faceOptions, input);
+    const ResidualHeader header = planDemPyramid(sources.info, faceOptions, input);
     const int64_t N = static_cast<int64_t>(header.tileSize >> header.minLevel) << header.maxLevel;
-    const EquirectSampler map(*source, placement, o.band, o.band + 1, SampleRead::Float, nodata);
     report.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
 
     StagingDirectory staging(directory);
@@ -117,7 +130,7 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
         const std::string name = options.name + std::to_string(face) + ".dat";
         fr.dem.input = input;
         fr.dem.output = (std::filesystem::path(directory) / name).string();
-        fr.dem.inputInfo = source->info();
+        fr.dem.inputInfo = sources.info;
         fr.dem.band = o.band;
         fr.dem.nodata = nodata;
         fr.dem.sampling = "face " + std::to_string(face) + " of the cube, " + std::to_string(N) +
@@ -153,6 +166,7 @@ nlohmann::json toJson(const SphericalDemReport& r) {
     }
     nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
     input["height_scale"] = r.heightScale;
+    input["files"] = r.inputs;
     return {{"input", input},
             {"directory", r.directory},
             {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},

@@ -41,7 +41,8 @@ struct SphericalDemFaceReport {
 };
 
 struct SphericalDemReport {
-    std::string input;
+    std::string input;               // the input, or the first of several and how many more
+    std::vector<std::string> inputs; // every file read, in priority order
     std::string directory;
     RasterInfo inputInfo;
     int band = 0;                 // 0-based
@@ -59,6 +60,12 @@ struct SphericalDemReport {
 // end, or not at all when a face fails. Throws Error with a one-line message on bad input,
 // impossible options or int16 overflow.
 SphericalDemReport encodeSphericalDem(const std::string& input, const std::string& directory,
+                                      const SphericalDemOptions& options);
+// A mosaic of georeferenced files, in priority order: files on one grid are read as one raster
+// (input/raster_mosaic.hpp), several grids are each placed by their own georeferencing, the
+// finest giving a point its height where they overlap (sphere/map_mosaic.hpp). One file is
+// encodeSphericalDem(file).
+SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, const std::string& directory,
                                       const SphericalDemOptions& options);
 
 nlohmann::json toJson(const SphericalDemReport& report);

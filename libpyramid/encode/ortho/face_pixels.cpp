@@ -36,10 +36,10 @@ std::string degrees(double d) {
 } // namespace
 
 FacePixels::FacePixels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,
-                       int channels, int64_t width)
+                       int channels, int64_t width, const GeodeticMap* map)
     : channels_(channels), sixteen_(source.info().type == SampleType::UInt16), body_(body),
-      map_(source, placement, 0, channels, SampleRead::UInt16, std::nullopt),
-      face_(map_, body_, face, FaceGrid{width, FaceGridKind::PixelCentres}) {
+      own_(map ? nullptr : std::make_unique<EquirectSampler>(source, placement, 0, channels, SampleRead::UInt16, std::nullopt)),
+      map_(map ? *map : *own_), face_(map_, body_, face, FaceGrid{width, FaceGridKind::PixelCentres}) {
     const int64_t W = width;
     const GeoExtent& extent = placement.extent;
     const std::string from = placement.map ? "the map in " + placement.crs + " within " : "the map's extent ";

@@ -5,6 +5,7 @@
 // neighbouring faces), from which its tiles take their borders.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "libpyramid/encode/ortho/pixel_source.hpp"
@@ -20,8 +21,11 @@ class FacePixels final : public PixelSource {
 public:
     // Face `face` (1..6) of `body`, `width` pixels across at the finest level, from the first
     // `channels` channels of `source` (which must outlive this object) placed by `placement`.
+    // With `map`, the pixels come from it (several rasters each placed by its own
+    // georeferencing, sphere/map_mosaic.hpp: channels [0, channels) read as UInt16, of the
+    // sample type of `source`) instead of `source` itself.
     FacePixels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face, int channels,
-               int64_t width);
+               int64_t width, const GeodeticMap* map = nullptr);
     FacePixels(const FacePixels&) = delete; // map_ and face_ refer to the members before them
     FacePixels& operator=(const FacePixels&) = delete;
 
@@ -41,7 +45,8 @@ private:
     int channels_ = 0;
     bool sixteen_ = false;
     PlanetBody body_;
-    EquirectSampler map_;
+    std::unique_ptr<EquirectSampler> own_; // the map of `source`, unless one was given
+    const GeodeticMap& map_;
     FaceSampler face_;
     std::string sampling_;
 };

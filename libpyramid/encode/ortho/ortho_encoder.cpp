@@ -288,9 +288,13 @@ void OrthoEncodeOptions::validate() const {
 }
 
 OrthoReport encodeOrtho(const std::string& input, const std::string& directory, const OrthoEncodeOptions& o) {
+    return encodeOrtho(std::vector<std::string>{input}, directory, o);
+}
+
+OrthoReport encodeOrtho(const std::vector<std::string>& inputs, const std::string& directory, const OrthoEncodeOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     o.validate();
-    const OrthoLevels levels(input, o.levels);
+    const OrthoLevels levels(inputs, o.levels);
     StagingDirectory staging(directory);
     OrthoReport report = encodeLevels(levels, directory, staging, o, start);
     if (const auto& g = levels.inputInfo().georeference; g && g->problem.empty()) {

@@ -85,6 +85,9 @@ struct OrthoReport {
 // The outputs appear together when every one is complete (formats/staging_directory.hpp), or
 // not at all.
 OrthoReport encodeOrtho(const std::string& input, const std::string& directory, const OrthoEncodeOptions& options);
+// A mosaic of georeferenced images on one grid, in priority order (input/raster_mosaic.hpp).
+OrthoReport encodeOrtho(const std::vector<std::string>& inputs, const std::string& directory,
+                        const OrthoEncodeOptions& options);
 // The same from true tiles already set up (e.g. one cube face), into a staging directory of
 // `directory` that the caller commits (with the other faces): options.levels is not used, the
 // files are named options.name.

@@ -152,10 +152,14 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
     threads = o.threads > 0 ? o.threads : omp_get_max_threads();
 }
 
-OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) : impl_(std::make_unique<Impl>()) {
+OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o)
+    : OrthoLevels(std::vector<std::string>{input}, o) {}
+
+OrthoLevels::OrthoLevels(const std::vector<std::string>& inputs, const OrthoLevelsOptions& o)
+    : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     o.validate();
-    m.ownedSource = RasterSource::open(input, o.cacheMegabytes);
+    m.ownedSource = RasterSource::openMosaic(inputs, o.cacheMegabytes);
     m.source = m.ownedSource.get();
     const RasterInfo& info = m.source->info();
     const int64_t longest = std::max(info.width, info.height);
@@ -164,7 +168,7 @@ OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o) 
 }
 
 OrthoLevels::OrthoLevels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,
-                         const OrthoLevelsOptions& o)
+                         const OrthoLevelsOptions& o, const GeodeticMap* map)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     o.validate();
@@ -179,7 +183,7 @@ OrthoLevels::OrthoLevels(const RasterSource& source, const MapPlacement& placeme
     // resolution.
     m.init(o, placement.crs.empty() ? (static_cast<int64_t>(source.info().width) + 3) / 4
                                     : static_cast<int64_t>(std::ceil(placement.columnsAround / 4.0)));
-    m.pixels = std::make_unique<FacePixels>(source, placement, body, face, m.channels, m.levelWidth(m.M));
+    m.pixels = std::make_unique<FacePixels>(source, placement, body, face, m.channels, m.levelWidth(m.M), map);
 }
 
 OrthoLevels::~OrthoLevels() = default;

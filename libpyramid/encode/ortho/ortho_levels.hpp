@@ -82,11 +82,14 @@ class OrthoLevels {
 public:
     // A planar pyramid of the image file `input`.
     OrthoLevels(const std::string& input, const OrthoLevelsOptions& options);
+    // Of a mosaic of georeferenced files on one grid, in priority order (input/raster_mosaic.hpp).
+    OrthoLevels(const std::vector<std::string>& inputs, const OrthoLevelsOptions& options);
     // Cube face `face` (1..6) of `body`, from the image `source` placed by `placement` (a plate
-    // carree over an extent, or georeferenced). `source` must outlive this object; it may serve
-    // several faces at once.
+    // carree over an extent, or georeferenced), or with `map` from that map (several images each
+    // placed by its own georeferencing; `source` is then one of them, for its description).
+    // `source` and `map` must outlive this object; they may serve several faces at once.
     OrthoLevels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,
-                const OrthoLevelsOptions& options);
+                const OrthoLevelsOptions& options, const GeodeticMap* map = nullptr);
     ~OrthoLevels();
 
     int tileSize() const;

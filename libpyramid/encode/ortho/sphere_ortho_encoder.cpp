@@ -1,5 +1,6 @@
 #include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -7,12 +8,18 @@
 #include "formats/staging_directory.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 #include "libpyramid/sphere/planet_body.hpp"
 #include "libpyramid/input/raster_source.hpp"
 
 namespace pyramid {
 
 SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::string& directory,
+                                          const SphericalOrthoOptions& o) {
+    return encodeSphericalOrtho(std::vector<std::string>{input}, directory, o);
+}
+
+SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs, const std::string& directory,
                                           const SphericalOrthoOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     const PlanetBody body = PlanetBody::parse(o.body);
@@ -23,19 +30,44 @@ SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::s
     if (o.ortho.name.empty()) {
         failOption("name", "'' is not a plain file name"); // the face number alone would pass for one
     }
-    const std::unique_ptr<RasterSource> source = RasterSource::open(input, o.ortho.levels.cacheMegabytes);
-    const MapPlacement placement = placeMap(source->info(), input, o.extent, body);
+    if (inputs.empty()) {
+        fail("input", "no input files");
+    }
+    // The bands and sample type every file must have: the first file's.
+    const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
+    // (A wrong channel count is refused by OrthoLevels, naming the option.)
+    const int channels = std::min({o.ortho.levels.channels > 0 ? o.ortho.levels.channels : 4, first.channels, 4});
+    const MapSources sources = openMapSources(
+        inputs, o.extent, body, o.ortho.levels.cacheMegabytes, SampleRead::UInt16, 0, channels,
+        [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
+            if (info.channels != first.channels || info.type != first.type) {
+                fail(name, std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
+                               std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +
+                               inputs[0]);
+            }
+            return std::nullopt;
+        });
+    const std::string& input = sources.name;
+    const MapPlacement& placement = sources.placement;
+    // Several grids: the faces sample the mosaic; one of its files describes the input.
+    std::unique_ptr<RasterSource> described;
+    if (!sources.source) {
+        described = RasterSource::open(inputs[0], 1);
+    }
+    const RasterSource& source = sources.source ? *sources.source : *described;
+    const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
     // Every face set up before any is written: the input and the options are checked once, and a
     // bad one leaves no file behind.
     std::vector<std::unique_ptr<OrthoLevels>> faces;
     int64_t total = 0;
     for (const int f : o.faces) {
-        faces.push_back(std::make_unique<OrthoLevels>(*source, placement, body, f, o.ortho.levels));
+        faces.push_back(std::make_unique<OrthoLevels>(source, placement, body, f, o.ortho.levels, map));
         total += faces.back()->tileCount();
     }
 
     SphericalOrthoReport report;
     report.input = input;
+    report.inputs = inputs;
     report.directory = directory;
     report.body = body.describe();
     report.extent = placement.extent;
@@ -78,6 +110,7 @@ nlohmann::json toJson(const SphericalOrthoReport& r) {
         faces.push_back({{"face", f.face}, {"ortho", toJson(f.ortho)}, {"ground_sample_distance", gsd}});
     }
     return {{"input", r.input},
+            {"inputs", r.inputs},
             {"directory", r.directory},
             {"body", r.body},
             {"crs", r.crs.empty() ? nlohmann::json() : nlohmann::json(r.crs)}, // null: not georeferenced

@@ -36,7 +36,8 @@ struct SphericalOrthoFaceReport {
 };
 
 struct SphericalOrthoReport {
-    std::string input;
+    std::string input;               // the input, or the first of several and how many more
+    std::vector<std::string> inputs; // every file read, in priority order
     std::string directory;
     std::string body; // PlanetBody::describe()
     GeoExtent extent; // the image's (a projected one: a geographic box around it)
@@ -50,6 +51,11 @@ struct SphericalOrthoReport {
 // or option at fault; options are checked before any file is written, and each face's files
 // appear whole or not at all.
 SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::string& directory,
+                                          const SphericalOrthoOptions& options);
+// A mosaic of georeferenced images, in priority order: files on one grid read as one raster,
+// several grids each placed by its own georeferencing, the finest giving a pixel its colour
+// where they overlap (sphere/map_sources.hpp). They must share the band count and sample type.
+SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs, const std::string& directory,
                                           const SphericalOrthoOptions& options);
 
 nlohmann::json toJson(const SphericalOrthoReport& report);

@@ -1,0 +1,56 @@
+#include "libpyramid/sphere/map_sources.hpp"
+
+#include <algorithm>
+
+#include "formats/error.hpp"
+#include "libpyramid/input/raster_mosaic.hpp"
+#include "libpyramid/sphere/map_mosaic.hpp"
+
+namespace pyramid {
+
+MapSources openMapSources(const std::vector<std::string>& inputs, const std::optional<GeoExtent>& extent,
+                          const PlanetBody& body, int cacheMegabytes, SampleRead read, int c0, int c1,
+                          const std::function<std::optional<double>(const RasterInfo&, const std::string&)>& nodataOf) {
+    if (inputs.empty()) {
+        fail("input", "no input files");
+    }
+    MapSources m;
+    const std::vector<std::vector<std::string>> groups =
+        inputs.size() == 1 ? std::vector<std::vector<std::string>>{inputs} : groupByGrid(inputs);
+    if (groups.size() == 1) {
+        m.source = RasterSource::openMosaic(groups[0], cacheMegabytes);
+        m.name = m.source->path();
+        m.info = m.source->info();
+        if (inputs.size() > 1 && extent) {
+            failOption("extent", "a mosaic of georeferenced files places itself: " + m.name + " takes no extent");
+        }
+        m.placement = placeMap(m.info, m.name, extent, body);
+        m.nodata = nodataOf(m.info, m.name);
+        m.map = std::make_unique<EquirectSampler>(*m.source, m.placement, c0, c1, read, m.nodata);
+        return m;
+    }
+    if (extent) {
+        failOption("extent", "a mosaic of georeferenced files places itself: " + inputs[0] + " and " +
+                                 std::to_string(inputs.size() - 1) + " more take no extent");
+    }
+    auto mosaic = std::make_unique<MapMosaic>(groups, body, c0, c1, read, nodataOf, cacheMegabytes);
+    const MapMosaic::Member& finest = mosaic->members()[0];
+    m.name = inputs[0] + " and " + std::to_string(inputs.size() - 1) + " more";
+    m.info = finest.info;
+    m.nodata = finest.nodata;
+    m.placement.extent = mosaic->extent();
+    m.placement.columnsAround = mosaic->columnsAround();
+    std::vector<std::string> crss;
+    for (const MapMosaic::Member& member : mosaic->members()) {
+        if (std::find(crss.begin(), crss.end(), member.placement.crs) == crss.end()) {
+            crss.push_back(member.placement.crs);
+        }
+    }
+    for (const std::string& crs : crss) {
+        m.placement.crs += (m.placement.crs.empty() ? "" : ", ") + crs;
+    }
+    m.map = std::move(mosaic);
+    return m;
+}
+
+} // namespace pyramid

@@ -1,0 +1,36 @@
+// The inputs of a spherical tool opened as one planet's map: a file, files on one grid read as
+// one raster (input/raster_mosaic.hpp), or several grids each placed by its own
+// georeferencing (map_mosaic.hpp). The one place that decides which, for the DEM and ortho
+// tools alike.
+#pragma once
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/sphere/map_placement.hpp"
+#include "libpyramid/sphere/planet_body.hpp"
+
+namespace pyramid {
+
+struct MapSources {
+    std::string name;               // the input, or "FIRST and N more"
+    RasterInfo info;                // the raster's; of several grids, the finest one's
+    MapPlacement placement;         // of several grids: their union's box, their CRSs, the finest resolution
+    std::optional<double> nodata;   // the raster's (of several grids: each has its own)
+    std::unique_ptr<RasterSource> source; // the raster; null for several grids
+    std::unique_ptr<GeodeticMap> map;     // channels [c0, c1), read as `read`
+};
+
+// `inputs` in priority order (first listed first where files of one resolution overlap).
+// `extent` places a raster without georeferencing (map_placement.hpp); several files must be
+// georeferenced, and then take no extent (OptionError("extent")). `nodataOf(info, name)` gives a
+// raster's nodata value and checks what the tool needs of it (may throw).
+MapSources openMapSources(const std::vector<std::string>& inputs, const std::optional<GeoExtent>& extent,
+                          const PlanetBody& body, int cacheMegabytes, SampleRead read, int c0, int c1,
+                          const std::function<std::optional<double>(const RasterInfo&, const std::string&)>& nodataOf);
+
+} // namespace pyramid
