@@ -64,7 +64,8 @@ std::string epsgName(const GeoTiffLibrary& lib, int code, bool projected) {
     return s;
 }
 
-// Readable names of the GeoTIFF coordinate transformations, for the messages that refuse them.
+// Readable names of the GeoTIFF coordinate transformations, for the messages that refuse them;
+// null for a code GeoTIFF does not define.
 const char* methodName(int ct) {
     static const std::map<int, const char*> names{
         {CT_TransverseMercator, "transverse Mercator"},
@@ -98,20 +99,48 @@ const char* methodName(int ct) {
         {CT_HotineObliqueMercatorAzimuthCenter, "Hotine oblique Mercator (azimuth at centre)"},
     };
     const auto it = names.find(ct);
-    return it == names.end() ? "an unknown projection method" : it->second;
+    return it == names.end() ? nullptr : it->second;
 }
 
 // EPSG:3857 and its retired aliases: spherical Mercator formulas applied to WGS84 coordinates,
 // which no GeoTIFF coordinate transformation code describes.
 bool isWebMercator(int pcs) { return pcs == 3857 || pcs == 3785 || pcs == 900913; }
 
-Projection projectionOf(const GTIFDefn& d, int pcs) {
+// Whether a projection parameter is an angle (in the geographic CRS's unit when given by keys).
+bool angularParameter(int key) {
+    switch (key) {
+    case ProjNatOriginLatGeoKey:
+    case ProjNatOriginLongGeoKey:
+    case ProjFalseOriginLatGeoKey:
+    case ProjFalseOriginLongGeoKey:
+    case ProjCenterLatGeoKey:
+    case ProjCenterLongGeoKey:
+    case ProjStdParallel1GeoKey:
+    case ProjStdParallel2GeoKey:
+    case ProjStraightVertPoleLongGeoKey:
+        return true;
+    default:
+        return false;
+    }
+}
+
+// The projection of `d`; its angular parameters are multiplied by `angleDegrees` (the degrees of
+// the unit they are in). `byKeys`: the method is the file's ProjCoordTransGeoKey.
+Projection projectionOf(const GTIFDefn& d, int pcs, bool byKeys, double angleDegrees) {
     Projection p;
-    p.name = methodName(d.CTProjection);
+    if (d.CTProjection == KvUserDefined) {
+        p.method = ProjectionMethod::None;
+        p.name = "none";
+    } else if (const char* name = methodName(d.CTProjection)) {
+        p.name = name;
+    } else {
+        p.name = std::string("unknown (") + (byKeys ? "ProjCoordTransGeoKey " : "EPSG method ") +
+                 std::to_string(d.CTProjection) + ")";
+    }
     std::map<int, double> parm;
     for (int k = 0; k < d.nParms && k < MAX_GTIF_PROJPARMS; ++k) {
         if (d.ProjParmId[k] != 0) {
-            parm[d.ProjParmId[k]] = d.ProjParm[k];
+            parm[d.ProjParmId[k]] = d.ProjParm[k] * (angularParameter(d.ProjParmId[k]) ? angleDegrees : 1.0);
         }
     }
     auto get = [&](std::initializer_list<int> keys, double fallback) {
@@ -145,6 +174,42 @@ Projection projectionOf(const GTIFDefn& d, int pcs) {
         p.method = ProjectionMethod::Mercator;
     }
     return p;
+}
+
+// The degrees of the geographic CRS's angular unit (of its coordinates, its prime meridian's
+// user-defined longitude and the projection parameters its keys give), or why there is none.
+// libgeotiff knows the EPSG units, leaves a user-defined one at a degree (its size,
+// GeogAngularUnitSizeGeoKey in radians, is read here), and takes a sexagesimal notation or an
+// unknown code for a degree too.
+double angularUnit(const GeoTiffLibrary& lib, GTIF* gtif, const GTIFDefn& d, std::string& why) {
+    unsigned short key = 0;
+    const bool given = lib.keyGet(gtif, GeogAngularUnitsGeoKey, &key, 0, 1) == 1;
+    if (d.UOMAngle == KvUserDefined) {
+        if (!given) {
+            return 1.0; // a user-defined geographic CRS that names no unit: degrees, as GDAL reads it
+        }
+        double radians = 0.0;
+        if (lib.keyGet(gtif, GeogAngularUnitSizeGeoKey, &radians, 0, 1) == 1 && std::isfinite(radians) &&
+            radians > 0.0) {
+            return radians * 180.0 / 3.14159265358979323846;
+        }
+        why = "has a user-defined GeogAngularUnitsGeoKey (32767) without GeogAngularUnitSizeGeoKey, its size in "
+              "radians";
+        return 1.0;
+    }
+    const int code = d.UOMAngle;
+    // EPSG's sexagesimal notations (DDD.MMSSsss and the like) are not multiples of an angle.
+    if (code == 9110 || code == 9111 || (code >= 9115 && code <= 9121)) {
+        why = "has GeogAngularUnitsGeoKey " + std::to_string(code) +
+              ", a sexagesimal notation, not a unit of angle: no affine transform maps pixels to it";
+        return 1.0;
+    }
+    const bool degree = code == 9102 || code == 9107 || code == 9108 || code == 9122; // and its notations
+    if (d.UOMAngleInDegrees == 1.0 && !degree) {
+        why = "has GeogAngularUnitsGeoKey " + std::to_string(code) + ", which is no angular unit of the EPSG database";
+        return 1.0;
+    }
+    return d.UOMAngleInDegrees > 0.0 ? d.UOMAngleInDegrees : 1.0;
 }
 
 // pixelToCrs from the ModelTransformation tag, or from one tiepoint and the pixel scale.
@@ -264,11 +329,24 @@ std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
     if (!(g.semiMajorAxis > 0.0) && g.problem.empty()) {
         g.problem = "names no ellipsoid for its datum";
     }
-    g.primeMeridian = d.PMLongToGreenwich;
     g.unitInMetres = d.UOMLengthInMeters > 0.0 ? d.UOMLengthInMeters : 1.0;
-    g.unitInDegrees = d.UOMAngleInDegrees > 0.0 ? d.UOMAngleInDegrees : 1.0;
+    // The angular unit matters to geographic coordinates, and to the parameters of a projection
+    // given by keys (ProjCoordTransGeoKey): those of an EPSG code come in degrees.
+    unsigned short coordTrans = 0;
+    const bool parametersByKeys = lib->keyGet(gtif.get(), ProjCoordTransGeoKey, &coordTrans, 0, 1) == 1;
+    std::string unitProblem;
+    g.unitInDegrees = angularUnit(*lib, gtif.get(), d, unitProblem);
+    if (!unitProblem.empty() && g.problem.empty() && (!g.projected || parametersByKeys)) {
+        g.problem = unitProblem;
+    }
+    const bool userDefinedUnit = d.UOMAngle == KvUserDefined;
+    // libgeotiff converts an EPSG prime meridian, and a user-defined longitude in an EPSG unit.
+    g.primeMeridian = d.PMLongToGreenwich * (d.PM == KvUserDefined && userDefinedUnit ? g.unitInDegrees : 1.0);
     if (g.projected) {
-        g.projection = projectionOf(d, pcs);
+        // libgeotiff up to 1.7.3 returns the angular parameters of keys in the unit they are in
+        // (later versions convert those of EPSG units), and never converts a user-defined unit.
+        const bool raw = parametersByKeys && (userDefinedUnit || LIBGEOTIFF_VERSION <= 1730);
+        g.projection = projectionOf(d, pcs, parametersByKeys, raw ? g.unitInDegrees : 1.0);
     }
     return g;
 }

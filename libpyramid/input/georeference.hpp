@@ -4,7 +4,8 @@
 //
 // What is read: the GeoKeys (GTModelTypeGeoKey, the projected or geographic CRS, its datum's
 // ellipsoid, units, prime meridian and projection parameters, normalised by libgeotiff's
-// GTIFGetDefn, which looks EPSG codes up in PROJ's database), GTRasterTypeGeoKey, and the
+// GTIFGetDefn, which looks EPSG codes up in PROJ's database; a user-defined angular unit's size,
+// GeogAngularUnitSizeGeoKey, which it leaves unread, is read here), GTRasterTypeGeoKey, and the
 // ModelTransformation tag or else one ModelTiepoint with ModelPixelScale. The raster-type
 // convention is resolved here once: `pixelToCrs` always takes PixelIsArea coordinates, in which
 // (0, 0) is the top-left corner of the first pixel and (col + 0.5, row + 0.5) the centre of
@@ -22,11 +23,23 @@
 namespace pyramid {
 
 // The projection methods the spherical tools can forward-project; Other is anything else
-// (`Projection::name` says which).
-enum class ProjectionMethod { TransverseMercator, PolarStereographic, LambertConformalConic, Mercator, WebMercator, Other };
+// (`Projection::name` says which); None: the CRS names no method (a user-defined
+// ProjectedCSTypeGeoKey without ProjectionGeoKey or ProjCoordTransGeoKey, or a code the EPSG
+// database does not hold).
+enum class ProjectionMethod {
+    TransverseMercator,
+    PolarStereographic,
+    LambertConformalConic,
+    Mercator,
+    WebMercator,
+    Other,
+    None
+};
 
-// Parameters as libgeotiff normalises them: angles in degrees, lengths in metres. NaN when the
-// file does not give one.
+// Parameters as libgeotiff normalises them: angles in degrees (those given by keys converted from
+// the geographic CRS's angular unit, as GeoTIFF defines them), lengths in metres. Longitudes
+// count from the CRS's prime meridian (Georeference::primeMeridian), as EPSG defines them: NTF
+// (Paris) / Lambert zone II's central meridian is 0. NaN when the file does not give one.
 struct Projection {
     ProjectionMethod method = ProjectionMethod::Other;
     std::string name; // "transverse Mercator", "Lambert azimuthal equal-area", ...
@@ -47,7 +60,7 @@ struct Georeference {
     double flattening = 0.0;
     double primeMeridian = 0.0; // degrees east of Greenwich (geographic longitudes count from it)
     double unitInMetres = 1.0;  // projected: one CRS unit (metre, US survey foot, ...)
-    double unitInDegrees = 1.0; // geographic: one CRS unit (degree, grad, ...)
+    double unitInDegrees = 1.0; // geographic: one CRS unit (degree, grad, radian, a user-defined size)
     Projection projection;      // projected CRSs only
     // CRS x = t[0] + t[1] col + t[2] row, y = t[3] + t[4] col + t[5] row, in PixelIsArea pixel
     // coordinates (above). Geographic: x is the longitude, y the latitude.

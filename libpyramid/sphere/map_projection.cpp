@@ -121,7 +121,10 @@ private:
 
 } // namespace
 
-std::unique_ptr<MapProjection> MapProjection::of(const Georeference& g, const std::string& path) {
+std::unique_ptr<MapProjection> MapProjection::of(const Georeference& crs, const std::string& path) {
+    // The projection's longitudes count from the CRS's prime meridian: from Greenwich's here.
+    Georeference g = crs;
+    g.projection.originLongitude = Math::AngNormalize(g.projection.originLongitude + g.primeMeridian);
     switch (g.projection.method) {
     case ProjectionMethod::TransverseMercator:
         return std::make_unique<CentralMeridianProjection<GeographicLib::TransverseMercator>>(
@@ -134,6 +137,11 @@ std::unique_ptr<MapProjection> MapProjection::of(const Georeference& g, const st
         return std::make_unique<MercatorProjection>(g, false);
     case ProjectionMethod::WebMercator:
         return std::make_unique<MercatorProjection>(g, true);
+    case ProjectionMethod::None:
+        fail(path, g.crsText() + " names no projection method: " +
+                       (g.epsg > 0 ? "ProjectedCSTypeGeoKey " + std::to_string(g.epsg) +
+                                         " is not in the EPSG database libgeotiff reads"
+                                   : std::string("neither ProjectionGeoKey nor ProjCoordTransGeoKey is given")));
     case ProjectionMethod::Other:
         break;
     }

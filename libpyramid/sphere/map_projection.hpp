@@ -17,8 +17,10 @@
 //   applied to the ellipsoid's geodetic latitude (a = 6378137 m): what the EPSG method 1024
 //   defines, neither conformal nor on the ellipsoid.
 //
-// Longitudes are reduced to within 180 degrees of the central meridian. Anything else is refused
-// by MapProjection::of, naming the CRS and the method.
+// Longitudes are geodetic, east of Greenwich: a CRS's central meridian, which counts from its prime
+// meridian, is taken that far east of Greenwich (NTF (Paris) / Lambert zone II's 0 is 2.33722917
+// degrees east). They are reduced to within 180 degrees of the central meridian. Anything else is
+// refused by MapProjection::of, naming the CRS and the method (or the key a CRS without one lacks).
 #pragma once
 #include <memory>
 #include <string>

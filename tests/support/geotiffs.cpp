@@ -29,6 +29,23 @@ GeoTiffTags projectedTags(int epsg, double x0, double y0, double step) {
     return t;
 }
 
+GeoTiffTags userProjectedTags(int geographicType, int coordTrans,
+                              const std::vector<std::pair<int, double>>& parameters) {
+    GeoTiffTags t;
+    t.shortKeys = {{GTModelTypeGeoKey, ModelTypeProjected},   {GTRasterTypeGeoKey, RasterPixelIsArea},
+                   {ProjectedCSTypeGeoKey, KvUserDefined},   {ProjectionGeoKey, KvUserDefined},
+                   {ProjCoordTransGeoKey, coordTrans},       {ProjLinearUnitsGeoKey, Linear_Meter},
+                   {GeographicTypeGeoKey, geographicType}};
+    t.doubleKeys = parameters;
+    return t;
+}
+
+void setTransformation(GeoTiffTags& tags, const std::array<double, 6>& t) {
+    tags.tiepoints.clear();
+    tags.pixelScale.clear();
+    tags.transformation = {t[1], t[2], 0.0, t[0], t[4], t[5], 0.0, t[3], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+}
+
 namespace {
 
 void write(const std::string& path, int width, int height, int channels, int bits, int format, const void* values,

@@ -1,6 +1,7 @@
 // Small GeoTIFFs for tests, written with libtiff and libgeotiff (no GDAL): float32 heights or
 // 8-bit RGB, with the GeoKeys and placement tags a test chooses.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -22,6 +23,17 @@ struct GeoTiffTags {
 GeoTiffTags geographicTags(int epsg, double west, double north, double step, bool pixelIsPoint = false);
 // A projected CRS by EPSG code, north-up, top-left corner at (x0, y0), pixels of `step` CRS units.
 GeoTiffTags projectedTags(int epsg, double x0, double y0, double step);
+
+// A projected CRS defined by its keys alone: ProjectedCSTypeGeoKey and ProjectionGeoKey
+// user-defined (32767), ProjCoordTransGeoKey `coordTrans` (CT_TransverseMercator...) with its
+// parameters (GeoKey, value: angles in the geographic CRS's angular unit, lengths in metres),
+// ProjLinearUnitsGeoKey metre, over the geographic CRS `geographicType` (an EPSG code, or 32767
+// with the caller's datum keys). No tiepoint or pixel scale: the caller places the grid.
+GeoTiffTags userProjectedTags(int geographicType, int coordTrans,
+                              const std::vector<std::pair<int, double>>& parameters);
+// The ModelTransformation of a pixel-to-CRS transform t (x = t0 + t1 col + t2 row, y = t3 + t4 col
+// + t5 row; PixelIsArea), in place of any tiepoint and pixel scale.
+void setTransformation(GeoTiffTags& tags, const std::array<double, 6>& t);
 
 // Writes width x height float32 samples (row 0 first), one band.
 void writeGeoTiff(const std::string& path, int width, int height, const std::vector<float>& values,
