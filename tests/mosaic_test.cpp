@@ -2,7 +2,8 @@
 // * Seams: four tiles cut from one raster give the bytes of the pyramid built from the whole
 //   raster, planar and spherical, DEM and ortho;
 // * overlaps at two resolutions take the finer file; a UTM map beside a geographic one joins
-//   within the resampling error;
+//   within the resampling error; planar mosaics of several grids are resampled onto the finest,
+//   whose own samples are kept as they are;
 // * on the command line, a VRT over the tiles, a list file and a directory give the same bytes
 //   as the files named one by one; a file without georeferencing and a missing one are refused
 //   by name, with nothing written.
@@ -23,6 +24,7 @@
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/map_projection.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/sphere_placement.hpp"
@@ -237,6 +239,81 @@ TEST(Mosaic, UtmBesideGeographicJoinsWithoutASeam) {
     }
     EXPECT_GT(checked, 150);
     EXPECT_GT(near, 10); // vertices at the seam itself
+}
+
+TEST(Mosaic, PlanarGridsAreResampledOntoTheFinest) {
+    test::TempDir dir;
+    const test::Slope slope(46.5, -121.5);
+    // The finest: geographic, 1/256 degree over 121.6..121.4 W, 46.6..46.4 N. Beside it to the
+    // east and overlapping it, UTM 10N at 1 km: its pixels are resampled onto the geographic grid.
+    const int GW = 51, GH = 51;
+    std::vector<float> g(static_cast<size_t>(GW * GH));
+    for (int j = 0; j < GH; ++j) {
+        for (int i = 0; i < GW; ++i) {
+            g[static_cast<size_t>(i + j * GW)] =
+                static_cast<float>(slope(46.6 - (j + 0.5) / 256.0, -121.6 + (i + 0.5) / 256.0)) + 0.001f * static_cast<float>(i % 3);
+        }
+    }
+    const std::string geo = dir.file("geo.tif");
+    test::writeGeoTiff(geo, GW, GH, g, test::geographicTags(4326, -121.6, 46.6, 1.0 / 256.0));
+    const std::string utm = dir.file("utm.tif");
+    test::writeGeoTiff(utm, 1, 1, {0.0f}, test::projectedTags(32610, 0, 0, 1));
+    const auto projection = MapProjection::of(*RasterSource::open(utm)->info().georeference, utm);
+    double ux0 = 0, uy0 = 0, ux1 = 0, uy1 = 0;
+    ASSERT_TRUE(projection->forward(46.62, -121.45, ux0, uy0));
+    ASSERT_TRUE(projection->forward(46.38, -121.2, ux1, uy1));
+    const double step = 1000.0;
+    const int UW = static_cast<int>((ux1 - ux0) / step), UH = static_cast<int>((uy0 - uy1) / step);
+    std::vector<float> u(static_cast<size_t>(UW * UH));
+    for (int j = 0; j < UH; ++j) {
+        for (int i = 0; i < UW; ++i) {
+            double lat = 0, lon = 0;
+            projection->reverse(ux0 + (i + 0.5) * step, uy0 - (j + 0.5) * step, lat, lon);
+            u[static_cast<size_t>(i + j * UW)] = static_cast<float>(slope(lat, lon));
+        }
+    }
+    test::writeGeoTiff(utm, UW, UH, u, test::projectedTags(32610, ux0, uy0, step));
+    // The UTM map listed first: resolution decides the grid, not the order.
+    const auto mosaic = openPlanarMosaic({utm, geo}, 16);
+    const RasterInfo& info = mosaic->info();
+    ASSERT_TRUE(info.georeference);
+    EXPECT_EQ(info.georeference->crsText(), "EPSG:4326 (WGS 84)");
+    const auto& t = info.georeference->pixelToCrs;
+    EXPECT_DOUBLE_EQ(t[1], 1.0 / 256.0);
+    EXPECT_GT(info.width, GW + 40); // reaches east over the UTM map
+    std::vector<float> all(static_cast<size_t>(info.width) * static_cast<size_t>(info.height));
+    mosaic->readFloat(0, 0, info.width, info.height, 0, all.data());
+    int own = 0, resampled = 0, holes = 0;
+    for (int j = 0; j < info.height; ++j) {
+        for (int i = 0; i < info.width; ++i) {
+            const double lon = t[0] + (i + 0.5) * t[1], lat = t[3] + (j + 0.5) * t[5];
+            const float v = all[static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(info.width)];
+            const int gi = static_cast<int>(std::lround((lon + 121.6) * 256.0 - 0.5));
+            const int gj = static_cast<int>(std::lround((46.6 - lat) * 256.0 - 0.5));
+            if (gi >= 0 && gi < GW && gj >= 0 && gj < GH) {
+                ++own;
+                ASSERT_EQ(v, g[static_cast<size_t>(gi + gj * GW)]) << i << "," << j; // as it is
+            } else if (lon > -121.44 && lon < -121.22 && lat > 46.39 && lat < 46.61) {
+                ++resampled;
+                EXPECT_NEAR(v, slope(lat, lon), 0.5) << lat << "," << lon;
+            } else if (lon < -121.47 && (lat > 46.605 || lat < 46.395)) {
+                ++holes; // above and below the geographic map, west of the UTM one: no file
+                EXPECT_TRUE(std::isnan(v)) << lat << "," << lon;
+            }
+        }
+    }
+    EXPECT_EQ(own, GW * GH);
+    EXPECT_GT(resampled, 1000);
+    EXPECT_GT(holes, 0);
+    // And through the encoder: a planar pyramid of both, placed on the geographic grid.
+    DemEncodeOptions o;
+    o.tileSize = 32;
+    o.rootTileSize = 4;
+    o.scale = 0.25;
+    const DemReport r = encodeDem({utm, geo}, dir.file("both.dat"), o);
+    ASSERT_TRUE(r.georeference);
+    EXPECT_GT(r.levels.back().samples, 5000);
+    EXPECT_LE(r.levels.back().maxError, 0.125);
 }
 
 TEST(Mosaic, CommandLinesTakeListsDirectoriesAndVrts) {

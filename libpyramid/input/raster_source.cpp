@@ -26,6 +26,7 @@ struct RasterSource::Impl {
     std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
     std::unique_ptr<PngRasterReader> png;    // 8/16-bit PNG, decoded whole
     std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
+    std::shared_ptr<const RasterPixels> computed; // or pixels a caller computes
     // Everything else goes through OpenImageIO's ImageCache in the image I/O module, opened
     // the first time a read needs it (or at once when no direct reader knows the file).
     mutable std::once_flag moduleOnce;
@@ -107,6 +108,20 @@ std::unique_ptr<RasterSource> RasterSource::openMosaic(const std::vector<std::st
     return source;
 }
 
+std::unique_ptr<RasterSource> RasterSource::fromPixels(const std::string& name, const RasterInfo& info,
+                                                      std::shared_ptr<const RasterPixels> pixels) {
+    if (info.width < 1 || info.height < 1 || info.channels < 1 || !pixels) {
+        fail(name, "empty image");
+    }
+    std::unique_ptr<RasterSource> source(new RasterSource());
+    source->impl_ = std::make_unique<Impl>();
+    source->impl_->path = name;
+    source->impl_->computed = std::move(pixels);
+    source->path_ = name;
+    source->info_ = info;
+    return source;
+}
+
 RasterSource::~RasterSource() = default;
 
 namespace {
@@ -151,6 +166,10 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
     const Impl& impl = *impl_;
     if (impl.mosaic) {
         impl.mosaic->readFloat(x0, y0, x1, y1, channel, out);
+        return;
+    }
+    if (impl.computed) {
+        impl.computed->readFloat(x0, y0, x1, y1, channel, out);
         return;
     }
     if (impl.floats) {
@@ -203,6 +222,10 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
         impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, out);
         return;
     }
+    if (impl.computed) {
+        impl.computed->readUInt16(x0, y0, x1, y1, c0, c1, out);
+        return;
+    }
     if (impl.pixels) {
         if (!impl.pixels->readUInt16(x0, y0, x1, y1, c0, c1, out)) {
             failRead(path_);
@@ -239,10 +262,14 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
         fail(path_, "readUInt8 on samples that are not 8-bit unsigned");
     }
     const Impl& impl = *impl_;
-    if (impl.mosaic) {
+    if (impl.mosaic || impl.computed) {
         const size_t rowValues = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
         std::vector<uint16_t> words(rowValues * static_cast<size_t>(y1 - y0));
-        impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
+        if (impl.mosaic) {
+            impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
+        } else {
+            impl.computed->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
+        }
         for (int y = y0; y < y1; ++y) {
             const uint16_t* from = words.data() + static_cast<size_t>(y - y0) * rowValues;
             std::transform(from, from + rowValues,

@@ -17,6 +17,16 @@
 
 namespace pyramid {
 
+// Pixels computed by their owner (a raster resampled from others, a procedural map): what a
+// RasterSource made of them reads (RasterSource::fromPixels). Both reads are thread-safe and
+// take windows already checked against the raster.
+class RasterPixels {
+public:
+    virtual ~RasterPixels() = default;
+    virtual void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const = 0;
+    virtual void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const = 0;
+};
+
 class RasterSource {
 public:
     // Throws Error("PATH: ...") when the file is missing, unreadable or not an image.
@@ -25,6 +35,9 @@ public:
     // of joining, overlaps and gaps); one path is open(path). path() names the first file and
     // how many more. Throws Error naming a file that is missing or does not fit the grid.
     static std::unique_ptr<RasterSource> openMosaic(const std::vector<std::string>& paths, int cacheMegabytes = 256);
+    // A raster of `info` whose samples `pixels` computes; `name` stands for its path.
+    static std::unique_ptr<RasterSource> fromPixels(const std::string& name, const RasterInfo& info,
+                                                    std::shared_ptr<const RasterPixels> pixels);
     ~RasterSource();
     RasterSource(const RasterSource&) = delete;
     RasterSource& operator=(const RasterSource&) = delete;

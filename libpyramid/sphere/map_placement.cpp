@@ -122,18 +122,26 @@ bool GeoreferencedMap::pixelOf(const GeodeticPoint& p, double& col, double& row)
     if (!bounds_.global() && (lon < bounds_.west || lon > bounds_.east)) {
         return false;
     }
-    double x = 0.0, y = 0.0;
-    if (!crsOf(p.latitude, p.longitude, x, y)) {
+    double c = 0.0, r = 0.0;
+    if (!cornerPixelOf(p, c, r)) {
         return false;
     }
-    const auto& t = crs_.pixelToCrs;
-    const double c = crsToPixel_[0] * (x - t[0]) + crsToPixel_[1] * (y - t[3]);
-    const double r = crsToPixel_[2] * (x - t[0]) + crsToPixel_[3] * (y - t[3]);
     if (!(c >= 0.0 && c <= static_cast<double>(width_) && r >= 0.0 && r <= static_cast<double>(height_))) {
         return false;
     }
     col = c - 0.5;
     row = r - 0.5;
+    return true;
+}
+
+bool GeoreferencedMap::cornerPixelOf(const GeodeticPoint& p, double& cornerCol, double& cornerRow) const {
+    double x = 0.0, y = 0.0;
+    if (!crsOf(p.latitude, p.longitude, x, y)) {
+        return false;
+    }
+    const auto& t = crs_.pixelToCrs;
+    cornerCol = crsToPixel_[0] * (x - t[0]) + crsToPixel_[1] * (y - t[3]);
+    cornerRow = crsToPixel_[2] * (x - t[0]) + crsToPixel_[3] * (y - t[3]);
     return true;
 }
 

@@ -34,6 +34,11 @@ public:
     // The position of `p` in pixel-centre coordinates ((0, 0) is the centre of the first pixel)
     // when it lies on the map's pixels (their outer edges included); false otherwise.
     bool pixelOf(const GeodeticPoint& p, double& col, double& row) const;
+    // The geodetic point at PixelIsArea coordinates ((0, 0) the first pixel's top-left corner,
+    // (0.5, 0.5) its centre), and back: the point's PixelIsArea coordinates wherever it lies
+    // (false only where the projection has none). For resampling onto this map's grid.
+    GeodeticPoint geodeticOf(double cornerCol, double cornerRow) const;
+    bool cornerPixelOf(const GeodeticPoint& p, double& cornerCol, double& cornerRow) const;
     // A geographic box that holds every pixel (west may be below -180 or east above 180): points
     // outside it are not projected, so a projection's far side never lands on the map.
     const GeoExtent& bounds() const { return bounds_; }
@@ -42,7 +47,6 @@ public:
 
 private:
     bool crsOf(double latitude, double longitude, double& x, double& y) const;
-    GeodeticPoint geodeticOf(double cornerCol, double cornerRow) const;
 
     Georeference crs_;
     int64_t width_, height_;

@@ -6,6 +6,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/text.hpp"
 
 namespace pyramid {
@@ -101,7 +102,7 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
 DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& output, const DemEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     options.validate();
-    auto source = RasterSource::openMosaic(inputs, options.cacheMegabytes);
+    auto source = openPlanarMosaic(inputs, options.cacheMegabytes);
     const std::string& input = source->path();
     DemReport report;
     report.input = input;

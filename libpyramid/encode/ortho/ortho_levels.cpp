@@ -8,6 +8,7 @@
 #include "formats/error.hpp"
 #include "libpyramid/encode/ortho/face_pixels.hpp"
 #include "libpyramid/encode/ortho/planar_pixels.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/morton.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -159,7 +160,7 @@ OrthoLevels::OrthoLevels(const std::vector<std::string>& inputs, const OrthoLeve
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     o.validate();
-    m.ownedSource = RasterSource::openMosaic(inputs, o.cacheMegabytes);
+    m.ownedSource = openPlanarMosaic(inputs, o.cacheMegabytes);
     m.source = m.ownedSource.get();
     const RasterInfo& info = m.source->info();
     const int64_t longest = std::max(info.width, info.height);
