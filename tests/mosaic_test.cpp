@@ -354,6 +354,10 @@ TEST(Mosaic, CommandLinesTakeListsDirectoriesAndVrts) {
         EXPECT_TRUE(bytesOf(out) == expected) << ways[k];
         EXPECT_NE(r.out.find("\"files\""), std::string::npos) << r.out;
     }
+    // pyramid verify takes the mosaic as its source, as a VRT.
+    const test::RunResult v = test::run(test::programPath("pyramid") + " verify " + dir.file("way0.dat") + " --source " +
+                                        dir.file("tiles.vrt"));
+    EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
     // Refusals name the file; nothing is written.
     const std::string plain = dir.file("plain.tif");
     test::writeGeoTiff(plain, 4, 4, std::vector<float>(16, 1.0f), test::GeoTiffTags{});

@@ -120,11 +120,23 @@ private:
 
 } // namespace
 
-std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& inputs, int cacheMegabytes) {
+std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& inputs, int cacheMegabytes,
+                                               bool sameSamples) {
     if (inputs.size() <= 1) {
         return RasterSource::openMosaic(inputs, cacheMegabytes);
     }
     const std::vector<std::vector<std::string>> groups = groupByGrid(inputs);
+    if (sameSamples && groups.size() > 1) {
+        const RasterInfo first = RasterSource::open(groups[0][0], 1)->info();
+        for (size_t k = 1; k < groups.size(); ++k) {
+            const RasterInfo info = RasterSource::open(groups[k][0], 1)->info();
+            if (info.channels != first.channels || info.type != first.type) {
+                fail(groups[k][0], std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
+                                       std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +
+                                       groups[0][0]);
+            }
+        }
+    }
     if (groups.size() == 1) {
         return RasterSource::openMosaic(groups[0], cacheMegabytes);
     }

@@ -19,7 +19,10 @@
 namespace pyramid {
 
 // `inputs` in priority order. Throws Error naming a file that is missing, has no usable
-// georeferencing (when there are several), or a CRS that cannot be placed.
-std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& inputs, int cacheMegabytes);
+// georeferencing (when there are several), or a CRS that cannot be placed; with
+// `sameSamples` (imagery, whose colours are not numbers to convert), a file whose band count or
+// sample type differs from the first's.
+std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& inputs, int cacheMegabytes,
+                                               bool sameSamples = false);
 
 } // namespace pyramid

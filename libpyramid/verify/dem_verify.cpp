@@ -8,7 +8,9 @@
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/parallel.hpp"
 
 namespace pyramid {
@@ -24,7 +26,9 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
     if (h.rootLevel != 0) {
         fail(file, "a region file cannot be verified on its own against a whole-map source");
     }
-    const auto source = RasterSource::open(sourcePath);
+    // The source as the preprocessor read it: a file, or the files a VRT, directory or glob
+    // names, joined or resampled as preprocessDem does (sphere/planar_mosaic.hpp).
+    const auto source = openPlanarMosaic(expandInputs({sourcePath}).paths, 256);
     std::optional<double> nodata = options.nodata;
     if (!nodata && !options.ignoreDeclaredNodata) {
         nodata = source->info().nodata;

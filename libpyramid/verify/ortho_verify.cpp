@@ -9,6 +9,7 @@
 #include "formats/ortho_file.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -59,8 +60,10 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     lo.stretch = options.stretch;
     lo.threads = options.threads;
     // A DXT1 file says 3 channels whatever the source had (1 to 3, expanded to RGB).
-    lo.channels = h.dxt() && h.channels == 3 ? std::min(3, RasterSource::open(source)->info().channels) : h.channels;
-    const OrthoLevels levels(source, lo);
+    // The source as the preprocessor read it: a file, or the files a VRT, directory or glob names.
+    const std::vector<std::string> sources = expandInputs({source}).paths;
+    lo.channels = h.dxt() && h.channels == 3 ? std::min(3, RasterSource::open(sources[0])->info().channels) : h.channels;
+    const OrthoLevels levels(sources, lo);
     std::shared_ptr<ColourProducer> residuals;
     if (options.colourResiduals) {
         residuals = std::make_shared<ColourProducer>(std::make_shared<OrthoProducer>(file), 1024);
