@@ -170,7 +170,7 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
             }
         }
     }
-    open_.resize(members_.size());
+    open_ = std::make_unique<OpenSet<RasterSource>>(members_.size(), kOpenFiles);
 }
 
 RasterMosaic::~RasterMosaic() = default;
@@ -193,26 +193,9 @@ std::vector<size_t> RasterMosaic::membersIn(int x0, int y0, int x1, int y1) cons
 }
 
 std::shared_ptr<const RasterSource> RasterMosaic::openMember(size_t k) const {
-    std::unique_lock<std::mutex> lock(mutex_);
-    if (open_[k]) {
-        recent_.remove(k);
-        recent_.push_front(k);
-        return open_[k];
-    }
-    lock.unlock();
-    std::shared_ptr<const RasterSource> source = RasterSource::open(members_[k].path, memberCacheMegabytes_);
-    lock.lock();
-    if (open_[k]) {
-        return open_[k]; // opened by another thread meanwhile
-    }
-    open_[k] = source;
-    recent_.push_front(k);
-    // Beyond the limit, the least recently used is closed once its readers are done with it.
-    while (recent_.size() > kOpenFiles) {
-        open_[recent_.back()].reset();
-        recent_.pop_back();
-    }
-    return source;
+    return open_->get(k, [&] {
+        return std::shared_ptr<const RasterSource>(RasterSource::open(members_[k].path, memberCacheMegabytes_));
+    });
 }
 
 template <typename T, typename Read>

@@ -13,14 +13,13 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
-#include <list>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "libpyramid/input/raster_info.hpp"
+#include "libpyramid/support/open_set.hpp"
 
 namespace pyramid {
 
@@ -70,9 +69,7 @@ private:
     int memberCacheMegabytes_ = 4;
     int cellWidth_ = 1, cellHeight_ = 1, cellsAcross_ = 1;
     std::vector<std::vector<size_t>> cells_;
-    mutable std::mutex mutex_;
-    mutable std::vector<std::shared_ptr<const RasterSource>> open_; // by member; null when closed
-    mutable std::list<size_t> recent_;                              // open members, most recent first
+    std::unique_ptr<OpenSet<RasterSource>> open_; // members open now
 };
 
 } // namespace pyramid

@@ -94,7 +94,7 @@ MapMosaic::MapMosaic(const std::vector<std::vector<std::string>>& groups, const 
             cells_[static_cast<size_t>(row) * 360 + static_cast<size_t>(column)].push_back(k);
         });
     }
-    open_.resize(members_.size());
+    open_ = std::make_unique<OpenSet<Open>>(members_.size(), kOpenMembers);
 }
 
 MapMosaic::~MapMosaic() = default;
@@ -119,28 +119,13 @@ bool MapMosaic::mayCover(double south, double north, double west, double east, b
 }
 
 std::shared_ptr<const MapMosaic::Open> MapMosaic::open(size_t k) const {
-    std::unique_lock<std::mutex> lock(mutex_);
-    if (open_[k]) {
-        recent_.remove(k);
-        recent_.push_front(k);
-        return open_[k];
-    }
-    lock.unlock();
-    const Member& m = members_[k];
-    auto opened = std::make_shared<Open>();
-    opened->source = RasterSource::openMosaic(m.paths, memberCacheMegabytes_);
-    opened->sampler = std::make_unique<EquirectSampler>(*opened->source, m.placement, c0_, c1_, read_, m.nodata);
-    lock.lock();
-    if (open_[k]) {
-        return open_[k];
-    }
-    open_[k] = opened;
-    recent_.push_front(k);
-    while (recent_.size() > kOpenMembers) {
-        open_[recent_.back()].reset(); // closed once its last reader is done
-        recent_.pop_back();
-    }
-    return opened;
+    return open_->get(k, [&] {
+        const Member& m = members_[k];
+        auto opened = std::make_shared<Open>();
+        opened->source = RasterSource::openMosaic(m.paths, memberCacheMegabytes_);
+        opened->sampler = std::make_unique<EquirectSampler>(*opened->source, m.placement, c0_, c1_, read_, m.nodata);
+        return std::shared_ptr<const Open>(std::move(opened));
+    });
 }
 
 void MapMosaic::sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const {

@@ -13,9 +13,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
-#include <list>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +22,7 @@
 #include "libpyramid/sphere/equirect_sampler.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/sphere/planet_body.hpp"
+#include "libpyramid/support/open_set.hpp"
 
 namespace pyramid {
 
@@ -74,9 +73,7 @@ private:
     GeoExtent extent_;
     double columnsAround_ = 0.0;
     std::vector<std::vector<size_t>> cells_; // 360 x 180 one-degree cells, west to east, south to north
-    mutable std::mutex mutex_;
-    mutable std::vector<std::shared_ptr<const Open>> open_;
-    mutable std::list<size_t> recent_;
+    std::unique_ptr<OpenSet<Open>> open_; // members open now
 };
 
 } // namespace pyramid
