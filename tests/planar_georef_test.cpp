@@ -11,6 +11,7 @@
 
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/runtime/height_query.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
@@ -86,6 +87,34 @@ TEST(PlanarGeoreference, OrthoReportAndSidecar) {
     EXPECT_EQ(sidecar["crs"]["epsg"], 4326);
     EXPECT_EQ(sidecar["samples"], "pixel centres");
     EXPECT_EQ(sidecar["pyramid"], "RGB.dat");
+}
+
+// Longitude and latitude find the same place on a pyramid whose input counts them in grads from
+// the Paris meridian (EPSG:4807, NTF Paris) as on one whose input counts degrees from Greenwich.
+TEST(PlanarGeoreference, LonLatOfGradsFromParis) {
+    test::TempDir dir;
+    const int W = 40, H = 30;
+    std::vector<float> heights(static_cast<size_t>(W * H));
+    for (size_t k = 0; k < heights.size(); ++k) {
+        heights[k] = static_cast<float>(k % 97);
+    }
+    const double west = 3.0, north = 46.0, step = 1.0 / 64.0, paris = 2.33722917, grad = 0.9;
+    test::writeGeoTiff(dir.file("degrees.tif"), W, H, heights, test::geographicTags(4326, west, north, step));
+    test::writeGeoTiff(dir.file("grads.tif"), W, H, heights,
+                       test::geographicTags(4807, (west - paris) / grad, north / grad, step / grad));
+    DemEncodeOptions o;
+    o.tileSize = 16;
+    o.rootTileSize = 4;
+    encodeDem(dir.file("degrees.tif"), dir.file("degrees.dat"), o);
+    encodeDem(dir.file("grads.tif"), dir.file("grads.dat"), o);
+    for (const auto& [lon, lat] : {std::pair{3.1, 45.9}, std::pair{3.5, 45.7}, std::pair{3.01, 45.55}}) {
+        const auto a = crsToRootQuad(dir.file("degrees.dat"), lon, lat, true);
+        const auto b = crsToRootQuad(dir.file("grads.dat"), lon, lat, true);
+        EXPECT_NEAR(a[0], b[0], 1e-6) << lon << "," << lat;
+        EXPECT_NEAR(a[1], b[1], 1e-6) << lon << "," << lat;
+        EXPECT_GT(a[0], 0.0);
+        EXPECT_LT(a[0], 1.0);
+    }
 }
 
 } // namespace

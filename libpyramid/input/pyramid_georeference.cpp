@@ -66,6 +66,7 @@ nlohmann::json toJson(const PyramidGeoreference& g) {
         crs["prime_meridian_degrees"] = c.primeMeridian;
     }
     return {{"crs", crs},
+            {"rotated", !c.axisAligned()},
             {"samples", g.samples},
             {"root_extent", boxJson(g.rootExtent)},
             {"data_extent", boxJson(g.dataExtent)},
@@ -95,6 +96,12 @@ SidecarPlacement readGeoreferenceSidecar(const std::string& sidecar) {
         const nlohmann::json& box = j.at("root_extent");
         p.rootExtent = {box.at("min_x").get<double>(), box.at("min_y").get<double>(), box.at("max_x").get<double>(),
                         box.at("max_y").get<double>()};
+        const nlohmann::json& crs = j.at("crs");
+        if (p.geographic) {
+            p.unitInDegrees = crs.value("unit_degrees", 1.0);
+            p.primeMeridian = crs.value("prime_meridian_degrees", 0.0);
+        }
+        p.rotated = j.value("rotated", false);
         return p;
     } catch (const nlohmann::json::exception& e) {
         fail(sidecar, std::string("not a georeference sidecar: ") + e.what());

@@ -48,6 +48,9 @@ void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyr
 struct SidecarPlacement {
     bool geographic = false;
     std::array<double, 4> rootExtent{}; // min x, min y, max x, max y
+    double unitInDegrees = 1.0;         // geographic: one CRS unit
+    double primeMeridian = 0.0;         // geographic: degrees east of Greenwich
+    bool rotated = false;               // the input's transform turns its pixels off north-up
 };
 // Throws Error naming `sidecar` when it is missing or is not such a file.
 SidecarPlacement readGeoreferenceSidecar(const std::string& sidecar);

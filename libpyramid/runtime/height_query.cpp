@@ -63,6 +63,14 @@ std::array<double, 2> crsToRootQuad(const std::string& file, double x, double y,
     if (geographic && !p.geographic) {
         fail(sidecar, "the input's CRS is projected: give the point in its units, not as longitude and latitude");
     }
+    if (p.rotated) {
+        fail(sidecar, "the input's pixels are rotated off north-up: give the point with --grid or --pixel");
+    }
+    if (geographic) {
+        // Degrees east of Greenwich to the CRS's units from its prime meridian (grads, Paris...).
+        x = (x - p.primeMeridian) / p.unitInDegrees;
+        y = y / p.unitInDegrees;
+    }
     const auto& e = p.rootExtent;
     return {(x - e[0]) / (e[2] - e[0]), (y - e[1]) / (e[3] - e[1])};
 }

@@ -27,9 +27,10 @@ PointHeight heightAt(ElevationProducer& producer, double u, double v, int level 
 PointHeight fileHeightAt(const std::string& file, double u, double v);
 
 // The root quad's (u, v) of the point (x, y) in the CRS of the input a planar file was built
-// from (longitude and latitude for a geographic CRS, which `geographic` then requires), placed by
-// the sidecar written beside the file (input/pyramid_georeference.hpp). Throws Error when the
-// file has no sidecar, or its CRS is not geographic when required.
+// from (with `geographic`, which a geographic CRS requires: longitude and latitude in degrees
+// from Greenwich, turned into the CRS's units from its prime meridian), placed by the sidecar
+// written beside the file (input/pyramid_georeference.hpp). Throws Error when the file has no
+// sidecar, its CRS is not geographic when required, or its input was rotated off north-up.
 std::array<double, 2> crsToRootQuad(const std::string& file, double x, double y, bool geographic);
 
 } // namespace pyramid
