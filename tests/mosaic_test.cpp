@@ -6,7 +6,7 @@
 //   whose own samples are kept as they are;
 // * on the command line, a VRT over the tiles, a list file and a directory give the same bytes
 //   as the files named one by one; a file without georeferencing and a missing one are refused
-//   by name, with nothing written.
+//   by name, with nothing written; --priority last lets the last listed file win overlaps.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -371,6 +371,29 @@ TEST(Mosaic, CommandLinesTakeListsDirectoriesAndVrts) {
     EXPECT_FALSE(test::fileExists(dir.file("x.dat")));
     const test::RunResult r3 = test::run(dem + " -o " + dir.file("x.dat") + common);
     EXPECT_EQ(r3.exitCode, 2) << r3.err;
+}
+
+TEST(Mosaic, PriorityLastLetsTheLastListedWin) {
+    test::TempDir dir;
+    // Two tiles overlapping by 10 columns with other heights there: which one wins shows.
+    const Grid g{7.0, 46.0, 1.0 / 64.0};
+    const std::string a = cut(dir, "a.tif", g, 0, 0, 40, 40);
+    std::vector<float> v(40 * 40);
+    for (int y = 0; y < 40; ++y) {
+        for (int x = 0; x < 40; ++x) {
+            v[static_cast<size_t>(x + y * 40)] = heightAt(30 + x, y) + 100.0f;
+        }
+    }
+    const std::string b = dir.file("b.tif");
+    test::writeGeoTiff(b, 40, 40, v, test::geographicTags(4326, 7.0 + 30.0 / 64.0, 46.0, 1.0 / 64.0));
+    const std::string dem = test::programPath("preprocessDem");
+    const std::string common = " --tile-size 32 --root-tile-size 4 --scale 0.25 -q -o ";
+    ASSERT_EQ(test::run(dem + " " + a + " " + b + common + dir.file("ab.dat")).exitCode, 0);
+    ASSERT_EQ(test::run(dem + " " + b + " " + a + common + dir.file("ba.dat")).exitCode, 0);
+    ASSERT_EQ(test::run(dem + " " + a + " " + b + " --priority last" + common + dir.file("last.dat")).exitCode, 0);
+    EXPECT_FALSE(bytesOf(dir.file("ab.dat")) == bytesOf(dir.file("ba.dat")));
+    EXPECT_TRUE(bytesOf(dir.file("last.dat")) == bytesOf(dir.file("ba.dat")));
+    EXPECT_EQ(test::run(dem + " " + a + " --priority middle" + common + dir.file("x.dat")).exitCode, 2);
 }
 
 } // namespace
