@@ -27,6 +27,17 @@ namespace {
 
 template <typename T>
 void accumulate(uint8_t* row, size_t count, size_t channels) {
+    if (channels == 1) {
+        // One band (DEMs): the running sum stays in a register.
+        T previous = 0;
+        for (size_t i = 0; i < count; ++i) {
+            T v;
+            std::memcpy(&v, row + i * sizeof(T), sizeof(T));
+            previous = static_cast<T>(previous + v);
+            std::memcpy(row + i * sizeof(T), &previous, sizeof(T));
+        }
+        return;
+    }
     // Sample i adds the one `channels` samples before it (the same channel of the pixel to its
     // left); the first pixel's samples stand as they are.
     for (size_t i = channels; i < count * channels; ++i) {
