@@ -162,6 +162,24 @@ std::vector<std::string> InputArgs::resolve() const {
     return paths;
 }
 
+PlanarTarget PlanarTargetArgs::resolve() const {
+    PlanarTarget target;
+    target.crs = crs;
+    if (!extent.empty()) {
+        target.extent = PlanarTarget::parseExtent(extent);
+    }
+    return target;
+}
+
+void addPlanarTargetOptions(CLI::App& app, PlanarTargetArgs& args) {
+    app.add_option("--crs", args.crs,
+                   "EPSG:N: resample the inputs into this CRS (default: the first input's CRS, and files in it on "
+                   "their own grid are read as they are)");
+    app.add_option("--extent", args.extent,
+                   "MINX,MINY,MAXX,MAXY in the CRS's units: the ground the pyramid covers (default: the union of "
+                   "the inputs'); outside the inputs is nodata");
+}
+
 void addInputOptions(CLI::App& app, InputArgs& args, const char* inputHelp) {
     app.add_option("INPUT", args.inputs,
                    std::string(inputHelp) +

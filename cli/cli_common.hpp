@@ -13,6 +13,7 @@
 
 #include "cli/commands.hpp"
 #include "libpyramid/input/pyramid_georeference.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 
 namespace CLI {
 class App;
@@ -52,6 +53,14 @@ struct InputArgs {
 };
 // Declares INPUT... (at least one unless --input-list is given), --input-list and --priority.
 void addInputOptions(CLI::App& app, InputArgs& args, const char* inputHelp);
+
+// --crs and --extent of the planar commands (preprocessDem, preprocessOrtho, pyramid verify).
+struct PlanarTargetArgs {
+    std::string crs;
+    std::string extent;
+    PlanarTarget resolve() const; // throws OptionError("extent", ...) for a bad extent
+};
+void addPlanarTargetOptions(CLI::App& app, PlanarTargetArgs& args);
 
 // Progress on stderr: "LABEL: 42% (1234/2938 tiles)". Redrawn in place on a terminal, a line
 // every 10% otherwise, nothing when quiet. Thread-safe.

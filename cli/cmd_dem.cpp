@@ -12,13 +12,16 @@ namespace pyramid::cli {
 
 CommandRunner setupDemCommand(CLI::App& app) {
     auto args = std::make_shared<DemArgs>();
+    auto target = std::make_shared<PlanarTargetArgs>();
     addDemOptions(app, args, "Elevation raster (any format OpenImageIO reads)",
                   "Residual pyramid file to write (e.g. DEM.dat)",
                   "The file's maxLevel, counted from the root tile (default: the smallest pyramid whose finest level holds "
                   "every input sample); the original tools' dstMaxLevel counts otherwise: see --dst-max-level");
     app.add_flag("--stretch", args->options.stretch, "Stretch width and height independently onto the square root quad");
-    return [args]() {
+    addPlanarTargetOptions(app, *target);
+    return [args, target]() {
         DemEncodeOptions options = resolveDemOptions(*args);
+        options.target = target->resolve();
         checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t done, int64_t total) {

@@ -11,14 +11,17 @@ namespace pyramid::cli {
 
 CommandRunner setupOrthoCommand(CLI::App& app) {
     auto a = std::make_shared<OrthoArgs>();
+    auto target = std::make_shared<PlanarTargetArgs>();
     addOrthoOptions(app, a, "Imagery: 1-4 channels of 8 or 16 bits (any format OpenImageIO reads)",
                     "Output directory: NAME.dat, dxt/NAME.dat, residuals/NAME.dat",
                     "The files' maxLevel (default: the smallest whose tile-size << maxLevel holds the longer side)");
     app.add_flag("--stretch", a->options.levels.stretch,
                  "Stretch width and height independently onto the square root quad");
+    addPlanarTargetOptions(app, *target);
     addOrthoRunOptions(app, a);
-    return [a]() {
+    return [a, target]() {
         OrthoEncodeOptions options = resolveOrthoOptions(*a);
+        options.levels.target = target->resolve();
         const std::string sidecar =
             (std::filesystem::path(a->output) / georeferenceSidecarPath(options.name + ".dat")).string();
         checkReportIsNotSidecar(a->report, sidecar);

@@ -30,6 +30,7 @@ struct VerifyArgs {
     bool colourResiduals = false;
     std::string colourSpace = "srgb";
     bool gl = false;
+    PlanarTargetArgs target;
 };
 
 int verifyResidual(const VerifyArgs& a) {
@@ -40,6 +41,7 @@ int verifyResidual(const VerifyArgs& a) {
     o.band = a.band - 1;
     o.stretch = a.stretch;
     o.threads = a.threads;
+    o.target = a.target.resolve();
     const NodataChoice nodata = parseNodataChoice(a.nodata, "--nodata");
     o.nodata = nodata.value;
     o.ignoreDeclaredNodata = nodata.ignoreDeclared;
@@ -86,6 +88,7 @@ int verifyOrthoFile(const VerifyArgs& a) {
     o.stretch = a.stretch;
     o.threads = a.threads;
     o.colourResiduals = a.colourResiduals;
+    o.target = a.target.resolve();
     if (a.colourSpace == "linear" || a.colourSpace == "none") {
         o.colourSpace = ColourSpace::Linear;
     } else if (a.colourSpace != "srgb") {
@@ -120,6 +123,7 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     app.add_option("--nodata", args->nodata, "Missing-height value of the source, as preprocessDem");
     app.add_flag("--stretch", args->stretch, "The source was stretched (preprocessDem --stretch)");
     app.add_option("--threads", args->threads, "Worker threads (default: all cores)");
+    addPlanarTargetOptions(app, args->target);
     app.add_flag("--colour-residuals", args->colourResiduals,
                  "Ortho files: FILE holds colour residuals (residuals/RGB.dat); compare the rebuilt colours");
     app.add_option("--colour-space", args->colourSpace, "Ortho files: the averaging of preprocessOrtho (srgb or linear)")

@@ -209,7 +209,7 @@ TEST(InputList, VrtGivesItsSourcesOnceInOrderOfFirstAppearance) {
           "      <SourceBand>1</SourceBand>\n"
           "      <SourceProperties RasterXSize=\"256\" RasterYSize=\"256\" DataType=\"Float32\"/>\n"
           "      <SrcRect xOff=\"0\" yOff=\"0\" xSize=\"256\" ySize=\"256\" />\n"
-          "      <DstRect xOff=\"256\" yOff=\"0\" xSize=\"256\" ySize=\"256\" />\n"
+          "      <DstRect xOff=\"256\" yOff=\"0\" xSize=\"128\" ySize=\"128\" />\n"
           "    </SimpleSource>\n"
           "    <ComplexSource>\n"
           "      <SourceFilename\n relativeToVRT = '1' shared=\"0\" >\n  tiles/a.tif\n  </SourceFilename >\n"
@@ -347,6 +347,19 @@ TEST(InputList, VrtRefusalsNameTheVrtAndTheReason) {
          "band 1: a <KernelFilteredSource>: only <SimpleSource> and <ComplexSource> are read"},
         {"an averaged source", vrtOfBand("<AveragedSource><SourceFilename>a.tif</SourceFilename></AveragedSource>"),
          "band 1: a <AveragedSource>: only <SimpleSource> and <ComplexSource> are read"},
+        {"another band of the file", vrtOfBand(complexWith("<SourceBand>2</SourceBand>")),
+         "band 1: the <ComplexSource> of 'a.tif' takes its band 2 as band 1; only bands as they are in the files are "
+         "read (choose a DEM's band with --band)"},
+        {"a mask band of the file", vrtOfBand(complexWith("<SourceBand>mask,1</SourceBand>")),
+         "band 1: the <ComplexSource> of 'a.tif' takes its band mask,1 as band 1; only bands as they are in the files "
+         "are read (choose a DEM's band with --band)"},
+        {"a crop", vrtOfBand(complexWith("<SrcRect xOff=\"10\" yOff=\"0\" xSize=\"20\" ySize=\"20\"/>")),
+         "band 1: the <ComplexSource> of 'a.tif' starts at pixel (10, 0) of the file (<SrcRect>); only whole files "
+         "are read"},
+        {"part of the file", vrtOfBand(complexWith("<SourceProperties RasterXSize=\"30\" RasterYSize=\"20\"/>"
+                                                   "<SrcRect xOff=\"0\" yOff=\"0\" xSize=\"20\" ySize=\"20\"/>")),
+         "band 1: the <ComplexSource> of 'a.tif' takes 20 x 20 of its 30 x 20 pixels (<SrcRect>); only whole files are "
+         "read"},
         {"a scale ratio", vrtOfBand(complexWith("<ScaleRatio>2</ScaleRatio>")),
          "band 1: the <ComplexSource> of 'a.tif' changes its values (ScaleRatio 2); only unscaled sources are read"},
         {"a scale ratio that is no number", vrtOfBand(complexWith("<ScaleRatio>one</ScaleRatio>")),

@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -273,8 +275,15 @@ TEST(Mosaic, PlanarGridsAreResampledOntoTheFinest) {
         }
     }
     test::writeGeoTiff(utm, UW, UH, u, test::projectedTags(32610, ux0, uy0, step));
-    // The UTM map listed first: resolution decides the grid, not the order.
-    const auto mosaic = openPlanarMosaic({utm, geo}, 16);
+    // The UTM map listed first, --crs naming the geographic one: the finest file is in it, so
+    // its grid is the mosaic's; listing the geographic map first gives the same mosaic.
+    const auto mosaic = openPlanarMosaic({utm, geo}, 16, false, PlanarTarget{"EPSG:4326", std::nullopt});
+    {
+        const auto listed = openPlanarMosaic({geo, utm}, 16);
+        EXPECT_EQ(listed->info().width, mosaic->info().width);
+        EXPECT_EQ(listed->info().height, mosaic->info().height);
+        EXPECT_EQ(listed->info().georeference->pixelToCrs, mosaic->info().georeference->pixelToCrs);
+    }
     const RasterInfo& info = mosaic->info();
     ASSERT_TRUE(info.georeference);
     EXPECT_EQ(info.georeference->crsText(), "EPSG:4326 (WGS 84)");
@@ -310,10 +319,102 @@ TEST(Mosaic, PlanarGridsAreResampledOntoTheFinest) {
     o.tileSize = 32;
     o.rootTileSize = 4;
     o.scale = 0.25;
+    o.target.crs = "EPSG:4326";
     const DemReport r = encodeDem({utm, geo}, dir.file("both.dat"), o);
     ASSERT_TRUE(r.georeference);
+    EXPECT_EQ(r.georeference->crs.epsg, 4326);
     EXPECT_GT(r.levels.back().samples, 5000);
     EXPECT_LE(r.levels.back().maxError, 0.125);
+
+    // Without --crs, the first file's CRS (UTM) takes the mosaic, at the finest file's ground
+    // size (the geographic map's pixels, in metres) on whole multiples of it: everything is
+    // resampled, the geographic map's pixels too.
+    const auto inUtm = openPlanarMosaic({utm, geo}, 16);
+    const RasterInfo& ui = inUtm->info();
+    ASSERT_TRUE(ui.georeference);
+    EXPECT_EQ(ui.georeference->epsg, 32610);
+    const auto& ut = ui.georeference->pixelToCrs;
+    // The east-west side of a 1/256-degree pixel at the geographic map's centre (46.5 N).
+    const double side = 6378137.0 * (std::numbers::pi / 180.0) / 256.0 * std::cos(46.5 * std::numbers::pi / 180.0);
+    EXPECT_NEAR(ut[1], side, 0.001 * side);
+    EXPECT_EQ(ut[1], -ut[5]);
+    EXPECT_EQ(ut[2], 0.0);
+    EXPECT_LT(std::fabs(std::remainder(ut[0], ut[1])), 1e-9 * ut[1]);
+    EXPECT_LT(std::fabs(std::remainder(ut[3], ut[1])), 1e-9 * ut[1]);
+    std::vector<float> inside(static_cast<size_t>(ui.width) * static_cast<size_t>(ui.height));
+    inUtm->readFloat(0, 0, ui.width, ui.height, 0, inside.data());
+    int checked = 0;
+    for (int j = 0; j < ui.height; ++j) {
+        for (int i = 0; i < ui.width; ++i) {
+            double lat = 0, lon = 0;
+            projection->reverse(ut[0] + (i + 0.5) * ut[1], ut[3] + (j + 0.5) * ut[5], lat, lon);
+            const float v = inside[static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(ui.width)];
+            if (lon > -121.59 && lon < -121.41 && lat > 46.41 && lat < 46.59) { // inside the geographic map
+                ++checked;
+                EXPECT_NEAR(v, slope(lat, lon), 0.05) << lat << "," << lon;
+            }
+        }
+    }
+    EXPECT_GT(checked, 500);
+}
+
+TEST(Mosaic, PlanarExtentCutsAndWidensOnTheGrid) {
+    test::TempDir dir;
+    const Grid g{7.0, 46.0, 1.0 / 64.0};
+    const std::string whole = cut(dir, "whole.tif", g, 0, 0, 70, 50);
+    // A window of the file, named by ground coordinates on its pixel edges: exactly its pixels.
+    PlanarTarget window;
+    window.extent = std::array<double, 4>{7.0 + 10 * g.step, 46.0 - 40 * g.step, 7.0 + 30 * g.step, 46.0 - 5 * g.step};
+    const auto cutOut = openPlanarMosaic({whole}, 16, false, window);
+    ASSERT_EQ(cutOut->info().width, 20);
+    ASSERT_EQ(cutOut->info().height, 35);
+    std::vector<float> v(20 * 35);
+    cutOut->readFloat(0, 0, 20, 35, 0, v.data());
+    for (int y = 0; y < 35; ++y) {
+        for (int x = 0; x < 20; ++x) {
+            ASSERT_EQ(v[static_cast<size_t>(x + 20 * y)], heightAt(10 + x, 5 + y)) << x << "," << y;
+        }
+    }
+    EXPECT_DOUBLE_EQ(cutOut->info().georeference->pixelToCrs[0], 7.0 + 10 * g.step);
+    // Beyond the file, widened to whole pixels: nodata (NaN) around the file's own samples.
+    PlanarTarget wide;
+    wide.extent = std::array<double, 4>{6.95, 45.2, 8.2, 46.1};
+    const auto widened = openPlanarMosaic({whole}, 16, false, wide);
+    const RasterInfo& w = widened->info();
+    const int left = static_cast<int>(std::ceil(0.05 / g.step - 1e-9)), top = static_cast<int>(std::ceil(0.1 / g.step - 1e-9));
+    ASSERT_EQ(w.width, left + static_cast<int>(std::ceil(1.2 / g.step - 1e-9)));
+    std::vector<float> all(static_cast<size_t>(w.width) * static_cast<size_t>(w.height));
+    widened->readFloat(0, 0, w.width, w.height, 0, all.data());
+    for (int y = 0; y < w.height; ++y) {
+        for (int x = 0; x < w.width; ++x) {
+            const float got = all[static_cast<size_t>(x) + static_cast<size_t>(y) * static_cast<size_t>(w.width)];
+            const int fx = x - left, fy = y - top;
+            if (fx >= 0 && fx < 70 && fy >= 0 && fy < 50) {
+                ASSERT_EQ(got, heightAt(fx, fy)) << x << "," << y;
+            } else {
+                ASSERT_TRUE(std::isnan(got)) << x << "," << y;
+            }
+        }
+    }
+    // Targets that cannot be used are refused by option.
+    auto refused = [&](const PlanarTarget& t) -> std::string {
+        try {
+            openPlanarMosaic({whole}, 16, false, t);
+        } catch (const OptionError& e) {
+            return e.option() + ": " + e.problem();
+        }
+        return "accepted";
+    };
+    EXPECT_NE(refused(PlanarTarget{"WGS84", std::nullopt}).find("crs: 'WGS84' is not a CRS"), std::string::npos);
+    EXPECT_NE(refused(PlanarTarget{"EPSG:1", std::nullopt}).find("crs: EPSG:1 is neither"), std::string::npos);
+    EXPECT_NE(refused(PlanarTarget{"", std::array<double, 4>{0.0, 0.0, 1.0, 1.0}}).find("extent: covers none"), std::string::npos);
+    EXPECT_NE(refused(PlanarTarget{"", std::array<double, 4>{8.0, 46.0, 7.0, 47.0}}).find("extent: must be"), std::string::npos);
+    EXPECT_THROW(PlanarTarget::parseExtent("1,2,3"), OptionError);
+    EXPECT_THROW(PlanarTarget::parseExtent("1,2,3,4x"), OptionError);
+    EXPECT_EQ(PlanarTarget::parseExtent("-1,2.5,3,4e1"), (std::array<double, 4>{-1.0, 2.5, 3.0, 40.0}));
+    // The same CRS named by --crs and the whole file as the extent: the file as it is.
+    PlanarTarget same{"EPSG:4326", std::array<double, 4>{7.0, 46.0 - 50 * g.step, 7.0 + 70 * g.step, 46.0}};
+    EXPECT_EQ(openPlanarMosaic({whole}, 16, false, same)->path(), whole);
 }
 
 TEST(Mosaic, CommandLinesTakeListsDirectoriesAndVrts) {
@@ -358,6 +459,29 @@ TEST(Mosaic, CommandLinesTakeListsDirectoriesAndVrts) {
     const test::RunResult v = test::run(test::programPath("pyramid") + " verify " + dir.file("way0.dat") + " --source " +
                                         dir.file("tiles.vrt"));
     EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
+    // --extent on the file's grid: the tiles cut to a window; verify takes the same option, and
+    // without it the window is not the source any more.
+    const std::string window = " --extent 7.25,45.5,7.75,45.875";
+    const test::RunResult e = test::run(dem + " " + ways[0] + " -o " + dir.file("window.dat") + common + window +
+                                        " --report -");
+    ASSERT_EQ(e.exitCode, 0) << e.err;
+    EXPECT_NE(e.out.find("\"width\": 32"), std::string::npos) << e.out;
+    EXPECT_NE(e.out.find("\"height\": 24"), std::string::npos) << e.out;
+    const std::string verify = test::programPath("pyramid") + " verify " + dir.file("window.dat") + " --source " +
+                               dir.file("tiles.vrt");
+    EXPECT_EQ(test::run(verify + window).exitCode, 0);
+    EXPECT_EQ(test::run(verify).exitCode, 1);
+    // --crs into UTM: resampled, and verified against the same resampling.
+    const std::string utm = " --crs EPSG:32632";
+    const test::RunResult u = test::run(dem + " " + ways[0] + " -o " + dir.file("utm.dat") + common + utm + " --report -");
+    ASSERT_EQ(u.exitCode, 0) << u.err;
+    EXPECT_NE(u.out.find("\"epsg\": 32632"), std::string::npos) << u.out;
+    EXPECT_EQ(test::run(verify.substr(0, verify.find(" verify ")) + " verify " + dir.file("utm.dat") + " --source " +
+                        dir.file("tiles.vrt") + utm).exitCode, 0);
+    const test::RunResult bad = test::run(dem + " " + ways[0] + " -o " + dir.file("bad.dat") + common + " --crs UTM32");
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("--crs: 'UTM32' is not a CRS"), std::string::npos) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("bad.dat")));
     // Refusals name the file; nothing is written.
     const std::string plain = dir.file("plain.tif");
     test::writeGeoTiff(plain, 4, 4, std::vector<float>(16, 1.0f), test::GeoTiffTags{});

@@ -4,12 +4,17 @@
 #include <geotiff/geovalues.h>
 #include <tiffio.h>
 
+#include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdarg>
 #include <map>
 #include <memory>
+#include <utility>
 #include <vector>
 
+#include "formats/error.hpp"
 #include "libpyramid/input/geotiff_library.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
@@ -250,22 +255,8 @@ std::string readTransform(const GeoTiffTags& tags, Georeference& g) {
     return {};
 }
 
-} // namespace
-
-std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
-    GeoTiffTags tags;
-    if (TIFF* tif = openTiffQuietly(path, "r")) {
-        tags.keys = tiffShorts(tif, kTagKeyDirectory);
-        tags.doubles = tiffDoubles(tif, kTagDoubleParams);
-        tags.text = tiffText(tif, kTagAsciiParams);
-        tags.matrix = tiffDoubles(tif, kTagTransformation);
-        tags.ties = tiffDoubles(tif, kTagTiepoints);
-        tags.scale = tiffDoubles(tif, kTagPixelScale);
-        TIFFClose(tif);
-    }
-    if (tags.keys.size() < 4) {
-        return std::nullopt; // no GeoKey directory: libgeotiff is not even loaded
-    }
+// What the tags say, interpreted by libgeotiff; nullopt when it finds no definition in them.
+std::optional<Georeference> georeferenceOf(GeoTiffTags tags) {
     Georeference g;
     std::string why;
     const GeoTiffLibrary* lib = geoTiffLibrary(why);
@@ -349,6 +340,67 @@ std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
         g.projection = projectionOf(d, pcs, parametersByKeys, raw ? g.unitInDegrees : 1.0);
     }
     return g;
+}
+
+} // namespace
+
+std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
+    GeoTiffTags tags;
+    if (TIFF* tif = openTiffQuietly(path, "r")) {
+        tags.keys = tiffShorts(tif, kTagKeyDirectory);
+        tags.doubles = tiffDoubles(tif, kTagDoubleParams);
+        tags.text = tiffText(tif, kTagAsciiParams);
+        tags.matrix = tiffDoubles(tif, kTagTransformation);
+        tags.ties = tiffDoubles(tif, kTagTiepoints);
+        tags.scale = tiffDoubles(tif, kTagPixelScale);
+        TIFFClose(tif);
+    }
+    if (tags.keys.size() < 4) {
+        return std::nullopt; // no GeoKey directory: libgeotiff is not even loaded
+    }
+    return georeferenceOf(std::move(tags));
+}
+
+Georeference georeferenceOfCrs(const std::string& text) {
+    const std::string prefix = "EPSG:";
+    int code = 0;
+    const char* digits = text.c_str() + std::min(text.size(), prefix.size());
+    const char* end = text.c_str() + text.size();
+    const bool prefixed = text.size() > prefix.size() &&
+                          std::equal(prefix.begin(), prefix.end(), text.begin(),
+                                     [](char a, char b) { return a == std::toupper(static_cast<unsigned char>(b)); });
+    const auto [last, ec] = std::from_chars(digits, end, code);
+    if (!prefixed || ec != std::errc() || last != end || code <= 0 || code > 65534) {
+        throw OptionError("crs", "'" + text + "' is not a CRS: give an EPSG code as EPSG:N (EPSG:4326, EPSG:32610)");
+    }
+    std::string why;
+    const GeoTiffLibrary* lib = geoTiffLibrary(why);
+    if (!lib) {
+        throw OptionError("crs", text + " cannot be looked up: libgeotiff cannot be loaded (" + why + ")");
+    }
+    // The code's definition as a GeoTIFF would carry it: a key directory naming it alone, over
+    // an identity pixel-to-CRS transform (one tie point at the origin, unit pixels).
+    const bool projected = !epsgName(*lib, code, true).empty();
+    if (!projected && epsgName(*lib, code, false).empty()) {
+        throw OptionError("crs", text + " is neither a projected nor a geographic CRS of the EPSG database");
+    }
+    GeoTiffTags tags;
+    const auto value = static_cast<uint16_t>(code);
+    tags.keys = {1, 1, 0, 3,
+                 GTModelTypeGeoKey, 0, 1, static_cast<uint16_t>(projected ? ModelTypeProjected : ModelTypeGeographic),
+                 GTRasterTypeGeoKey, 0, 1, RasterPixelIsArea,
+                 static_cast<uint16_t>(projected ? ProjectedCSTypeGeoKey : GeographicTypeGeoKey), 0, 1, value};
+    tags.ties = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    tags.scale = {1.0, 1.0, 0.0};
+    std::optional<Georeference> g = georeferenceOf(tags);
+    if (!g || !g->problem.empty()) {
+        throw OptionError("crs", text + " cannot be used: " + (g ? g->problem : "the EPSG database does not define it"));
+    }
+    return *g;
+}
+
+bool sameCrs(const Georeference& a, const Georeference& b) {
+    return a.projected == b.projected && a.crsText() == b.crsText();
 }
 
 } // namespace pyramid

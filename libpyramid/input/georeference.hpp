@@ -81,4 +81,14 @@ struct Georeference {
 // cannot be used has `problem` set.
 std::optional<Georeference> readGeoTiffGeoreference(const std::string& path);
 
+// The CRS a user names ("EPSG:32610", "epsg:4326"), looked up in the EPSG database through
+// libgeotiff, as a file declaring that code alone would be read (pixelToCrs the identity).
+// Throws OptionError("crs", ...) for text that is not such a code, or a code the database does
+// not define as a projected or geographic CRS.
+Georeference georeferenceOfCrs(const std::string& text);
+
+// Whether two georeferencings are in the same CRS (coordinates of one are coordinates of the
+// other): by code and name, as mosaics compare their files.
+bool sameCrs(const Georeference& a, const Georeference& b);
+
 } // namespace pyramid

@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <cstdlib>
 #include <mutex>
 
 // The soname the build found (CMake: GEOTIFF_LIBRARY's), e.g. "libgeotiff.so.5".
@@ -30,6 +31,10 @@ bool lookUp(void* handle, const char* name, F& f, std::string& why) {
 
 Loaded load() {
     Loaded l;
+    // PROJ, which libgeotiff looks EPSG codes up with, prints its own errors on stderr ("crs not
+    // found") unless PROJ_DEBUG says otherwise; the readers say what they cannot use instead. It
+    // reads the variable when it is first used, which is through this library.
+    setenv("PROJ_DEBUG", "0", 0);
     void* handle = dlopen(PYRAMID_GEOTIFF_SONAME, RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
         const char* e = dlerror();

@@ -14,6 +14,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/support/parse_number.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -542,7 +543,7 @@ private:
 
     // A source of a VRT band, checked: the file it names, resolved.
     static std::string sourceFile(const XmlElement& source, const std::string& vrtDirectory, const std::string& where,
-                                  const std::string& band) {
+                                  const std::string& band, int bandNumber) {
         const std::string kind = "<" + source.name + ">";
         const std::vector<const XmlElement*> names = source.childrenNamed("SourceFilename");
         if (names.empty()) {
@@ -568,8 +569,39 @@ private:
             }
             relative = value == "1";
         }
+        // The file is read as it is: its own band as the VRT's, all its pixels (a mosaic places
+        // it by its georeferencing, so a <DstRect> of another size, as gdalbuildvrt writes for
+        // files of other resolutions, changes nothing).
+        const std::string of = band + ": the <" + source.name + "> of '" + name + "' ";
+        for (const XmlElement* e : source.childrenNamed("SourceBand")) {
+            const std::string value = trim(e->text);
+            const std::optional<double> v = tryParseNumber(value);
+            if (!v || *v != bandNumber) {
+                fail(where, of + "takes its band " + value + " as band " + std::to_string(bandNumber) +
+                                "; only bands as they are in the files are read (choose a DEM's band with --band)");
+            }
+        }
+        const auto rectangle = [&](const char* child, const char* attribute) -> std::optional<double> {
+            const std::vector<const XmlElement*> found = source.childrenNamed(child);
+            if (found.empty()) {
+                return std::nullopt;
+            }
+            const std::string* value = found.front()->attribute(attribute);
+            return value ? tryParseNumber(trim(*value)) : std::nullopt;
+        };
+        const auto offX = rectangle("SrcRect", "xOff"), offY = rectangle("SrcRect", "yOff");
+        if ((offX && *offX != 0.0) || (offY && *offY != 0.0)) {
+            fail(where, of + "starts at pixel (" + numberText(offX.value_or(0.0)) + ", " + numberText(offY.value_or(0.0)) +
+                            ") of the file (<SrcRect>); only whole files are read");
+        }
+        const auto sizeX = rectangle("SrcRect", "xSize"), sizeY = rectangle("SrcRect", "ySize");
+        const auto fileX = rectangle("SourceProperties", "RasterXSize"), fileY = rectangle("SourceProperties", "RasterYSize");
+        if ((sizeX && fileX && *sizeX != *fileX) || (sizeY && fileY && *sizeY != *fileY)) {
+            fail(where, of + "takes " + numberText(sizeX.value_or(0.0)) + " x " + numberText(sizeY.value_or(0.0)) +
+                            " of its " + numberText(fileX.value_or(0.0)) + " x " + numberText(fileY.value_or(0.0)) +
+                            " pixels (<SrcRect>); only whole files are read");
+        }
         if (equalNoCase(source.name, "ComplexSource")) {
-            const std::string of = band + ": the <ComplexSource> of '" + name + "' ";
             const auto numberIn = [&](const char* child, double expected) {
                 for (const XmlElement* e : source.childrenNamed(child)) {
                     const std::string value = trim(e->text);
@@ -644,7 +676,7 @@ private:
             }
             for (const XmlElement& source : child.children) {
                 if (equalNoCase(source.name, "SimpleSource") || equalNoCase(source.name, "ComplexSource")) {
-                    files.push_back(sourceFile(source, directory, where, band));
+                    files.push_back(sourceFile(source, directory, where, band, bandNumber));
                 } else if (equalNoCase(source.name, "MaskBand")) {
                     fail(where, band + ": a <MaskBand>: masks are not read");
                 } else if (endsWithNoCase(source.name, "Source")) {

@@ -2,6 +2,7 @@
 // vocabulary shared by the readers (TIFF, PNG, the image I/O module) and the dispatcher
 // (raster_source.hpp) that stands above them.
 #pragma once
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -23,5 +24,11 @@ struct RasterInfo {
     std::string formatName;       // "tiff", "png", ...
     std::optional<Georeference> georeference; // a GeoTIFF's CRS and pixel-to-CRS transform, if any
 };
+
+// Whether a sample, read as float32, is the declared nodata: equal to it in float32 (the value
+// as the readers deliver it), or NaN when the nodata is NaN.
+inline bool isNodata(float v, const std::optional<double>& nodata) {
+    return nodata && (v == static_cast<float>(*nodata) || (std::isnan(*nodata) && std::isnan(v)));
+}
 
 } // namespace pyramid

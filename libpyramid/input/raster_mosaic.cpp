@@ -19,10 +19,6 @@ bool sameNodata(const std::optional<double>& a, const std::optional<double>& b) 
     return !a || (*a == *b || (std::isnan(*a) && std::isnan(*b)));
 }
 
-bool isNodata(double v, const std::optional<double>& nodata) {
-    return nodata && (v == *nodata || (std::isnan(*nodata) && std::isnan(v)));
-}
-
 // The georeferencing a mosaic places a file by, checked.
 const Georeference& placedBy(const std::string& path, const RasterInfo& info) {
     if (!info.georeference) {
@@ -39,7 +35,7 @@ const Georeference& placedBy(const std::string& path, const RasterInfo& info) {
 bool oneGrid(const RasterInfo& a, const RasterInfo& b) {
     const Georeference& g = *a.georeference;
     const Georeference& h = *b.georeference;
-    if (g.crsText() != h.crsText() || g.projected != h.projected || a.channels != b.channels || a.type != b.type ||
+    if (!sameCrs(g, h) || a.channels != b.channels || a.type != b.type ||
         !sameNodata(a.nodata, b.nodata) || !g.axisAligned() || !h.axisAligned()) {
         return false;
     }
@@ -105,7 +101,7 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
         }
         const RasterInfo& first = info_;
         const std::string with = " from " + members_[0].path;
-        if (g.crsText() != grid->crsText() || g.projected != grid->projected) {
+        if (!sameCrs(g, *grid)) {
             fail(path, "is in " + g.crsText() + ", not " + grid->crsText() + with);
         }
         if (info.channels != first.channels || info.type != first.type) {
@@ -217,7 +213,7 @@ void RasterMosaic::compose(int x0, int y0, int x1, int y1, int values, T gap, Re
             const T* from = part.data() + static_cast<size_t>(y - cy0) * partWidth * static_cast<size_t>(values);
             T* to = out + (static_cast<size_t>(y - y0) * width + static_cast<size_t>(cx0 - x0)) * static_cast<size_t>(values);
             for (size_t i = 0; i < partWidth * static_cast<size_t>(values); ++i) {
-                if (!isNodata(static_cast<double>(from[i]), m.nodata)) {
+                if (!isNodata(static_cast<float>(from[i]), m.nodata)) {
                     to[i] = from[i];
                 }
             }

@@ -4,32 +4,50 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <numbers>
+#include <optional>
 #include <type_traits>
 
 #include "formats/error.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/sphere/map_mosaic.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
+#include "libpyramid/support/parse_number.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
 namespace {
 
+// The ground size of the finest pixels of a group: the shorter of a pixel's two sides at the
+// group's centre, in metres (a geographic pixel's east-west side shrinks with the latitude's cosine).
+double groundSide(const Georeference& g, int width, int height, const GeoreferencedMap& map) {
+    const auto& t = g.pixelToCrs;
+    const double across = std::hypot(t[1], t[4]), down = std::hypot(t[2], t[5]);
+    if (g.projected) {
+        return std::min(across, down) * g.unitInMetres;
+    }
+    const double metresPerUnit = g.unitInDegrees * g.semiMajorAxis * std::numbers::pi / 180.0;
+    const double latitude = map.geodeticOf(width / 2.0, height / 2.0).latitude;
+    return std::min(across * std::cos(latitude * std::numbers::pi / 180.0), down) * metresPerUnit;
+}
+
 class ResampledPixels final : public RasterPixels {
 public:
-    ResampledPixels(std::vector<std::vector<std::string>> groups, std::unique_ptr<RasterSource> finest, int x0, int y0,
-                    RasterInfo info, PlanetBody body, int cacheMegabytes)
-        : groups_(std::move(groups)), finest_(std::move(finest)), x0_(x0), y0_(y0), info_(std::move(info)),
-          body_(std::move(body)), cacheMegabytes_(cacheMegabytes),
-          grid_(*finest_->info().georeference, finest_->info().width, finest_->info().height, finest_->path()) {}
+    // `own`: the finest group when it lies on the grid (its first pixel at (x0, y0) of the
+    // mosaic), else null; `grid`: the CRS and transform of the grid's pixel coordinates (the
+    // mosaic's, shifted by (x0, y0)).
+    ResampledPixels(std::vector<std::vector<std::string>> groups, std::unique_ptr<RasterSource> own, int x0, int y0,
+                    RasterInfo info, PlanetBody body, int cacheMegabytes, const Georeference& grid, int64_t gridWidth,
+                    int64_t gridHeight, const std::string& gridName)
+        : groups_(std::move(groups)), finest_(std::move(own)), x0_(x0), y0_(y0), info_(std::move(info)),
+          body_(std::move(body)), cacheMegabytes_(cacheMegabytes), grid_(grid, gridWidth, gridHeight, gridName) {}
 
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const override {
         const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
-        const std::optional<double> own = finest_->info().nodata;
         read<float>(x0, y0, x1, y1, 1, gap, out,
                     [&](int a0, int b0, int a1, int b1, float* to) { finest_->readFloat(a0, b0, a1, b1, channel, to); },
-                    [&](float v) { return !(own && (v == static_cast<float>(*own) || (std::isnan(*own) && std::isnan(v)))); },
-                    mosaic(SampleRead::Float), channel);
+                    [this](float v) { return !isNodata(v, finest_->info().nodata); }, mosaic(SampleRead::Float), channel);
     }
 
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
@@ -60,9 +78,8 @@ private:
         std::fill(out, out + width * static_cast<size_t>(y1 - y0) * n, gap);
         std::vector<uint8_t> done(width * static_cast<size_t>(y1 - y0), 0);
         // The finest group's pixels: the window within it, shifted by its place in the mosaic.
-        const RasterInfo& f = finest_->info();
-        const int fx0 = std::max(x0 - x0_, 0), fx1 = std::min(x1 - x0_, f.width);
-        const int fy0 = std::max(y0 - y0_, 0), fy1 = std::min(y1 - y0_, f.height);
+        const int fx0 = std::max(x0 - x0_, 0), fx1 = finest_ ? std::min(x1 - x0_, finest_->info().width) : 0;
+        const int fy0 = std::max(y0 - y0_, 0), fy1 = finest_ ? std::min(y1 - y0_, finest_->info().height) : 0;
         if (fx0 < fx1 && fy0 < fy1) {
             std::vector<T> part(static_cast<size_t>(fx1 - fx0) * static_cast<size_t>(fy1 - fy0) * n);
             own(fx0, fy0, fx1, fy1, part.data());
@@ -108,8 +125,8 @@ private:
     }
 
     std::vector<std::vector<std::string>> groups_;
-    std::unique_ptr<RasterSource> finest_;
-    int x0_, y0_; // the finest group's first pixel in the mosaic
+    std::unique_ptr<RasterSource> finest_; // null when the finest group is not on the grid
+    int x0_, y0_; // the grid's pixel (0, 0) in the mosaic
     RasterInfo info_;
     PlanetBody body_;
     int cacheMegabytes_;
@@ -120,10 +137,34 @@ private:
 
 } // namespace
 
+std::array<double, 4> PlanarTarget::parseExtent(const std::string& text) {
+    std::array<double, 4> v{};
+    size_t start = 0;
+    for (size_t k = 0; k < 4; ++k) {
+        const size_t comma = k < 3 ? text.find(',', start) : text.size();
+        if (comma == std::string::npos) {
+            failOption("extent", "'" + text + "' is not MINX,MINY,MAXX,MAXY in the CRS's units");
+        }
+        v[k] = parseOptionNumber(text.substr(start, comma - start), "extent", "a coordinate in the CRS's units");
+        start = comma + 1;
+    }
+    if (!(v[0] < v[2]) || !(v[1] < v[3])) {
+        failOption("extent", "needs MINX < MAXX and MINY < MAXY, not " + text);
+    }
+    return v;
+}
+
 std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& inputs, int cacheMegabytes,
-                                               bool sameSamples) {
-    if (inputs.size() <= 1) {
+                                               bool sameSamples, const PlanarTarget& target) {
+    if (inputs.size() <= 1 && target.empty()) {
         return RasterSource::openMosaic(inputs, cacheMegabytes);
+    }
+    if (target.extent) {
+        const auto& e = *target.extent;
+        if (!std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); }) || !(e[0] < e[2]) ||
+            !(e[1] < e[3])) {
+            throw OptionError("extent", "must be MINX,MINY,MAXX,MAXY with MINX < MAXX and MINY < MAXY");
+        }
     }
     const std::vector<std::vector<std::string>> groups = groupByGrid(inputs);
     if (sameSamples && groups.size() > 1) {
@@ -137,66 +178,126 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
             }
         }
     }
-    if (groups.size() == 1) {
+    if (groups.size() == 1 && target.empty()) {
         return RasterSource::openMosaic(groups[0], cacheMegabytes);
     }
-    // The finest group, and every group's footprint on its grid.
+    // Every group described, the finest of all, and the CRS and finest group on it.
     std::vector<std::unique_ptr<RasterSource>> described;
+    std::vector<GeoreferencedMap> maps;
     size_t finest = 0;
-    double finestMetres = std::numeric_limits<double>::infinity();
     for (size_t k = 0; k < groups.size(); ++k) {
         described.push_back(RasterSource::openMosaic(groups[k], 1));
         const RasterInfo& info = described.back()->info();
-        const GeoreferencedMap map(*info.georeference, info.width, info.height, described.back()->path());
-        if (map.metresPerPixel() < finestMetres * (1.0 - 1e-9)) {
-            finestMetres = map.metresPerPixel();
+        maps.emplace_back(*info.georeference, info.width, info.height, described.back()->path());
+        if (maps[k].metresPerPixel() < maps[finest].metresPerPixel() * (1.0 - 1e-9)) {
             finest = k;
         }
     }
-    const RasterInfo target = described[finest]->info();
-    const Georeference& g = *target.georeference;
-    const PlanetBody body("the finest input's ellipsoid", g.semiMajorAxis, g.flattening);
-    const GeoreferencedMap grid(g, target.width, target.height, described[finest]->path());
-    double minX = 0.0, minY = 0.0, maxX = target.width, maxY = target.height;
+    const Georeference crs = target.crs.empty() ? *described[0]->info().georeference : georeferenceOfCrs(target.crs);
+    std::optional<size_t> onGrid; // the finest group in the CRS, when it is the finest of all
     for (size_t k = 0; k < groups.size(); ++k) {
-        if (k == finest) {
+        if (sameCrs(*described[k]->info().georeference, crs) &&
+            maps[k].metresPerPixel() <= maps[finest].metresPerPixel() * (1.0 + 1e-9) &&
+            (!onGrid || maps[k].metresPerPixel() < maps[*onGrid].metresPerPixel() * (1.0 - 1e-9))) {
+            onGrid = k;
+        }
+    }
+    // The grid: that group's, or square pixels of the finest ground size on whole multiples of
+    // it, with pixel (0, 0) near the first group's centre (where a geographic CRS's longitudes
+    // are taken from).
+    Georeference grid = crs;
+    int64_t gridWidth = 1, gridHeight = 1;
+    if (onGrid) {
+        grid = *described[*onGrid]->info().georeference;
+        gridWidth = described[*onGrid]->info().width;
+        gridHeight = described[*onGrid]->info().height;
+    } else {
+        const RasterInfo& f = described[finest]->info();
+        const double metres = groundSide(*f.georeference, f.width, f.height, maps[finest]);
+        const double side = crs.projected ? metres / crs.unitInMetres
+                                          : metres / (crs.semiMajorAxis * std::numbers::pi / 180.0) / crs.unitInDegrees;
+        grid.pixelToCrs = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
+        const RasterInfo& first = described[0]->info();
+        double x = 0.0, y = 0.0;
+        if (!GeoreferencedMap(grid, 1, 1, target.crs).cornerPixelOf(maps[0].geodeticOf(first.width / 2.0, first.height / 2.0), x, y)) {
+            throw OptionError("crs", target.crs + " cannot place " + described[0]->path() + " (beyond its projection)");
+        }
+        grid.pixelToCrs = {std::floor(x / side) * side, side, 0.0, std::ceil(-y / side) * side, 0.0, -side};
+    }
+    const std::string gridName = onGrid ? described[*onGrid]->path() : target.crs;
+    const GeoreferencedMap gridMap(grid, gridWidth, gridHeight, gridName);
+
+    // The mosaic's pixels on that grid: the extent asked for, or the union of the footprints.
+    constexpr double kSnap = 1e-6; // a pixel edge within this of an extent's edge is on it
+    double minX = std::numeric_limits<double>::infinity(), minY = minX, maxX = -minX, maxY = -minX;
+    auto add = [&](double col, double row) {
+        minX = std::min(minX, col);
+        maxX = std::max(maxX, col);
+        minY = std::min(minY, row);
+        maxY = std::max(maxY, row);
+    };
+    std::array<double, 4> inputBox{minX, minY, maxX, maxY};
+    for (size_t k = 0; k < groups.size(); ++k) {
+        const RasterInfo& info = described[k]->info();
+        if (onGrid && k == *onGrid) {
+            add(0.0, 0.0);
+            add(static_cast<double>(info.width), static_cast<double>(info.height));
             continue;
         }
-        const RasterInfo& info = described[k]->info();
-        const GeoreferencedMap other(*info.georeference, info.width, info.height, described[k]->path());
         constexpr int kSide = 32; // points along each edge of the group's outline
         for (int s = 0; s <= kSide; ++s) {
             const double u = static_cast<double>(s) / kSide;
             for (const auto& [c, r] : {std::pair{u * info.width, 0.0}, std::pair{u * info.width, 1.0 * info.height},
                                        std::pair{0.0, u * info.height}, std::pair{1.0 * info.width, u * info.height}}) {
                 double col = 0.0, row = 0.0;
-                if (grid.cornerPixelOf(other.geodeticOf(c, r), col, row)) {
-                    minX = std::min(minX, col);
-                    maxX = std::max(maxX, col);
-                    minY = std::min(minY, row);
-                    maxY = std::max(maxY, row);
+                if (gridMap.cornerPixelOf(maps[k].geodeticOf(c, r), col, row)) {
+                    add(col, row);
                 }
             }
         }
     }
-    const double x0 = std::floor(minX), y0 = std::floor(minY), x1 = std::ceil(maxX), y1 = std::ceil(maxY);
-    if (x1 - x0 > std::numeric_limits<int>::max() || y1 - y0 > std::numeric_limits<int>::max()) {
-        fail(inputs[0], "the mosaic would be " + std::to_string(x1 - x0) + " x " + std::to_string(y1 - y0) +
-                            " pixels on the grid of " + described[finest]->path() + ", beyond 2^31 - 1 a side");
+    if (target.extent) {
+        inputBox = {minX, minY, maxX, maxY};
+        minX = minY = std::numeric_limits<double>::infinity();
+        maxX = maxY = -minX;
+        const auto& e = *target.extent;
+        const auto& t = grid.pixelToCrs;
+        const double det = t[1] * t[5] - t[2] * t[4];
+        for (const auto& [x, y] : {std::pair{e[0], e[1]}, std::pair{e[2], e[1]}, std::pair{e[0], e[3]}, std::pair{e[2], e[3]}}) {
+            add((t[5] * (x - t[0]) - t[2] * (y - t[3])) / det, (t[1] * (y - t[3]) - t[4] * (x - t[0])) / det);
+        }
+        if (maxX <= inputBox[0] || minX >= inputBox[2] || maxY <= inputBox[1] || minY >= inputBox[3]) {
+            throw OptionError("extent", "covers none of the inputs (in " + grid.crsText() + ")");
+        }
     }
-    RasterInfo info = target;
+    const double x0 = std::floor(minX + kSnap), y0 = std::floor(minY + kSnap);
+    const double x1 = std::ceil(maxX - kSnap), y1 = std::ceil(maxY - kSnap);
+    if (x1 - x0 > std::numeric_limits<int>::max() || y1 - y0 > std::numeric_limits<int>::max()) {
+        fail(inputs[0], "the mosaic would be " + numberText(x1 - x0) + " x " + numberText(y1 - y0) + " pixels on the grid of " +
+                            gridName + ", beyond 2^31 - 1 a side");
+    }
+    RasterInfo info = described[finest]->info();
+    info.georeference = grid;
     info.width = static_cast<int>(x1 - x0);
     info.height = static_cast<int>(y1 - y0);
+    if (onGrid && groups.size() == 1 && x0 == 0.0 && y0 == 0.0 && info.width == gridWidth && info.height == gridHeight) {
+        return RasterSource::openMosaic(groups[0], cacheMegabytes); // the group as it is
+    }
     auto& t = info.georeference->pixelToCrs;
     t[0] += t[1] * x0 + t[2] * y0;
     t[3] += t[4] * x0 + t[5] * y0;
     if (!info.nodata && info.type != SampleType::UInt8 && info.type != SampleType::UInt16) {
         info.nodata = std::numeric_limits<double>::quiet_NaN(); // gaps are holes
     }
-    const std::string name = inputs[0] + " and " + std::to_string(inputs.size() - 1) + " more";
-    auto finestSource = RasterSource::openMosaic(groups[finest], std::max(2, cacheMegabytes / 2));
-    auto pixels = std::make_shared<ResampledPixels>(groups, std::move(finestSource), static_cast<int>(-x0),
-                                                    static_cast<int>(-y0), info, body, std::max(2, cacheMegabytes / 2));
+    const std::string name = inputs.size() == 1 ? inputs[0] : inputs[0] + " and " + std::to_string(inputs.size() - 1) + " more";
+    const PlanetBody body(crs.name + "'s ellipsoid", crs.semiMajorAxis, crs.flattening);
+    std::unique_ptr<RasterSource> own;
+    if (onGrid) {
+        own = RasterSource::openMosaic(groups[*onGrid], std::max(2, cacheMegabytes / 2));
+    }
+    auto pixels = std::make_shared<ResampledPixels>(groups, std::move(own), static_cast<int>(-x0), static_cast<int>(-y0),
+                                                    info, body, std::max(2, cacheMegabytes / 2), grid, gridWidth,
+                                                    gridHeight, gridName);
     return RasterSource::fromPixels(name, info, std::move(pixels));
 }
 

@@ -28,7 +28,7 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
     }
     // The source as the preprocessor read it: a file, or the files a VRT, directory or glob
     // names, joined or resampled as preprocessDem does (sphere/planar_mosaic.hpp).
-    const auto source = openPlanarMosaic(expandInputs({sourcePath}).paths, 256);
+    const auto source = openPlanarMosaic(expandInputs({sourcePath}).paths, 256, false, options.target);
     std::optional<double> nodata = options.nodata;
     if (!nodata && !options.ignoreDeclaredNodata) {
         nodata = source->info().nodata;

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libpyramid/sphere/planar_mosaic.hpp"
+
 namespace pyramid {
 
 struct DemVerifyOptions {
@@ -17,6 +19,7 @@ struct DemVerifyOptions {
     bool ignoreDeclaredNodata = false;
     bool stretch = false;
     int threads = 0;
+    PlanarTarget target; // as the pyramid was built (--crs, --extent)
 };
 
 struct DemVerifyLevel {

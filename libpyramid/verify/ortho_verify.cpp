@@ -59,6 +59,7 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     lo.colourSpace = options.colourSpace;
     lo.stretch = options.stretch;
     lo.threads = options.threads;
+    lo.target = options.target;
     // A DXT1 file says 3 channels whatever the source had (1 to 3, expanded to RGB).
     // The source as the preprocessor read it: a file, or the files a VRT, directory or glob names.
     const std::vector<std::string> sources = expandInputs({source}).paths;

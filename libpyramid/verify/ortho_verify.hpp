@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libpyramid/filters/colour_average.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 
 namespace pyramid {
 
@@ -18,6 +19,7 @@ struct OrthoVerifyOptions {
     bool stretch = false;
     bool colourResiduals = false; // the file holds colour residuals (residuals/RGB.dat)
     int threads = 0;
+    PlanarTarget target; // as the pyramid was built (--crs, --extent)
 };
 
 struct OrthoVerifyLevel {

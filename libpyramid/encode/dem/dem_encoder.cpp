@@ -102,7 +102,7 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
 DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& output, const DemEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     options.validate();
-    auto source = openPlanarMosaic(inputs, options.cacheMegabytes);
+    auto source = openPlanarMosaic(inputs, options.cacheMegabytes, false, options.target);
     const std::string& input = source->path();
     DemReport report;
     report.input = input;

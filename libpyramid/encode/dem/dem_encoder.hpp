@@ -14,6 +14,7 @@
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 
 namespace pyramid {
 
@@ -34,6 +35,7 @@ struct DemEncodeOptions : ResidualEncodeOptions {
     bool ignoreDeclaredNodata = false;
     bool stretch = false;           // map width and height independently (the original behaviour)
     int cacheMegabytes = 256;       // input cache budget
+    PlanarTarget target;            // the CRS and extent a mosaic (or one file) is resampled onto
 
     // Throws OptionError for values no input can take: tileSize, rootTileSize, maxLevel and
     // dstMaxLevel (together, or beyond 24), scale.

@@ -160,7 +160,7 @@ OrthoLevels::OrthoLevels(const std::vector<std::string>& inputs, const OrthoLeve
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     o.validate();
-    m.ownedSource = openPlanarMosaic(inputs, o.cacheMegabytes, true);
+    m.ownedSource = openPlanarMosaic(inputs, o.cacheMegabytes, true, o.target);
     m.source = m.ownedSource.get();
     const RasterInfo& info = m.source->info();
     const int64_t longest = std::max(info.width, info.height);

@@ -46,10 +46,11 @@
 #include <vector>
 
 #include "libpyramid/filters/colour_average.hpp"
+#include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/sphere/equirect_sampler.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/sphere/planet_body.hpp"
-#include "libpyramid/input/raster_source.hpp"
 
 namespace pyramid {
 
@@ -61,6 +62,7 @@ struct OrthoLevelsOptions {
     bool stretch = false; // planar only
     int threads = 0;
     int cacheMegabytes = 256;
+    PlanarTarget target; // planar only: the CRS and extent a mosaic (or one file) is resampled onto
 
     // The checks that do not need the input (tileSize, threads); OrthoLevels checks the others against
     // it. Throws OptionError naming the field.
