@@ -346,7 +346,7 @@ std::optional<Georeference> georeferenceOf(GeoTiffTags tags) {
 
 std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
     GeoTiffTags tags;
-    if (TIFF* tif = openTiffQuietly(path, "r")) {
+    if (TIFF* tif = openTiffQuietly(path, "rm")) { // no map: only tags are read
         tags.keys = tiffShorts(tif, kTagKeyDirectory);
         tags.doubles = tiffDoubles(tif, kTagDoubleParams);
         tags.text = tiffText(tif, kTagAsciiParams);

@@ -54,7 +54,7 @@ std::vector<std::vector<std::string>> groupByGrid(const std::vector<std::string>
     std::vector<std::vector<std::string>> groups;
     std::vector<RasterInfo> firsts; // each group's first file
     for (const std::string& path : paths) {
-        const RasterInfo info = RasterSource::open(path, 1)->info();
+        const RasterInfo info = RasterSource::describe(path);
         (void)placedBy(path, info);
         size_t k = 0;
         while (k < groups.size() && !oneGrid(firsts[k], info)) {
@@ -78,8 +78,7 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
     double left = 0.0, top = 0.0; // CRS position of the first file's first pixel corner
     std::vector<std::pair<int64_t, int64_t>> offsets; // pixels from the first file, x right, y down
     for (const std::string& path : paths) {
-        const auto source = RasterSource::open(path, 1);
-        const RasterInfo& info = source->info();
+        const RasterInfo info = RasterSource::describe(path);
         const Georeference& g = placedBy(path, info);
         const auto& t = g.pixelToCrs;
         if (!g.axisAligned() || t[1] <= 0.0 || t[5] >= 0.0) {
@@ -90,6 +89,7 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
         m.width = info.width;
         m.height = info.height;
         m.nodata = info.nodata;
+        m.info = info;
         if (!grid) {
             grid = g;
             left = t[0];
@@ -190,7 +190,7 @@ std::vector<size_t> RasterMosaic::membersIn(int x0, int y0, int x1, int y1) cons
 
 std::shared_ptr<const RasterSource> RasterMosaic::openMember(size_t k) const {
     return open_->get(k, [&] {
-        return std::shared_ptr<const RasterSource>(RasterSource::open(members_[k].path, memberCacheMegabytes_));
+        return std::shared_ptr<const RasterSource>(RasterSource::open(members_[k].path, memberCacheMegabytes_, members_[k].info));
     });
 }
 

@@ -52,6 +52,7 @@ public:
         int x = 0, y = 0; // its first pixel's place in the mosaic
         int width = 0, height = 0;
         std::optional<double> nodata;
+        RasterInfo info; // as described when the mosaic was made (a reopened file is not described again)
     };
     const std::vector<Member>& members() const { return members_; }
 

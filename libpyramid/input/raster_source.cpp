@@ -52,7 +52,9 @@ struct RasterSource::Impl {
     }
 };
 
-std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes) {
+namespace {
+
+void checkRegularFile(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) {
         fail(path, "no such file");
@@ -60,6 +62,29 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     if (!std::filesystem::is_regular_file(path, ec)) {
         fail(path, "not a regular file");
     }
+}
+
+} // namespace
+
+RasterInfo RasterSource::describe(const std::string& path) {
+    checkRegularFile(path);
+    if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {
+        return *tiff;
+    }
+    return open(path, 1)->info();
+}
+
+std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes) {
+    return openDescribed(path, cacheMegabytes, nullptr);
+}
+
+std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes, const RasterInfo& described) {
+    return openDescribed(path, cacheMegabytes, described.formatName == "tiff" ? &described : nullptr);
+}
+
+std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& path, int cacheMegabytes,
+                                                          const RasterInfo* tiffInfo) {
+    checkRegularFile(path);
     std::unique_ptr<RasterSource> source(new RasterSource());
     source->path_ = path;
     source->impl_ = std::make_unique<Impl>();
@@ -67,7 +92,7 @@ std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int ca
     impl.path = path;
     impl.cacheMegabytes = cacheMegabytes;
     RasterInfo& info = source->info_;
-    if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {
+    if (std::optional<RasterInfo> tiff = tiffInfo ? std::optional<RasterInfo>(*tiffInfo) : readPlainTiffInfo(path)) {
         info = *tiff;
         if (info.type == SampleType::Float32) {
             impl.floats = TiffPixelReader::open(path, info.width, info.height, info.channels, 4, true);

@@ -31,6 +31,12 @@ class RasterSource {
 public:
     // Throws Error("PATH: ...") when the file is missing, unreadable or not an image.
     static std::unique_ptr<RasterSource> open(const std::string& path, int cacheMegabytes = 256);
+    // What open(path)->info() would say, without making its readers (a TIFF's header and keys
+    // only). Throws as open().
+    static RasterInfo describe(const std::string& path);
+    // open() of a file describe() has described: a TIFF is not described again (its header,
+    // GeoKeys and nodata are taken from `described`), for mosaics that reopen their files.
+    static std::unique_ptr<RasterSource> open(const std::string& path, int cacheMegabytes, const RasterInfo& described);
     // Several georeferenced files on one grid read as one raster (raster_mosaic.hpp: the rules
     // of joining, overlaps and gaps); one path is open(path). path() names the first file and
     // how many more. Throws Error naming a file that is missing or does not fit the grid.
@@ -60,6 +66,9 @@ public:
     struct Impl; // the readers behind it (raster_source.cpp)
 
 private:
+    // open(), with a TIFF's description when it is known (nullptr: read it).
+    static std::unique_ptr<RasterSource> openDescribed(const std::string& path, int cacheMegabytes,
+                                                       const RasterInfo* tiffInfo);
     RasterSource() = default;
     std::unique_ptr<Impl> impl_;
     std::string path_;

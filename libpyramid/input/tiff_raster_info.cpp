@@ -10,7 +10,7 @@
 namespace pyramid {
 
 std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
-    TIFF* tif = openTiffQuietly(path, "r");
+    TIFF* tif = openTiffQuietly(path, "rm");
     if (!tif) {
         return std::nullopt;
     }
@@ -106,7 +106,7 @@ std::optional<std::string> tiffText(void* handle, uint32_t tag) {
 // GDAL keeps a GeoTIFF's nodata value in its own ASCII tag (42113), which OpenImageIO does not
 // expose: read it with libtiff. Its warnings (GeoTIFF tags it does not know) are not shown.
 std::optional<double> geoTiffNodata(const std::string& path) {
-    TIFF* tif = openTiffQuietly(path, "r");
+    TIFF* tif = openTiffQuietly(path, "rm");
     if (!tif) {
         return std::nullopt;
     }
