@@ -20,6 +20,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
     return [args]() {
         DemEncodeOptions options = resolveDemOptions(*args);
         checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
+        OutputPreflight preflight(args->output, false, args->report);
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t done, int64_t total) {
             if (!progress || done == 1) { // a new attempt (--scale auto) starts over
@@ -38,6 +39,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
         if (!args->report.empty()) {
             writeJson(toJson(report), args->report);
         }
+        preflight.keep();
         return kExitOk;
     };
 }
