@@ -63,7 +63,10 @@ void AtomicFile::writeAt(uint64_t offset, const void* data, size_t size) {
     }
 }
 
-void AtomicFile::commit() {
+void AtomicFile::flush() {
+    if (fd_ < 0) {
+        return;
+    }
     // Write errors a file system defers (a full disk on NFS, EIO) show at fsync or close.
     if (::fsync(fd_) != 0) {
         failWithErrno(path_, "cannot write (flush)", errno);
@@ -73,6 +76,10 @@ void AtomicFile::commit() {
     if (closed != 0 && errno != EINTR) {
         failWithErrno(path_, "cannot write (close)", errno);
     }
+}
+
+void AtomicFile::commit() {
+    flush();
     {
         // Under the registry's lock: a signal's cleanup finds either the temporary or the
         // finished file, never a file it would remove after it was put in place.

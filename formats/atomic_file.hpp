@@ -20,7 +20,10 @@ public:
     const std::string& path() const { return path_; }
     const std::string& temporaryPath() const { return tmp_; }
     void writeAt(uint64_t offset, const void* data, size_t size); // throws on short writes
-    void commit(); // fsync, close (both checked), rename, fsync of the directory
+    // Everything but the rename: fsync and close (both checked). Lets a caller put several
+    // files in place together with nothing slow left between their renames.
+    void flush();
+    void commit(); // flush() unless done, rename, fsync of the directory
 
 private:
     std::string path_;
