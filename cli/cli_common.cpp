@@ -2,18 +2,23 @@
 
 #include <malloc.h>
 
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/temporaries.hpp"
 #include "libpyramid/input/input_list.hpp"
 
 namespace pyramid::cli {
@@ -34,6 +39,42 @@ void keepBuffersInTheHeap() {
 #endif
 }
 
+const char* signalName(int signal) {
+    switch (signal) {
+    case SIGINT:
+        return "SIGINT";
+    case SIGTERM:
+        return "SIGTERM";
+    default:
+        return "SIGHUP";
+    }
+}
+
+// The signals that stop a run go to one thread, whatever the others are doing: it removes the
+// temporaries (a commit in progress first ends or rolls back, under the registry's lock, so
+// the outputs are the old ones or the new ones, never a mix) and ends the process at once,
+// workers and all. Called before any other thread exists: every thread started later (OpenMP
+// workers, the ordered writer, GL drivers) inherits the blocked mask.
+void stopOnSignals(const std::string& program) {
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    sigaddset(&signals, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    std::signal(SIGXFSZ, SIG_IGN);
+    std::thread([signals, program] {
+        int signal = 0;
+        while (sigwait(&signals, &signal) != 0) {
+        }
+        removeTemporariesForExit();
+        std::fprintf(stderr, "\n%s: stopped by %s (temporaries removed)\n", program.c_str(),
+                     signalName(signal));
+        std::fflush(stderr);
+        _exit(128 + signal);
+    }).detach();
+}
+
 } // namespace
 
 std::string flagName(const std::string& option) {
@@ -51,6 +92,7 @@ std::string flagName(const std::string& option) {
 
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count) {
     keepBuffersInTheHeap();
+    stopOnSignals(app.get_name());
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -128,6 +170,22 @@ void Progress::draw(int64_t done, bool final) {
                      static_cast<long long>(total_));
     }
     std::fflush(stderr);
+}
+
+OutputPreflight::OutputPreflight(const std::string& output, bool isDirectory, const std::string& report) {
+    if (isDirectory) {
+        prepareOutputDirectory(output);
+    } else {
+        prepareOutputFile(output, output_);
+    }
+    if (!report.empty() && report != "-") {
+        prepareOutputFile(report, report_);
+    }
+}
+
+void OutputPreflight::keep() {
+    output_.keep();
+    report_.keep();
 }
 
 void writeJson(const nlohmann::json& json, const std::string& path) {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "formats/output_paths.hpp"
 #include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 
@@ -22,7 +23,8 @@ class App;
 namespace pyramid::cli {
 
 // Exit codes: 0 success, 1 the data or a file is bad (or a check/verify found a problem),
-// 2 the command line is wrong.
+// 2 the command line is wrong, 128 + the signal's number when SIGINT (130), SIGTERM (143) or
+// SIGHUP (129) stopped the run (doc/failure.md).
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
@@ -36,6 +38,11 @@ struct NamedRunner {
 };
 // An OptionError (the library's words for an option) is printed with the option's flag:
 // the library's option names are the flags in camel case ("tileSize" is --tile-size).
+// Before anything else (before any thread starts, so that every thread inherits the mask),
+// SIGINT, SIGTERM and SIGHUP are blocked and left to one thread that waits for them, removes
+// the run's temporaries (formats/temporaries.hpp: after a commit in progress ends) and exits
+// with 128 + the signal's number. SIGXFSZ is ignored: a write past the file size limit fails
+// with EFBIG, reported as any full disk, instead of killing the process with its temporaries.
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count);
 
 // The flag of a library option name: "tileSize" -> "--tile-size".
@@ -82,6 +89,19 @@ private:
     std::chrono::steady_clock::time_point last_{};
     int lastDecile_ = -1;
     bool finished_ = false;
+};
+
+// The outputs' checks before any work starts (formats/output_paths.hpp): the output, a file
+// (`isDirectory` false: its missing parents are made) or a directory, and the report's path
+// when one is named. Stale temporaries of earlier runs beside them are swept. Destroyed before
+// keep(), the directories it made are removed again when empty.
+class OutputPreflight {
+public:
+    OutputPreflight(const std::string& output, bool isDirectory, const std::string& report);
+    void keep();
+
+private:
+    OutputParents output_, report_;
 };
 
 // Writes `json` (pretty, with a final newline) to `path` atomically; "-" means stdout.

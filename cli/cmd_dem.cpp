@@ -23,6 +23,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
         DemEncodeOptions options = resolveDemOptions(*args);
         options.target = target->resolve();
         checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
+        OutputPreflight preflight(args->output, false, args->report);
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t done, int64_t total) {
             if (!progress || done == 1) { // a new attempt (--scale auto) starts over
@@ -41,6 +42,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
         if (!args->report.empty()) {
             writeJson(toJson(report), args->report);
         }
+        preflight.keep();
         return kExitOk;
     };
 }

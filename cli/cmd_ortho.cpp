@@ -25,6 +25,7 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
         const std::string sidecar =
             (std::filesystem::path(a->output) / georeferenceSidecarPath(options.name + ".dat")).string();
         checkReportIsNotSidecar(a->report, sidecar);
+        OutputPreflight preflight(a->output, true, a->report);
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t, int64_t total) {
             if (!progress) {
@@ -43,6 +44,7 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
         if (!a->report.empty()) {
             writeJson(toJson(report), a->report);
         }
+        preflight.keep();
         return kExitOk;
     };
 }

@@ -37,6 +37,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         options.faces = choice.faces;
         options.heightScale = parseRatio(*heightScale, "--height-scale");
         options.name = *name;
+        OutputPreflight preflight(args->output, true, args->report);
         std::unique_ptr<Progress> progress;
         int64_t shown = 0;
         options.dem.progress = [&](int64_t done, int64_t total) {
@@ -61,6 +62,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         if (!args->report.empty()) {
             writeJson(toJson(report), args->report);
         }
+        preflight.keep();
         return kExitOk;
     };
 }

@@ -30,6 +30,7 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
         options.extent = choice.extent;
         options.body = choice.body;
         options.faces = choice.faces;
+        OutputPreflight preflight(a->output, true, a->report);
         std::unique_ptr<Progress> progress;
         int64_t shown = 0;
         options.ortho.progress = [&](int64_t done, int64_t total) {
@@ -54,6 +55,7 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
         if (!a->report.empty()) {
             writeJson(toJson(report), a->report);
         }
+        preflight.keep();
         return kExitOk;
     };
 }

@@ -7,25 +7,42 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <random>
 
 #include "formats/error.hpp"
 #include "formats/file_io.hpp"
+#include "formats/temporaries.hpp"
 
 namespace pyramid {
 
+namespace {
+
+// A failure of the file system, in the system's words ("no space left on device", "file too
+// large", "input/output error"), naming the output as the user knows it.
+[[noreturn]] void failWithErrno(const std::string& path, const std::string& what, int error) {
+    fail(outputName(path), what + ": " + systemWords(error));
+}
+
+} // namespace
+
 AtomicFile::AtomicFile(const std::string& path) : path_(path) {
-    // The temporary sits in the destination's directory so that rename() is atomic.
-    std::random_device rd;
+    // The temporary sits in the destination's directory so that rename() is atomic. Its name is
+    // registered before it exists, so a signal at any moment finds it (temporaries.hpp).
+    int error = 0;
     for (int attempt = 0; attempt < 32 && fd_ < 0; ++attempt) {
-        tmp_ = path + ".tmp-" + std::to_string(rd());
+        auto lock = lockTemporaries();
+        tmp_ = temporaryFileName(path);
+        registerTemporary(tmp_, TemporaryKind::File);
         fd_ = ::open(tmp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-        if (fd_ < 0 && errno != EEXIST) {
-            break;
+        error = errno;
+        if (fd_ < 0) {
+            unregisterTemporary(tmp_);
+            if (error != EEXIST) {
+                break;
+            }
         }
     }
     if (fd_ < 0) {
-        fail(path, std::string("cannot create output file: ") + std::strerror(errno));
+        failWithErrno(path, "cannot create output file", error);
     }
 }
 
@@ -34,26 +51,45 @@ AtomicFile::~AtomicFile() {
         if (fd_ >= 0) {
             ::close(fd_);
         }
+        auto lock = lockTemporaries();
         ::unlink(tmp_.c_str());
+        unregisterTemporary(tmp_);
     }
 }
 
 void AtomicFile::writeAt(uint64_t offset, const void* data, size_t size) {
     if (!writeFully(fd_, data, size, offset)) {
-        fail(path_, std::string("write failed: ") + (errno == ENOSPC ? "no space left" : std::strerror(errno)));
+        failWithErrno(path_, "cannot write", errno);
+    }
+}
+
+void AtomicFile::flush() {
+    if (fd_ < 0) {
+        return;
+    }
+    // Write errors a file system defers (a full disk on NFS, EIO) show at fsync or close.
+    if (::fsync(fd_) != 0) {
+        failWithErrno(path_, "cannot write (flush)", errno);
+    }
+    const int closed = ::close(fd_);
+    fd_ = -1;
+    if (closed != 0 && errno != EINTR) {
+        failWithErrno(path_, "cannot write (close)", errno);
     }
 }
 
 void AtomicFile::commit() {
-    if (::fsync(fd_) != 0) {
-        fail(path_, std::string("cannot flush output file: ") + std::strerror(errno));
+    flush();
+    {
+        // Under the registry's lock: a signal's cleanup finds either the temporary or the
+        // finished file, never a file it would remove after it was put in place.
+        auto lock = lockTemporaries();
+        if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
+            failWithErrno(path_, "cannot move output file into place", errno);
+        }
+        committed_ = true;
+        unregisterTemporary(tmp_);
     }
-    ::close(fd_);
-    fd_ = -1;
-    if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
-        fail(path_, std::string("cannot move output file into place: ") + std::strerror(errno));
-    }
-    committed_ = true;
     // The rename itself survives a crash only once the directory entry is on disk.
     const size_t slash = path_.rfind('/');
     const std::string directory = slash == std::string::npos ? "." : (slash == 0 ? "/" : path_.substr(0, slash));

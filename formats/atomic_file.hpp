@@ -1,6 +1,8 @@
-// Outputs appear atomically: data goes to a temporary file in the destination's directory
-// and is renamed onto the destination only by commit(). Destroyed before commit(), the
-// temporary is removed.
+// Outputs appear atomically: data goes to a temporary file in the destination's directory,
+// PATH.tmp-<pid>-<hex> (registered while it exists: formats/temporaries.hpp), and is renamed
+// onto the destination only by commit(). Destroyed before commit(), the temporary is removed.
+// Errors name the output and say the system's words: "DEM.dat: cannot write: no space left on
+// device".
 #pragma once
 #include <cstdint>
 #include <string>
@@ -18,7 +20,10 @@ public:
     const std::string& path() const { return path_; }
     const std::string& temporaryPath() const { return tmp_; }
     void writeAt(uint64_t offset, const void* data, size_t size); // throws on short writes
-    void commit(); // fsync, close, rename
+    // Everything but the rename: fsync and close (both checked). Lets a caller put several
+    // files in place together with nothing slow left between their renames.
+    void flush();
+    void commit(); // flush() unless done, rename, fsync of the directory
 
 private:
     std::string path_;

@@ -148,6 +148,11 @@ void ResidualFileWriter::writeTileBytes(int level, int tx, int ty, std::span<con
 }
 
 void ResidualFileWriter::commit() {
+    finish();
+    table_->commit();
+}
+
+void ResidualFileWriter::finish() {
     // The table would name a missing tile by its index only: name it by its coordinates.
     for (int level = 0; level <= header_.maxLevel; ++level) {
         const int side = static_cast<int>(header_.tilesPerSide(level));
@@ -160,7 +165,7 @@ void ResidualFileWriter::commit() {
             }
         }
     }
-    table_->commit();
+    table_->finish();
 }
 
 uint64_t ResidualFileWriter::bytesWritten() const { return table_->bytesWritten(); }

@@ -83,6 +83,9 @@ public:
     // Appends an already encoded tile.
     void writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob);
     // Fails if any tile is missing or the data passed the 4 GiB limit of 32-bit offsets.
+    // finish() does everything but the rename (the file complete and on disk); commit() does
+    // what is left.
+    void finish();
     void commit();
 
     uint64_t bytesWritten() const;

@@ -132,6 +132,7 @@ struct TileTableWriter::Impl {
     // face a small map does not reach) are matched without reading the file back.
     std::vector<uint8_t> lastShared;
     TileTable::Range lastSharedRange{};
+    bool finished = false; // the table is written and the file flushed: only the rename is left
     std::mutex mutex;
 
     explicit Impl(const std::string& path) : file(path) {}
@@ -216,9 +217,12 @@ bool TileTableWriter::written(int64_t index) const {
            impl_->written[static_cast<size_t>(index)];
 }
 
-void TileTableWriter::commit() {
+void TileTableWriter::finish() {
     Impl& w = *impl_;
     std::lock_guard<std::mutex> lock(w.mutex);
+    if (w.finished) {
+        return;
+    }
     for (size_t i = 0; i < w.written.size(); ++i) {
         if (!w.written[i]) {
             fail(w.file.path(), "tile " + std::to_string(i) + " was never written");
@@ -231,7 +235,14 @@ void TileTableWriter::commit() {
         storeLittleEndian(p + w.offsetBytes, w.ranges[i].end, w.offsetBytes);
     }
     w.file.writeAt(w.tableStart, table.data(), table.size());
-    w.file.commit();
+    w.file.flush();
+    w.finished = true;
+}
+
+void TileTableWriter::commit() {
+    finish();
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->file.commit();
 }
 
 uint64_t TileTableWriter::bytesWritten() const {

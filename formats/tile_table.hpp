@@ -70,7 +70,9 @@ public:
 
     void write(int64_t index, std::span<const uint8_t> blob);
     bool written(int64_t index) const;
-    void commit();
+    // Everything but the rename: checks every tile, writes the table, flushes the file.
+    void finish();
+    void commit(); // finish() unless done, then the rename
 
     uint64_t bytesWritten() const; // tile bytes, shared tiles counted once
     int64_t sharedTiles() const;

@@ -75,13 +75,19 @@ nlohmann::json toJson(const PyramidGeoreference& g) {
 
 std::string georeferenceSidecarPath(const std::string& path) { return path + ".georef.json"; }
 
-void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g) {
+std::unique_ptr<AtomicFile> stageGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid,
+                                                     const PyramidGeoreference& g) {
     nlohmann::json j = toJson(g);
     j["pyramid"] = std::filesystem::path(pyramid).filename().string();
     const std::string text = j.dump(2) + "\n";
-    AtomicFile file(sidecar);
-    file.writeAt(0, text.data(), text.size());
-    file.commit();
+    auto file = std::make_unique<AtomicFile>(sidecar);
+    file->writeAt(0, text.data(), text.size());
+    file->flush();
+    return file;
+}
+
+void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g) {
+    stageGeoreferenceSidecar(sidecar, pyramid, g)->commit();
 }
 
 SidecarPlacement readGeoreferenceSidecar(const std::string& sidecar) {

@@ -9,11 +9,13 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "formats/atomic_file.hpp"
 #include "libpyramid/input/georeference.hpp"
 
 namespace pyramid {
@@ -42,6 +44,10 @@ nlohmann::json toJson(const PyramidGeoreference& g);
 std::string georeferenceSidecarPath(const std::string& path);
 // Writes toJson(g) (and the pyramid file's name) to `sidecar` atomically (formats/atomic_file.hpp).
 void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g);
+// The same, written and flushed but not yet renamed into place: the caller commits it together
+// with the pyramid it describes.
+std::unique_ptr<AtomicFile> stageGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid,
+                                                     const PyramidGeoreference& g);
 
 // What a reader of a sidecar needs to place points on the pyramid: its CRS's kind and its root
 // quad's extent, as writeGeoreferenceSidecar wrote them.

@@ -10,6 +10,7 @@
 
 #include "formats/error.hpp"
 #include "formats/file_io.hpp"
+#include "formats/temporaries.hpp"
 
 namespace pyramid {
 
@@ -29,7 +30,9 @@ ScratchFile::ScratchFile(const std::string& input) : input_(input) {
 #endif
     if (fd_ < 0) {
         // Without O_TMPFILE (some file systems): a named file, unlinked at once.
+        // Under the temporaries' lock: a signal's cleanup never comes between the two.
         std::string name = (std::filesystem::path(dir) / "libpyramid-scratch-XXXXXX").string();
+        auto lock = lockTemporaries();
         fd_ = ::mkstemp(name.data());
         if (fd_ >= 0) {
             ::unlink(name.c_str());
@@ -51,7 +54,7 @@ void ScratchFile::write(uint64_t offset, const void* data, size_t bytes) const {
     if (!writeFully(fd_, data, bytes, offset)) {
         const int e = errno;
         fail(input_, std::string("cannot write the decoded samples to the scratch file in ") + temporaryDirectory() +
-                         ": " + std::strerror(e) + (e == ENOSPC ? " (set TMPDIR to a directory with more room)" : ""));
+                         ": " + systemWords(e) + (e == ENOSPC ? " (set TMPDIR to a directory with more room)" : ""));
     }
 }
 

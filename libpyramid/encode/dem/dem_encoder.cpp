@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
+#include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
@@ -120,7 +122,8 @@ DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& o
     report.sampling = geometry.describe();
     const DemSampler sampler(*source, geometry, options.band, nodata);
     job.heights = &sampler;
-    encodeResidualPyramid(job, output, options, report);
+    // The sidecar is written first and renamed right after the pyramid: the two appear together.
+    std::unique_ptr<AtomicFile> sidecar;
     if (const auto& g = source->info().georeference; g && g->problem.empty()) {
         // Sample x of the finest grid is at input column x * lx / N, a pixel centre: +0.5 in
         // PixelIsArea coordinates.
@@ -131,8 +134,10 @@ DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& o
         const std::array<double, 4> root{0.5, 0.5, static_cast<double>(geometry.lx) + 0.5,
                                          static_cast<double>(geometry.ly) + 0.5};
         report.georeference = georeferencePyramid(*g, geometry.width, geometry.height, root, intervals, "vertices");
-        writeGeoreferenceSidecar(georeferenceSidecarPath(output), output, *report.georeference);
+        sidecar = stageGeoreferenceSidecar(georeferenceSidecarPath(output), output, *report.georeference);
+        job.alongside = [&sidecar] { sidecar->commit(); };
     }
+    encodeResidualPyramid(job, output, options, report);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }

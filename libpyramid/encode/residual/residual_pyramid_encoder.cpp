@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "formats/error.hpp"
+#include "formats/temporaries.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 #include "libpyramid/encode/residual/root_fill.hpp"
 #include "libpyramid/support/morton.hpp"
@@ -416,7 +417,14 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
             scale = niceCeil(std::max(needed, scale * 1.000001));
             continue;
         }
-        writer.commit();
+        writer.finish(); // complete and on disk: only the renames are left
+        {
+            auto lock = lockTemporaries();
+            writer.commit();
+            if (job.alongside) {
+                job.alongside();
+            }
+        }
         report.header = plan.header;
         report.tiles = plan.header.tileCount();
         report.sharedTiles = writer.sharedTiles();

@@ -66,6 +66,10 @@ struct ResidualPyramidJob {
     // outside a partial extent); none: such a pyramid is an error.
     std::optional<float> emptyFill;
     std::string input;               // names the input in messages
+    // Puts in place the files that go with the pyramid (its georeference sidecar, complete and
+    // flushed), right after the pyramid's rename and under the temporaries' lock
+    // (formats/temporaries.hpp): a signal finds both old or both new.
+    std::function<void()> alongside;
 };
 
 // Encodes the pyramid into `output` (written atomically) with the options' scale (or the
