@@ -63,7 +63,9 @@ run() {
     done
     local median
     median=$(printf '%s\n' "${walls[@]}" | sort -n | sed -n "$(( (REPEAT + 1) / 2 ))p")
-    printf '%s\t%d\t%.2f\t%d\t%d\n' "$name" "$(wc -l < list.txt)" "$(echo "$median / 1000" | bc -l)" $(( rss / 1024 )) "$fds"
+    local files=1
+    [ "$1" = --input-list ] && files=$(wc -l < "$2")
+    printf '%s\t%d\t%.2f\t%d\t%d\n' "$name" "$files" "$(echo "$median / 1000" | bc -l)" $(( rss / 1024 )) "$fds"
     eval "WALL_$name=$median"
 }
 
