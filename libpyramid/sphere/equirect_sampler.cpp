@@ -1,6 +1,7 @@
 #include "libpyramid/sphere/equirect_sampler.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "formats/error.hpp"
@@ -10,16 +11,8 @@
 namespace pyramid {
 
 GeoExtent GeoExtent::parse(const std::string& text) {
-    double v[4];
-    size_t start = 0;
-    for (int k = 0; k < 4; ++k) {
-        const size_t comma = k < 3 ? text.find(',', start) : text.size();
-        if (comma == std::string::npos) {
-            failOption("extent", "'" + text + "' is not WEST,SOUTH,EAST,NORTH in degrees");
-        }
-        v[k] = parseOptionNumber(text.substr(start, comma - start), "extent", "a number of degrees");
-        start = comma + 1;
-    }
+    const std::array<double, 4> v =
+        parseOptionNumbers4(text, "extent", "WEST,SOUTH,EAST,NORTH in degrees", "a number of degrees");
     const GeoExtent e{v[0], v[1], v[2], v[3]};
     if (const char* rule = e.brokenRule()) {
         failOption("extent", std::string(rule) + ", not " + text);

@@ -138,16 +138,8 @@ private:
 } // namespace
 
 std::array<double, 4> PlanarTarget::parseExtent(const std::string& text) {
-    std::array<double, 4> v{};
-    size_t start = 0;
-    for (size_t k = 0; k < 4; ++k) {
-        const size_t comma = k < 3 ? text.find(',', start) : text.size();
-        if (comma == std::string::npos) {
-            failOption("extent", "'" + text + "' is not MINX,MINY,MAXX,MAXY in the CRS's units");
-        }
-        v[k] = parseOptionNumber(text.substr(start, comma - start), "extent", "a coordinate in the CRS's units");
-        start = comma + 1;
-    }
+    const std::array<double, 4> v =
+        parseOptionNumbers4(text, "extent", "MINX,MINY,MAXX,MAXY in the CRS's units", "a coordinate in the CRS's units");
     if (!(v[0] < v[2]) || !(v[1] < v[3])) {
         failOption("extent", "needs MINX < MAXX and MINY < MAXY, not " + text);
     }
