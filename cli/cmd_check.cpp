@@ -109,12 +109,13 @@ CommandRunner setupCheckCommand(CLI::App& app) {
         std::string kind = "unknown";
         int64_t checked = 0;
         try {
-            const PyramidKind k = detectPyramidKind(*file);
+            const OpenedPyramid opened = openPyramid(*file);
+            const PyramidKind k = opened.kind;
             kind = kindName(k);
             const int n = *threads > 0 ? *threads : 0;
             const int t = n > 0 ? n : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
             if (k == PyramidKind::Residual) {
-                const auto reader = ResidualFileReader::open(*file);
+                const auto& reader = opened.residual;
                 const auto& h = reader->header();
                 const auto tiles = allTiles(h, [&](int l) { return h.tilesPerSide(l); });
                 checkOverlaps(reader->table(), problems);
@@ -122,7 +123,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
                 problems.insert(problems.end(), decoded.begin(), decoded.end());
                 checked = static_cast<int64_t>(tiles.size());
             } else {
-                const auto reader = OrthoFileReader::open(*file);
+                const auto& reader = opened.ortho;
                 const auto& h = reader->header();
                 const auto tiles = allTiles(h, [](int l) { return int64_t{1} << l; });
                 checkOverlaps(reader->table(), problems);
