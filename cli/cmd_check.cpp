@@ -80,6 +80,20 @@ std::vector<std::string> decodeAll(const Reader& reader, const std::vector<TileR
     return problems;
 }
 
+// The one line a failed check prints on stderr, as every failure does: the first problem,
+// naming the file, and how many more there are.
+std::string reasonLine(const std::string& file, const std::vector<std::string>& problems) {
+    std::string line = problems.front();
+    if (line.rfind(file + ": ", 0) != 0) {
+        line = file + ": " + line;
+    }
+    if (problems.size() > 1) {
+        const size_t more = problems.size() - 1;
+        line += " (and " + std::to_string(more) + " more problem" + (more == 1 ? "" : "s") + ")";
+    }
+    return line;
+}
+
 } // namespace
 
 CommandRunner setupCheckCommand(CLI::App& app) {
@@ -89,17 +103,19 @@ CommandRunner setupCheckCommand(CLI::App& app) {
     app.add_option("FILE", *file, "Residual (DEM) or ortho pyramid file")->required();
     app.add_flag("--json", *json, "Print the result as JSON");
     app.add_option("--threads", *threads, "Worker threads (default: all cores)");
-    return [file, json, threads]() {
+    const std::string program = app.get_parent() ? app.get_parent()->get_name() : app.get_name();
+    return [file, json, threads, program]() {
         std::vector<std::string> problems;
         std::string kind = "unknown";
         int64_t checked = 0;
         try {
-            const PyramidKind k = detectPyramidKind(*file);
+            const OpenedPyramid opened = openPyramid(*file);
+            const PyramidKind k = opened.kind;
             kind = kindName(k);
             const int n = *threads > 0 ? *threads : 0;
             const int t = n > 0 ? n : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
             if (k == PyramidKind::Residual) {
-                const auto reader = ResidualFileReader::open(*file);
+                const auto& reader = opened.residual;
                 const auto& h = reader->header();
                 const auto tiles = allTiles(h, [&](int l) { return h.tilesPerSide(l); });
                 checkOverlaps(reader->table(), problems);
@@ -107,7 +123,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
                 problems.insert(problems.end(), decoded.begin(), decoded.end());
                 checked = static_cast<int64_t>(tiles.size());
             } else {
-                const auto reader = OrthoFileReader::open(*file);
+                const auto& reader = opened.ortho;
                 const auto& h = reader->header();
                 const auto tiles = allTiles(h, [](int l) { return int64_t{1} << l; });
                 checkOverlaps(reader->table(), problems);
@@ -129,7 +145,12 @@ CommandRunner setupCheckCommand(CLI::App& app) {
             std::printf("%s: %s, %lld tiles decoded, %zu problem%s\n", file->c_str(), kind.c_str(),
                         static_cast<long long>(checked), problems.size(), problems.size() == 1 ? "" : "s");
         }
-        return problems.empty() ? kExitOk : kExitFailure;
+        if (problems.empty()) {
+            return kExitOk;
+        }
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: %s\n", program.c_str(), reasonLine(*file, problems).c_str());
+        return kExitFailure;
     };
 }
 

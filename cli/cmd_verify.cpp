@@ -51,11 +51,15 @@ int verifyResidual(const VerifyArgs& a) {
     } else {
         std::printf("%s against %s: scale %g, bound %g\n", a.file.c_str(), a.source.c_str(), report.scale, report.bound);
         for (const DemVerifyLevel& l : report.levels) {
-            std::printf("  level %2d: %6lld tiles %10lld samples  max error %-10.6g rms %-10.6g%s\n", l.level,
+            std::printf("  level %2d: %6lld tiles %10lld samples  max error %-10.6g rms %-10.6g%s", l.level,
                         static_cast<long long>(l.tiles), static_cast<long long>(l.samples), l.maxError, l.rmsError,
                         l.beyondBound ? "  BEYOND BOUND" : "");
+            if (l.nonFinite) {
+                std::printf("  %lld NON-FINITE", static_cast<long long>(l.nonFinite));
+            }
+            std::printf("\n");
         }
-        std::printf("%s\n", report.ok() ? "ok: every sample within scale/2" : "FAILED: samples beyond scale/2");
+        std::printf("%s\n", report.ok() ? "ok: every sample within scale/2" : "FAILED: samples beyond scale/2 or not finite");
     }
     return report.ok() ? kExitOk : kExitFailure;
 }

@@ -37,7 +37,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
         ->each([args](const std::string&) { args->maxErrorGiven = true; });
     app.add_option("--band", args->band, "Band (channel) holding the heights, from 1")->capture_default_str();
     app.add_option("--nodata", args->nodata,
-                   "Value marking missing heights: a number, 'nan', or 'none' (default: what the file declares)");
+                   "Value marking missing heights: a number, 'nan', 'inf', '-inf', or 'none' (default: what the file declares)");
     app.add_option("--threads", o.threads, "Worker threads (default: all cores; the output does not depend on it)");
     app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");

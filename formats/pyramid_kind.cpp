@@ -14,17 +14,20 @@ std::string reason(const Error& e, const std::string& path) {
 }
 } // namespace
 
-PyramidKind detectPyramidKind(const std::string& path) {
+OpenedPyramid openPyramid(const std::string& path) {
     std::string asResidual, asOrtho;
+    OpenedPyramid opened;
     try {
-        ResidualFileReader::open(path);
-        return PyramidKind::Residual;
+        opened.residual = ResidualFileReader::open(path);
+        opened.kind = PyramidKind::Residual;
+        return opened;
     } catch (const Error& e) {
         asResidual = reason(e, path);
     }
     try {
-        OrthoFileReader::open(path);
-        return PyramidKind::Ortho;
+        opened.ortho = OrthoFileReader::open(path);
+        opened.kind = PyramidKind::Ortho;
+        return opened;
     } catch (const Error& e) {
         asOrtho = reason(e, path);
     }
@@ -33,6 +36,8 @@ PyramidKind detectPyramidKind(const std::string& path) {
     }
     fail(path, "not a residual pyramid file (" + asResidual + ") nor an ortho pyramid file (" + asOrtho + ")");
 }
+
+PyramidKind detectPyramidKind(const std::string& path) { return openPyramid(path).kind; }
 
 const char* kindName(PyramidKind kind) { return kind == PyramidKind::Residual ? "residual" : "ortho"; }
 

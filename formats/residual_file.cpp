@@ -71,14 +71,12 @@ void ResidualHeader::validate(const std::string& where) const {
     }
 }
 
-std::unique_ptr<ResidualFileReader> ResidualFileReader::open(const std::string& path) {
-    std::unique_ptr<ResidualFileReader> reader(new ResidualFileReader());
-    reader->path_ = path;
+ResidualHeader ResidualFileReader::readHeader(const std::string& path) {
     // Read the header through a table of zero tiles: the same open/size checks apply.
     auto probe = TileTable::open(path, ResidualHeader::kBytes, 0, 4);
     uint8_t raw[ResidualHeader::kBytes];
     probe->readAt(0, raw, sizeof raw);
-    ResidualHeader& h = reader->header_;
+    ResidualHeader h;
     h.minLevel = detail::loadI32(raw + 0);
     h.maxLevel = detail::loadI32(raw + 4);
     h.tileSize = detail::loadI32(raw + 8);
@@ -87,7 +85,14 @@ std::unique_ptr<ResidualFileReader> ResidualFileReader::open(const std::string& 
     h.rootTy = detail::loadI32(raw + 20);
     h.scale = detail::loadF32(raw + 24);
     h.validate(path);
-    reader->table_ = TileTable::open(path, ResidualHeader::kBytes, h.tileCount(), 4);
+    return h;
+}
+
+std::unique_ptr<ResidualFileReader> ResidualFileReader::open(const std::string& path) {
+    std::unique_ptr<ResidualFileReader> reader(new ResidualFileReader());
+    reader->path_ = path;
+    reader->header_ = readHeader(path);
+    reader->table_ = TileTable::open(path, ResidualHeader::kBytes, reader->header_.tileCount(), 4);
     return reader;
 }
 

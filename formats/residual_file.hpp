@@ -48,6 +48,8 @@ struct ResidualHeader {
 class ResidualFileReader {
 public:
     static std::unique_ptr<ResidualFileReader> open(const std::string& path);
+    // The header alone, validated (the offset table is neither read nor checked).
+    static ResidualHeader readHeader(const std::string& path);
     ~ResidualFileReader();
 
     const std::string& path() const { return path_; }

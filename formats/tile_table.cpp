@@ -62,13 +62,14 @@ std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tab
     const uint64_t tableBytes = static_cast<uint64_t>(tileCount) * pairBytes;
     table->dataStart_ = tableStart + tableBytes;
     const uint64_t dataBytes = table->fileSize_ - table->dataStart_;
-    std::vector<uint8_t> raw(tableBytes);
-    readOrFail(table->fd_, tableStart, raw.data(), raw.size(), path);
-    table->ranges_.resize(static_cast<size_t>(tileCount));
+    table->tileCount_ = tileCount;
+    table->offsetBytes_ = offsetBytes;
+    table->table_.resize(static_cast<size_t>(tableBytes));
+    readOrFail(table->fd_, tableStart, table->table_.data(), table->table_.size(), path);
     for (int64_t i = 0; i < tileCount; ++i) {
-        const uint8_t* p = raw.data() + static_cast<size_t>(i) * pairBytes;
-        uint64_t begin = loadLittleEndian(p, offsetBytes);
-        uint64_t end = loadLittleEndian(p + offsetBytes, offsetBytes);
+        const uint8_t* p = table->table_.data() + static_cast<size_t>(i) * pairBytes;
+        const uint64_t begin = loadLittleEndian(p, offsetBytes);
+        const uint64_t end = loadLittleEndian(p + offsetBytes, offsetBytes);
         if (offsetBytes == 8 && (static_cast<int64_t>(begin) < 0 || static_cast<int64_t>(end) < 0)) {
             fail(path, "negative offset for tile " + std::to_string(i));
         }
@@ -80,9 +81,16 @@ std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tab
             fail(path, "tile " + std::to_string(i) + " ends at byte " + std::to_string(end) +
                            " past the end of the tile data (" + std::to_string(dataBytes) + " bytes)");
         }
-        table->ranges_[static_cast<size_t>(i)] = Range{begin, end};
     }
     return table;
+}
+
+TileTable::Range TileTable::range(int64_t index) const {
+    if (index < 0 || index >= tileCount_) {
+        fail(path_, "tile index " + std::to_string(index) + " out of range");
+    }
+    const uint8_t* p = table_.data() + static_cast<size_t>(index) * 2u * static_cast<size_t>(offsetBytes_);
+    return Range{loadLittleEndian(p, offsetBytes_), loadLittleEndian(p + offsetBytes_, offsetBytes_)};
 }
 
 TileTable::~TileTable() {
@@ -93,8 +101,9 @@ TileTable::~TileTable() {
 
 int64_t TileTable::distinctRanges() const {
     std::vector<std::pair<uint64_t, uint64_t>> seen;
-    seen.reserve(ranges_.size());
-    for (const Range& r : ranges_) {
+    seen.reserve(static_cast<size_t>(tileCount_));
+    for (int64_t i = 0; i < tileCount_; ++i) {
+        const Range r = range(i);
         seen.emplace_back(r.begin, r.end);
     }
     std::sort(seen.begin(), seen.end());
@@ -102,10 +111,7 @@ int64_t TileTable::distinctRanges() const {
 }
 
 std::vector<uint8_t> TileTable::read(int64_t index) const {
-    if (index < 0 || index >= tileCount()) {
-        fail(path_, "tile index " + std::to_string(index) + " out of range");
-    }
-    const Range r = ranges_[static_cast<size_t>(index)];
+    const Range r = range(index);
     if (r.size() == 0) {
         fail(path_, "tile " + std::to_string(index) + " is missing (empty byte range)");
     }

@@ -22,9 +22,10 @@ public:
     };
 
     // Opens `path`, reads `tileCount` offset pairs of `offsetBytes` (4 or 8) starting at byte
-    // `tableStart`, and validates every pair against the file size before anything else is
-    // allocated or read: the table must fit in the file, begin <= end <= bytes of tile data.
-    // Throws Error("PATH: ...") otherwise.
+    // `tableStart`, and validates every pair against the file size: the table must fit in the
+    // file (checked before anything is allocated for it), begin <= end <= bytes of tile data.
+    // Throws Error("PATH: ...") otherwise. The table is read in one read into one allocation
+    // of its own size, kept as stored (little-endian) and decoded by range().
     static std::unique_ptr<TileTable> open(const std::string& path, uint64_t tableStart,
                                            int64_t tileCount, int offsetBytes);
     ~TileTable();
@@ -32,8 +33,9 @@ public:
     TileTable& operator=(const TileTable&) = delete;
 
     const std::string& path() const { return path_; }
-    int64_t tileCount() const { return static_cast<int64_t>(ranges_.size()); }
-    Range range(int64_t index) const { return ranges_.at(static_cast<size_t>(index)); }
+    int64_t tileCount() const { return tileCount_; }
+    // Throws Error for an index outside [0, tileCount()).
+    Range range(int64_t index) const;
     uint64_t dataStart() const { return dataStart_; }
     uint64_t fileSize() const { return fileSize_; }
     // Number of distinct byte ranges (tiles sharing bytes count once).
@@ -50,7 +52,9 @@ private:
     int fd_ = -1;
     uint64_t dataStart_ = 0;
     uint64_t fileSize_ = 0;
-    std::vector<Range> ranges_;
+    int64_t tileCount_ = 0;
+    int offsetBytes_ = 4;
+    std::vector<uint8_t> table_; // the offset table as stored: 2 * offsetBytes_ per tile
 };
 
 // Streams a pyramid file to a temporary next to `path`: the header and a zeroed table

@@ -57,6 +57,28 @@ TEST(PyramidCheck, PassesGoodFilesAndFailsBrokenOnes) {
     const auto r = run(programPath("pyramid") + " check " + shellQuoted(dir.file("bad.dat")));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.out.find("tile (0,0,0)"), std::string::npos) << r.out;
+    // The reason, on one line of stderr as for every failure: the program, the file, the tile.
+    const std::string reason = "pyramid: " + dir.file("bad.dat") + ": ";
+    EXPECT_EQ(r.err.rfind(reason, 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("tile (0,0,0)"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+    // --json keeps the report on stdout, whole, and says the same on stderr.
+    const auto j = run(programPath("pyramid") + " check --json " + shellQuoted(dir.file("bad.dat")));
+    EXPECT_EQ(j.exitCode, 1);
+    EXPECT_FALSE(nlohmann::json::parse(j.out)["ok"].get<bool>());
+    EXPECT_EQ(j.err, r.err);
+    // A file cut short fails to open: the reason names it, and nothing else is on stderr.
+    {
+        std::FILE* f = std::fopen(dir.file("short.dat").c_str(), "wb");
+        std::fwrite(bytes.data(), 1, 40, f);
+        std::fclose(f);
+    }
+    const auto s = run(programPath("pyramid") + " check " + shellQuoted(dir.file("short.dat")));
+    EXPECT_EQ(s.exitCode, 1);
+    EXPECT_EQ(s.err.rfind("pyramid: " + dir.file("short.dat") + ": ", 0), 0u) << s.err;
+    EXPECT_EQ(s.err.find('\n'), s.err.size() - 1) << s.err;
+    // A good file prints nothing on stderr.
+    EXPECT_EQ(run(programPath("pyramid") + " check " + shellQuoted(test::dataPath("proland/DEM.dat"))).err, "");
 }
 
 TEST(PyramidTile, WritesReconstructedAndRawTiles) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "formats/error.hpp"
@@ -134,12 +135,11 @@ pyramid_status pyramid_open(const char* path, pyramid_file** file) {
     *file = nullptr;
     return guarded([&] {
         auto f = std::make_unique<pyramid_file>();
-        f->kind = pyramid::detectPyramidKind(path);
-        if (f->kind == pyramid::PyramidKind::Residual) {
-            f->residual = pyramid::ResidualFileReader::open(path);
-        } else {
-            f->ortho = pyramid::OrthoFileReader::open(path);
-        }
+        // The reader that recognises the file is the one kept: the offset table is read once.
+        pyramid::OpenedPyramid opened = pyramid::openPyramid(path);
+        f->kind = opened.kind;
+        f->residual = std::move(opened.residual);
+        f->ortho = std::move(opened.ortho);
         *file = f.release();
         return PYRAMID_OK;
     });
@@ -241,7 +241,8 @@ pyramid_status pyramid_elevation_open_regions(const char* residual_path, const c
     }
     *producer = nullptr;
     return guarded([&] {
-        const pyramid::ResidualHeader h = pyramid::ResidualFileReader::open(residual_path)->header();
+        // The header alone: the producer below reads the offset table, once.
+        const pyramid::ResidualHeader h = pyramid::ResidualFileReader::readHeader(residual_path);
         const int n = tile_size == 0 ? h.tileSize : tile_size;
         int delta = 0;
         try {

@@ -19,10 +19,12 @@ namespace {
 
 constexpr const char* kModuleFileName = "libpyramid_oiio.so";
 
-// Where to look, in order.
+// Where to look, in order. The variable names code this process will run: it is read with
+// secure_getenv, so that a set-user-ID or file-capability program that links the library
+// never loads a module its caller chose (it then looks beside the library only).
 std::vector<std::string> candidatePaths() {
     std::vector<std::string> paths;
-    if (const char* env = std::getenv("PYRAMID_OIIO_MODULE"); env && *env) {
+    if (const char* env = ::secure_getenv("PYRAMID_OIIO_MODULE"); env && *env) {
         paths.emplace_back(env);
         return paths; // an explicit choice is not second-guessed
     }

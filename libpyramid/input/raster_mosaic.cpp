@@ -221,6 +221,18 @@ void RasterMosaic::compose(int x0, int y0, int x1, int y1, int values, T gap, Re
     }
 }
 
+RasterMosaic::Place RasterMosaic::placeOf(int x, int y, int channel) const {
+    for (const size_t k : membersIn(x, y, x + 1, y + 1)) {
+        const Member& m = members_[k];
+        float v = 0.0f;
+        openMember(k)->readFloat(x - m.x, y - m.y, x - m.x + 1, y - m.y + 1, channel, &v);
+        if (!isNodata(static_cast<double>(v), m.nodata)) {
+            return {m.path, x - m.x, y - m.y};
+        }
+    }
+    return {name_, x, y};
+}
+
 void RasterMosaic::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
     const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
     compose<float>(x0, y0, x1, y1, 1, gap,

@@ -47,6 +47,15 @@ public:
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
 
+    // The member that gives pixel (x, y) of `channel` (the first listed that holds a value
+    // there) and the pixel in its own coordinates; the mosaic's name and (x, y) in a gap.
+    struct Place {
+        std::string path;
+        int64_t column = 0;
+        int64_t row = 0;
+    };
+    Place placeOf(int x, int y, int channel) const;
+
     struct Member {
         std::string path;
         int x = 0, y = 0; // its first pixel's place in the mosaic

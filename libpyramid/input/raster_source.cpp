@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include "formats/error.hpp"
@@ -148,6 +149,14 @@ std::unique_ptr<RasterSource> RasterSource::fromPixels(const std::string& name, 
 }
 
 RasterSource::~RasterSource() = default;
+
+RasterSource::PixelPlace RasterSource::placeOf(int x, int y, int channel) const {
+    if (impl_->mosaic) {
+        RasterMosaic::Place p = impl_->mosaic->placeOf(x, y, channel);
+        return {std::move(p.path), p.column, p.row};
+    }
+    return {path_, x, y};
+}
 
 namespace {
 

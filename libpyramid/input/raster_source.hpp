@@ -63,6 +63,16 @@ public:
     // widening to 16 bits, and the copy back, where samples are used as they are. Thread-safe.
     void readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;
 
+    // Where pixel (x, y) of channel `channel` comes from, for messages that name a sample: this
+    // file and the pixel; for a mosaic, the file that gives the pixel (raster_mosaic.hpp) and
+    // its own column and row.
+    struct PixelPlace {
+        std::string path;
+        int64_t column = 0;
+        int64_t row = 0;
+    };
+    PixelPlace placeOf(int x, int y, int channel) const;
+
     struct Impl; // the readers behind it (raster_source.cpp)
 
 private:

@@ -113,7 +113,7 @@ std::optional<double> geoTiffNodata(const std::string& path) {
     // libtiff builds without the tag's definition keep it as an anonymous field.
     const std::optional<std::string> text = tiffText(tif, TIFFTAG_GDAL_NODATA);
     TIFFClose(tif);
-    return text ? parseNodataText(*text) : std::nullopt;
+    return text ? std::optional<double>(parseDeclaredNodata(*text, path, "GDAL_NODATA")) : std::nullopt;
 }
 
 } // namespace pyramid

@@ -145,7 +145,7 @@ ElevationProducer::ElevationProducer(std::shared_ptr<const ResidualProducer> res
 ElevationProducer::~ElevationProducer() = default;
 
 FileLevelProducer makeFileLevelProducer(const std::string& file, int fileLevel, size_t cacheCapacity) {
-    auto header = ResidualFileReader::open(file)->header();
+    auto header = ResidualFileReader::readHeader(file);
     if (fileLevel < 0 || fileLevel > header.maxLevel) {
         fail(file, "no level " + std::to_string(fileLevel) + " (levels 0.." + std::to_string(header.maxLevel) + ")");
     }

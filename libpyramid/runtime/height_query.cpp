@@ -46,7 +46,7 @@ PointHeight heightAt(ElevationProducer& producer, double u, double v, int level)
 }
 
 PointHeight fileHeightAt(const std::string& file, double u, double v) {
-    const ResidualHeader header = ResidualFileReader::open(file)->header();
+    const ResidualHeader header = ResidualFileReader::readHeader(file);
     const FileLevelProducer finest = makeFileLevelProducer(file, header.maxLevel, 4);
     try {
         PointHeight p = heightAt(*finest.producer, u, v);

@@ -1,6 +1,7 @@
 // A producer's files: a main pyramid plus region files nested in it (doc/format.md, 1.4).
 // A tile is served by the deepest file whose pyramid holds it.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -12,7 +13,9 @@ struct RelativeTile {
 };
 
 // Index into `readers` of the deepest file holding absolute tile (level, tx, ty), or -1.
-// Readers have header() with rootLevel, rootTx, rootTy, maxLevel and contains(level, tx, ty).
+// Readers have header() with rootLevel, rootTx, rootTy, maxLevel (at most 30, as validated)
+// and contains(level, tx, ty). A file's root at `level` lies at (rootTx << l, rootTy << l),
+// which passes 2^31 for deep levels: it is computed in 64 bits.
 template <class Reader>
 int deepestHolder(const std::vector<std::unique_ptr<Reader>>& readers, int level, int tx, int ty, RelativeTile& rel) {
     int best = -1;
@@ -23,12 +26,15 @@ int deepestHolder(const std::vector<std::unique_ptr<Reader>>& readers, int level
         if (l < 0 || l > h.maxLevel || h.rootLevel <= bestRoot) {
             continue;
         }
-        const int x = tx - (h.rootTx << l);
-        const int y = ty - (h.rootTy << l);
-        if (h.contains(l, x, y)) {
+        const int64_t x = int64_t{tx} - (int64_t{h.rootTx} << l);
+        const int64_t y = int64_t{ty} - (int64_t{h.rootTy} << l);
+        if (x < 0 || y < 0 || x >= (int64_t{1} << l) || y >= (int64_t{1} << l)) {
+            continue; // outside the file's root tile (and beyond int when far outside)
+        }
+        if (h.contains(l, static_cast<int>(x), static_cast<int>(y))) {
             best = static_cast<int>(k);
             bestRoot = h.rootLevel;
-            rel = RelativeTile{l, x, y};
+            rel = RelativeTile{l, static_cast<int>(x), static_cast<int>(y)};
         }
     }
     return best;

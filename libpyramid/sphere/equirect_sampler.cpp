@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/height_samples.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/support/parse_number.hpp"
 
@@ -234,17 +235,12 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
         return b;
     };
 
-    const bool nanNodata = nodata_ && std::isnan(*nodata_);
+    // Values read as numbers follow the rule of heights (height_samples.hpp): NaN or infinity
+    // that is not nodata is an error. Integers widened to uint16 are always finite.
+    const HeightSamples samples(nodata_);
     auto usable = [&](const float* v, int64_t i, int64_t j) {
         for (int ch = 0; ch < channels; ++ch) {
-            if (std::isnan(v[ch])) {
-                if (nanNodata) {
-                    return false;
-                }
-                fail(source_.path(), "NaN at column " + std::to_string(i) + ", row " + std::to_string(j) +
-                                         " (declare NaN the nodata value to treat it as missing)");
-            }
-            if (nodata_ && !nanNodata && v[ch] == static_cast<float>(*nodata_)) {
+            if (!samples.usable(v[ch], source_, i, j, c0_ + ch)) {
                 return false;
             }
         }

@@ -1,22 +1,11 @@
 #include "libpyramid/support/parse_number.hpp"
 
-#include <cmath>
-#include <stdexcept>
-
 #include "formats/error.hpp"
 
 namespace pyramid {
 
 std::optional<double> tryParseNumber(const std::string& text) {
-    try {
-        size_t used = 0;
-        const double v = std::stod(text, &used);
-        if (used == text.size() && std::isfinite(v)) {
-            return v;
-        }
-    } catch (const std::exception&) {
-    }
-    return std::nullopt;
+    return readNumberText(text);
 }
 
 double parseNumber(const std::string& text, const std::string& where, const std::string& what) {

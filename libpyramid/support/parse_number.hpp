@@ -1,12 +1,35 @@
-// Numbers given as text (options, body parameters, extents): the whole text must be one finite
-// number, so that "12abc", "", "inf" and "nan" are refused instead of read as a prefix.
+// Numbers given as text (options, body parameters, extents, nodata values): the whole text must
+// be one number, so that "12abc", "-9999abc", "" and " 1" are refused instead of read as a
+// prefix. Read with std::from_chars: the decimal point is '.', whatever the process's locale.
+// Header-only core (readNumberText), so that the image I/O module can use it too.
 #pragma once
 #include <array>
+#include <charconv>
+#include <cmath>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <system_error>
 
 namespace pyramid {
 
+// The whole of `text` as a decimal number: an optional sign ('+' or '-'), digits with an
+// optional '.' fraction, an optional exponent. With `nonFinite`, also "nan", "inf" and
+// "infinity" (any case, signed). Out-of-range numbers ("1e999") are refused.
+inline std::optional<double> readNumberText(std::string_view text, bool nonFinite = false) {
+    if (text.size() > 1 && text[0] == '+' && text[1] != '-' && text[1] != '+') {
+        text.remove_prefix(1); // from_chars takes '-' only
+    }
+    double v = 0.0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v, std::chars_format::general);
+    if (text.empty() || ec != std::errc() || ptr != end || (!nonFinite && !std::isfinite(v))) {
+        return std::nullopt;
+    }
+    return v;
+}
+
+// A finite number, or nothing.
 std::optional<double> tryParseNumber(const std::string& text);
 
 // Throws Error("WHERE: 'TEXT' is not WHAT").

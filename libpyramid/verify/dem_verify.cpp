@@ -16,7 +16,7 @@
 namespace pyramid {
 
 bool DemVerifyReport::ok() const {
-    return std::all_of(levels.begin(), levels.end(), [](const DemVerifyLevel& l) { return l.beyondBound == 0; });
+    return std::all_of(levels.begin(), levels.end(), [](const DemVerifyLevel& l) { return l.beyondBound == 0 && l.nonFinite == 0; });
 }
 
 
@@ -50,7 +50,7 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
         const int64_t count = static_cast<int64_t>(side) * side;
         const int64_t Nl = R << l;
         struct TileResult {
-            int64_t samples = 0, beyond = 0;
+            int64_t samples = 0, beyond = 0, nonFinite = 0;
             double maxError = 0.0, sumSquares = 0.0;
         };
         std::vector<TileResult> results(static_cast<size_t>(count));
@@ -76,10 +76,14 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
                     }
                     const double src = grid.height[g];
                     const double z = tile->zf[static_cast<size_t>((i + 2) + (j + 2) * S)];
+                    r.samples += 1;
+                    if (!std::isfinite(z) || !std::isfinite(src)) {
+                        r.nonFinite += 1;
+                        continue;
+                    }
                     const double e = std::fabs(z - src);
                     // scale/2, plus the float32 roundings of the reconstruction and the source.
                     const double allowed = report.bound + std::ldexp(std::max(std::fabs(z), std::fabs(src)), -22);
-                    r.samples += 1;
                     r.maxError = std::max(r.maxError, e);
                     r.sumSquares += e * e;
                     r.beyond += e > allowed;
@@ -94,9 +98,11 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
             level.samples += r.samples;
             level.maxError = std::max(level.maxError, r.maxError);
             level.beyondBound += r.beyond;
+            level.nonFinite += r.nonFinite;
             sum += r.sumSquares;
         }
-        level.rmsError = level.samples ? std::sqrt(sum / static_cast<double>(level.samples)) : 0.0;
+        const int64_t compared = level.samples - level.nonFinite;
+        level.rmsError = compared ? std::sqrt(sum / static_cast<double>(compared)) : 0.0;
         report.levels.push_back(level);
     }
     return report;
@@ -110,7 +116,8 @@ nlohmann::json toJson(const DemVerifyReport& r) {
                           {"samples", l.samples},
                           {"max_error", l.maxError},
                           {"rms_error", l.rmsError},
-                          {"beyond_bound", l.beyondBound}});
+                          {"beyond_bound", l.beyondBound},
+                          {"non_finite", l.nonFinite}});
     }
     return {{"file", r.file}, {"source", r.source}, {"scale", r.scale}, {"bound", r.bound},
             {"ok", r.ok()},   {"levels", levels}};

@@ -29,6 +29,9 @@ struct DemVerifyLevel {
     double maxError = 0.0;
     double rmsError = 0.0;
     int64_t beyondBound = 0; // samples whose error passes scale/2 (+ float32 rounding)
+    // Samples whose rebuilt or source height is NaN or infinite: never within any bound, and
+    // left out of maxError and rmsError so that those stay numbers.
+    int64_t nonFinite = 0;
 };
 
 struct DemVerifyReport {
@@ -37,6 +40,7 @@ struct DemVerifyReport {
     double scale = 0.0;
     double bound = 0.0; // scale / 2
     std::vector<DemVerifyLevel> levels;
+    // Every sample within the bound, and none non-finite.
     bool ok() const;
 };
 

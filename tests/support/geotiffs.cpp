@@ -62,6 +62,15 @@ void write(const std::string& path, int width, int height, int channels, int bit
     TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, channels == 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
     TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
     TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, 16u);
+    if (!tags.gdalNodata.empty()) {
+        // libtiff builds without GDAL's tag learn it here, as GDAL declares it.
+        if (!TIFFFindField(tif, TIFFTAG_GDAL_NODATA, TIFF_ANY)) {
+            static const TIFFFieldInfo gdalNodata = {TIFFTAG_GDAL_NODATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0,
+                                                     const_cast<char*>("GDALNoDataValue")};
+            TIFFMergeFieldInfo(tif, &gdalNodata, 1);
+        }
+        TIFFSetField(tif, TIFFTAG_GDAL_NODATA, tags.gdalNodata.c_str());
+    }
     if (!tags.tiepoints.empty()) {
         TIFFSetField(tif, TIFFTAG_GEOTIEPOINTS, static_cast<uint16_t>(tags.tiepoints.size()), tags.tiepoints.data());
     }

@@ -16,6 +16,7 @@ struct GeoTiffTags {
     std::vector<double> tiepoints;                       // ModelTiepoint: I, J, K, X, Y, Z (several for GCPs)
     std::vector<double> pixelScale;                      // ModelPixelScale: sx, sy, sz
     std::vector<double> transformation;                  // ModelTransformation: 16 values, row by row
+    std::string gdalNodata;                              // GDAL_NODATA (tag 42113) text, if not empty
 };
 
 // A geographic CRS by EPSG code, north-up, pixel (0, 0)'s top-left corner at (west, north),

@@ -8,6 +8,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/input/height_samples.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/text.hpp"
 
@@ -145,7 +146,7 @@ DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& o
 nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int band, std::optional<double> nodata) {
     nlohmann::json nodataJson = nullptr;
     if (nodata) {
-        nodataJson = std::isnan(*nodata) ? nlohmann::json("nan") : nlohmann::json(*nodata);
+        nodataJson = std::isfinite(*nodata) ? nlohmann::json(*nodata) : nlohmann::json(nodataText(*nodata));
     }
     return {{"path", path},
             {"width", info.width},

@@ -81,7 +81,8 @@ DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& o
 nlohmann::json toJson(const DemReport& report);
 
 // The "input" object of the DEM reports: path, size, channels, sample type, format, band (from
-// 1) and the nodata value used (null, a number, or "nan": JSON has no NaN).
+// 1) and the nodata value used (null, a number, or "nan", "inf", "-inf": JSON has neither NaN
+// nor infinities).
 nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int band, std::optional<double> nodata);
 
 } // namespace pyramid

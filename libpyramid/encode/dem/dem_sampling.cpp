@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/height_samples.hpp"
+#include "libpyramid/input/nodata_text.hpp"
 #include "libpyramid/support/row_pair_cache.hpp"
 #include "libpyramid/support/vector_clones.hpp"
 
@@ -16,18 +18,10 @@ NodataChoice parseNodataChoice(const std::string& text, const std::string& optio
     }
     if (text == "none") {
         choice.ignoreDeclared = true;
-    } else if (text == "nan" || text == "NaN") {
-        choice.value = std::nan("");
+    } else if (const std::optional<double> v = tryParseNodataText(text)) {
+        choice.value = *v;
     } else {
-        size_t used = 0;
-        try {
-            choice.value = std::stod(text, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used == 0 || used != text.size()) {
-            fail(option, "'" + text + "' is not a number, nan or none");
-        }
+        fail(option, "'" + text + "' is not a number, nan, inf, -inf or none");
     }
     return choice;
 }
@@ -206,29 +200,19 @@ void DemSampler::sample(SourceGrid& grid) const {
     std::vector<float> window(static_cast<size_t>(ww * wh));
     source_.readFloat(static_cast<int>(cx0), static_cast<int>(ry0), static_cast<int>(cx1 + 1),
                       static_cast<int>(ry1 + 1), band_, window.data());
-    const bool nanNodata = nodata_ && std::isnan(*nodata_);
-    const float nodataValue = nodata_ ? static_cast<float>(*nodata_) : 0.0f;
-    // Most windows hold neither NaN nor nodata: one scan finds out, and the interpolation below
-    // then reads the input without a test per tap (the same values, the same arithmetic).
-    const bool clean = std::none_of(window.begin(), window.end(), [&](float s) {
-        return std::isnan(s) || (nodata_ && !nanNodata && s == nodataValue);
-    });
+    const HeightSamples samples(nodata_);
+    // Most windows hold only heights: one scan finds out, and the interpolation below then reads
+    // the input without a test per tap (the same values, the same arithmetic).
+    const bool clean = std::all_of(window.begin(), window.end(), [&](float s) { return samples.isHeight(s); });
     if (clean) {
         sampleCleanWindow(xs, ys, window.data(), cx0, ry0, ww, grid);
         return;
     }
-    // Reads input (column c, row r) from `line`, the window's row r: false for nodata; NaN that
-    // is not nodata is an error.
+    // Reads input (column c, row r) from `line`, the window's row r: false for nodata; NaN or
+    // infinity that is not nodata is an error (height_samples.hpp).
     auto at = [&](const float* line, int64_t c, int64_t r, double& v) {
         const float s = line[c - cx0];
-        if (std::isnan(s)) {
-            if (nanNodata) {
-                return false;
-            }
-            fail(source_.path(), "NaN height at column " + std::to_string(c) + ", row " + std::to_string(r) +
-                                     " (declare NaN the nodata value to treat it as missing)");
-        }
-        if (nodata_ && !nanNodata && s == nodataValue) {
+        if (!samples.usable(s, source_, c, r, band_)) {
             return false;
         }
         v = s;

@@ -22,7 +22,8 @@
 namespace pyramid {
 
 // The nodata value of a DEM source as preprocessDem's and `pyramid verify`'s --nodata give it:
-// a number, "nan", or "none" (ignore the value the file declares); empty: what the file declares.
+// a number, "nan", "inf", "-inf" (input/nodata_text.hpp), or "none" (ignore the value the file
+// declares); empty: what the file declares.
 struct NodataChoice {
     std::optional<double> value;
     bool ignoreDeclared = false;
@@ -46,8 +47,8 @@ DemGeometry makeDemGeometry(int width, int height, int64_t N, bool stretch, cons
 // The heights of a planar raster.
 class DemSampler final : public HeightSource {
 public:
-    // `nodata`: the value that marks missing samples (NaN allowed), or none. Any other NaN in
-    // the input is an error.
+    // `nodata`: the value that marks missing samples (NaN and infinities allowed), or none. Any
+    // other NaN or infinity in the input is an error (input/height_samples.hpp).
     DemSampler(const RasterSource& source, const DemGeometry& geometry, int band, std::optional<double> nodata);
 
     const DemGeometry& geometry() const { return geometry_; }

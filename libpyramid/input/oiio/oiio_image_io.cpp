@@ -71,7 +71,8 @@ std::string firstLine(std::string text) {
     return text;
 }
 
-// The nodata value a file declares through OpenImageIO's attributes, if any.
+// The nodata value a file declares through OpenImageIO's attributes, if any. Throws Error for
+// a text value that is not a number, NaN or an infinity (the caller names the file).
 std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
     for (const char* name : {"GDAL_NODATA", "tiff:GDAL_NODATA", "oiio:nodata", "nodata"}) {
         const OIIO::ParamValue* p = spec.find_attribute(name);
@@ -79,10 +80,7 @@ std::optional<double> declaredNodata(const OIIO::ImageSpec& spec) {
             continue;
         }
         if (p->type() == OIIO::TypeString) {
-            if (const std::optional<double> v = parseNodataText(p->get_string())) {
-                return v;
-            }
-            continue;
+            return parseDeclaredNodata(p->get_string(), "", name);
         }
         return static_cast<double>(p->get_float());
     }
