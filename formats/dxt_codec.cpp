@@ -1,8 +1,5 @@
 #include "formats/dxt_codec.hpp"
 
-#include <squish.h>
-#include <stb/stb_dxt.h>
-
 #include <algorithm>
 
 #include "formats/error.hpp"
@@ -11,55 +8,77 @@ namespace pyramid {
 
 namespace {
 
-// Quality levels 2 and 3: libsquish's fits. (Its range fit is not offered: stb_dxt is both
-// faster and closer.)
-int squishFlags(DxtFormat format, int quality) {
-    const int flags = format == DxtFormat::Dxt1 ? squish::kDxt1 : squish::kDxt5;
-    return flags | (quality >= 3 ? squish::kColourIterativeClusterFit : squish::kColourClusterFit);
+// One 4 x 4 block decoded to RGBA exactly as libsquish 1.15 decodes it (squish::Decompress: the
+// endpoints widened from 5:6:5 by bit replication, the interpolated colours and alphas by
+// truncating integer division), without linking it: the runtime decodes, only the encoders
+// need libsquish. tests/formats_tiles_test.cpp checks the two agree.
+void decodeColourBlock(uint8_t* rgba, const uint8_t* bytes, bool isDxt1) {
+    uint8_t codes[16];
+    int endpoints[2];
+    for (int e = 0; e < 2; ++e) {
+        const int value = bytes[2 * e] | (bytes[2 * e + 1] << 8);
+        const int red = (value >> 11) & 0x1f, green = (value >> 5) & 0x3f, blue = value & 0x1f;
+        uint8_t* c = codes + 4 * e;
+        c[0] = static_cast<uint8_t>((red << 3) | (red >> 2));
+        c[1] = static_cast<uint8_t>((green << 2) | (green >> 4));
+        c[2] = static_cast<uint8_t>((blue << 3) | (blue >> 2));
+        c[3] = 255;
+        endpoints[e] = value;
+    }
+    const bool threeColours = isDxt1 && endpoints[0] <= endpoints[1];
+    for (int i = 0; i < 3; ++i) {
+        const int c = codes[i], d = codes[4 + i];
+        if (threeColours) {
+            codes[8 + i] = static_cast<uint8_t>((c + d) / 2);
+            codes[12 + i] = 0;
+        } else {
+            codes[8 + i] = static_cast<uint8_t>((2 * c + d) / 3);
+            codes[12 + i] = static_cast<uint8_t>((c + 2 * d) / 3);
+        }
+    }
+    codes[11] = 255;
+    codes[15] = threeColours ? 0 : 255;
+    for (int k = 0; k < 16; ++k) {
+        const int index = (bytes[4 + k / 4] >> (2 * (k % 4))) & 3;
+        std::copy_n(codes + 4 * index, 4, rgba + 4 * k);
+    }
 }
 
-bool usesStb(int quality) { return quality <= 1; }
-
-// The 4 x 4 blocks of an RGBA image, each compressed or decompressed by libsquish's per-block
-// calls in the calling thread. (squish::CompressImage and DecompressImage do the same blocks in
-// an OpenMP loop of their own: inside our own parallel loops with one thread, or a single
-// tile's handful of blocks, that spawned a team per tile and spun idle threads; tiles are
-// already encoded in parallel.) Pixels of partial blocks outside the image are masked out.
-//
-// stb_dxt takes whole blocks: the pixels of a partial block beyond the image repeat its nearest
-// pixel inside, which adds no colour to the block's fit. Its DXT5 blocks are laid out as
-// libsquish's (alpha block, then colour block).
-void compressBlocks(const uint8_t* rgba, int width, int height, uint8_t* blocks, DxtFormat format, int quality) {
-    const size_t blockBytes = format == DxtFormat::Dxt1 ? 8u : 16u;
-    const int flags = squishFlags(format, quality);
-    const int stbMode = quality == 0 ? STB_DXT_NORMAL : STB_DXT_HIGHQUAL;
-    uint8_t block[64];
-    for (int by = 0; by < height; by += 4) {
-        for (int bx = 0; bx < width; bx += 4) {
-            int mask = 0;
-            for (int j = 0; j < 4; ++j) {
-                for (int i = 0; i < 4; ++i) {
-                    const int x = std::min(bx + i, width - 1), y = std::min(by + j, height - 1);
-                    std::copy_n(rgba + 4 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)), 4,
-                                block + 4 * (i + 4 * j));
-                    mask |= (bx + i < width && by + j < height) ? 1 << (i + 4 * j) : 0;
-                }
-            }
-            if (usesStb(quality)) {
-                stb_compress_dxt_block(blocks, block, format == DxtFormat::Dxt5 ? 1 : 0, stbMode);
-            } else {
-                squish::CompressMasked(block, mask, blocks, flags);
-            }
-            blocks += blockBytes;
+void decodeAlphaBlock(uint8_t* rgba, const uint8_t* bytes) {
+    const int alpha0 = bytes[0], alpha1 = bytes[1];
+    uint8_t codes[8] = {static_cast<uint8_t>(alpha0), static_cast<uint8_t>(alpha1)};
+    if (alpha0 <= alpha1) {
+        for (int i = 1; i < 5; ++i) {
+            codes[1 + i] = static_cast<uint8_t>(((5 - i) * alpha0 + i * alpha1) / 5);
+        }
+        codes[6] = 0;
+        codes[7] = 255;
+    } else {
+        for (int i = 1; i < 7; ++i) {
+            codes[1 + i] = static_cast<uint8_t>(((7 - i) * alpha0 + i * alpha1) / 7);
+        }
+    }
+    for (int group = 0; group < 2; ++group) {
+        const uint8_t* src = bytes + 2 + 3 * group;
+        const int value = src[0] | (src[1] << 8) | (src[2] << 16);
+        for (int j = 0; j < 8; ++j) {
+            rgba[4 * (8 * group + j) + 3] = codes[(value >> (3 * j)) & 7];
         }
     }
 }
 
-void decompressBlocks(uint8_t* rgba, int width, int height, const uint8_t* blocks, int flags, size_t blockBytes) {
+void decompressBlocks(uint8_t* rgba, int width, int height, const uint8_t* blocks, DxtFormat format) {
+    const bool dxt1 = format == DxtFormat::Dxt1;
+    const size_t blockBytes = dxt1 ? 8u : 16u;
     uint8_t block[64];
     for (int by = 0; by < height; by += 4) {
         for (int bx = 0; bx < width; bx += 4) {
-            squish::Decompress(block, blocks, flags);
+            if (dxt1) {
+                decodeColourBlock(block, blocks, true);
+            } else {
+                decodeColourBlock(block, blocks + 8, false);
+                decodeAlphaBlock(block, blocks);
+            }
             blocks += blockBytes;
             for (int j = 0; j < 4 && by + j < height; ++j) {
                 for (int i = 0; i < 4 && bx + i < width; ++i) {
@@ -78,37 +97,6 @@ size_t dxtBytes(int width, int height, DxtFormat format) {
     return blocks * (format == DxtFormat::Dxt1 ? 8u : 16u);
 }
 
-std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int height, int channels,
-                               DxtFormat format, int quality) {
-    if (width < 1 || height < 1 || channels < 1 || channels > 4 ||
-        pixels.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels)) {
-        fail("", "DXT tile: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height) +
-                     "x" + std::to_string(channels));
-    }
-    if ((channels == 4) != (format == DxtFormat::Dxt5)) {
-        fail("", "DXT tile: " + std::to_string(channels) + " channels need " + (channels == 4 ? "DXT5" : "DXT1"));
-    }
-    // The encoders take RGBA: grey is replicated into R, G and B; missing alpha is opaque.
-    const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
-    std::vector<uint8_t> rgba(count * 4);
-    for (size_t k = 0; k < count; ++k) {
-        const uint8_t* p = pixels.data() + k * static_cast<size_t>(channels);
-        uint8_t* q = rgba.data() + 4 * k;
-        if (channels <= 2) {
-            q[0] = q[1] = q[2] = p[0];
-            q[3] = 255;
-        } else {
-            q[0] = p[0];
-            q[1] = p[1];
-            q[2] = p[2];
-            q[3] = channels == 4 ? p[3] : 255;
-        }
-    }
-    std::vector<uint8_t> blocks(dxtBytes(width, height, format));
-    compressBlocks(rgba.data(), width, height, blocks.data(), format, quality);
-    return blocks;
-}
-
 std::vector<uint8_t> decodeDxt(std::span<const uint8_t> blob, int width, int height, DxtFormat format,
                                const std::string& where) {
     if (width < 1 || height < 1 || width > 65536 || height > 65536) {
@@ -120,7 +108,7 @@ std::vector<uint8_t> decodeDxt(std::span<const uint8_t> blob, int width, int hei
     }
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<uint8_t> rgba(count * 4);
-    decompressBlocks(rgba.data(), width, height, blob.data(), squishFlags(format, 2), format == DxtFormat::Dxt1 ? 8u : 16u);
+    decompressBlocks(rgba.data(), width, height, blob.data(), format);
     if (format == DxtFormat::Dxt5) {
         return rgba;
     }

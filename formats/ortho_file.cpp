@@ -17,7 +17,6 @@ std::string tileName(const std::string& path, int level, int tx, int ty) {
     return path + ": tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")";
 }
 
-DxtFormat dxtFormatOf(const OrthoHeader& h) { return h.channels == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1; }
 } // namespace
 
 int64_t OrthoHeader::tileCount() const { return quadtreeTiles(maxLevel); }
@@ -110,30 +109,6 @@ OrthoFileWriter::OrthoFileWriter(const std::string& path, const OrthoHeader& hea
 }
 
 OrthoFileWriter::~OrthoFileWriter() = default;
-
-void OrthoFileWriter::writeTile(int level, int tx, int ty, std::span<const uint8_t> pixels,
-                                const OrthoTileEncoding& encoding) {
-    const int size = header_.tilePixels();
-    if (header_.dxt()) {
-        // A DXT file's header says 3 channels for 1-3 channel sources: accept the source's own
-        // channel count, deduced from the buffer size.
-        const size_t area = static_cast<size_t>(size) * static_cast<size_t>(size);
-        const int channels = area ? static_cast<int>(pixels.size() / area) : 0;
-        if (channels < 1 || channels > 4 || pixels.size() != area * static_cast<size_t>(channels) ||
-            (channels == 4) != (header_.channels == 4)) {
-            fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                            "): pixel buffer does not match the file's tiles");
-        }
-        writeTileBytes(level, tx, ty, encodeDxt(pixels, size, size, channels, dxtFormatOf(header_), encoding.dxtQuality));
-        return;
-    }
-    if (pixels.size() != static_cast<size_t>(size) * static_cast<size_t>(size) * static_cast<size_t>(header_.channels)) {
-        fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                        "): pixel buffer does not match the file's tiles");
-    }
-    writeTileBytes(level, tx, ty,
-                   encodeTiff8(pixels, size, size, header_.channels, encoding.compression, encoding.jpegQuality));
-}
 
 void OrthoFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob) {
     if (!header_.contains(level, tx, ty)) {

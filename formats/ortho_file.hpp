@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/dxt_codec.hpp"
 #include "formats/tiff_tile.hpp"
 #include "formats/tile_table.hpp"
 
@@ -42,6 +43,9 @@ struct OrthoHeader {
     // of 4 with DXT, root inside its level, only flag bits 0 and 1 set.
     void validate(const std::string& where) const;
 };
+
+// The block format of a DXT file's tiles: DXT5 for 4 channels, DXT1 otherwise.
+inline DxtFormat dxtFormatOf(const OrthoHeader& h) { return h.channels == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1; }
 
 class OrthoFileReader {
 public:
@@ -81,7 +85,8 @@ public:
 
     const OrthoHeader& header() const { return header_; }
     // `pixels`: tilePixels()^2 x channels bytes, row 0 = bottom. Encoded as a one-strip TIFF,
-    // or as DXT1 (channels <= 3) / DXT5 (4 channels) when the header says DXT.
+    // or as DXT1 (channels <= 3) / DXT5 (4 channels) when the header says DXT. Part of the
+    // preprocess library (formats/ortho_tile_writer.cpp): the runtime library only decodes.
     void writeTile(int level, int tx, int ty, std::span<const uint8_t> pixels,
                    const OrthoTileEncoding& encoding = {});
     void writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob);

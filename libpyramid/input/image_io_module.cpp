@@ -12,6 +12,9 @@
 #ifndef PYRAMID_OIIO_MODULE_BUILD_PATH
 #define PYRAMID_OIIO_MODULE_BUILD_PATH ""
 #endif
+#ifndef PYRAMID_OIIO_MODULE_INSTALL_DIR
+#define PYRAMID_OIIO_MODULE_INSTALL_DIR "../lib/libpyramid"
+#endif
 
 namespace pyramid {
 
@@ -32,6 +35,8 @@ std::vector<std::string> candidatePaths() {
     if (dladdr(reinterpret_cast<void*>(&imageIoModule), &self) != 0 && self.dli_fname) {
         const std::filesystem::path here = std::filesystem::path(self.dli_fname).parent_path();
         paths.push_back((here / kModuleFileName).string());
+        // An installed program: the module is in the library directory (cmake/install.cmake).
+        paths.push_back((here / PYRAMID_OIIO_MODULE_INSTALL_DIR / kModuleFileName).lexically_normal().string());
     }
     if (*PYRAMID_OIIO_MODULE_BUILD_PATH) {
         paths.emplace_back(PYRAMID_OIIO_MODULE_BUILD_PATH);

@@ -48,7 +48,8 @@ struct ImageIoModule {
 inline constexpr int kImageIoModuleAbi = 2;
 
 // The module, loaded on first use: from $PYRAMID_OIIO_MODULE if set, else beside the
-// library or program that holds this code, else where the build put it. Throws
+// library or program that holds this code, else in the installed library directory seen from
+// there (<prefix>/lib/libpyramid/ for a program in <prefix>/bin/), else where the build put it. Throws
 // Error("WHO: cannot load the image I/O module (...)") when it cannot be loaded; `who` is
 // the file that needed it.
 const ImageIoModule& imageIoModule(const std::string& who);

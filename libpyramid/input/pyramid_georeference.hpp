@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/atomic_file.hpp"
+#include "formats/georeference_sidecar.hpp"
 #include "libpyramid/input/georeference.hpp"
 
 namespace pyramid {
@@ -39,26 +40,11 @@ PyramidGeoreference georeferencePyramid(const Georeference& crs, int width, int 
 
 nlohmann::json toJson(const PyramidGeoreference& g);
 
-// The sidecar file of an output `path` ("DEM.dat" -> "DEM.dat.georef.json": reports are named
-// by the user and never end so).
-std::string georeferenceSidecarPath(const std::string& path);
 // Writes toJson(g) (and the pyramid file's name) to `sidecar` atomically (formats/atomic_file.hpp).
 void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g);
 // The same, written and flushed but not yet renamed into place: the caller commits it together
 // with the pyramid it describes.
 std::unique_ptr<AtomicFile> stageGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid,
                                                      const PyramidGeoreference& g);
-
-// What a reader of a sidecar needs to place points on the pyramid: its CRS's kind and its root
-// quad's extent, as writeGeoreferenceSidecar wrote them.
-struct SidecarPlacement {
-    bool geographic = false;
-    std::array<double, 4> rootExtent{}; // min x, min y, max x, max y
-    double unitInDegrees = 1.0;         // geographic: one CRS unit
-    double primeMeridian = 0.0;         // geographic: degrees east of Greenwich
-    bool rotated = false;               // the input's transform turns its pixels off north-up
-};
-// Throws Error naming `sidecar` when it is missing or is not such a file.
-SidecarPlacement readGeoreferenceSidecar(const std::string& sidecar);
 
 } // namespace pyramid

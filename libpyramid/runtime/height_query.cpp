@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "formats/georeference_sidecar.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/input/pyramid_georeference.hpp"
 
 namespace pyramid {
 
