@@ -19,7 +19,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
 #include "formats/temporaries.hpp"
-#include "libpyramid/input/input_list.hpp"
+#include "libpyramid/api/encoders.hpp"
 
 namespace pyramid::cli {
 

@@ -13,8 +13,7 @@
 
 #include "cli/commands.hpp"
 #include "formats/output_paths.hpp"
-#include "libpyramid/input/pyramid_georeference.hpp"
-#include "libpyramid/sphere/planar_mosaic.hpp"
+#include "libpyramid/api/encoders.hpp"
 
 namespace CLI {
 class App;

@@ -6,7 +6,7 @@
 #include "cli/cli_common.hpp"
 #include "cli/dem_options.hpp"
 #include "formats/error.hpp"
-#include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/api/encoders.hpp"
 
 namespace pyramid::cli {
 

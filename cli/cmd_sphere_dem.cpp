@@ -8,7 +8,7 @@
 #include "cli/cli_common.hpp"
 #include "cli/dem_options.hpp"
 #include "cli/sphere_options.hpp"
-#include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
+#include "libpyramid/api/encoders.hpp"
 
 namespace pyramid::cli {
 

@@ -8,7 +8,7 @@
 #include "cli/cli_common.hpp"
 #include "cli/ortho_options.hpp"
 #include "cli/sphere_options.hpp"
-#include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
+#include "libpyramid/api/encoders.hpp"
 
 namespace pyramid::cli {
 

@@ -13,8 +13,8 @@
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/input/image_io_module.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
 
 namespace pyramid::cli {
 

@@ -7,7 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "formats/error.hpp"
-#include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/api/encoders.hpp"
 #include "libpyramid/support/parse_number.hpp"
 #include "libpyramid/support/text.hpp"
 

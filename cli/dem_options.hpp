@@ -6,7 +6,7 @@
 #include <string>
 
 #include "cli/cli_common.hpp"
-#include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/api/encoders.hpp"
 
 namespace CLI {
 class App;

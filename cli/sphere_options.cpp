@@ -5,9 +5,8 @@
 #include <CLI/CLI.hpp>
 
 #include "formats/error.hpp"
-#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/api/encoders.hpp"
 #include "libpyramid/support/parse_number.hpp"
-#include "libpyramid/sphere/planet_body.hpp"
 
 namespace pyramid::cli {
 

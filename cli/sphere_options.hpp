@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "libpyramid/sphere/equirect_sampler.hpp"
+#include "libpyramid/api/encoders.hpp"
 
 namespace CLI {
 class App;

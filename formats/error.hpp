@@ -28,6 +28,13 @@ private:
     std::string problem_;
 };
 
+// A run stopped because its caller asked (a cancellation callback answered true): like every
+// failure, it leaves nothing behind.
+class Cancelled : public Error {
+public:
+    using Error::Error;
+};
+
 // "WHERE: WHAT", the shape of every error message.
 [[noreturn]] inline void fail(const std::string& where, const std::string& what) {
     throw Error(where.empty() ? what : where + ": " + what);

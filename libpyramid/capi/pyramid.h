@@ -36,7 +36,8 @@ typedef enum pyramid_status {
     PYRAMID_ERROR_ARGUMENT = 1,  /* a null pointer, a tile outside the pyramid, a buffer too small */
     PYRAMID_ERROR_FILE = 2,      /* a file is missing, unreadable, or not a valid pyramid file */
     PYRAMID_ERROR_MEMORY = 3,
-    PYRAMID_ERROR_INTERNAL = 4
+    PYRAMID_ERROR_INTERNAL = 4,
+    PYRAMID_ERROR_CANCELLED = 6  /* an encoding stopped by its cancel callback (pyramid_encode.h) */
 } pyramid_status;
 
 typedef enum pyramid_kind {

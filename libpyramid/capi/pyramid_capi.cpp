@@ -13,6 +13,7 @@
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/capi/last_error.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/height_query.hpp"
 #include "libpyramid/runtime/ortho_producer.hpp"
@@ -124,6 +125,8 @@ const char* pyramid_status_name(pyramid_status status) {
         return "memory";
     case PYRAMID_ERROR_INTERNAL:
         return "internal";
+    case PYRAMID_ERROR_CANCELLED:
+        return "cancelled";
     }
     return "unknown";
 }
@@ -370,3 +373,9 @@ pyramid_status pyramid_ortho_tile(pyramid_ortho* producer, int level, int tx, in
 }
 
 } // extern "C"
+
+namespace pyramid::capi {
+
+void setLastError(const std::string& message) { lastError = message; }
+
+} // namespace pyramid::capi

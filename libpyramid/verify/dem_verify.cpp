@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -20,28 +23,27 @@ bool DemVerifyReport::ok() const {
 }
 
 
-DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath, const DemVerifyOptions& options) {
-    const auto reader = ResidualFileReader::open(file);
-    const ResidualHeader h = reader->header();
+namespace {
+
+// The header of `file`, which must be a whole pyramid (not a region file).
+ResidualHeader wholePyramidHeader(const std::string& file) {
+    const ResidualHeader h = ResidualFileReader::open(file)->header();
     if (h.rootLevel != 0) {
         fail(file, "a region file cannot be verified on its own against a whole-map source");
     }
-    // The source as the preprocessor read it: a file, or the files a VRT, directory or glob
-    // names, joined or resampled as preprocessDem does (sphere/planar_mosaic.hpp).
-    const auto source = openPlanarMosaic(expandInputs({sourcePath}).paths, 256, false, options.target);
-    std::optional<double> nodata = options.nodata;
-    if (!nodata && !options.ignoreDeclaredNodata) {
-        nodata = source->info().nodata;
-    }
+    return h;
+}
+
+// Every level of `file` (of header `h`) rebuilt and compared with the finest-grid heights
+// `sampler` gives, subsampled to each level.
+DemVerifyReport compareLevels(const std::string& file, const ResidualHeader& h, const std::string& sourceName,
+                              const HeightSource& sampler, int threadOption) {
     const int M = h.maxLevel;
     const int64_t R = h.tileSize >> h.minLevel;
-    const int64_t N = R << M;
-    const DemGeometry geometry = makeDemGeometry(source->info().width, source->info().height, N, options.stretch, sourcePath);
-    const DemSampler sampler(*source, geometry, options.band, nodata);
-    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    const int threads = threadOption > 0 ? threadOption : omp_get_max_threads();
     DemVerifyReport report;
     report.file = file;
-    report.source = sourcePath;
+    report.source = sourceName;
     report.scale = h.scale;
     report.bound = h.scale / 2.0;
     for (int l = 0; l <= M; ++l) {
@@ -106,6 +108,46 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
         report.levels.push_back(level);
     }
     return report;
+}
+
+} // namespace
+
+DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath, const DemVerifyOptions& options) {
+    wholePyramidHeader(file);
+    // The source as the preprocessor read it: a file, or the files a VRT, directory or glob
+    // names, joined or resampled as preprocessDem does (sphere/planar_mosaic.hpp).
+    const auto source = openPlanarMosaic(expandInputs({sourcePath}).paths, 256, false, options.target);
+    DemVerifyReport report = verifyDem(file, *source, options);
+    report.source = sourcePath;
+    return report;
+}
+
+DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, const DemVerifyOptions& options) {
+    const ResidualHeader h = wholePyramidHeader(file);
+    std::optional<double> nodata = options.nodata;
+    if (!nodata && !options.ignoreDeclaredNodata) {
+        nodata = source.info().nodata;
+    }
+    const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
+    const DemGeometry geometry = makeDemGeometry(source.info().width, source.info().height, N, options.stretch, source.path());
+    const DemSampler sampler(source, geometry, options.band, nodata);
+    return compareLevels(file, h, source.path(), sampler, options.threads);
+}
+
+std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, const GeodeticMap& map,
+                                                const SphericalDemVerifyOptions& options) {
+    checkFaceList(options.faces);
+    const PlanetBody body = PlanetBody::parse(options.body);
+    std::vector<DemVerifyReport> reports;
+    for (const int face : options.faces) {
+        const std::string file = (std::filesystem::path(directory) / (options.name + std::to_string(face) + ".dat")).string();
+        const ResidualHeader h = wholePyramidHeader(file);
+        const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
+        const FaceSampler faceSampler(map, body, face, FaceGrid{N, FaceGridKind::Vertices}, options.heightScale);
+        const FaceHeights heights(faceSampler);
+        reports.push_back(compareLevels(file, h, options.source, heights, options.threads));
+    }
+    return reports;
 }
 
 nlohmann::json toJson(const DemVerifyReport& r) {

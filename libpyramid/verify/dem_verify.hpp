@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 
 namespace pyramid {
@@ -45,6 +47,22 @@ struct DemVerifyReport {
 };
 
 DemVerifyReport verifyDem(const std::string& file, const std::string& source, const DemVerifyOptions& options);
+// Against a raster already open (a caller's own heights: RasterSource::fromPixels);
+// options.target does not apply.
+DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, const DemVerifyOptions& options);
+
+// The cube faces preprocessSphericalDem wrote into a directory, against the planet's map.
+struct SphericalDemVerifyOptions {
+    std::string body = "wgs84";  // as encoded (PlanetBody::parse)
+    std::string name = "DEM";    // files NAME1.dat .. NAME6.dat
+    std::vector<int> faces{1, 2, 3, 4, 5, 6};
+    double heightScale = 1.0;    // as encoded
+    std::string source = "map";  // names the map in the reports
+    int threads = 0;
+};
+// One report per face, in the order of options.faces.
+std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, const GeodeticMap& map,
+                                                const SphericalDemVerifyOptions& options);
 
 nlohmann::json toJson(const DemVerifyReport& report);
 

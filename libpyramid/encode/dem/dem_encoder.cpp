@@ -28,6 +28,10 @@ int log2Exact(int v) {
     return (1 << k) == v ? k : -1;
 }
 
+// Encodes `raster` (read from `inputs`, for the report) into `output`.
+DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::string>& inputs, const std::string& output,
+                        const DemEncodeOptions& options, std::chrono::steady_clock::time_point start);
+
 } // namespace
 
 void DemEncodeOptions::validate() const {
@@ -105,7 +109,21 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
 DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& output, const DemEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     options.validate();
-    auto source = openPlanarMosaic(inputs, options.cacheMegabytes, false, options.target);
+    const auto source = openPlanarMosaic(inputs, options.cacheMegabytes, false, options.target);
+    return encodeDemFrom(*source, inputs, output, options, start);
+}
+
+DemReport encodeDem(const RasterSource& source, const std::string& output, const DemEncodeOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    options.validate();
+    return encodeDemFrom(source, {source.path()}, output, options, start);
+}
+
+namespace {
+
+DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::string>& inputs, const std::string& output,
+                        const DemEncodeOptions& options, std::chrono::steady_clock::time_point start) {
+    const RasterSource* source = &raster;
     const std::string& input = source->path();
     DemReport report;
     report.input = input;
@@ -142,6 +160,8 @@ DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& o
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }
+
+} // namespace
 
 nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int band, std::optional<double> nodata) {
     nlohmann::json nodataJson = nullptr;

@@ -77,6 +77,9 @@ DemReport encodeDem(const std::string& input, const std::string& output, const D
 // A mosaic of georeferenced files on one grid, in priority order (input/raster_mosaic.hpp:
 // read as the stitched raster would be; files on other grids are refused by name).
 DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& output, const DemEncodeOptions& options);
+// A raster already open (a caller's own heights: RasterSource::fromPixels); options.target does
+// not apply.
+DemReport encodeDem(const RasterSource& source, const std::string& output, const DemEncodeOptions& options);
 
 nlohmann::json toJson(const DemReport& report);
 

@@ -16,35 +16,25 @@
 
 namespace pyramid {
 
-namespace {
+void FaceHeights::sample(SourceGrid& grid) const {
+    grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
+    grid.valid.resize(grid.height.size());
+    sampler_.sample(grid.x0, grid.y0, grid.stride, grid.nx, grid.ny, grid.height.data(), grid.valid.data());
+}
 
-// The heights of one face's vertex grid, borders beyond the face included.
-class FaceHeights final : public HeightSource {
-public:
-    explicit FaceHeights(const FaceSampler& sampler) : sampler_(sampler) {}
-    void sample(SourceGrid& grid) const override {
-        grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
-        grid.valid.resize(grid.height.size());
-        sampler_.sample(grid.x0, grid.y0, grid.stride, grid.nx, grid.ny, grid.height.data(), grid.valid.data());
-    }
-    bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override {
-        return sampler_.mayHaveValues(x0, y0, x1, y1);
-    }
-
-private:
-    const FaceSampler& sampler_;
-};
-
-} // namespace
+bool FaceHeights::mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    return sampler_.mayHaveValues(x0, y0, x1, y1);
+}
 
 SphericalDemReport encodeSphericalDem(const std::string& input, const std::string& directory,
                                       const SphericalDemOptions& options) {
     return encodeSphericalDem(std::vector<std::string>{input}, directory, options);
 }
 
-SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, const std::string& directory,
-                                      const SphericalDemOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
+namespace {
+
+// Checks the options that do not need the map; throws OptionError.
+void checkSphericalDemOptions(const SphericalDemOptions& options) {
     const DemEncodeOptions& o = options.dem;
     o.validate();
     if (!std::isfinite(options.heightScale) || options.heightScale == 0.0) {
@@ -56,14 +46,17 @@ SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, co
         failOption("rootTileSize", "cube faces need a root tile of at least 2 intervals, not " +
                                        std::to_string(o.rootTileSize));
     }
+    (void)PlanetBody::parse(options.body);
+}
+
+SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::string>& inputs,
+                             const std::string& directory, const SphericalDemOptions& options,
+                             std::chrono::steady_clock::time_point start) {
+    const DemEncodeOptions& o = options.dem;
     const PlanetBody body = PlanetBody::parse(options.body);
     SphericalDemReport report;
     MapPlacement placement;
     std::optional<double> nodata;
-    const MapSources sources = openMapSources(inputs, options.extent, body, o.cacheMegabytes, SampleRead::Float,
-                                              o.band, o.band + 1, [&](const RasterInfo& info, const std::string& name) {
-                                                  return checkBandAndNodata(info, o, name);
-                                              });
     const std::string input = sources.name;
     const GeodeticMap& map = *sources.map;
     placement = sources.placement;
@@ -151,6 +144,31 @@ SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, co
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
+}
+
+} // namespace
+
+SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, const std::string& directory,
+                                      const SphericalDemOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    checkSphericalDemOptions(options);
+    const DemEncodeOptions& o = options.dem;
+    const PlanetBody body = PlanetBody::parse(options.body);
+    const MapSources sources = openMapSources(inputs, options.extent, body, o.cacheMegabytes, SampleRead::Float,
+                                              o.band, o.band + 1, [&](const RasterInfo& info, const std::string& name) {
+                                                  return checkBandAndNodata(info, o, name);
+                                              });
+    return encodeMap(sources, inputs, directory, options, start);
+}
+
+SphericalDemReport encodeSphericalDem(const MapSources& sources, const std::string& directory,
+                                      const SphericalDemOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    checkSphericalDemOptions(options);
+    if (!sources.map || sources.map->channels() != 1) {
+        fail(sources.name, "a planet's heights need a map of one channel");
+    }
+    return encodeMap(sources, {sources.name}, directory, options, start);
 }
 
 nlohmann::json toJson(const SphericalDemReport& r) {

@@ -12,10 +12,24 @@
 #include <nlohmann/json.hpp>
 
 #include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/encode/residual/height_source.hpp"
 #include "libpyramid/sphere/equirect_sampler.hpp"
 #include "libpyramid/sphere/face_sampler.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 
 namespace pyramid {
+
+// The heights of one face's vertex grid, borders beyond the face included (the encoder's
+// source, and what `verifySphericalDem` compares with).
+class FaceHeights final : public HeightSource {
+public:
+    explicit FaceHeights(const FaceSampler& sampler) : sampler_(sampler) {}
+    void sample(SourceGrid& grid) const override;
+    bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
+
+private:
+    const FaceSampler& sampler_;
+};
 
 struct SphericalDemOptions {
     // Tile sizes, scale, band, nodata, threads, cache. dem.maxLevel counts per face (-1: the
@@ -66,6 +80,11 @@ SphericalDemReport encodeSphericalDem(const std::string& input, const std::strin
 // finest giving a point its height where they overlap (sphere/map_mosaic.hpp). One file is
 // encodeSphericalDem(file).
 SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, const std::string& directory,
+                                      const SphericalDemOptions& options);
+// A map already set up: a caller's own (sources.map, e.g. a procedural planet), described by
+// sources.name, info (its width sets the default maxLevel) and placement (extent, CRS, columns
+// around the equator); sources.source may be null, and options.dem.band and nodata do not apply.
+SphericalDemReport encodeSphericalDem(const MapSources& sources, const std::string& directory,
                                       const SphericalDemOptions& options);
 
 nlohmann::json toJson(const SphericalDemReport& report);

@@ -225,6 +225,9 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                 if (o.progress) {
                     o.progress(++done, total);
                 }
+                if (o.cancelled && o.cancelled()) {
+                    throw Cancelled(report.input + ": cancelled");
+                }
             }
         }
     });
@@ -291,10 +294,11 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
     return encodeOrtho(std::vector<std::string>{input}, directory, o);
 }
 
-OrthoReport encodeOrtho(const std::vector<std::string>& inputs, const std::string& directory, const OrthoEncodeOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
-    o.validate();
-    const OrthoLevels levels(inputs, o.levels);
+namespace {
+
+// A planar pyramid's outputs and its georeference sidecar, committed together.
+OrthoReport encodePlanar(const OrthoLevels& levels, const std::string& directory, const OrthoEncodeOptions& o,
+                         std::chrono::steady_clock::time_point start) {
     StagingDirectory staging(directory);
     OrthoReport report = encodeLevels(levels, directory, staging, o, start);
     if (const auto& g = levels.inputInfo().georeference; g && g->problem.empty()) {
@@ -313,6 +317,22 @@ OrthoReport encodeOrtho(const std::vector<std::string>& inputs, const std::strin
     }
     staging.commit(); // the outputs appear together, or none of them
     return report;
+}
+
+} // namespace
+
+OrthoReport encodeOrtho(const std::vector<std::string>& inputs, const std::string& directory, const OrthoEncodeOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    o.validate();
+    const OrthoLevels levels(inputs, o.levels);
+    return encodePlanar(levels, directory, o, start);
+}
+
+OrthoReport encodeOrtho(const RasterSource& source, const std::string& directory, const OrthoEncodeOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    o.validate();
+    const OrthoLevels levels(source, o.levels);
+    return encodePlanar(levels, directory, o, start);
 }
 
 OrthoReport encodeOrtho(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,

@@ -43,6 +43,9 @@ struct OrthoEncodeOptions {
     int dxtQuality = 1;              // 0 fastest .. 3 best (formats/dxt_codec.hpp)
     TilePolicy residualCompression = TilePolicy::Deflate; // Deflate or Jpeg
     std::function<void(int64_t, int64_t)> progress;       // (tiles done, total), one thread at a time
+    // Asked after every tile, from one thread at a time: true stops the encoding, which throws
+    // Cancelled (formats/error.hpp) and leaves no file behind.
+    std::function<bool()> cancelled;
     // Called from one thread at a time with each tile's colour-residual reconstruction
     // ((tileSize+4)^2 x channels), exactly what the colour-residual producer rebuilds: for tests.
     std::function<void(int level, int tx, int ty, const std::vector<uint8_t>&)> colourReconstruction;
@@ -88,6 +91,9 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
 // A mosaic of georeferenced images on one grid, in priority order (input/raster_mosaic.hpp).
 OrthoReport encodeOrtho(const std::vector<std::string>& inputs, const std::string& directory,
                         const OrthoEncodeOptions& options);
+// A raster already open (a caller's own pixels: RasterSource::fromPixels); options.levels.target
+// does not apply.
+OrthoReport encodeOrtho(const RasterSource& source, const std::string& directory, const OrthoEncodeOptions& options);
 // The same from true tiles already set up (e.g. one cube face), into a staging directory of
 // `directory` that the caller commits (with the other faces): options.levels is not used, the
 // files are named options.name.

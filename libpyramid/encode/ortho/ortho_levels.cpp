@@ -41,6 +41,12 @@ struct OrthoLevels::Impl {
     bool blankStaysBlank = false; // averaging black and transparent pixels gives them again
 
     void init(const OrthoLevelsOptions& o, int64_t wanted);
+    // init() of a plane: the finest level holds the source's longer side.
+    void initPlanar(const OrthoLevelsOptions& o) {
+        const RasterInfo& info = source->info();
+        init(o, std::max(info.width, info.height));
+        pixels = std::make_unique<PlanarPixels>(*source, channels, levelWidth(M), o.stretch);
+    }
 
     int64_t levelWidth(int l) const { return static_cast<int64_t>(T) << l; }
 
@@ -162,10 +168,14 @@ OrthoLevels::OrthoLevels(const std::vector<std::string>& inputs, const OrthoLeve
     o.validate();
     m.ownedSource = openPlanarMosaic(inputs, o.cacheMegabytes, true, o.target);
     m.source = m.ownedSource.get();
-    const RasterInfo& info = m.source->info();
-    const int64_t longest = std::max(info.width, info.height);
-    m.init(o, longest);
-    m.pixels = std::make_unique<PlanarPixels>(*m.source, m.channels, m.levelWidth(m.M), o.stretch);
+    m.initPlanar(o);
+}
+
+OrthoLevels::OrthoLevels(const RasterSource& source, const OrthoLevelsOptions& o) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    o.validate();
+    m.source = &source;
+    m.initPlanar(o);
 }
 
 OrthoLevels::OrthoLevels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,

@@ -86,6 +86,9 @@ public:
     OrthoLevels(const std::string& input, const OrthoLevelsOptions& options);
     // Of a mosaic of georeferenced files on one grid, in priority order (input/raster_mosaic.hpp).
     OrthoLevels(const std::vector<std::string>& inputs, const OrthoLevelsOptions& options);
+    // A planar pyramid of a raster already open (a caller's own pixels: RasterSource::fromPixels),
+    // which must outlive this object. options.target does not apply.
+    OrthoLevels(const RasterSource& source, const OrthoLevelsOptions& options);
     // Cube face `face` (1..6) of `body`, from the image `source` placed by `placement` (a plate
     // carree over an extent, or georeferenced), or with `map` from that map (several images each
     // placed by its own georeferencing; `source` is then one of them, for its description).

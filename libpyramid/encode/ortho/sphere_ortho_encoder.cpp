@@ -19,10 +19,11 @@ SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::s
     return encodeSphericalOrtho(std::vector<std::string>{input}, directory, o);
 }
 
-SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs, const std::string& directory,
-                                          const SphericalOrthoOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
-    const PlanetBody body = PlanetBody::parse(o.body);
+namespace {
+
+// Checks the options that do not need the input; throws OptionError.
+void checkSphericalOrthoOptions(const SphericalOrthoOptions& o) {
+    (void)PlanetBody::parse(o.body);
     checkFaceList(o.faces);
     if (o.extent) {
         o.extent->validate();
@@ -30,32 +31,14 @@ SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs
     if (o.ortho.name.empty()) {
         failOption("name", "'' is not a plain file name"); // the face number alone would pass for one
     }
-    if (inputs.empty()) {
-        fail("input", "no input files");
-    }
-    // The bands and sample type every file must have: the first file's.
-    const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
-    // (A wrong channel count is refused by OrthoLevels, naming the option.)
-    const int channels = std::min({o.ortho.levels.channels > 0 ? o.ortho.levels.channels : 4, first.channels, 4});
-    const MapSources sources = openMapSources(
-        inputs, o.extent, body, o.ortho.levels.cacheMegabytes, SampleRead::UInt16, 0, channels,
-        [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
-            if (info.channels != first.channels || info.type != first.type) {
-                fail(name, std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
-                               std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +
-                               inputs[0]);
-            }
-            return std::nullopt;
-        });
-    const std::string& input = sources.name;
-    const MapPlacement& placement = sources.placement;
-    // Several grids: the faces sample the mosaic; one of its files describes the input.
-    std::unique_ptr<RasterSource> described;
-    if (!sources.source) {
-        described = RasterSource::open(inputs[0], 1);
-    }
-    const RasterSource& source = sources.source ? *sources.source : *described;
-    const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
+}
+
+// Every face of `source` (sampled through `map` when not null), placed by `placement`.
+SphericalOrthoReport encodeFaces(const RasterSource& source, const GeodeticMap* map, const std::string& input,
+                                 const MapPlacement& placement, const std::vector<std::string>& inputs,
+                                 const std::string& directory, const SphericalOrthoOptions& o,
+                                 std::chrono::steady_clock::time_point start) {
+    const PlanetBody body = PlanetBody::parse(o.body);
     // Every face set up before any is written: the input and the options are checked once, and a
     // bad one leaves no file behind.
     std::vector<std::unique_ptr<OrthoLevels>> faces;
@@ -98,6 +81,51 @@ SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs
     staging.commit();
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
+}
+
+} // namespace
+
+SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs, const std::string& directory,
+                                          const SphericalOrthoOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    checkSphericalOrthoOptions(o);
+    const PlanetBody body = PlanetBody::parse(o.body);
+    if (inputs.empty()) {
+        fail("input", "no input files");
+    }
+    // The bands and sample type every file must have: the first file's.
+    const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
+    // (A wrong channel count is refused by OrthoLevels, naming the option.)
+    const int channels = std::min({o.ortho.levels.channels > 0 ? o.ortho.levels.channels : 4, first.channels, 4});
+    const MapSources sources = openMapSources(
+        inputs, o.extent, body, o.ortho.levels.cacheMegabytes, SampleRead::UInt16, 0, channels,
+        [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
+            if (info.channels != first.channels || info.type != first.type) {
+                fail(name, std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
+                               std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +
+                               inputs[0]);
+            }
+            return std::nullopt;
+        });
+    // Several grids: the faces sample the mosaic; one of its files describes the input.
+    std::unique_ptr<RasterSource> described;
+    if (!sources.source) {
+        described = RasterSource::open(inputs[0], 1);
+    }
+    const RasterSource& source = sources.source ? *sources.source : *described;
+    const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
+    return encodeFaces(source, map, sources.name, sources.placement, inputs, directory, o, start);
+}
+
+SphericalOrthoReport encodeSphericalOrtho(const MapSources& sources, const std::string& directory,
+                                          const SphericalOrthoOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    checkSphericalOrthoOptions(o);
+    if (!sources.source || !sources.map) {
+        fail(sources.name, "a planet's map needs its description and its values");
+    }
+    return encodeFaces(*sources.source, sources.map.get(), sources.name, sources.placement, {sources.name}, directory,
+                       o, start);
 }
 
 nlohmann::json toJson(const SphericalOrthoReport& r) {

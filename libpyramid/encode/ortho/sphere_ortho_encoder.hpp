@@ -11,9 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
 #include "libpyramid/sphere/equirect_sampler.hpp"
 #include "libpyramid/sphere/face_sampler.hpp"
-#include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 
 namespace pyramid {
 
@@ -56,6 +57,11 @@ SphericalOrthoReport encodeSphericalOrtho(const std::string& input, const std::s
 // several grids each placed by its own georeferencing, the finest giving a pixel its colour
 // where they overlap (sphere/map_sources.hpp). They must share the band count and sample type.
 SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs, const std::string& directory,
+                                          const SphericalOrthoOptions& options);
+// A map already set up: a caller's own (sources.map, e.g. a procedural planet, values 0..255 for
+// an 8-bit description), described by sources.source (a raster of the map's size, channels and
+// sample type, never read) and sources.placement.
+SphericalOrthoReport encodeSphericalOrtho(const MapSources& sources, const std::string& directory,
                                           const SphericalOrthoOptions& options);
 
 nlohmann::json toJson(const SphericalOrthoReport& report);

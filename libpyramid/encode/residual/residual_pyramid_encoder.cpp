@@ -83,8 +83,8 @@ struct Overflow {
 class Encoder {
 public:
     Encoder(const ResidualPlan& plan, const HeightSource& sampler, const SourceGrid& grid, const ResidualEncodeOptions& options,
-            int threads)
-        : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads) {}
+            int threads, const std::string& input)
+        : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads), input_(input) {}
 
     // Encodes the whole pyramid at plan_.scale into `writer`; returns the first overflow, if any.
     std::optional<Overflow> run(ResidualFileWriter& writer, std::vector<LevelStats>& stats, int64_t& nodataFilled) {
@@ -136,6 +136,9 @@ private:
         ++done_;
         if (options_.progress) {
             options_.progress(done_, total_);
+        }
+        if (options_.cancelled && options_.cancelled()) {
+            throw Cancelled(input_ + ": cancelled");
         }
     }
 
@@ -317,6 +320,7 @@ private:
     const SourceGrid& grid_;
     const ResidualEncodeOptions& options_;
     int threads_;
+    const std::string& input_;
     int64_t total_ = 0;
     int64_t done_ = 0;
     std::once_flag zeroBlobOnce_;
@@ -404,7 +408,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         std::vector<LevelStats> stats;
         int64_t nodataFilled = 0;
         ResidualFileWriter writer(output, plan.header);
-        Encoder encoder(plan, *job.heights, grid, options, threads);
+        Encoder encoder(plan, *job.heights, grid, options, threads, job.input);
         const std::optional<Overflow> overflow = encoder.run(writer, stats, nodataFilled);
         if (overflow) {
             const double needed = scale * static_cast<double>(overflow->residual) / 32767.0;

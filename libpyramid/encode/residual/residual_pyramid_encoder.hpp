@@ -28,6 +28,9 @@ struct ResidualEncodeOptions {
     int threads = 0;                // 0: all cores
     // Called from one thread at a time with (tiles done, total tiles).
     std::function<void(int64_t, int64_t)> progress;
+    // Asked after every tile, from one thread at a time: true stops the encoding, which throws
+    // Cancelled (formats/error.hpp) and leaves no file behind.
+    std::function<bool()> cancelled;
     // Called from one thread at a time with each tile's reconstruction ((n+5)^2 float32, row 0 =
     // bottom), exactly what a producer rebuilds from the file: for tests and inspection.
     std::function<void(int level, int tx, int ty, const std::vector<float>&)> reconstruction;
