@@ -109,8 +109,8 @@ grep -Fqx "height at (0.5, 0.5): 147.000 (level 2)" "$tmp/samples/loader.out"
 # ... and over the pyramid the installed preprocessDem makes of samples/dem.tif, around a point:
 # the height there must be what the installed `pyramid height` says.
 "$prefix/bin/preprocessDem" -q "$samples/dem.tif" -o "$tmp/dem.dat"
-sample make loader "height at (0.25, 0.8): $(printf %.3f "$("$prefix/bin/pyramid" height "$tmp/dem.dat" \
-  --grid 96,307.2 2>/dev/null)") (level 1)" -p 0.25,0.8 -l 4 "$tmp/dem.dat"
+height=$("$prefix/bin/pyramid" height "$tmp/dem.dat" --grid 96,307.2 2>/dev/null)
+sample make loader "height at (0.25, 0.8): $(printf %.3f "$height") (level 1)" -p 0.25,0.8 -l 4 "$tmp/dem.dat"
 # A file that is not there: a message and a failure.
 if "$tmp/samples/loader/loader" "$tmp/none.dat" 2>"$tmp/loader.err"; then
   echo "sample loader: succeeded on a missing file" >&2
