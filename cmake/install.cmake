@@ -45,7 +45,7 @@ configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/libpyramidConfig.cmake.i
 # 0.x: a minor version may break compatibility, as the soname says (libpyramid/CMakeLists.txt).
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/libpyramidConfigVersion.cmake COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/libpyramidConfig.cmake ${PROJECT_BINARY_DIR}/libpyramidConfigVersion.cmake
-        DESTINATION ${PYRAMID_CMAKE_DIR})
+              ${CMAKE_CURRENT_LIST_DIR}/libpyramidDependencies.cmake DESTINATION ${PYRAMID_CMAKE_DIR})
 
 # pkg-config: relocatable (the prefix is found from the .pc file's own place), so that
 # `cmake --install --prefix` anywhere gives working files.

@@ -1,20 +1,27 @@
 #!/bin/sh
-# Installs a build into a temporary prefix and builds two loaders against that copy alone, one
-# with find_package(libpyramid COMPONENTS runtime), one with pkg-config; both read
-# tests/data through the C API. The installed runtime library must need none of the
-# preprocessors' or the GL producers' libraries.
-# Usage: install_test.sh BUILD_DIR DATA_DIR [C_COMPILER]
+# Installs a build into a temporary prefix, then builds programs against that copy alone (never
+# the build tree) and runs them:
+#   - the installed runtime library: its needed libraries, soname and exports;
+#   - the CMake package: a consumer of each component, each looked for alone
+#     (tests/install/CMakeLists.txt: runtime, preprocess, and gl when it was built);
+#   - pkg-config: every installed .pc file resolves; a C loader links libpyramid-runtime, a C++
+#     program the static libraries (--static);
+#   - the samples (samples/README.md), each built the way its README says and run on data.
+# Usage: install_test.sh BUILD_DIR DATA_DIR [C_COMPILER [CXX_COMPILER]]
 set -eu
 build=$1
 data=$2
 cc=${3:-cc}
+cxx=${4:-c++}
 here=$(cd "$(dirname "$0")" && pwd)
+samples=$(cd "$here/../../samples" && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 prefix=$tmp/prefix
 
 cmake --install "$build" --prefix "$prefix" >/dev/null
 
+# ---- The runtime library: libtiff, libdeflate and zlib only; the C API only. ----
 lib=$(find "$prefix" -name 'libpyramid-runtime.so.*.*.*' | head -n 1)
 test -n "$lib" || { echo "no installed libpyramid-runtime.so" >&2; exit 1; }
 needed=$(readelf -d "$lib" | grep NEEDED)
@@ -24,23 +31,89 @@ if echo "$needed" | grep -E 'gomp|EGL|libGL|libOpenGL|png|Geographic|squish|stb|
   exit 1
 fi
 readelf -d "$lib" | grep -q 'SONAME.*libpyramid-runtime\.so\.' || { echo "no soname" >&2; exit 1; }
-# Only the C API is exported.
 others=$(nm -D --defined-only "$lib" | awk '{print $3}' | grep -v '^pyramid_' || true)
 if [ -n "$others" ]; then
   echo "exports other than the C API:" >&2
   echo "$others" | head >&2
   exit 1
 fi
+with_gl=OFF
+if [ -n "$(find "$prefix" -name libpyramid-gl.a)" ]; then
+  with_gl=ON
+fi
 
-# CMake package.
-cmake -S "$here" -B "$tmp/cmake" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_C_COMPILER="$cc" >/dev/null
+# ---- CMake package: find_package(libpyramid 0.2 REQUIRED COMPONENTS ...) per component. ----
+cmake -S "$here" -B "$tmp/cmake" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_C_COMPILER="$cc" -DCMAKE_CXX_COMPILER="$cxx" \
+  -DLIBPYRAMID_CONSUMER_GL=$with_gl >/dev/null
 cmake --build "$tmp/cmake" >/dev/null
-"$tmp/cmake/consumer" "$data"
+"$tmp/cmake/runtime/consumer" "$data"
+mkdir "$tmp/encoded"
+"$tmp/cmake/preprocess/preprocess_consumer" "$samples" "$tmp/encoded"
+if [ $with_gl = ON ]; then
+  "$tmp/cmake/gl/gl_consumer"
+fi
 
-# pkg-config.
+# ---- pkg-config ----
 pcdir=$(dirname "$(find "$prefix" -name libpyramid-runtime.pc | head -n 1)")
+packages="libpyramid-runtime libpyramid-preprocess"
+static_packages=libpyramid-preprocess
+if [ $with_gl = ON ]; then
+  packages="$packages libpyramid-gl"
+  static_packages="$static_packages libpyramid-gl"
+fi
+# shellcheck disable=SC2086 # the lists are words
+PKG_CONFIG_PATH=$pcdir pkg-config --exists --print-errors $packages
 flags=$(PKG_CONFIG_PATH=$pcdir pkg-config --cflags --libs libpyramid-runtime)
 libdir=$(PKG_CONFIG_PATH=$pcdir pkg-config --variable=libdir libpyramid-runtime)
 # shellcheck disable=SC2086 # the flags are words
-"$cc" -std=c99 -pedantic-errors -Wall -Wextra -o "$tmp/consumer-pc" "$here/consumer.c" $flags -Wl,-rpath,"$libdir"
+"$cc" -std=c99 -pedantic-errors -Wall -Wextra -Werror -o "$tmp/consumer-pc" "$here/runtime/consumer.c" $flags \
+  -Wl,-rpath,"$libdir"
 "$tmp/consumer-pc" "$data"
+# shellcheck disable=SC2086
+static_flags=$(PKG_CONFIG_PATH=$pcdir pkg-config --static --cflags --libs $static_packages)
+# shellcheck disable=SC2086
+"$cxx" -std=c++20 -Wall -Wextra -Werror -o "$tmp/consumer-pc-static" "$here/pkgconfig_consumer.cpp" $static_flags
+"$tmp/consumer-pc-static" "$samples/dem.tif"
+
+# ---- The samples ----
+# sample BUILD NAME EXPECTED [ARGS...]: builds samples/NAME against the installed copy (once) and
+# runs it with ARGS; its output must hold the line EXPECTED, and is left in $tmp/samples/NAME.out.
+# BUILD is how samples/README.md builds it: make (its Makefile, through pkg-config) or cmake
+# (its CMakeLists.txt, through find_package). The program is named as its folder.
+sample() {
+  kind=$1
+  name=$2
+  expected=$3
+  shift 3
+  dir=$tmp/samples/$name
+  if [ ! -d "$dir" ]; then
+    mkdir -p "$dir"
+    case $kind in
+      make) (cd "$dir" && PKG_CONFIG_PATH=$pcdir make -s -f "$samples/$name/Makefile" CC="$cc" \
+               CFLAGS="-O2 -Wall -Wextra -pedantic-errors -Werror") ;;
+      cmake) cmake -S "$samples/$name" -B "$dir" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_C_COMPILER="$cc" \
+               -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_COMPILE_WARNING_AS_ERROR=ON >/dev/null &&
+             cmake --build "$dir" >/dev/null ;;
+      *) echo "sample $name: unknown build '$kind'" >&2; exit 1 ;;
+    esac
+  fi
+  "$dir/$name" "$@" >"$dir.out" || { cat "$dir.out"; echo "sample $name $*: failed" >&2; exit 1; }
+  cat "$dir.out"
+  grep -Fqx "$expected" "$dir.out" || { echo "sample $name $*: no line '$expected'" >&2; exit 1; }
+}
+
+# The loader over the original tools' DEM.dat: every tile with residuals, and the height at the
+# centre (pyramid height --grid 384,384 of that file).
+sample make loader "tiles produced: 21" -a "$data/proland/DEM.dat"
+grep -Fqx "height at (0.5, 0.5): 147.000 (level 2)" "$tmp/samples/loader.out"
+# ... and over the pyramid the installed preprocessDem makes of samples/dem.tif, around a point:
+# the height there must be what the installed `pyramid height` says.
+"$prefix/bin/preprocessDem" -q "$samples/dem.tif" -o "$tmp/dem.dat"
+height=$("$prefix/bin/pyramid" height "$tmp/dem.dat" --grid 96,307.2 2>/dev/null)
+sample make loader "height at (0.25, 0.8): $(printf %.3f "$height") (level 1)" -p 0.25,0.8 -l 4 "$tmp/dem.dat"
+# A file that is not there: a message and a failure.
+if "$tmp/samples/loader/loader" "$tmp/none.dat" 2>"$tmp/loader.err"; then
+  echo "sample loader: succeeded on a missing file" >&2
+  exit 1
+fi
+grep -q 'loader: pyramid_open: file error: .*none.dat' "$tmp/loader.err"
