@@ -70,6 +70,9 @@ int main(int argc, char** argv) {
                         face.bound, face.ok() ? "ok" : "FAILED");
             ok = ok && face.ok();
         }
+        if (ok) {
+            std::printf("all 6 faces verify within scale / 2\n");
+        }
         return ok ? 0 : 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "procedural: %s\n", e.what());

@@ -117,3 +117,7 @@ if "$tmp/samples/loader/loader" "$tmp/none.dat" 2>"$tmp/loader.err"; then
   exit 1
 fi
 grep -q 'loader: pyramid_open: file error: .*none.dat' "$tmp/loader.err"
+
+# A procedural planet through the installed preprocess component's C++ API: six faces encoded
+# from a function, then verified against it.
+sample cmake procedural "all 6 faces verify within scale / 2" "$tmp/planet" 256
