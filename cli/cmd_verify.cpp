@@ -8,9 +8,7 @@
 #include "cli/cli_common.hpp"
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
-#include "libpyramid/encode/dem/dem_sampling.hpp"
-#include "libpyramid/verify/dem_verify.hpp"
-#include "libpyramid/verify/ortho_verify.hpp"
+#include "libpyramid/api/encoders.hpp"
 #ifdef PYRAMID_WITH_GL
 #include "libpyramid/gl/gl_verify.hpp"
 #endif
