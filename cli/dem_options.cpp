@@ -40,6 +40,12 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "Value marking missing heights: a number, 'nan', 'inf', '-inf', or 'none' (default: what the file declares)");
     app.add_option("--threads", o.threads, "Worker threads (default: all cores; the output does not depend on it)");
     app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
+    app.add_option("--max-file-bytes", args->maxFileBytes,
+                   "Write a region set of files of at most SIZE bytes each (K, M, G, T: powers of 1024) and its "
+                   "index FILE.regions.json; without SIZE, just under 4 GiB")
+        ->expected(0, 1)
+        ->each([args](const std::string&) { args->split = true; })
+        ->trigger_on_parse();
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
 }
@@ -55,6 +61,10 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
         options.autoScale = true;
     } else {
         options.scale = parseNumber(args.scale, "--scale", "a number or 'auto'"); // its range: validate()
+    }
+    if (args.split) {
+        options.maxFileBytes = args.maxFileBytes.empty() ? uint64_t{0xFFFFFFFF}
+                                                         : parseByteSize(args.maxFileBytes, "--max-file-bytes");
     }
     options.band = args.band - 1;
     const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");
@@ -80,6 +90,14 @@ void printDemSummary(const DemReport& r) {
     std::fprintf(stderr, "  max error %g (bound scale/2 = %g), %lld nodata samples filled; %s\n", worst,
                  static_cast<double>(r.header.scale) / 2.0, static_cast<long long>(r.nodataFilled),
                  r.sampling.c_str());
+    if (!r.files.empty()) {
+        uint64_t largest = 0;
+        for (const auto& f : r.files) {
+            largest = std::max(largest, f.second);
+        }
+        std::fprintf(stderr, "  a region set of %zu files (the largest %llu bytes), listed in %s.regions.json\n",
+                     r.files.size(), static_cast<unsigned long long>(largest), r.output.c_str());
+    }
 }
 
 } // namespace pyramid::cli

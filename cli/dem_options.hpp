@@ -24,6 +24,8 @@ struct DemArgs {
     std::string nodata;
     std::string report;
     bool quiet = false;
+    std::string maxFileBytes; // "" when --max-file-bytes is given without a size
+    bool split = false;       // --max-file-bytes given
     DemEncodeOptions options;
 };
 

@@ -92,6 +92,14 @@ public:
 
     uint64_t bytesWritten() const;
     int64_t sharedTiles() const; // tiles that reused another tile's bytes
+    const std::string& path() const { return path_; }
+
+    // For a pyramid written as a region set (formats/residual_set.hpp): the tile data may pass
+    // the 4 GiB of one file (finish() then refuses it), and written tiles are read back.
+    void allowPastLimit() { table_->allowPastLimit(); }
+    bool pastLimit() const { return table_->pastLimit(); }
+    TileTable::Range tileRange(int level, int tx, int ty) const { return table_->range(header_.tileIndex(level, tx, ty)); }
+    std::vector<uint8_t> readTileBytes(int level, int tx, int ty) const { return table_->read(header_.tileIndex(level, tx, ty)); }
 
 private:
     std::string path_;

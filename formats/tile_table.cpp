@@ -139,7 +139,8 @@ struct TileTableWriter::Impl {
     std::vector<uint8_t> lastShared;
     TileTable::Range lastSharedRange{};
     bool finished = false; // the table is written and the file flushed: only the rename is left
-    std::mutex mutex;
+    bool mayPassLimit = false;
+    mutable std::mutex mutex;
 
     explicit Impl(const std::string& path) : file(path) {}
 
@@ -205,7 +206,7 @@ void TileTableWriter::write(int64_t index, std::span<const uint8_t> blob) {
     }
     const uint64_t begin = w.dataEnd;
     const uint64_t end = begin + blob.size();
-    if (end > w.maxOffset) {
+    if (end > w.maxOffset && !w.mayPassLimit) {
         fail(w.file.path(), "tile data passes " + std::to_string(w.maxOffset) +
                                 " bytes, the limit of this file's offsets (split the pyramid into region files)");
     }
@@ -234,6 +235,10 @@ void TileTableWriter::finish() {
             fail(w.file.path(), "tile " + std::to_string(i) + " was never written");
         }
     }
+    if (w.dataEnd > w.maxOffset) {
+        fail(w.file.path(), "tile data passes " + std::to_string(w.maxOffset) +
+                                " bytes, the limit of this file's offsets (split the pyramid into region files)");
+    }
     std::vector<uint8_t> table(w.ranges.size() * 2u * static_cast<size_t>(w.offsetBytes));
     for (size_t i = 0; i < w.ranges.size(); ++i) {
         uint8_t* p = table.data() + i * 2u * static_cast<size_t>(w.offsetBytes);
@@ -254,6 +259,34 @@ void TileTableWriter::commit() {
 uint64_t TileTableWriter::bytesWritten() const {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     return impl_->dataEnd;
+}
+
+void TileTableWriter::allowPastLimit() {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->mayPassLimit = true;
+}
+
+bool TileTableWriter::pastLimit() const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->dataEnd > impl_->maxOffset;
+}
+
+TileTable::Range TileTableWriter::range(int64_t index) const {
+    const Impl& w = *impl_;
+    std::lock_guard<std::mutex> lock(w.mutex);
+    if (index < 0 || index >= static_cast<int64_t>(w.ranges.size()) || !w.written[static_cast<size_t>(index)]) {
+        fail(w.file.path(), "tile " + std::to_string(index) + " was never written");
+    }
+    return w.ranges[static_cast<size_t>(index)];
+}
+
+std::vector<uint8_t> TileTableWriter::read(int64_t index) const {
+    const TileTable::Range r = range(index);
+    const Impl& w = *impl_;
+    std::vector<uint8_t> bytes(r.size());
+    readOrFail(w.file.fd(), w.tableStart + w.ranges.size() * 2u * static_cast<uint64_t>(w.offsetBytes) + r.begin,
+               bytes.data(), bytes.size(), w.file.path());
+    return bytes;
 }
 
 int64_t TileTableWriter::sharedTiles() const {

@@ -81,6 +81,16 @@ public:
     uint64_t bytesWritten() const; // tile bytes, shared tiles counted once
     int64_t sharedTiles() const;
 
+    // Lets tile data pass `maxOffset`: writes go on, finish() then refuses the file, and the
+    // tiles stay readable (range, read) for a writer that splits them into files that fit
+    // (formats/residual_set.hpp). Call before the first write.
+    void allowPastLimit();
+    bool pastLimit() const; // the data passed maxOffset
+    // Where tile `index` lies among the tile bytes (tiles sharing bytes share the range), and its
+    // bytes, read back from the temporary. The tile must have been written.
+    TileTable::Range range(int64_t index) const;
+    std::vector<uint8_t> read(int64_t index) const;
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;

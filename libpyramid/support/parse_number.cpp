@@ -39,4 +39,28 @@ std::array<double, 4> parseOptionNumbers4(const std::string& text, const std::st
     return v;
 }
 
+uint64_t parseByteSize(const std::string& text, const std::string& where) {
+    std::string_view digits(text);
+    int shift = 0;
+    if (!digits.empty()) {
+        switch (digits.back()) {
+        case 'K': case 'k': shift = 10; break;
+        case 'M': case 'm': shift = 20; break;
+        case 'G': case 'g': shift = 30; break;
+        case 'T': case 't': shift = 40; break;
+        default: break;
+        }
+        if (shift) {
+            digits.remove_suffix(1);
+        }
+    }
+    uint64_t v = 0;
+    const char* end = digits.data() + digits.size();
+    const auto [ptr, ec] = std::from_chars(digits.data(), end, v);
+    if (digits.empty() || ec != std::errc() || ptr != end || v == 0 || v > (uint64_t{1} << (63 - shift))) {
+        fail(where, "'" + text + "' is not a size in bytes (a whole number, optionally with K, M, G or T)");
+    }
+    return v << shift;
+}
+
 } // namespace pyramid

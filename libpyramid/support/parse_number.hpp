@@ -6,6 +6,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -41,5 +42,10 @@ double parseOptionNumber(const std::string& text, const std::string& option, con
 // part WHAT) for a part that is not a number.
 std::array<double, 4> parseOptionNumbers4(const std::string& text, const std::string& option, const std::string& form,
                                           const std::string& what);
+
+// A size in bytes: a whole number with an optional suffix K, M, G or T (powers of 1024; "4G" is
+// 4294967296). Throws Error("WHERE: 'TEXT' is not a size in bytes") for anything else, zero,
+// or a size past 2^63.
+uint64_t parseByteSize(const std::string& text, const std::string& where);
 
 } // namespace pyramid

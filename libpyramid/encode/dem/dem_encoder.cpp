@@ -178,6 +178,19 @@ nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int
             {"nodata", nodataJson}};
 }
 
+namespace {
+
+// A region set's files, main first ([] for one file).
+nlohmann::json filesJson(const std::vector<std::pair<std::string, uint64_t>>& files) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& [name, bytes] : files) {
+        list.push_back({{"file", name}, {"bytes", bytes}});
+    }
+    return list;
+}
+
+} // namespace
+
 nlohmann::json toJson(const DemReport& r) {
     nlohmann::json levels = nlohmann::json::array();
     for (const ResidualLevelReport& l : r.levels) {
@@ -201,6 +214,7 @@ nlohmann::json toJson(const DemReport& r) {
             {"tiles", r.tiles},
             {"shared_tiles", r.sharedTiles},
             {"bytes", r.bytes},
+            {"files", filesJson(r.files)},
             {"bits_per_sample", r.finestSamples ? 8.0 * static_cast<double>(r.bytes) / static_cast<double>(r.finestSamples) : 0.0},
             {"finest_samples", r.finestSamples},
             {"nodata_filled", r.nodataFilled},

@@ -6,9 +6,12 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <mutex>
 
 #include "formats/error.hpp"
+#include "formats/residual_set.hpp"
+#include "formats/staging_directory.hpp"
 #include "formats/temporaries.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 #include "libpyramid/encode/residual/root_fill.hpp"
@@ -407,7 +410,19 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         report.scalesTried.push_back(scale);
         std::vector<LevelStats> stats;
         int64_t nodataFilled = 0;
-        ResidualFileWriter writer(output, plan.header);
+        // A region set is staged whole beside the output and put in place all together.
+        std::unique_ptr<StagingDirectory> staging;
+        const std::filesystem::path outputPath(output);
+        const std::string fileName = outputPath.filename().string();
+        if (options.maxFileBytes > 0) {
+            const std::filesystem::path parent = outputPath.parent_path();
+            staging = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
+        }
+        auto whole = std::make_unique<ResidualFileWriter>(staging ? staging->path(fileName) : output, plan.header);
+        if (staging) {
+            whole->allowPastLimit();
+        }
+        ResidualFileWriter& writer = *whole;
         Encoder encoder(plan, *job.heights, grid, options, threads, job.input);
         const std::optional<Overflow> overflow = encoder.run(writer, stats, nodataFilled);
         if (overflow) {
@@ -421,18 +436,43 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
             scale = niceCeil(std::max(needed, scale * 1.000001));
             continue;
         }
-        writer.finish(); // complete and on disk: only the renames are left
-        {
+        report.sharedTiles = writer.sharedTiles();
+        if (staging) {
+            const uint64_t wholeBytes = ResidualHeader::kBytes + 8 * static_cast<uint64_t>(plan.header.tileCount()) +
+                                        writer.bytesWritten();
+            std::vector<ResidualSetFile> files;
+            if (!writer.pastLimit() && wholeBytes <= options.maxFileBytes) {
+                writer.commit(); // into the staging directory
+                files.push_back(ResidualSetFile{fileName, plan.header, wholeBytes});
+            } else {
+                files = writeResidualSet(writer, fileName, options.maxFileBytes,
+                                         [&](const std::string& name) { return staging->path(name); });
+            }
+            whole.reset(); // its temporary (a split pyramid's) is not staged
+            writeResidualSetIndex(staging->path(regionIndexName(fileName)), files);
             auto lock = lockTemporaries();
-            writer.commit();
+            staging->commit();
             if (job.alongside) {
                 job.alongside();
             }
+            report.bytes = 0;
+            for (const ResidualSetFile& f : files) {
+                report.files.emplace_back(f.name, f.bytes);
+                report.bytes += f.bytes;
+            }
+        } else {
+            writer.finish(); // complete and on disk: only the renames are left
+            {
+                auto lock = lockTemporaries();
+                writer.commit();
+                if (job.alongside) {
+                    job.alongside();
+                }
+            }
+            report.bytes = std::filesystem::file_size(output);
         }
         report.header = plan.header;
         report.tiles = plan.header.tileCount();
-        report.sharedTiles = writer.sharedTiles();
-        report.bytes = std::filesystem::file_size(output);
         report.finestSamples = (plan.N + 1) * (plan.N + 1);
         report.nodataFilled = nodataFilled;
         for (int l = 0; l <= plan.M; ++l) {

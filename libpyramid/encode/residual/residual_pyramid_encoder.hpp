@@ -11,6 +11,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "formats/residual_file.hpp"
@@ -26,6 +27,9 @@ struct ResidualEncodeOptions {
     double scale = 1.0;             // quantization step (height units per residual unit)
     bool autoScale = false;         // choose the smallest 1-2-5 x 10^k scale without int16 overflow
     int threads = 0;                // 0: all cores
+    // 0: one file (its tile data at most 4 GiB). Otherwise a region set of files of at most
+    // this many bytes each, and its index (formats/residual_set.hpp, doc/format.md 1.6).
+    uint64_t maxFileBytes = 0;
     // Called from one thread at a time with (tiles done, total tiles).
     std::function<void(int64_t, int64_t)> progress;
     // Asked after every tile, from one thread at a time: true stops the encoding, which throws
@@ -53,7 +57,9 @@ struct ResidualPyramidReport {
     ResidualHeader header;
     int64_t tiles = 0;
     int64_t sharedTiles = 0;
-    uint64_t bytes = 0;       // file size
+    uint64_t bytes = 0;       // file size (of a set: of all its files)
+    // A region set's files (main first, with their sizes); empty for one file.
+    std::vector<std::pair<std::string, uint64_t>> files;
     int64_t finestSamples = 0;
     int64_t nodataFilled = 0; // finest-grid samples without a source height, filled
     std::vector<ResidualLevelReport> levels;
