@@ -13,7 +13,9 @@
  *     and the callbacks of an I/O source (see pyramid_source).
  *   - Structs whose first member is `size_t struct_size` can grow: the caller sets struct_size to
  *     sizeof the struct it was compiled with. The library reads or fills only that many bytes;
- *     members beyond them take their zero defaults (inputs) or are left alone (outputs).
+ *     members beyond them take their zero defaults (inputs) or are left alone (outputs). In a
+ *     struct larger than the library's own, the members it does not know must be zero (inputs)
+ *     or are zeroed (outputs). struct_size < sizeof(size_t) is PYRAMID_ERROR_ARGUMENT.
  *   - Tiles are row-major with row 0 = the tile's bottom (south) row, as stored in the files.
  *   - No C++ exception ever crosses this interface.
  */
@@ -96,7 +98,8 @@ typedef enum pyramid_source_kind {
 typedef struct pyramid_source {
     size_t struct_size;
     pyramid_source_kind kind;
-    const char* name; /* used in messages; NULL: the path, "(memory)" or "(io)" */
+    const char* name; /* MEMORY, IO: used in messages (NULL: "(memory)", "(io)"); a PATH source
+                         is named by its path */
     const char* path; /* PYRAMID_SOURCE_PATH */
     const void* data; /* PYRAMID_SOURCE_MEMORY: the file's bytes (borrowed) ... */
     size_t size;      /* ... and their number */
