@@ -13,6 +13,12 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// A tile the pyramid does not hold: outside its levels or tiles, or an empty byte range.
+class MissingTileError : public Error {
+public:
+    using Error::Error;
+};
+
 // An option value the library cannot use. The library names the option in its own words (the
 // options field, "tileSize") and speaks of the value ("7 is not an even number from 2 to
 // 8192"); a program maps the option to its own spelling (the programs: "--tile-size").

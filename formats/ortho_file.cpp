@@ -1,5 +1,7 @@
 #include "formats/ortho_file.hpp"
 
+#include <utility>
+
 #include "formats/dxt_codec.hpp"
 #include "formats/error.hpp"
 #include "formats/header_bytes.hpp"
@@ -57,11 +59,19 @@ void OrthoHeader::validate(const std::string& where) const {
 }
 
 std::unique_ptr<OrthoFileReader> OrthoFileReader::open(const std::string& path) {
+    return open(openFileSource(path));
+}
+
+std::unique_ptr<OrthoFileReader> OrthoFileReader::open(std::shared_ptr<const ByteSource> source) {
     std::unique_ptr<OrthoFileReader> reader(new OrthoFileReader());
+    const std::string& path = source->name();
     reader->path_ = path;
-    auto probe = TileTable::open(path, OrthoHeader::kBytes, 0, 8);
     uint8_t raw[OrthoHeader::kBytes];
-    probe->readAt(0, raw, sizeof raw);
+    if (source->size() < sizeof raw) {
+        fail(path, "file of " + std::to_string(source->size()) +
+                       " bytes is too short for its header and offset table of 0 tiles");
+    }
+    source->readAt(0, raw, sizeof raw);
     OrthoHeader& h = reader->header_;
     h.maxLevel = detail::loadI32(raw + 0);
     h.tileSize = detail::loadI32(raw + 4);
@@ -71,17 +81,22 @@ std::unique_ptr<OrthoFileReader> OrthoFileReader::open(const std::string& path) 
     h.rootTy = detail::loadI32(raw + 20);
     h.flags = detail::loadU32(raw + 24);
     h.validate(path);
-    reader->table_ = TileTable::open(path, OrthoHeader::kBytes, h.tileCount(), 8);
+    reader->table_ = TileTable::open(std::move(source), OrthoHeader::kBytes, h.tileCount(), 8);
     return reader;
 }
 
 OrthoFileReader::~OrthoFileReader() = default;
 
-std::vector<uint8_t> OrthoFileReader::readTileBytes(int level, int tx, int ty) const {
+TileTable::Range OrthoFileReader::tileRange(int level, int tx, int ty) const {
     if (!header_.contains(level, tx, ty)) {
-        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                        ") in this file");
+        throw MissingTileError(path_ + ": no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                               std::to_string(ty) + ") in this file");
     }
+    return table_->range(header_.tileIndex(level, tx, ty));
+}
+
+std::vector<uint8_t> OrthoFileReader::readTileBytes(int level, int tx, int ty) const {
+    tileRange(level, tx, ty); // throws for a tile outside the file
     return table_->read(header_.tileIndex(level, tx, ty));
 }
 

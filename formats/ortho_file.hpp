@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/byte_source.hpp"
 #include "formats/dxt_codec.hpp"
 #include "formats/tiff_tile.hpp"
 #include "formats/tile_table.hpp"
@@ -50,14 +51,20 @@ inline DxtFormat dxtFormatOf(const OrthoHeader& h) { return h.channels == 4 ? Dx
 class OrthoFileReader {
 public:
     static std::unique_ptr<OrthoFileReader> open(const std::string& path);
+    // The same from any source (kept by the reader; path() is its name).
+    static std::unique_ptr<OrthoFileReader> open(std::shared_ptr<const ByteSource> source);
     ~OrthoFileReader();
 
     const std::string& path() const { return path_; }
     const OrthoHeader& header() const { return header_; }
     const TileTable& table() const { return *table_; }
 
-    // The stored bytes (a TIFF, or raw DXT1/DXT5 blocks ready for upload).
+    // The stored bytes (a TIFF, or raw DXT1/DXT5 blocks ready for upload). Throws
+    // MissingTileError for a tile outside the file or an empty byte range.
     std::vector<uint8_t> readTileBytes(int level, int tx, int ty) const;
+    // The tile's byte range in the offset table (no read). Throws MissingTileError for a tile
+    // outside the file.
+    TileTable::Range tileRange(int level, int tx, int ty) const;
     // Decoded pixels: tilePixels()^2 x channels() bytes, row 0 = bottom. DXT tiles are decoded
     // to header().channels (3 for DXT1, 4 for DXT5).
     std::vector<uint8_t> readTile(int level, int tx, int ty) const;

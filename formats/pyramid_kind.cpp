@@ -1,5 +1,7 @@
 #include "formats/pyramid_kind.hpp"
 
+#include <utility>
+
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/residual_file.hpp"
@@ -14,18 +16,21 @@ std::string reason(const Error& e, const std::string& path) {
 }
 } // namespace
 
-OpenedPyramid openPyramid(const std::string& path) {
+OpenedPyramid openPyramid(const std::string& path) { return openPyramid(openFileSource(path)); }
+
+OpenedPyramid openPyramid(std::shared_ptr<const ByteSource> source) {
+    const std::string path = source->name();
     std::string asResidual, asOrtho;
     OpenedPyramid opened;
     try {
-        opened.residual = ResidualFileReader::open(path);
+        opened.residual = ResidualFileReader::open(source);
         opened.kind = PyramidKind::Residual;
         return opened;
     } catch (const Error& e) {
         asResidual = reason(e, path);
     }
     try {
-        opened.ortho = OrthoFileReader::open(path);
+        opened.ortho = OrthoFileReader::open(source);
         opened.kind = PyramidKind::Ortho;
         return opened;
     } catch (const Error& e) {

@@ -1,4 +1,4 @@
-// Which kind of pyramid file a path holds. Both kinds start with a 28-byte header and carry no
+// Which kind of pyramid file a path (or any byte source) holds. Both kinds start with a 28-byte header and carry no
 // magic number, so the kind is the one whose header and whole offset table validate against
 // the file (the two layouts practically never both validate; residual wins if they do).
 #pragma once
@@ -21,6 +21,8 @@ struct OpenedPyramid {
 };
 // Throws Error("PATH: not a residual or ortho pyramid file (...)") naming both reasons.
 OpenedPyramid openPyramid(const std::string& path);
+// The same from any source (kept by the reader that opened it).
+OpenedPyramid openPyramid(std::shared_ptr<const ByteSource> source);
 
 // openPyramid(path).kind.
 PyramidKind detectPyramidKind(const std::string& path);

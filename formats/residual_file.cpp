@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "formats/error.hpp"
 #include "formats/header_bytes.hpp"
@@ -71,11 +72,13 @@ void ResidualHeader::validate(const std::string& where) const {
     }
 }
 
-ResidualHeader ResidualFileReader::readHeader(const std::string& path) {
-    // Read the header through a table of zero tiles: the same open/size checks apply.
-    auto probe = TileTable::open(path, ResidualHeader::kBytes, 0, 4);
+ResidualHeader ResidualFileReader::readHeader(const ByteSource& source) {
     uint8_t raw[ResidualHeader::kBytes];
-    probe->readAt(0, raw, sizeof raw);
+    if (source.size() < sizeof raw) {
+        fail(source.name(), "file of " + std::to_string(source.size()) +
+                                " bytes is too short for its header and offset table of 0 tiles");
+    }
+    source.readAt(0, raw, sizeof raw);
     ResidualHeader h;
     h.minLevel = detail::loadI32(raw + 0);
     h.maxLevel = detail::loadI32(raw + 4);
@@ -84,25 +87,36 @@ ResidualHeader ResidualFileReader::readHeader(const std::string& path) {
     h.rootTx = detail::loadI32(raw + 16);
     h.rootTy = detail::loadI32(raw + 20);
     h.scale = detail::loadF32(raw + 24);
-    h.validate(path);
+    h.validate(source.name());
     return h;
 }
 
-std::unique_ptr<ResidualFileReader> ResidualFileReader::open(const std::string& path) {
+ResidualHeader ResidualFileReader::readHeader(const std::string& path) { return readHeader(*openFileSource(path)); }
+
+std::unique_ptr<ResidualFileReader> ResidualFileReader::open(std::shared_ptr<const ByteSource> source) {
     std::unique_ptr<ResidualFileReader> reader(new ResidualFileReader());
-    reader->path_ = path;
-    reader->header_ = readHeader(path);
-    reader->table_ = TileTable::open(path, ResidualHeader::kBytes, reader->header_.tileCount(), 4);
+    reader->path_ = source->name();
+    reader->header_ = readHeader(*source);
+    reader->table_ = TileTable::open(std::move(source), ResidualHeader::kBytes, reader->header_.tileCount(), 4);
     return reader;
+}
+
+std::unique_ptr<ResidualFileReader> ResidualFileReader::open(const std::string& path) {
+    return open(openFileSource(path));
 }
 
 ResidualFileReader::~ResidualFileReader() = default;
 
-std::vector<uint8_t> ResidualFileReader::readTileBytes(int level, int tx, int ty) const {
+TileTable::Range ResidualFileReader::tileRange(int level, int tx, int ty) const {
     if (!header_.contains(level, tx, ty)) {
-        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                        ") in this file");
+        throw MissingTileError(path_ + ": no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                               std::to_string(ty) + ") in this file");
     }
+    return table_->range(header_.tileIndex(level, tx, ty));
+}
+
+std::vector<uint8_t> ResidualFileReader::readTileBytes(int level, int tx, int ty) const {
+    tileRange(level, tx, ty); // throws for a tile outside the file
     return table_->read(header_.tileIndex(level, tx, ty));
 }
 

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/byte_source.hpp"
 #include "formats/tile_table.hpp"
 
 namespace pyramid {
@@ -48,16 +49,23 @@ struct ResidualHeader {
 class ResidualFileReader {
 public:
     static std::unique_ptr<ResidualFileReader> open(const std::string& path);
+    // The same from any source (kept by the reader; path() is its name).
+    static std::unique_ptr<ResidualFileReader> open(std::shared_ptr<const ByteSource> source);
     // The header alone, validated (the offset table is neither read nor checked).
     static ResidualHeader readHeader(const std::string& path);
+    static ResidualHeader readHeader(const ByteSource& source);
     ~ResidualFileReader();
 
     const std::string& path() const { return path_; }
     const ResidualHeader& header() const { return header_; }
     const TileTable& table() const { return *table_; }
 
-    // The stored TIFF bytes of a tile.
+    // The stored TIFF bytes of a tile. Throws MissingTileError for a tile outside the file or
+    // an empty byte range.
     std::vector<uint8_t> readTileBytes(int level, int tx, int ty) const;
+    // The tile's byte range in the offset table (no read). Throws MissingTileError for a tile
+    // outside the file.
+    TileTable::Range tileRange(int level, int tx, int ty) const;
     // The decoded residuals, tileSamples(level)^2 int16 values, row 0 = bottom.
     std::vector<int16_t> readTile(int level, int tx, int ty) const;
 

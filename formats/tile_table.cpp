@@ -1,9 +1,5 @@
 #include "formats/tile_table.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -39,19 +35,12 @@ void storeLittleEndian(uint8_t* p, uint64_t v, int bytes) {
 
 } // namespace
 
-std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tableStart, int64_t tileCount,
-                                           int offsetBytes) {
+std::unique_ptr<TileTable> TileTable::open(std::shared_ptr<const ByteSource> source, uint64_t tableStart,
+                                           int64_t tileCount, int offsetBytes) {
     std::unique_ptr<TileTable> table(new TileTable());
-    table->path_ = path;
-    table->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (table->fd_ < 0) {
-        fail(path, std::string("cannot open: ") + std::strerror(errno));
-    }
-    struct stat st {};
-    if (::fstat(table->fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
-        fail(path, "not a regular file");
-    }
-    table->fileSize_ = static_cast<uint64_t>(st.st_size);
+    table->source_ = std::move(source);
+    const std::string& path = table->source_->name();
+    table->fileSize_ = table->source_->size();
     const uint64_t pairBytes = 2u * static_cast<uint64_t>(offsetBytes);
     // The table must fit in the file before anything is allocated for it.
     if (tileCount < 0 || table->fileSize_ < tableStart ||
@@ -65,7 +54,7 @@ std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tab
     table->tileCount_ = tileCount;
     table->offsetBytes_ = offsetBytes;
     table->table_.resize(static_cast<size_t>(tableBytes));
-    readOrFail(table->fd_, tableStart, table->table_.data(), table->table_.size(), path);
+    table->source_->readAt(tableStart, table->table_.data(), table->table_.size());
     for (int64_t i = 0; i < tileCount; ++i) {
         const uint8_t* p = table->table_.data() + static_cast<size_t>(i) * pairBytes;
         const uint64_t begin = loadLittleEndian(p, offsetBytes);
@@ -85,19 +74,20 @@ std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tab
     return table;
 }
 
+std::unique_ptr<TileTable> TileTable::open(const std::string& path, uint64_t tableStart, int64_t tileCount,
+                                           int offsetBytes) {
+    return open(openFileSource(path), tableStart, tileCount, offsetBytes);
+}
+
 TileTable::Range TileTable::range(int64_t index) const {
     if (index < 0 || index >= tileCount_) {
-        fail(path_, "tile index " + std::to_string(index) + " out of range");
+        fail(path(), "tile index " + std::to_string(index) + " out of range");
     }
     const uint8_t* p = table_.data() + static_cast<size_t>(index) * 2u * static_cast<size_t>(offsetBytes_);
     return Range{loadLittleEndian(p, offsetBytes_), loadLittleEndian(p + offsetBytes_, offsetBytes_)};
 }
 
-TileTable::~TileTable() {
-    if (fd_ >= 0) {
-        ::close(fd_);
-    }
-}
+TileTable::~TileTable() = default;
 
 int64_t TileTable::distinctRanges() const {
     std::vector<std::pair<uint64_t, uint64_t>> seen;
@@ -113,14 +103,14 @@ int64_t TileTable::distinctRanges() const {
 std::vector<uint8_t> TileTable::read(int64_t index) const {
     const Range r = range(index);
     if (r.size() == 0) {
-        fail(path_, "tile " + std::to_string(index) + " is missing (empty byte range)");
+        throw MissingTileError(path() + ": tile " + std::to_string(index) + " is missing (empty byte range)");
     }
     std::vector<uint8_t> bytes(r.size());
-    readOrFail(fd_, dataStart_ + r.begin, bytes.data(), bytes.size(), path_);
+    source_->readAt(dataStart_ + r.begin, bytes.data(), bytes.size());
     return bytes;
 }
 
-void TileTable::readAt(uint64_t offset, void* out, size_t size) const { readOrFail(fd_, offset, out, size, path_); }
+void TileTable::readAt(uint64_t offset, void* out, size_t size) const { source_->readAt(offset, out, size); }
 
 // ---------------------------------------------------------------------------------------------
 

@@ -11,6 +11,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "formats/byte_source.hpp"
+
 namespace pyramid {
 
 class TileTable {
@@ -21,18 +23,23 @@ public:
         uint64_t size() const { return end - begin; }
     };
 
-    // Opens `path`, reads `tileCount` offset pairs of `offsetBytes` (4 or 8) starting at byte
-    // `tableStart`, and validates every pair against the file size: the table must fit in the
-    // file (checked before anything is allocated for it), begin <= end <= bytes of tile data.
-    // Throws Error("PATH: ...") otherwise. The table is read in one read into one allocation
-    // of its own size, kept as stored (little-endian) and decoded by range().
-    static std::unique_ptr<TileTable> open(const std::string& path, uint64_t tableStart,
+    // Reads `tileCount` offset pairs of `offsetBytes` (4 or 8) starting at byte `tableStart` of
+    // `source`, and validates every pair against the source's size: the table must fit in it
+    // (checked before anything is allocated for it), begin <= end <= bytes of tile data.
+    // Throws Error("NAME: ...") otherwise. The table is read in one read into one allocation
+    // of its own size, kept as stored (little-endian) and decoded by range(). The table keeps
+    // the source.
+    static std::unique_ptr<TileTable> open(std::shared_ptr<const ByteSource> source, uint64_t tableStart,
                                            int64_t tileCount, int offsetBytes);
+    // The same over the file `path` (openFileSource).
+    static std::unique_ptr<TileTable> open(const std::string& path, uint64_t tableStart, int64_t tileCount,
+                                           int offsetBytes);
     ~TileTable();
     TileTable(const TileTable&) = delete;
     TileTable& operator=(const TileTable&) = delete;
 
-    const std::string& path() const { return path_; }
+    const std::string& path() const { return source_->name(); } // the source's name
+    const ByteSource& source() const { return *source_; }
     int64_t tileCount() const { return tileCount_; }
     // Throws Error for an index outside [0, tileCount()).
     Range range(int64_t index) const;
@@ -41,15 +48,14 @@ public:
     // Number of distinct byte ranges (tiles sharing bytes count once).
     int64_t distinctRanges() const;
     // The bytes of tile `index` (positional read: safe from many threads at once).
-    // Throws Error for an empty range ("PATH: tile N is missing").
+    // Throws MissingTileError for an empty range ("PATH: tile N is missing").
     std::vector<uint8_t> read(int64_t index) const;
-    // Reads `size` bytes at absolute file offset `offset` (positional; used by header readers).
+    // Reads `size` bytes at absolute offset `offset` of the source (used by header readers).
     void readAt(uint64_t offset, void* out, size_t size) const;
 
 private:
     TileTable() = default;
-    std::string path_;
-    int fd_ = -1;
+    std::shared_ptr<const ByteSource> source_;
     uint64_t dataStart_ = 0;
     uint64_t fileSize_ = 0;
     int64_t tileCount_ = 0;

@@ -5,7 +5,17 @@
  * Conventions
  *   - Every function returns a pyramid_status; PYRAMID_OK is 0. On failure, pyramid_last_error()
  *     returns a one-line message (thread-local: it describes the calling thread's last failure).
- *   - Handles are opaque. A handle may be used from several threads at once.
+ *   - Handles are opaque. Every function that takes a handle may be called from several threads
+ *     at once on the same handle, except its *_close function, which must be the handle's last
+ *     call. Functions without a handle may be called from any thread at any time.
+ *   - Ownership: a handle is the caller's from its open until its *_close. Strings and arrays
+ *     passed to a function are only read during the call, except the memory of a memory source
+ *     and the callbacks of an I/O source (see pyramid_source).
+ *   - Structs whose first member is `size_t struct_size` can grow: the caller sets struct_size to
+ *     sizeof the struct it was compiled with. The library reads or fills only that many bytes;
+ *     members beyond them take their zero defaults (inputs) or are left alone (outputs). In a
+ *     struct larger than the library's own, the members it does not know must be zero (inputs)
+ *     or are zeroed (outputs). struct_size < sizeof(size_t) is PYRAMID_ERROR_ARGUMENT.
  *   - Tiles are row-major with row 0 = the tile's bottom (south) row, as stored in the files.
  *   - No C++ exception ever crosses this interface.
  */
@@ -13,6 +23,7 @@
 #define LIBPYRAMID_PYRAMID_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -27,16 +38,19 @@ extern "C" {
 
 #define PYRAMID_VERSION_MAJOR 0
 #define PYRAMID_VERSION_MINOR 2
-#define PYRAMID_VERSION_PATCH 0
+#define PYRAMID_VERSION_PATCH 1
 /* MAJOR * 10000 + MINOR * 100 + PATCH */
 #define PYRAMID_VERSION_NUMBER (PYRAMID_VERSION_MAJOR * 10000 + PYRAMID_VERSION_MINOR * 100 + PYRAMID_VERSION_PATCH)
 
 typedef enum pyramid_status {
     PYRAMID_OK = 0,
-    PYRAMID_ERROR_ARGUMENT = 1,  /* a null pointer, a tile outside the pyramid, a buffer too small */
-    PYRAMID_ERROR_FILE = 2,      /* a file is missing, unreadable, or not a valid pyramid file */
+    PYRAMID_ERROR_ARGUMENT = 1,  /* a null pointer, a buffer too small, an option out of range */
+    PYRAMID_ERROR_FILE = 2,      /* a file (source) is missing, unreadable, or not a valid pyramid
+                                    file; a read callback failed */
     PYRAMID_ERROR_MEMORY = 3,
     PYRAMID_ERROR_INTERNAL = 4,
+    PYRAMID_ERROR_NOT_FOUND = 5,  /* (0.2.1) a tile the pyramid does not hold: outside its levels
+                                    or tiles, or stored as an empty byte range */
     PYRAMID_ERROR_CANCELLED = 6  /* an encoding stopped by its cancel callback (pyramid_encode.h) */
 } pyramid_status;
 
@@ -45,19 +59,59 @@ typedef enum pyramid_kind {
     PYRAMID_KIND_ORTHO = 2     /* ortho file: 8-bit TIFF or DXT tiles */
 } pyramid_kind;
 
-/* The library's version (as PYRAMID_VERSION_NUMBER) and version text ("0.2.0"). */
+/* The library's version (as PYRAMID_VERSION_NUMBER) and version text ("0.2.1"). */
 PYRAMID_API int pyramid_version_number(void);
 PYRAMID_API const char* pyramid_version_string(void);
 
 /* The calling thread's last error message, "" if none. Valid until its next failing call. */
 PYRAMID_API const char* pyramid_last_error(void);
-/* A constant name for a status: "ok", "argument", "file", "memory", "internal". */
+/* A constant name for a status: "ok", "argument", "file", "memory", "internal", "not_found". */
 PYRAMID_API const char* pyramid_status_name(pyramid_status status);
+
+/* ---- Sources (0.2.1) ----------------------------------------------------------------------- */
+
+/* I/O callbacks: a pyramid file read at offsets from anything (a pak file, an asset manager,
+ * HTTP range requests). */
+typedef struct pyramid_io {
+    /* Reads `size` bytes at byte `offset` of the source into `buffer` and stores the number of
+     * bytes read in *bytes_read. Returns 0 on success. A non-zero return or fewer bytes than
+     * asked is a failure: the call that read gives PYRAMID_ERROR_FILE with a message naming the
+     * source. The library never asks for bytes past `size`. Called from the threads that use
+     * the handle, from several at once when a handle is shared: it must be thread-safe. */
+    int (*read)(void* user, uint64_t offset, void* buffer, size_t size, size_t* bytes_read);
+    /* May be NULL. Called once with `user` when the handle that took these callbacks is closed,
+     * after its last read; never when the open fails (the callbacks stay the caller's). */
+    void (*release)(void* user);
+    void* user;    /* passed to read and release */
+    uint64_t size; /* total bytes of the source */
+} pyramid_io;
+
+typedef enum pyramid_source_kind {
+    PYRAMID_SOURCE_PATH = 1,   /* a file, by its path */
+    PYRAMID_SOURCE_MEMORY = 2, /* a block of memory holding the whole file */
+    PYRAMID_SOURCE_IO = 3      /* I/O callbacks */
+} pyramid_source_kind;
+
+/* Where a pyramid file's bytes come from. Size-prefixed: set struct_size = sizeof(pyramid_source).
+ * Ownership: `name` and `path` are copied during the open call. The memory of a MEMORY source is
+ * borrowed: it must stay allocated and unchanged until the handle opened from it is closed.
+ * An IO source's callbacks are the handle's once the open succeeds (release, above). */
+typedef struct pyramid_source {
+    size_t struct_size;
+    pyramid_source_kind kind;
+    const char* name; /* MEMORY, IO: used in messages (NULL: "(memory)", "(io)"); a PATH source
+                         is named by its path */
+    const char* path; /* PYRAMID_SOURCE_PATH */
+    const void* data; /* PYRAMID_SOURCE_MEMORY: the file's bytes (borrowed) ... */
+    size_t size;      /* ... and their number */
+    pyramid_io io;    /* PYRAMID_SOURCE_IO */
+} pyramid_source;
 
 /* ---- Files ------------------------------------------------------------------------------- */
 
 typedef struct pyramid_file pyramid_file;
 
+/* The header of a file (pyramid_get_info). Fixed: new members go to pyramid_file_info. */
 typedef struct pyramid_info {
     pyramid_kind kind;
     int max_level;      /* deepest level, counted from the file's root tile */
@@ -71,22 +125,63 @@ typedef struct pyramid_info {
     long long tile_count;
 } pyramid_info;
 
+/* (0.2.1) The same header, size-prefixed so that it can grow, and what the offset table says. */
+typedef struct pyramid_file_info {
+    size_t struct_size; /* set by the caller: sizeof(pyramid_file_info) */
+    pyramid_kind kind;
+    int max_level, tile_size, root_level, root_tx, root_ty, min_level;
+    float scale;
+    int channels, border, dxt;
+    long long tile_count;
+    uint64_t source_size;    /* bytes of the file (source) */
+    uint64_t data_offset;    /* where the tile data begins: after the header and offset table */
+    long long stored_tiles;  /* tiles with a non-empty byte range (the others are NOT_FOUND) */
+    long long distinct_tiles; /* distinct byte ranges: tiles sharing bytes count once */
+} pyramid_file_info;
+
+/* (0.2.1) One tile as the offset table and header describe it (pyramid_tile_stat). */
+typedef struct pyramid_tile_info {
+    size_t struct_size;   /* set by the caller: sizeof(pyramid_tile_info) */
+    int exists;           /* 1 when the file stores bytes for the tile, 0 for an empty range */
+    int side;             /* samples (pixels) per side of the decoded tile, borders included */
+    int channels;         /* residual files: 1 (int16 samples); ortho files: bytes per pixel */
+    size_t stored_bytes;  /* pyramid_read_tile_bytes' size; 0 when the tile does not exist */
+    size_t decoded_bytes; /* pyramid_read_tile's size: side^2 x 2 (residual) or x channels */
+    uint64_t offset;      /* byte offset of the stored bytes in the file (source) */
+} pyramid_tile_info;
+
+/* Opens a residual or ortho file; the kind is detected from the content (the header and the
+ * whole offset table are validated against the file size). */
 PYRAMID_API pyramid_status pyramid_open(const char* path, pyramid_file** file);
+/* (0.2.1) The same from a path, a block of memory or I/O callbacks. */
+PYRAMID_API pyramid_status pyramid_open_source(const pyramid_source* source, pyramid_file** file);
 PYRAMID_API void pyramid_close(pyramid_file* file); /* NULL is allowed */
 PYRAMID_API pyramid_status pyramid_get_info(const pyramid_file* file, pyramid_info* info);
+/* (0.2.1) Fills info->struct_size bytes of `info` (at least sizeof(size_t)). No read. */
+PYRAMID_API pyramid_status pyramid_get_file_info(const pyramid_file* file, pyramid_file_info* info);
 
-/* Samples per side of the stored tiles of `level` (borders included). */
+/* Samples per side of the stored tiles of `level` (borders included). A level outside the
+ * file is PYRAMID_ERROR_NOT_FOUND. */
 PYRAMID_API pyramid_status pyramid_tile_side(const pyramid_file* file, int level, int* side);
+
+/* (0.2.1) Existence, stored and decoded sizes of a tile, from the offset table and the header:
+ * nothing is read or decoded. A tile outside the pyramid is PYRAMID_ERROR_NOT_FOUND (info
+ * zeroed); a tile inside it stored as an empty range is PYRAMID_OK with exists = 0. */
+PYRAMID_API pyramid_status pyramid_tile_stat(const pyramid_file* file, int level, int tx, int ty,
+                                             pyramid_tile_info* info);
 
 /* A decoded tile. Residual files: side^2 int16 residuals (2 bytes each); ortho files:
  * side^2 x channels bytes (DXT decoded to RGB or RGBA). `size` is the buffer's size in bytes;
  * `written` (may be NULL) receives the bytes written. With buffer == NULL, only `written`
- * is set, to the size needed. */
+ * is set, to the size needed, from the header (nothing is read or decoded). A buffer too small
+ * is PYRAMID_ERROR_ARGUMENT (`written` still gives the size needed); a tile the file does not
+ * hold is PYRAMID_ERROR_NOT_FOUND (`written` 0). */
 PYRAMID_API pyramid_status pyramid_read_tile(const pyramid_file* file, int level, int tx, int ty, void* buffer, size_t size,
                                  size_t* written);
 
 /* The tile as stored (a TIFF file, or raw DXT blocks ready for a compressed-texture upload);
- * same buffer protocol as pyramid_read_tile. */
+ * same buffer protocol as pyramid_read_tile (with buffer == NULL, the size comes from the
+ * offset table). */
 PYRAMID_API pyramid_status pyramid_read_tile_bytes(const pyramid_file* file, int level, int tx, int ty, void* buffer,
                                        size_t size, size_t* written);
 
@@ -106,11 +201,32 @@ PYRAMID_API pyramid_status pyramid_elevation_open(const char* residual_path, int
 PYRAMID_API pyramid_status pyramid_elevation_open_regions(const char* residual_path, const char* const* region_paths,
                                               size_t region_count, int tile_size, int grid_size, size_t cache_tiles,
                                               pyramid_elevation** producer);
+
+/* (0.2.1) The elevation producer's options. Size-prefixed; a zeroed struct (with struct_size
+ * set) gives the defaults. */
+typedef struct pyramid_elevation_options {
+    size_t struct_size; /* sizeof(pyramid_elevation_options) */
+    int tile_size;      /* n; 0 = the file's tile size */
+    int grid_size;      /* quads per side of the render grid for zc; 0 = n */
+    size_t cache_tiles; /* produced tiles kept; 0 is taken as 1 */
+    /* The residual producer's `scale`: every residual of every file is multiplied by
+     * (file scale x scale), that product taken once in float32. 0 = 1 (the files' scales as
+     * they are); non-finite is PYRAMID_ERROR_ARGUMENT. */
+    float scale;
+} pyramid_elevation_options;
+
+/* (0.2.1) The elevation producer over a main source and `region_count` region sources
+ * (`regions` may be NULL when region_count is 0); `options` may be NULL (the defaults). */
+PYRAMID_API pyramid_status pyramid_elevation_open_sources(const pyramid_source* main_source,
+                                                          const pyramid_source* const* regions, size_t region_count,
+                                                          const pyramid_elevation_options* options,
+                                                          pyramid_elevation** producer);
 PYRAMID_API void pyramid_elevation_close(pyramid_elevation* producer);
 /* Samples per side of the produced tiles (n + 5). */
 PYRAMID_API int pyramid_elevation_side(const pyramid_elevation* producer);
 /* Quadtree tile (level, tx, ty): zf (elevations), zc (coarse elevations) and zm (modified
- * elevations, = zf) into arrays of `count` floats, count >= side^2; zc and zm may be NULL. */
+ * elevations, = zf) into arrays of `count` floats, count >= side^2; zc and zm may be NULL.
+ * Every tile of levels 0..30 exists; (level, tx, ty) outside them is PYRAMID_ERROR_NOT_FOUND. */
 PYRAMID_API pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, int level, int tx, int ty, float* zf, float* zc,
                                       float* zm, size_t count);
 
@@ -130,10 +246,25 @@ PYRAMID_API pyramid_status pyramid_ortho_open(const char* path, int colour_resid
  * and flags). */
 PYRAMID_API pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* region_paths, size_t region_count,
                                           int colour_residuals, size_t cache_tiles, pyramid_ortho** producer);
+
+/* (0.2.1) The ortho producer's options. Size-prefixed; a zeroed struct (with struct_size set)
+ * gives the defaults. */
+typedef struct pyramid_ortho_options {
+    size_t struct_size;   /* sizeof(pyramid_ortho_options) */
+    int colour_residuals; /* as pyramid_ortho_open's */
+    size_t cache_tiles;   /* colour-residual tiles kept; 0 is taken as 1 */
+} pyramid_ortho_options;
+
+/* (0.2.1) The ortho producer over a main source and `region_count` region sources; `options`
+ * may be NULL (the defaults). */
+PYRAMID_API pyramid_status pyramid_ortho_open_sources(const pyramid_source* main_source,
+                                                      const pyramid_source* const* regions, size_t region_count,
+                                                      const pyramid_ortho_options* options, pyramid_ortho** producer);
 PYRAMID_API void pyramid_ortho_close(pyramid_ortho* producer);
 /* Pixels per side and channels of the produced tiles. */
 PYRAMID_API pyramid_status pyramid_ortho_layout(const pyramid_ortho* producer, int* side, int* channels);
-/* side^2 x channels bytes into `pixels` (`size` bytes). */
+/* side^2 x channels bytes into `pixels` (`size` bytes). Without colour residuals a tile no file
+ * holds is PYRAMID_ERROR_NOT_FOUND; with them every tile of levels 0..30 exists. */
 PYRAMID_API pyramid_status pyramid_ortho_tile(pyramid_ortho* producer, int level, int tx, int ty, unsigned char* pixels,
                                   size_t size);
 

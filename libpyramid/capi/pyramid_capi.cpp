@@ -2,6 +2,9 @@
 // and keeps the message for pyramid_last_error().
 #include "libpyramid/capi/pyramid.h"
 
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -9,15 +12,16 @@
 #include <utility>
 #include <vector>
 
+#include "formats/byte_source.hpp"
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/capi/last_error.hpp"
+#include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/height_query.hpp"
 #include "libpyramid/runtime/ortho_producer.hpp"
-#include "libpyramid/runtime/colour_producer.hpp"
 
 struct pyramid_file {
     pyramid::PyramidKind kind;
@@ -43,12 +47,17 @@ pyramid_status failWith(pyramid_status status, const std::string& message) {
     return status;
 }
 
-// Runs `body`, turning exceptions into statuses: Error is a file problem unless `body` already
+// Runs `body`, turning exceptions into statuses: a missing tile is NOT_FOUND, an option the
+// library refuses an argument error, any other Error a file problem, unless `body` already
 // decided otherwise by returning a status.
 template <class Body>
 pyramid_status guarded(Body body) {
     try {
         return body();
+    } catch (const pyramid::MissingTileError& e) {
+        return failWith(PYRAMID_ERROR_NOT_FOUND, e.what());
+    } catch (const pyramid::OptionError& e) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, e.what());
     } catch (const pyramid::Error& e) {
         return failWith(PYRAMID_ERROR_FILE, e.what());
     } catch (const std::bad_alloc&) {
@@ -60,6 +69,8 @@ pyramid_status guarded(Body body) {
     }
 }
 
+pyramid_status tooSmall(size_t size, size_t bytes);
+
 pyramid_status copyOut(const void* data, size_t bytes, void* buffer, size_t size, size_t* written) {
     if (written) {
         *written = bytes;
@@ -68,8 +79,7 @@ pyramid_status copyOut(const void* data, size_t bytes, void* buffer, size_t size
         return PYRAMID_OK;
     }
     if (size < bytes) {
-        return failWith(PYRAMID_ERROR_ARGUMENT, "buffer of " + std::to_string(size) + " bytes, " +
-                                                    std::to_string(bytes) + " needed");
+        return tooSmall(size, bytes);
     }
     std::memcpy(buffer, data, bytes);
     return PYRAMID_OK;
@@ -81,12 +91,223 @@ bool inside(const pyramid_file* f, int level, int tx, int ty) {
 }
 
 pyramid_status outside(int level, int tx, int ty) {
-    return failWith(PYRAMID_ERROR_ARGUMENT, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                                std::to_string(ty) + ") in this pyramid");
+    return failWith(PYRAMID_ERROR_NOT_FOUND, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                                                 std::to_string(ty) + ") in this pyramid");
 }
 
-// The region paths of an *_open_regions call; false when the array or one of its paths is null.
-bool regionList(const char* const* paths, size_t count, std::vector<std::string>& out) {
+// ---- Size-prefixed structs ----------------------------------------------------------------
+
+// An input struct as this library knows it: the caller's first struct_size bytes over a zeroed
+// T (members past them take their zero defaults). A struct larger than T is accepted when the
+// members this library does not know are all zero; anything else is an argument error.
+template <class T>
+bool readSized(const T* in, T& out, const char* what) {
+    out = T{};
+    if (!in) {
+        out.struct_size = sizeof(T);
+        return true;
+    }
+    const size_t size = in->struct_size;
+    if (size < sizeof(size_t)) {
+        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": struct_size " + std::to_string(size) +
+                                             " is too small (set it to sizeof the struct)");
+        return false;
+    }
+    const auto* bytes = reinterpret_cast<const unsigned char*>(in);
+    for (size_t k = sizeof(T); k < size; ++k) {
+        if (bytes[k] != 0) {
+            failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": members past byte " + std::to_string(sizeof(T)) +
+                                                 " are set, and this library version does not know them");
+            return false;
+        }
+    }
+    std::memcpy(&out, in, std::min(size, sizeof(T)));
+    return true;
+}
+
+// Copies `full` into the caller's struct_size bytes at `out`: the members that fit; bytes past
+// the library's own struct are zeroed. struct_size itself is left as the caller set it.
+template <class T>
+bool writeSized(const T& full, T* out, const char* what) {
+    const size_t size = out->struct_size;
+    if (size < sizeof(size_t)) {
+        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": struct_size " + std::to_string(size) +
+                                             " is too small (set it to sizeof the struct)");
+        return false;
+    }
+    auto* bytes = reinterpret_cast<unsigned char*>(out);
+    const auto* from = reinterpret_cast<const unsigned char*>(&full);
+    const size_t common = std::min(size, sizeof(T));
+    std::memcpy(bytes + sizeof(size_t), from + sizeof(size_t), common - sizeof(size_t));
+    if (size > sizeof(T)) {
+        std::memset(bytes + sizeof(T), 0, size - sizeof(T));
+    }
+    return true;
+}
+
+// ---- Sources --------------------------------------------------------------------------------
+
+// A caller's I/O callbacks. release() is called by the destructor only once the open that made
+// the source succeeded (arm()): a failed open leaves the callbacks to the caller.
+class IoSource final : public pyramid::ByteSource {
+public:
+    IoSource(std::string name, const pyramid_io& io) : ByteSource(std::move(name)), io_(io) {}
+    ~IoSource() override {
+        if (armed_.load(std::memory_order_acquire) && io_.release) {
+            io_.release(io_.user);
+        }
+    }
+    void arm() { armed_.store(true, std::memory_order_release); }
+
+    uint64_t size() const override { return io_.size; }
+
+    void readAt(uint64_t offset, void* out, size_t size) const override {
+        pyramid::checkRange(*this, io_.size, offset, size);
+        if (size == 0) {
+            return;
+        }
+        size_t got = 0;
+        const int status = io_.read(io_.user, offset, out, size, &got);
+        if (status != 0) {
+            pyramid::fail(name(), "read of " + std::to_string(size) + " bytes at offset " + std::to_string(offset) +
+                                      " failed (the read callback returned " + std::to_string(status) + ")");
+        }
+        if (got != size) {
+            pyramid::fail(name(), "read of " + std::to_string(size) + " bytes at offset " + std::to_string(offset) +
+                                      " returned " + std::to_string(got) + " bytes");
+        }
+    }
+
+private:
+    pyramid_io io_;
+    std::atomic<bool> armed_{false};
+};
+
+// The sources of one open call: made from the caller's descriptors, armed once the open succeeds.
+struct SourceSet {
+    std::vector<std::shared_ptr<IoSource>> io;
+
+    void arm() {
+        for (const auto& s : io) {
+            s->arm();
+        }
+    }
+
+    // The byte source a descriptor names; false (with the message set) for a bad descriptor.
+    // Throws Error when a file cannot be opened.
+    bool make(const pyramid_source* in, const char* what, std::shared_ptr<const pyramid::ByteSource>& out) {
+        if (!in) {
+            failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": null source");
+            return false;
+        }
+        pyramid_source d;
+        if (!readSized(in, d, what)) {
+            return false;
+        }
+        switch (d.kind) {
+        case PYRAMID_SOURCE_PATH:
+            if (!d.path) {
+                failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": a path source without a path");
+                return false;
+            }
+            out = pyramid::openFileSource(d.path);
+            return true;
+        case PYRAMID_SOURCE_MEMORY:
+            if (!d.data && d.size > 0) {
+                failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": a memory source of " + std::to_string(d.size) +
+                                                     " bytes without data");
+                return false;
+            }
+            out = pyramid::memorySource(d.name ? d.name : "(memory)", d.data, d.size);
+            return true;
+        case PYRAMID_SOURCE_IO: {
+            if (!d.io.read) {
+                failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": an I/O source without a read callback");
+                return false;
+            }
+            auto s = std::make_shared<IoSource>(d.name ? d.name : "(io)", d.io);
+            io.push_back(s);
+            out = std::move(s);
+            return true;
+        }
+        }
+        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": unknown source kind " + std::to_string(d.kind));
+        return false;
+    }
+
+    // The main source and the region sources of a producer.
+    bool makeAll(const pyramid_source* main, const pyramid_source* const* regions, size_t count, const char* what,
+                 std::shared_ptr<const pyramid::ByteSource>& mainOut,
+                 std::vector<std::shared_ptr<const pyramid::ByteSource>>& regionsOut) {
+        if (count > 0 && !regions) {
+            failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": null region array");
+            return false;
+        }
+        if (!make(main, what, mainOut)) {
+            return false;
+        }
+        for (size_t k = 0; k < count; ++k) {
+            std::shared_ptr<const pyramid::ByteSource> r;
+            if (!make(regions[k], what, r)) {
+                return false;
+            }
+            regionsOut.push_back(std::move(r));
+        }
+        return true;
+    }
+};
+
+pyramid_source pathSource(const char* path) {
+    pyramid_source s{};
+    s.struct_size = sizeof s;
+    s.kind = PYRAMID_SOURCE_PATH;
+    s.path = path;
+    return s;
+}
+
+// What the header and offset table say of tile (level, tx, ty), which must be inside the file.
+pyramid_tile_info tileInfo(const pyramid_file* f, int level, int tx, int ty) {
+    pyramid_tile_info t{};
+    t.struct_size = sizeof t;
+    pyramid::TileTable::Range r;
+    uint64_t dataStart = 0;
+    if (f->kind == pyramid::PyramidKind::Residual) {
+        t.side = f->residual->header().tileSamples(level);
+        t.channels = 1;
+        t.decoded_bytes = static_cast<size_t>(t.side) * static_cast<size_t>(t.side) * sizeof(int16_t);
+        r = f->residual->tileRange(level, tx, ty);
+        dataStart = f->residual->table().dataStart();
+    } else {
+        const pyramid::OrthoHeader& h = f->ortho->header();
+        t.side = h.tilePixels();
+        t.channels = h.channels;
+        t.decoded_bytes = static_cast<size_t>(t.side) * static_cast<size_t>(t.side) * static_cast<size_t>(t.channels);
+        r = f->ortho->tileRange(level, tx, ty);
+        dataStart = f->ortho->table().dataStart();
+    }
+    t.exists = r.size() > 0 ? 1 : 0;
+    t.stored_bytes = static_cast<size_t>(r.size());
+    t.offset = t.exists ? dataStart + r.begin : 0;
+    return t;
+}
+
+pyramid_status absent(int level, int tx, int ty, size_t* written) {
+    if (written) {
+        *written = 0;
+    }
+    return failWith(PYRAMID_ERROR_NOT_FOUND, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
+                                                 std::to_string(ty) + ") is not stored (empty byte range)");
+}
+
+pyramid_status tooSmall(size_t size, size_t bytes) {
+    return failWith(PYRAMID_ERROR_ARGUMENT,
+                    "buffer of " + std::to_string(size) + " bytes, " + std::to_string(bytes) + " needed");
+}
+
+// The region paths of an *_open_regions call as path sources; false when the array or one of
+// its paths is null.
+bool regionList(const char* const* paths, size_t count, std::vector<pyramid_source>& sources,
+                std::vector<const pyramid_source*>& pointers) {
     if (count > 0 && !paths) {
         return false;
     }
@@ -94,7 +315,10 @@ bool regionList(const char* const* paths, size_t count, std::vector<std::string>
         if (!paths[k]) {
             return false;
         }
-        out.emplace_back(paths[k]);
+        sources.push_back(pathSource(paths[k]));
+    }
+    for (const pyramid_source& s : sources) {
+        pointers.push_back(&s);
     }
     return true;
 }
@@ -125,6 +349,8 @@ const char* pyramid_status_name(pyramid_status status) {
         return "memory";
     case PYRAMID_ERROR_INTERNAL:
         return "internal";
+    case PYRAMID_ERROR_NOT_FOUND:
+        return "not_found";
     case PYRAMID_ERROR_CANCELLED:
         return "cancelled";
     }
@@ -133,16 +359,33 @@ const char* pyramid_status_name(pyramid_status status) {
 
 pyramid_status pyramid_open(const char* path, pyramid_file** file) {
     if (!path || !file) {
+        if (file) {
+            *file = nullptr;
+        }
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_open: null argument");
+    }
+    const pyramid_source source = pathSource(path);
+    return pyramid_open_source(&source, file);
+}
+
+pyramid_status pyramid_open_source(const pyramid_source* source, pyramid_file** file) {
+    if (!file) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_open_source: null argument");
     }
     *file = nullptr;
     return guarded([&] {
+        SourceSet sources;
+        std::shared_ptr<const pyramid::ByteSource> bytes;
+        if (!sources.make(source, "pyramid_open_source", bytes)) {
+            return PYRAMID_ERROR_ARGUMENT;
+        }
         auto f = std::make_unique<pyramid_file>();
         // The reader that recognises the file is the one kept: the offset table is read once.
-        pyramid::OpenedPyramid opened = pyramid::openPyramid(path);
+        pyramid::OpenedPyramid opened = pyramid::openPyramid(std::move(bytes));
         f->kind = opened.kind;
         f->residual = std::move(opened.residual);
         f->ortho = std::move(opened.ortho);
+        sources.arm();
         *file = f.release();
         return PYRAMID_OK;
     });
@@ -150,37 +393,81 @@ pyramid_status pyramid_open(const char* path, pyramid_file** file) {
 
 void pyramid_close(pyramid_file* file) { delete file; }
 
+pyramid_status pyramid_get_file_info(const pyramid_file* file, pyramid_file_info* info) {
+    if (!file || !info) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_get_file_info: null argument");
+    }
+    return guarded([&] {
+        pyramid_file_info full{};
+        full.struct_size = sizeof full;
+        const pyramid::TileTable* table = nullptr;
+        if (file->kind == pyramid::PyramidKind::Residual) {
+            const auto& h = file->residual->header();
+            full.kind = PYRAMID_KIND_RESIDUAL;
+            full.min_level = h.minLevel;
+            full.max_level = h.maxLevel;
+            full.tile_size = h.tileSize;
+            full.root_level = h.rootLevel;
+            full.root_tx = h.rootTx;
+            full.root_ty = h.rootTy;
+            full.scale = h.scale;
+            full.channels = 1;
+            full.border = 2;
+            full.tile_count = h.tileCount();
+            table = &file->residual->table();
+        } else {
+            const auto& h = file->ortho->header();
+            full.kind = PYRAMID_KIND_ORTHO;
+            full.max_level = h.maxLevel;
+            full.tile_size = h.tileSize;
+            full.root_level = h.rootLevel;
+            full.root_tx = h.rootTx;
+            full.root_ty = h.rootTy;
+            full.channels = h.channels;
+            full.border = h.border();
+            full.dxt = h.dxt() ? 1 : 0;
+            full.tile_count = h.tileCount();
+            table = &file->ortho->table();
+        }
+        full.source_size = table->fileSize();
+        full.data_offset = table->dataStart();
+        // The counts walk the whole table: only for callers whose struct holds them.
+        if (info->struct_size >= offsetof(pyramid_file_info, stored_tiles) + sizeof full.stored_tiles) {
+            for (int64_t i = 0; i < table->tileCount(); ++i) {
+                full.stored_tiles += table->range(i).size() > 0 ? 1 : 0;
+            }
+        }
+        if (info->struct_size >= offsetof(pyramid_file_info, distinct_tiles) + sizeof full.distinct_tiles) {
+            full.distinct_tiles = table->distinctRanges();
+        }
+        return writeSized(full, info, "pyramid_get_file_info") ? PYRAMID_OK : PYRAMID_ERROR_ARGUMENT;
+    });
+}
+
 pyramid_status pyramid_get_info(const pyramid_file* file, pyramid_info* info) {
     if (!file || !info) {
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_get_info: null argument");
     }
-    std::memset(info, 0, sizeof *info);
-    if (file->kind == pyramid::PyramidKind::Residual) {
-        const auto& h = file->residual->header();
-        info->kind = PYRAMID_KIND_RESIDUAL;
-        info->min_level = h.minLevel;
-        info->max_level = h.maxLevel;
-        info->tile_size = h.tileSize;
-        info->root_level = h.rootLevel;
-        info->root_tx = h.rootTx;
-        info->root_ty = h.rootTy;
-        info->scale = h.scale;
-        info->channels = 1;
-        info->border = 2;
-        info->tile_count = h.tileCount();
-    } else {
-        const auto& h = file->ortho->header();
-        info->kind = PYRAMID_KIND_ORTHO;
-        info->max_level = h.maxLevel;
-        info->tile_size = h.tileSize;
-        info->root_level = h.rootLevel;
-        info->root_tx = h.rootTx;
-        info->root_ty = h.rootTy;
-        info->channels = h.channels;
-        info->border = h.border();
-        info->dxt = h.dxt() ? 1 : 0;
-        info->tile_count = h.tileCount();
+    // The members pyramid_file_info shares with pyramid_info, before the table's counts.
+    pyramid_file_info full{};
+    full.struct_size = offsetof(pyramid_file_info, source_size);
+    const pyramid_status status = pyramid_get_file_info(file, &full);
+    if (status != PYRAMID_OK) {
+        return status;
     }
+    std::memset(info, 0, sizeof *info);
+    info->kind = full.kind;
+    info->max_level = full.max_level;
+    info->tile_size = full.tile_size;
+    info->root_level = full.root_level;
+    info->root_tx = full.root_tx;
+    info->root_ty = full.root_ty;
+    info->min_level = full.min_level;
+    info->scale = full.scale;
+    info->channels = full.channels;
+    info->border = full.border;
+    info->dxt = full.dxt;
+    info->tile_count = full.tile_count;
     return PYRAMID_OK;
 }
 
@@ -196,15 +483,51 @@ pyramid_status pyramid_tile_side(const pyramid_file* file, int level, int* side)
     return PYRAMID_OK;
 }
 
+pyramid_status pyramid_tile_stat(const pyramid_file* file, int level, int tx, int ty, pyramid_tile_info* info) {
+    if (!file || !info) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_tile_stat: null argument");
+    }
+    return guarded([&] {
+        pyramid_tile_info full{};
+        full.struct_size = sizeof full;
+        const bool in = inside(file, level, tx, ty);
+        if (in) {
+            full = tileInfo(file, level, tx, ty);
+        }
+        if (!writeSized(full, info, "pyramid_tile_stat")) {
+            return PYRAMID_ERROR_ARGUMENT;
+        }
+        return in ? PYRAMID_OK : outside(level, tx, ty);
+    });
+}
+
 pyramid_status pyramid_read_tile(const pyramid_file* file, int level, int tx, int ty, void* buffer, size_t size,
                                  size_t* written) {
     if (!file) {
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_read_tile: null file");
     }
     if (!inside(file, level, tx, ty)) {
+        if (written) {
+            *written = 0;
+        }
         return outside(level, tx, ty);
     }
     return guarded([&] {
+        // The size needed comes from the header, the existence from the offset table: a size
+        // query or a buffer too small reads nothing.
+        const pyramid_tile_info t = tileInfo(file, level, tx, ty);
+        if (!t.exists) {
+            return absent(level, tx, ty, written);
+        }
+        if (written) {
+            *written = t.decoded_bytes;
+        }
+        if (!buffer) {
+            return PYRAMID_OK;
+        }
+        if (size < t.decoded_bytes) {
+            return tooSmall(size, t.decoded_bytes);
+        }
         if (file->kind == pyramid::PyramidKind::Residual) {
             const std::vector<int16_t> r = file->residual->readTile(level, tx, ty);
             return copyOut(r.data(), r.size() * sizeof(int16_t), buffer, size, written);
@@ -220,9 +543,25 @@ pyramid_status pyramid_read_tile_bytes(const pyramid_file* file, int level, int 
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_read_tile_bytes: null file");
     }
     if (!inside(file, level, tx, ty)) {
+        if (written) {
+            *written = 0;
+        }
         return outside(level, tx, ty);
     }
     return guarded([&] {
+        const pyramid_tile_info t = tileInfo(file, level, tx, ty);
+        if (!t.exists) {
+            return absent(level, tx, ty, written);
+        }
+        if (written) {
+            *written = t.stored_bytes;
+        }
+        if (!buffer) {
+            return PYRAMID_OK;
+        }
+        if (size < t.stored_bytes) {
+            return tooSmall(size, t.stored_bytes);
+        }
         const std::vector<uint8_t> b = file->kind == pyramid::PyramidKind::Residual
                                            ? file->residual->readTileBytes(level, tx, ty)
                                            : file->ortho->readTileBytes(level, tx, ty);
@@ -238,34 +577,67 @@ pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, 
 pyramid_status pyramid_elevation_open_regions(const char* residual_path, const char* const* region_paths,
                                               size_t region_count, int tile_size, int grid_size, size_t cache_tiles,
                                               pyramid_elevation** producer) {
-    std::vector<std::string> regions;
-    if (!residual_path || !producer || !regionList(region_paths, region_count, regions)) {
+    std::vector<pyramid_source> regions;
+    std::vector<const pyramid_source*> pointers;
+    if (!residual_path || !producer || !regionList(region_paths, region_count, regions, pointers)) {
+        if (producer) {
+            *producer = nullptr;
+        }
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_elevation_open: null argument");
     }
+    const pyramid_source main = pathSource(residual_path);
+    pyramid_elevation_options options{};
+    options.struct_size = sizeof options;
+    options.tile_size = tile_size;
+    options.grid_size = grid_size;
+    options.cache_tiles = cache_tiles;
+    return pyramid_elevation_open_sources(&main, pointers.data(), region_count, &options, producer);
+}
+
+pyramid_status pyramid_elevation_open_sources(const pyramid_source* main_source, const pyramid_source* const* regions,
+                                              size_t region_count, const pyramid_elevation_options* options,
+                                              pyramid_elevation** producer) {
+    if (!producer) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_elevation_open_sources: null argument");
+    }
     *producer = nullptr;
+    pyramid_elevation_options o;
+    if (!readSized(options, o, "pyramid_elevation_open_sources: options")) {
+        return PYRAMID_ERROR_ARGUMENT;
+    }
     return guarded([&] {
+        SourceSet sources;
+        std::shared_ptr<const pyramid::ByteSource> mainBytes;
+        std::vector<std::shared_ptr<const pyramid::ByteSource>> regionBytes;
+        if (!sources.makeAll(main_source, regions, region_count, "pyramid_elevation_open_sources", mainBytes,
+                             regionBytes)) {
+            return PYRAMID_ERROR_ARGUMENT;
+        }
+        const std::string& name = mainBytes->name();
         // The header alone: the producer below reads the offset table, once.
-        const pyramid::ResidualHeader h = pyramid::ResidualFileReader::readHeader(residual_path);
-        const int n = tile_size == 0 ? h.tileSize : tile_size;
+        const pyramid::ResidualHeader h = pyramid::ResidualFileReader::readHeader(*mainBytes);
+        const int n = o.tile_size == 0 ? h.tileSize : o.tile_size;
         int delta = 0;
         try {
             delta = pyramid::elevationDelta(h, n);
         } catch (const pyramid::Error& e) {
-            return failWith(PYRAMID_ERROR_ARGUMENT, std::string(residual_path) + ": " + e.what());
+            return failWith(PYRAMID_ERROR_ARGUMENT, name + ": " + e.what());
         }
         pyramid::ResidualProducerOptions ro;
         ro.delta = delta;
-        auto residuals = std::make_shared<pyramid::ResidualProducer>(residual_path, regions, ro);
+        ro.scale = o.scale == 0.0f ? 1.0f : o.scale;
+        auto residuals = std::make_shared<pyramid::ResidualProducer>(mainBytes, regionBytes, ro);
         pyramid::ElevationProducerOptions eo;
         eo.tileSize = n;
-        eo.gridSize = grid_size;
-        eo.cacheCapacity = cache_tiles == 0 ? 1 : cache_tiles;
+        eo.gridSize = o.grid_size;
+        eo.cacheCapacity = o.cache_tiles == 0 ? 1 : o.cache_tiles;
         auto p = std::make_unique<pyramid_elevation>();
         try {
             p->producer = std::make_unique<pyramid::ElevationProducer>(residuals, eo);
         } catch (const pyramid::Error& e) {
-            return failWith(PYRAMID_ERROR_ARGUMENT, std::string(residual_path) + ": " + e.what());
+            return failWith(PYRAMID_ERROR_ARGUMENT, name + ": " + e.what());
         }
+        sources.arm();
         *producer = p.release();
         return PYRAMID_OK;
     });
@@ -323,17 +695,47 @@ pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t
 
 pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* region_paths, size_t region_count,
                                           int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
-    std::vector<std::string> regions;
-    if (!path || !producer || !regionList(region_paths, region_count, regions)) {
+    std::vector<pyramid_source> regions;
+    std::vector<const pyramid_source*> pointers;
+    if (!path || !producer || !regionList(region_paths, region_count, regions, pointers)) {
+        if (producer) {
+            *producer = nullptr;
+        }
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_ortho_open: null argument");
     }
+    const pyramid_source main = pathSource(path);
+    pyramid_ortho_options options{};
+    options.struct_size = sizeof options;
+    options.colour_residuals = colour_residuals;
+    options.cache_tiles = cache_tiles;
+    return pyramid_ortho_open_sources(&main, pointers.data(), region_count, &options, producer);
+}
+
+pyramid_status pyramid_ortho_open_sources(const pyramid_source* main_source, const pyramid_source* const* regions,
+                                          size_t region_count, const pyramid_ortho_options* options,
+                                          pyramid_ortho** producer) {
+    if (!producer) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_ortho_open_sources: null argument");
+    }
     *producer = nullptr;
+    pyramid_ortho_options o;
+    if (!readSized(options, o, "pyramid_ortho_open_sources: options")) {
+        return PYRAMID_ERROR_ARGUMENT;
+    }
     return guarded([&] {
-        auto p = std::make_unique<pyramid_ortho>();
-        p->tiles = std::make_shared<pyramid::OrthoProducer>(path, regions);
-        if (colour_residuals) {
-            p->residuals = std::make_unique<pyramid::ColourProducer>(p->tiles, cache_tiles == 0 ? 1 : cache_tiles);
+        SourceSet sources;
+        std::shared_ptr<const pyramid::ByteSource> mainBytes;
+        std::vector<std::shared_ptr<const pyramid::ByteSource>> regionBytes;
+        if (!sources.makeAll(main_source, regions, region_count, "pyramid_ortho_open_sources", mainBytes,
+                             regionBytes)) {
+            return PYRAMID_ERROR_ARGUMENT;
         }
+        auto p = std::make_unique<pyramid_ortho>();
+        p->tiles = std::make_shared<pyramid::OrthoProducer>(mainBytes, regionBytes);
+        if (o.colour_residuals) {
+            p->residuals = std::make_unique<pyramid::ColourProducer>(p->tiles, o.cache_tiles == 0 ? 1 : o.cache_tiles);
+        }
+        sources.arm();
         *producer = p.release();
         return PYRAMID_OK;
     });

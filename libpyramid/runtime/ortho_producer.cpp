@@ -1,6 +1,7 @@
 #include "libpyramid/runtime/ortho_producer.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include "formats/error.hpp"
 #include "libpyramid/runtime/region_lookup.hpp"
@@ -14,28 +15,43 @@ struct OrthoProducer::Impl {
     const OrthoFileReader& holder(int level, int tx, int ty, RelativeTile& rel) const {
         const int k = deepestHolder(files, level, tx, ty, rel);
         if (k < 0) {
-            fail(files.front()->path(), "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                            std::to_string(ty) + ") in any file");
+            throw MissingTileError(files.front()->path() + ": no tile (" + std::to_string(level) + "," +
+                                   std::to_string(tx) + "," + std::to_string(ty) + ") in any file");
         }
         return *files[static_cast<size_t>(k)];
     }
 };
 
+namespace {
+std::vector<std::shared_ptr<const ByteSource>> fileSources(const std::vector<std::string>& paths) {
+    std::vector<std::shared_ptr<const ByteSource>> sources;
+    for (const std::string& path : paths) {
+        sources.push_back(openFileSource(path));
+    }
+    return sources;
+}
+} // namespace
+
 OrthoProducer::OrthoProducer(const std::string& mainFile, const std::vector<std::string>& regions)
+    : OrthoProducer(openFileSource(mainFile), fileSources(regions)) {}
+
+OrthoProducer::OrthoProducer(std::shared_ptr<const ByteSource> mainFile,
+                             const std::vector<std::shared_ptr<const ByteSource>>& regions)
     : impl_(std::make_unique<Impl>()) {
-    impl_->files.push_back(OrthoFileReader::open(mainFile));
+    impl_->files.push_back(OrthoFileReader::open(std::move(mainFile)));
     const OrthoHeader& main = impl_->files.front()->header();
     if (main.rootLevel != 0) {
-        fail(mainFile, "the main file of an ortho producer must be rooted at tile (0,0,0)");
+        fail(impl_->files.front()->path(), "the main file of an ortho producer must be rooted at tile (0,0,0)");
     }
-    for (const std::string& region : regions) {
+    for (const auto& region : regions) {
         impl_->files.push_back(OrthoFileReader::open(region));
         const OrthoHeader& h = impl_->files.back()->header();
+        const std::string& name = impl_->files.back()->path();
         if (h.tileSize != main.tileSize || h.channels != main.channels || h.flags != main.flags) {
-            fail(region, "region tiles differ from the main file's (tile size, channels or flags)");
+            fail(name, "region tiles differ from the main file's (tile size, channels or flags)");
         }
         if (h.rootLevel < 1) {
-            fail(region, "a region file must be rooted at level 1 or deeper");
+            fail(name, "a region file must be rooted at level 1 or deeper");
         }
     }
     for (const auto& f : impl_->files) {

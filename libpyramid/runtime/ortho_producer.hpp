@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/byte_source.hpp"
 #include "formats/ortho_file.hpp"
 
 namespace pyramid {
@@ -14,12 +15,17 @@ class OrthoProducer {
 public:
     // Region files must have the main file's tile size, channels and flags.
     explicit OrthoProducer(const std::string& mainFile, const std::vector<std::string>& regions = {});
+    // The same over byte sources (files, memory, callbacks): each is kept while the producer
+    // lives, and read from the threads that ask for tiles.
+    OrthoProducer(std::shared_ptr<const ByteSource> mainFile,
+                  const std::vector<std::shared_ptr<const ByteSource>>& regions);
     ~OrthoProducer();
 
     const OrthoHeader& header() const; // the main file's
     const std::string& path() const;   // the main file's, for messages
     int maxLevel() const;              // deepest level any file holds
     bool hasTile(int level, int tx, int ty) const;
+    // Throws MissingTileError when no file holds the tile (hasTile) or its byte range is empty.
     // tilePixels()^2 x channels bytes, row 0 = bottom (DXT tiles decoded to RGB or RGBA).
     std::vector<uint8_t> tile(int level, int tx, int ty) const;
     // The stored bytes: a TIFF, or the raw DXT1/DXT5 block stream.

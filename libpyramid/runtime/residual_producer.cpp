@@ -1,6 +1,8 @@
 #include "libpyramid/runtime/residual_producer.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include "formats/error.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
@@ -8,6 +10,11 @@
 
 namespace pyramid {
 
+void ResidualProducerOptions::validate() const {
+    if (!std::isfinite(scale) || scale == 0.0f) {
+        failOption("scale", std::to_string(scale) + " is not a finite non-zero number");
+    }
+}
 
 struct ResidualProducer::Impl {
     std::vector<std::unique_ptr<ResidualFileReader>> files; // main file first
@@ -22,8 +29,8 @@ struct ResidualProducer::Impl {
         RelativeTile rel;
         const int k = deepestHolder(files, level, tx, ty, rel);
         if (k < 0) {
-            fail(files.front()->path(), "no residual tile (" + std::to_string(level) + "," + std::to_string(tx) +
-                                            "," + std::to_string(ty) + ") in any file");
+            throw MissingTileError(files.front()->path() + ": no residual tile (" + std::to_string(level) + "," +
+                                   std::to_string(tx) + "," + std::to_string(ty) + ") in any file");
         }
         const ResidualFileReader& f = *files[static_cast<size_t>(k)];
         const float scale = scales[static_cast<size_t>(k)];
@@ -39,32 +46,50 @@ struct ResidualProducer::Impl {
     }
 };
 
+namespace {
+std::vector<std::shared_ptr<const ByteSource>> fileSources(const std::vector<std::string>& paths) {
+    std::vector<std::shared_ptr<const ByteSource>> sources;
+    for (const std::string& path : paths) {
+        sources.push_back(openFileSource(path));
+    }
+    return sources;
+}
+} // namespace
+
 ResidualProducer::ResidualProducer(const std::string& mainFile, const std::vector<std::string>& regions,
                                    const ResidualProducerOptions& options)
+    : ResidualProducer(openFileSource(mainFile), fileSources(regions), options) {}
+
+ResidualProducer::ResidualProducer(std::shared_ptr<const ByteSource> mainFile,
+                                   const std::vector<std::shared_ptr<const ByteSource>>& regions,
+                                   const ResidualProducerOptions& options)
     : impl_(std::make_unique<Impl>()) {
-    auto addFile = [&](const std::string& path) {
-        impl_->files.push_back(ResidualFileReader::open(path));
+    options.validate();
+    auto addFile = [&](std::shared_ptr<const ByteSource> source) {
+        impl_->files.push_back(ResidualFileReader::open(std::move(source)));
         impl_->scales.push_back(impl_->files.back()->header().scale * options.scale);
     };
-    addFile(mainFile);
+    addFile(std::move(mainFile));
     const ResidualHeader& main = impl_->files.front()->header();
+    const std::string& mainName = impl_->files.front()->path();
     if (main.rootLevel != 0) {
-        fail(mainFile, "the main file of a residual producer must be rooted at tile (0,0,0)");
+        fail(mainName, "the main file of a residual producer must be rooted at tile (0,0,0)");
     }
-    for (const std::string& region : regions) {
+    for (const auto& region : regions) {
         addFile(region);
         const ResidualHeader& h = impl_->files.back()->header();
+        const std::string& name = impl_->files.back()->path();
         if (h.tileSize != main.tileSize) {
-            fail(region, "region tileSize " + std::to_string(h.tileSize) + " differs from the main file's " +
-                             std::to_string(main.tileSize));
+            fail(name, "region tileSize " + std::to_string(h.tileSize) + " differs from the main file's " +
+                           std::to_string(main.tileSize));
         }
         if (h.rootLevel < std::max(1, main.minLevel)) {
-            fail(region, "a region file must be rooted at level 1 or deeper, and not above the main file's "
-                         "minLevel (" + std::to_string(main.minLevel) + ")");
+            fail(name, "a region file must be rooted at level 1 or deeper, and not above the main file's "
+                       "minLevel (" + std::to_string(main.minLevel) + ")");
         }
     }
     if (options.delta < 0 || options.delta > main.minLevel) {
-        fail(mainFile, "delta " + std::to_string(options.delta) + " is outside 0.." + std::to_string(main.minLevel));
+        fail(mainName, "delta " + std::to_string(options.delta) + " is outside 0.." + std::to_string(main.minLevel));
     }
     impl_->delta = options.delta;
     impl_->tileSize = main.tileSize;

@@ -12,13 +12,21 @@
 #include <string>
 #include <vector>
 
+#include "formats/byte_source.hpp"
 #include "formats/residual_file.hpp"
 
 namespace pyramid {
 
 struct ResidualProducerOptions {
-    int delta = 0;      // 0 .. minLevel of the main file
-    float scale = 1.0f; // multiplies the files' own scale (float32 product, one rounding)
+    int delta = 0; // 0 .. minLevel of the main file
+    // The seeds' `scale` attribute: multiplies every residual. Each file's residuals are served
+    // as float(r) * (fileScale * scale), the product of the file's own header scale and this one
+    // taken once in float32 (one rounding), so region files keep their own scales relative to
+    // each other. Finite and non-zero (1: the files' residuals as they are).
+    float scale = 1.0f;
+    // Throws OptionError("scale: ...") for a non-finite or zero scale. (delta is checked against
+    // the main file by the producer.)
+    void validate() const;
 };
 
 class ResidualProducer {
@@ -27,6 +35,11 @@ public:
     // pyramid, minLevel 0, same tileSize). Region files nested in region files are found by
     // their roots: a tile is served by the deepest file whose pyramid contains it.
     ResidualProducer(const std::string& mainFile, const std::vector<std::string>& regions = {},
+                     const ResidualProducerOptions& options = {});
+    // The same over byte sources (files, memory, callbacks): each is kept while the producer
+    // lives, and read from the threads that ask for tiles.
+    ResidualProducer(std::shared_ptr<const ByteSource> mainFile,
+                     const std::vector<std::shared_ptr<const ByteSource>>& regions,
                      const ResidualProducerOptions& options = {});
     ~ResidualProducer();
 
@@ -40,7 +53,7 @@ public:
     // Samples per side of the data inside the returned array ((tileSize >> k) + 5).
     int tileSamples(int level) const;
     // The scaled residuals: float(r) * scale, (tileSize+5)^2 floats, row 0 = bottom.
-    // Throws Error if no file holds the tile.
+    // Throws MissingTileError if no file holds the tile.
     std::vector<float> tile(int level, int tx, int ty) const;
 
 private:
