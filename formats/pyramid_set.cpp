@@ -60,16 +60,20 @@ void checkIndex(const RegionIndex& index, const std::string& path) {
 // The header fields the set's rules compare, for either kind.
 struct FileFacts {
     int rootLevel = 0, rootTx = 0, rootTy = 0, maxLevel = 0;
+    int minLevel = 0; // residual: levels below it hold one tile
 };
 
-// True when the file of `facts` holds absolute tile (level, tx, ty). Levels of a residual main
-// file below its minLevel hold the whole quad in one tile: they hold every absolute tile.
+// True when the file of `facts` holds absolute tile (level, tx, ty), as the runtime looks tiles
+// up (libpyramid/runtime/region_lookup.hpp): (tx, ty) relative to the root's tiles at `level`.
 bool holds(const FileFacts& f, int level, int tx, int ty) {
     const int l = level - f.rootLevel;
     if (l < 0 || l > f.maxLevel) {
         return false;
     }
-    return (int64_t{tx} >> l) == f.rootTx && (int64_t{ty} >> l) == f.rootTy;
+    const int64_t x = int64_t{tx} - (int64_t{f.rootTx} << l);
+    const int64_t y = int64_t{ty} - (int64_t{f.rootTy} << l);
+    const int64_t side = l < f.minLevel ? 1 : int64_t{1} << (l - f.minLevel);
+    return x >= 0 && y >= 0 && x < side && y < side;
 }
 
 } // namespace
@@ -254,7 +258,8 @@ std::vector<std::string> pyramidSetProblems(const PyramidSet& set) {
         try {
             auto opened = std::make_unique<OpenedPyramid>(openPyramid(file));
             if (opened->kind != set.kind) {
-                problem(file, std::string("holds an ") + kindName(opened->kind) + " pyramid; the set is " + kind);
+                problem(file, std::string("holds ") + (opened->kind == PyramidKind::Residual ? "a" : "an") + " " +
+                                  kindName(opened->kind) + " pyramid; the set is " + kind);
                 return nullptr;
             }
             return opened;
@@ -270,10 +275,10 @@ std::vector<std::string> pyramidSetProblems(const PyramidSet& set) {
     if (main) {
         if (set.kind == PyramidKind::Residual) {
             const ResidualHeader& h = main->residual->header();
-            mainFacts = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel};
+            mainFacts = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, h.minLevel};
         } else {
             const OrthoHeader& h = main->ortho->header();
-            mainFacts = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel};
+            mainFacts = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, 0};
         }
         if (mainFacts.rootLevel != 0) {
             problem(set.main, "the main file of a set must be rooted at tile (0,0,0), not " +
@@ -290,7 +295,7 @@ std::vector<std::string> pyramidSetProblems(const PyramidSet& set) {
         std::vector<std::string> differs;
         if (set.kind == PyramidKind::Residual) {
             const ResidualHeader& h = region->residual->header();
-            facts[k] = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel};
+            facts[k] = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, h.minLevel};
             if (h.minLevel != 0) {
                 differs.push_back("minLevel " + std::to_string(h.minLevel) + ", not 0");
             }
@@ -309,7 +314,7 @@ std::vector<std::string> pyramidSetProblems(const PyramidSet& set) {
             }
         } else {
             const OrthoHeader& h = region->ortho->header();
-            facts[k] = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel};
+            facts[k] = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, 0};
             if (main) {
                 const OrthoHeader& m = main->ortho->header();
                 if (h.tileSize != m.tileSize) {
