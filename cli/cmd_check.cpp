@@ -130,9 +130,11 @@ int checkSet(const std::string& path, bool json, int threads, const std::string&
     std::string kind = "unknown";
     std::string name = path;
     int64_t checked = 0;
+    size_t listed = 0;
     nlohmann::json files = nlohmann::json::array();
     try {
         const PyramidSet set = resolvePyramidSet(path);
+        listed = 1 + set.regions.size();
         name = set.name();
         kind = kindName(set.kind);
         problems = pyramidSetProblems(set);
@@ -172,7 +174,7 @@ int checkSet(const std::string& path, bool json, int threads, const std::string&
             std::printf("%s\n", p.c_str());
         }
         std::printf("%s: %s set of %zu file%s, %lld tiles decoded, %zu problem%s\n", name.c_str(), kind.c_str(),
-                    files.size(), files.size() == 1 ? "" : "s", static_cast<long long>(checked), problems.size(),
+                    listed, listed == 1 ? "" : "s", static_cast<long long>(checked), problems.size(),
                     problems.size() == 1 ? "" : "s");
     }
     if (problems.empty()) {

@@ -166,7 +166,7 @@ CommandRunner setupTileCommand(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     app.add_option("FILE", a->file,
-                   "Residual (DEM) or ortho pyramid file, or a region set: its main file, index or directory")
+                   "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
         ->required();
     app.add_option("LEVEL", a->level, "Tile level in the file (0 = the file's root; a set's absolute level)")
         ->required();
