@@ -17,9 +17,11 @@
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
 #include "libpyramid/runtime/height_query.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/verify/dem_verify.hpp"
+#include "libpyramid/verify/ortho_verify.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -244,6 +246,26 @@ TEST(RegionSet, ElevationsAndHeightsEqualTheSingleFileBitForBit) {
     b.erase("file");
     EXPECT_EQ(a, b);
     EXPECT_EQ(many.levels.size(), 7u);
+    // A region holding another subtree's tiles: the set no longer matches its source.
+    const std::string r = regionFilePath(s.main, {3, 1, 2});
+    fs::remove(r);
+    copyResidual(*ResidualFileReader::open(s.single), r + ".tmp", regionHeader(s.header, {3, 2, 1}, 3));
+    {
+        // The header says (3,1,2), the tiles are (3,2,1)'s.
+        ResidualHeader h = regionHeader(s.header, {3, 1, 2}, 3);
+        const auto wrong = ResidualFileReader::open(r + ".tmp");
+        ResidualFileWriter w(r, h);
+        for (int l = 0; l <= 3; ++l) {
+            for (int y = 0; y < (1 << l); ++y) {
+                for (int x = 0; x < (1 << l); ++x) {
+                    w.writeTileBytes(l, x, y, wrong->readTileBytes(l, x, y));
+                }
+            }
+        }
+        w.commit();
+    }
+    fs::remove(r + ".tmp");
+    EXPECT_FALSE(verifyDem(s.main, s.input, {}).ok());
 }
 
 TEST(RegionSet, CommandsOnTheSetGiveTheSingleFilesResults) {
@@ -570,6 +592,80 @@ TEST(RegionSet, OrthoSetServesTheSingleFilesTiles) {
     expectProblem(rewrite(4, 0), r00, "4 channels, the main file's has 3");
     expectProblem(rewrite(3, OrthoHeader::kFlagNoBorder), r00, "border 0, the main file's is 2");
     expectProblem(rewrite(3, OrthoHeader::kFlagDxt), r00, "DXT tiles, the main file's are not DXT");
+}
+
+// Copies ortho tiles as copyResidual does: tile (l, x, y) of the new file is the single file's
+// tile (rootLevel + l, from.tx 2^l + x, from.ty 2^l + y) (`from`: the header's root unless given).
+void copyOrtho(const OrthoFileReader& single, const std::string& path, const OrthoHeader& h, RegionRoot from) {
+    OrthoFileWriter w(path, h);
+    for (int l = 0; l <= h.maxLevel; ++l) {
+        for (int y = 0; y < (1 << l); ++y) {
+            for (int x = 0; x < (1 << l); ++x) {
+                w.writeTileBytes(l, x, y, single.readTileBytes(h.rootLevel + l, (from.tx << l) + x, (from.ty << l) + y));
+            }
+        }
+    }
+    w.commit();
+}
+
+// An ortho pyramid encoded from an image (levels 0..2) and split into a main file of level 0 and
+// four regions of levels 1..2 verifies against the image as the single file does; a region
+// holding another subtree's tiles fails.
+TEST(RegionSet, OrthoSetVerifiesAgainstTheSource) {
+    test::TempDir dir;
+    const int W = 64;
+    std::vector<uint16_t> px(static_cast<size_t>(W * W * 3));
+    for (size_t k = 0; k < px.size(); ++k) {
+        px[k] = static_cast<uint16_t>((k * 37 + k / 191) % 251);
+    }
+    test::writeImage(dir.file("in.png"), W, W, 3, px, false);
+    OrthoEncodeOptions o;
+    o.levels.tileSize = 16;
+    o.levels.colourSpace = ColourSpace::Linear;
+    o.writeDxt = o.writeResiduals = false;
+    encodeOrtho(dir.file("in.png"), dir.file("out"), o);
+    const std::string single = dir.file("out/RGB.dat");
+    const auto reader = OrthoFileReader::open(single);
+    fs::create_directories(dir.file("set"));
+    const std::string main = dir.file("set/RGB.dat");
+    OrthoHeader m = reader->header();
+    m.maxLevel = 0;
+    copyOrtho(*reader, main, m, {0, 0, 0});
+    std::vector<RegionRoot> roots;
+    for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x < 2; ++x) {
+            OrthoHeader r = reader->header();
+            r.maxLevel = 1;
+            r.rootLevel = 1;
+            r.rootTx = x;
+            r.rootTy = y;
+            copyOrtho(*reader, regionFilePath(main, {1, x, y}), r, {1, x, y});
+            roots.push_back({1, x, y});
+        }
+    }
+    writeRegionIndex(regionIndexPath(main), makeRegionIndex(main, PyramidKind::Ortho, roots));
+    OrthoVerifyOptions vo;
+    vo.colourSpace = ColourSpace::Linear;
+    const OrthoVerifyReport one = verifyOrtho(single, dir.file("in.png"), vo);
+    ASSERT_TRUE(one.ok);
+    for (const std::string& path : {main, regionIndexPath(main), dir.file("set")}) {
+        const OrthoVerifyReport many = verifyOrtho(path, dir.file("in.png"), vo);
+        EXPECT_TRUE(many.ok) << path;
+        nlohmann::json a = toJson(one), b = toJson(many);
+        a.erase("file");
+        b.erase("file");
+        EXPECT_EQ(a, b) << path;
+    }
+    const auto cli = run(programPath("pyramid") + " verify " + shellQuoted(dir.file("set")) + " --source " +
+                         shellQuoted(dir.file("in.png")) + " --colour-space linear");
+    EXPECT_EQ(cli.exitCode, 0) << cli.err << cli.out;
+    // Region (1,0,0) holding the tiles of (1,1,0): the set no longer matches its source.
+    OrthoHeader r = reader->header();
+    r.maxLevel = 1;
+    r.rootLevel = 1;
+    fs::remove(regionFilePath(main, {1, 0, 0}));
+    copyOrtho(*reader, regionFilePath(main, {1, 0, 0}), r, {1, 1, 0});
+    EXPECT_FALSE(verifyOrtho(main, dir.file("in.png"), vo).ok);
 }
 
 } // namespace
