@@ -348,6 +348,18 @@ TEST(RegionSet, CommandsOnTheSetGiveTheSingleFilesResults) {
     r = run(pyramid + " check " + shellQuoted(s.setDir));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find(s.nested + ": no such file (listed in "), std::string::npos) << r.err;
+    r = run(pyramid + " check " + shellQuoted(s.main) + " --json");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(nlohmann::json::parse(r.out)["ok"], false);
+    // The other commands refuse a broken set with that one line.
+    for (const std::string& command : {std::string(" info "), std::string(" height ")}) {
+        r = run(pyramid + command + shellQuoted(s.setDir) + (command == " height " ? " --grid 1,1" : ""));
+        EXPECT_EQ(r.exitCode, 1) << command;
+        EXPECT_EQ(r.err, "pyramid: " + s.nested + ": no such file (listed in " + s.index + ")\n") << command;
+    }
+    r = run(pyramid + " verify " + shellQuoted(s.index) + " --source " + shellQuoted(s.input));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find(s.nested + ": no such file"), std::string::npos) << r.err;
     // A file alone is as before.
     r = run(pyramid + " check " + shellQuoted(s.single));
     EXPECT_EQ(r.exitCode, 0) << r.err;
