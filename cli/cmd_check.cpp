@@ -1,6 +1,8 @@
-// `pyramid check FILE [--json]`: the structure validated, every tile decoded.
+// `pyramid check SET [--json]`: the structure validated, every tile decoded; for a region set
+// (its main file, index or directory) every file, and the set's own rules.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <thread>
@@ -11,6 +13,7 @@
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -82,9 +85,10 @@ std::vector<std::string> decodeAll(const Reader& reader, const std::vector<TileR
 
 // The one line a failed check prints on stderr, as every failure does: the first problem,
 // naming the file, and how many more there are.
+// (A set's problems each name their own file: `file` empty.)
 std::string reasonLine(const std::string& file, const std::vector<std::string>& problems) {
     std::string line = problems.front();
-    if (line.rfind(file + ": ", 0) != 0) {
+    if (!file.empty() && line.rfind(file + ": ", 0) != 0) {
         line = file + ": " + line;
     }
     if (problems.size() > 1) {
@@ -94,43 +98,120 @@ std::string reasonLine(const std::string& file, const std::vector<std::string>& 
     return line;
 }
 
+// One file checked: its structure validated and every tile decoded. Problems are appended;
+// returns the tiles decoded. Throws Error when the file cannot be opened as a pyramid.
+int64_t checkFile(const std::string& file, int threads, std::string& kind, std::vector<std::string>& problems) {
+    const OpenedPyramid opened = openPyramid(file);
+    const PyramidKind k = opened.kind;
+    kind = kindName(k);
+    const int n = threads > 0 ? threads : 0;
+    const int t = n > 0 ? n : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (k == PyramidKind::Residual) {
+        const auto& reader = opened.residual;
+        const auto& h = reader->header();
+        const auto tiles = allTiles(h, [&](int l) { return h.tilesPerSide(l); });
+        checkOverlaps(reader->table(), problems);
+        auto decoded = decodeAll(*reader, tiles, t);
+        problems.insert(problems.end(), decoded.begin(), decoded.end());
+        return static_cast<int64_t>(tiles.size());
+    }
+    const auto& reader = opened.ortho;
+    const auto& h = reader->header();
+    const auto tiles = allTiles(h, [](int l) { return int64_t{1} << l; });
+    checkOverlaps(reader->table(), problems);
+    auto decoded = decodeAll(*reader, tiles, t);
+    problems.insert(problems.end(), decoded.begin(), decoded.end());
+    return static_cast<int64_t>(tiles.size());
+}
+
+// A region set: the set's rules (formats/pyramid_set.hpp), then every file as checkFile does.
+int checkSet(const std::string& path, bool json, int threads, const std::string& program) {
+    std::vector<std::string> problems;
+    std::string kind = "unknown";
+    std::string name = path;
+    int64_t checked = 0;
+    size_t listed = 0;
+    nlohmann::json files = nlohmann::json::array();
+    try {
+        const PyramidSet set = resolvePyramidSet(path);
+        listed = 1 + set.regions.size();
+        name = set.name();
+        kind = kindName(set.kind);
+        problems = pyramidSetProblems(set);
+        std::vector<std::string> all{set.main};
+        all.insert(all.end(), set.regions.begin(), set.regions.end());
+        for (const std::string& file : all) {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(file, ec)) {
+                continue; // the set's rules said so
+            }
+            std::vector<std::string> own;
+            std::string fileKind = "unknown";
+            int64_t tiles = 0;
+            try {
+                tiles = checkFile(file, threads, fileKind, own);
+            } catch (const Error& e) {
+                own.push_back(e.what());
+            }
+            for (std::string& p : own) {
+                if (p.rfind(file + ": ", 0) != 0) {
+                    p = file + ": " + p;
+                }
+            }
+            checked += tiles;
+            files.push_back({{"file", file}, {"kind", fileKind}, {"tiles_checked", tiles}, {"problems", own}});
+            problems.insert(problems.end(), own.begin(), own.end());
+        }
+    } catch (const Error& e) {
+        problems.push_back(e.what());
+    }
+    if (json) {
+        writeJson({{"file", path}, {"set", name}, {"kind", kind}, {"files", files}, {"tiles_checked", checked},
+                   {"problems", problems}, {"ok", problems.empty()}},
+                  "-");
+    } else {
+        for (const std::string& p : problems) {
+            std::printf("%s\n", p.c_str());
+        }
+        std::printf("%s: %s set of %zu file%s, %lld tiles decoded, %zu problem%s\n", name.c_str(), kind.c_str(),
+                    listed, listed == 1 ? "" : "s", static_cast<long long>(checked), problems.size(),
+                    problems.size() == 1 ? "" : "s");
+    }
+    if (problems.empty()) {
+        return kExitOk;
+    }
+    std::fflush(stdout);
+    std::fprintf(stderr, "%s: %s\n", program.c_str(), reasonLine("", problems).c_str());
+    return kExitFailure;
+}
+
 } // namespace
 
 CommandRunner setupCheckCommand(CLI::App& app) {
     auto file = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     auto threads = std::make_shared<int>(0);
-    app.add_option("FILE", *file, "Residual (DEM) or ortho pyramid file")->required();
+    app.add_option("FILE", *file,
+                   "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
+        ->required();
     app.add_flag("--json", *json, "Print the result as JSON");
     app.add_option("--threads", *threads, "Worker threads (default: all cores)");
     const std::string program = app.get_parent() ? app.get_parent()->get_name() : app.get_name();
     return [file, json, threads, program]() {
+        bool set = false;
+        try {
+            set = !findRegionIndex(*file).empty();
+        } catch (const Error&) {
+            set = true; // a directory without one index: reported as the set's problem
+        }
+        if (set) {
+            return checkSet(*file, *json, *threads, program);
+        }
         std::vector<std::string> problems;
         std::string kind = "unknown";
         int64_t checked = 0;
         try {
-            const OpenedPyramid opened = openPyramid(*file);
-            const PyramidKind k = opened.kind;
-            kind = kindName(k);
-            const int n = *threads > 0 ? *threads : 0;
-            const int t = n > 0 ? n : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-            if (k == PyramidKind::Residual) {
-                const auto& reader = opened.residual;
-                const auto& h = reader->header();
-                const auto tiles = allTiles(h, [&](int l) { return h.tilesPerSide(l); });
-                checkOverlaps(reader->table(), problems);
-                auto decoded = decodeAll(*reader, tiles, t);
-                problems.insert(problems.end(), decoded.begin(), decoded.end());
-                checked = static_cast<int64_t>(tiles.size());
-            } else {
-                const auto& reader = opened.ortho;
-                const auto& h = reader->header();
-                const auto tiles = allTiles(h, [](int l) { return int64_t{1} << l; });
-                checkOverlaps(reader->table(), problems);
-                auto decoded = decodeAll(*reader, tiles, t);
-                problems.insert(problems.end(), decoded.begin(), decoded.end());
-                checked = static_cast<int64_t>(tiles.size());
-            }
+            checked = checkFile(*file, *threads, kind, problems);
         } catch (const Error& e) {
             problems.push_back(e.what());
         }

@@ -1,4 +1,4 @@
-// `pyramid height FILE|DIR (--grid X,Y | --pixel X,Y --source INPUT | --xy X,Y | --lonlat LON,LAT)`: the
+// `pyramid height SET|DIR (--grid X,Y | --pixel X,Y --source INPUT | --xy X,Y | --lonlat LON,LAT)`: the
 // reconstructed height at one point, through the runtime's own producer: a pipeline's check
 // that a build landed where it should.
 #include <cstdio>
@@ -9,10 +9,12 @@
 
 #include "cli/cli_common.hpp"
 #include "formats/error.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/runtime/height_query.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/face_locate.hpp"
 #include "libpyramid/support/parse_number.hpp"
 
@@ -21,7 +23,7 @@ namespace pyramid::cli {
 namespace {
 
 struct HeightArgs {
-    std::string target; // a residual file, or a directory of NAME1..6.dat
+    std::string target; // a residual file or region set, or a directory of NAME1..6.dat
     std::string grid, pixel, lonlat, xy;
     std::string source;
     bool stretch = false;
@@ -42,16 +44,38 @@ int64_t finestIntervals(const ResidualHeader& h) {
     return static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
 }
 
+// A directory names a planar region set (its one index) unless it holds a spherical set's faces.
+bool isPlanarSetDirectory(const HeightArgs& a) {
+    if (!std::filesystem::is_directory(a.target)) {
+        return false;
+    }
+    if (a.lonlat.empty()) {
+        return true;
+    }
+    if (std::filesystem::exists(std::filesystem::path(a.target) / (a.name + "1.dat"))) {
+        return false;
+    }
+    try {
+        return !findRegionIndex(a.target).empty();
+    } catch (const Error&) {
+        return false;
+    }
+}
+
 int runHeight(const HeightArgs& a) {
     std::string file = a.target;
     double u = 0.0, v = 0.0;
     int face = 0;
-    const bool planar = std::filesystem::is_regular_file(a.target);
+    const bool planarSet = isPlanarSetDirectory(a) || (std::filesystem::is_regular_file(a.target) &&
+                                                       !findRegionIndex(a.target).empty());
+    const bool planar = std::filesystem::is_regular_file(a.target) || planarSet;
+    // The main file of a set: the one its sidecar and header belong to.
+    const std::string main = planarSet ? openPyramidSet(a.target).main : a.target;
     if (!a.xy.empty() || (!a.lonlat.empty() && planar)) {
         // A planar file of a georeferenced input: placed by its sidecar.
         const bool lonlat = a.xy.empty();
         const auto [x, y] = parsePair(lonlat ? a.lonlat : a.xy, lonlat ? "--lonlat" : "--xy");
-        const std::array<double, 2> uv = crsToRootQuad(file, x, y, lonlat);
+        const std::array<double, 2> uv = crsToRootQuad(main, x, y, lonlat);
         u = uv[0];
         v = uv[1];
     } else if (!a.lonlat.empty()) {
@@ -66,7 +90,10 @@ int runHeight(const HeightArgs& a) {
         u = (p.u + 1.0) / 2.0;
         v = (p.v + 1.0) / 2.0;
     } else {
-        const ResidualHeader h = ResidualFileReader::open(file)->header();
+        ResidualHeader h = ResidualFileReader::open(main)->header();
+        if (planarSet) {
+            h.maxLevel = setMaxLevel(openPyramidSet(a.target)); // the set's finest level
+        }
         const auto N = static_cast<double>(finestIntervals(h));
         if (!a.grid.empty()) {
             const auto [x, y] = parsePair(a.grid, "--grid");
@@ -85,7 +112,7 @@ int runHeight(const HeightArgs& a) {
             v = 1.0 - py / static_cast<double>(g.ly);
         }
     }
-    const PointHeight p = fileHeightAt(file, u, v);
+    const PointHeight p = setHeightAt(file, u, v); // a file alone, or the set it or its index names
     if (a.json) {
         nlohmann::json j = {{"file", file}, {"height", p.height}, {"level", p.level}, {"tile", {p.tx, p.ty}},
                             {"u", u}, {"v", v}};
@@ -105,7 +132,9 @@ int runHeight(const HeightArgs& a) {
 
 CommandRunner setupHeightCommand(CLI::App& app) {
     auto a = std::make_shared<HeightArgs>();
-    app.add_option("TARGET", a->target, "A residual (DEM) file, or with --lonlat the directory of a spherical set")
+    app.add_option("TARGET", a->target,
+                   "A residual (DEM) file or region set (its main file, index or directory), or with --lonlat the "
+                   "directory of a spherical set")
         ->required();
     auto* grid = app.add_option("--grid", a->grid,
                                 "X,Y in the finest level's sample intervals, from the south-west corner of the root quad");

@@ -1,4 +1,6 @@
-// `pyramid info FILE [--json]`: what a pyramid file holds.
+// `pyramid info SET [--json]`: what a pyramid file holds; for a region set (its main file, index
+// or directory), its files with their roots and sizes, and the totals.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -11,6 +13,7 @@
 #include "cli/cli_common.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "formats/tiff_tile.hpp"
 
@@ -131,14 +134,82 @@ void printInfo(const nlohmann::json& j) {
     }
 }
 
+nlohmann::json fileInfo(const std::string& file) {
+    nlohmann::json j = detectPyramidKind(file) == PyramidKind::Residual ? residualInfo(file) : orthoInfo(file);
+    j["file"] = file;
+    j["file_bytes"] = std::filesystem::file_size(file);
+    return j;
+}
+
+// A region set: every file's information, its root and levels in the set, and the totals.
+nlohmann::json setInfo(const std::string& path) {
+    const PyramidSet set = openPyramidSet(path);
+    std::vector<std::string> all{set.main};
+    all.insert(all.end(), set.regions.begin(), set.regions.end());
+    nlohmann::json files = nlohmann::json::array();
+    uint64_t fileBytes = 0, dataBytes = 0;
+    int64_t tiles = 0, distinct = 0;
+    int deepest = 0;
+    for (const std::string& file : all) {
+        nlohmann::json j = fileInfo(file);
+        const nlohmann::json& h = j["header"];
+        const int rootLevel = h["root_level"].get<int>();
+        const int maxLevel = h["max_level"].get<int>();
+        j["root"] = {rootLevel, h["root_tx"].get<int>(), h["root_ty"].get<int>()};
+        j["levels"] = {rootLevel, rootLevel + maxLevel}; // absolute, first and last
+        deepest = std::max(deepest, rootLevel + maxLevel);
+        fileBytes += j["file_bytes"].get<uint64_t>();
+        dataBytes += j["data_bytes"].get<uint64_t>();
+        tiles += j["tiles"].get<int64_t>();
+        distinct += j["distinct_tiles"].get<int64_t>();
+        files.push_back(std::move(j));
+    }
+    return {{"set", set.name()},
+            {"kind", kindName(set.kind)},
+            {"main", set.main},
+            {"max_level", deepest},
+            {"files", files},
+            {"totals",
+             {{"files", all.size()}, {"file_bytes", fileBytes}, {"tiles", tiles}, {"distinct_tiles", distinct},
+              {"data_bytes", dataBytes}}}};
+}
+
+void printSetInfo(const nlohmann::json& j) {
+    const nlohmann::json& t = j["totals"];
+    std::printf("%s: %s pyramid set, %lld files, %lld bytes, levels 0..%d\n", j["set"].get<std::string>().c_str(),
+                j["kind"].get<std::string>().c_str(), t["files"].get<long long>(), t["file_bytes"].get<long long>(),
+                j["max_level"].get<int>());
+    std::printf("  tiles: %lld (%lld distinct), tile data %lld bytes\n", t["tiles"].get<long long>(),
+                t["distinct_tiles"].get<long long>(), t["data_bytes"].get<long long>());
+    std::printf("  %-14s %-7s %8s %12s  file\n", "root", "levels", "tiles", "bytes");
+    for (const auto& f : j["files"]) {
+        const auto& r = f["root"];
+        const std::string root = "(" + r[0].dump() + "," + r[1].dump() + "," + r[2].dump() + ")";
+        const std::string levels = f["levels"][0].dump() + ".." + f["levels"][1].dump();
+        std::printf("  %-14s %-7s %8lld %12lld  %s\n", root.c_str(), levels.c_str(), f["tiles"].get<long long>(),
+                    f["file_bytes"].get<long long>(), f["file"].get<std::string>().c_str());
+    }
+}
+
 } // namespace
 
 CommandRunner setupInfoCommand(CLI::App& app) {
     auto file = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
-    app.add_option("FILE", *file, "Residual (DEM) or ortho pyramid file")->required();
+    app.add_option("FILE", *file,
+                   "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
+        ->required();
     app.add_flag("--json", *json, "Print the information as JSON");
     return [file, json]() {
+        if (!findRegionIndex(*file).empty()) {
+            const nlohmann::json j = setInfo(*file);
+            if (*json) {
+                writeJson(j, "-");
+            } else {
+                printSetInfo(j);
+            }
+            return kExitOk;
+        }
         const PyramidKind kind = detectPyramidKind(*file);
         nlohmann::json j = kind == PyramidKind::Residual ? residualInfo(*file) : orthoInfo(*file);
         j["file"] = *file;

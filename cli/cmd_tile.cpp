@@ -1,4 +1,5 @@
-// `pyramid tile FILE LEVEL TX TY -o OUT [--residual]`: one tile out of a pyramid file.
+// `pyramid tile SET LEVEL TX TY -o OUT [--residual]`: one tile out of a pyramid file or a region
+// set (its main file, index or directory), served by the deepest file that holds it.
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -12,9 +13,11 @@
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/input/image_io_module.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 
 namespace pyramid::cli {
 
@@ -121,6 +124,38 @@ TileData orthoTile(const std::string& file, int level, int tx, int ty) {
     return t;
 }
 
+// A tile of a region set: LEVEL, TX and TY are absolute (the main file's).
+TileData setTile(const PyramidSet& set, int level, int tx, int ty, bool raw) {
+    TileData t;
+    if (set.kind == PyramidKind::Ortho) {
+        const auto producer = openOrthoSet(set);
+        t.side = producer->header().tilePixels();
+        t.channels = producer->header().channels;
+        t.type = SampleType::UInt8;
+        t.bytes = producer->tile(level, tx, ty);
+        return t;
+    }
+    if (raw) {
+        const StoredResidualTile stored = storedResidualTile(set, level, tx, ty);
+        t.side = stored.side;
+        t.type = SampleType::Int16;
+        t.bytes.resize(stored.residuals.size() * sizeof(int16_t));
+        std::memcpy(t.bytes.data(), stored.residuals.data(), t.bytes.size());
+        return t;
+    }
+    if (!residualSetHolds(set, level, tx, ty)) {
+        fail(set.name(), "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
+                             ") in any file of the set");
+    }
+    const FileLevelProducer producer = makeSetLevelProducer(set, level, 16);
+    const auto tile = producer.fileTile(level, tx, ty);
+    t.side = tile->size;
+    t.type = SampleType::Float32;
+    t.bytes.resize(tile->zf.size() * sizeof(float));
+    std::memcpy(t.bytes.data(), tile->zf.data(), t.bytes.size());
+    return t;
+}
+
 } // namespace
 
 CommandRunner setupTileCommand(CLI::App& app) {
@@ -130,8 +165,11 @@ CommandRunner setupTileCommand(CLI::App& app) {
         bool residual = false;
     };
     auto a = std::make_shared<Args>();
-    app.add_option("FILE", a->file, "Residual (DEM) or ortho pyramid file")->required();
-    app.add_option("LEVEL", a->level, "Tile level in the file (0 = the file's root)")->required();
+    app.add_option("FILE", a->file,
+                   "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
+        ->required();
+    app.add_option("LEVEL", a->level, "Tile level in the file (0 = the file's root; a set's absolute level)")
+        ->required();
     app.add_option("TX", a->tx, "Tile column, 0 = west")->required();
     app.add_option("TY", a->ty, "Tile row, 0 = south")->required();
     app.add_option("-o,--output", a->output,
@@ -141,10 +179,17 @@ CommandRunner setupTileCommand(CLI::App& app) {
     app.add_flag("--residual", a->residual, "Residual files: the stored int16 residuals instead of the elevations");
     app.footer("A residual file gives the reconstructed elevations of file tile (LEVEL, TX, TY), (size+5)^2 float32 "
                "samples with their borders, exactly as the CPU elevation producer rebuilds them; an ortho file gives "
-               "the decoded tile, pixels^2 x channels bytes.");
+               "the decoded tile, pixels^2 x channels bytes. A region set serves each tile from the deepest file "
+               "that holds it.");
     return [a]() {
         TileData tile;
-        if (detectPyramidKind(a->file) == PyramidKind::Residual) {
+        if (!findRegionIndex(a->file).empty()) {
+            const PyramidSet set = openPyramidSet(a->file);
+            if (a->residual && set.kind != PyramidKind::Residual) {
+                fail("--residual", "applies to residual (DEM) files only");
+            }
+            tile = setTile(set, a->level, a->tx, a->ty, a->residual);
+        } else if (detectPyramidKind(a->file) == PyramidKind::Residual) {
             tile = residualTile(a->file, a->level, a->tx, a->ty, a->residual);
         } else {
             if (a->residual) {

@@ -1,4 +1,5 @@
-// `pyramid verify FILE --source INPUT`: rebuild every level and compare it with the source.
+// `pyramid verify SET --source INPUT`: rebuild every level of a file or a region set (its main
+// file, index or directory) and compare it with the source.
 // `pyramid verify FILE --gl`: produce every tile on the CPU and on the GPU and compare them.
 #include <cstdio>
 #include <memory>
@@ -8,6 +9,7 @@
 #include "cli/cli_common.hpp"
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "formats/pyramid_set.hpp"
 #include "libpyramid/api/encoders.hpp"
 #ifdef PYRAMID_WITH_GL
 #include "libpyramid/gl/gl_verify.hpp"
@@ -115,7 +117,8 @@ int verifyOrthoFile(const VerifyArgs& a) {
 
 CommandRunner setupVerifyCommand(CLI::App& app) {
     auto args = std::make_shared<VerifyArgs>();
-    app.add_option("FILE", args->file, "Pyramid file to verify")->required();
+    app.add_option("FILE", args->file, "Pyramid file or region set (its main file, index or directory) to verify")
+        ->required();
     auto* source = app.add_option("--source", args->source, "The raster the file was built from");
     app.add_flag("--gl", args->gl, "Produce every tile on the CPU and on the GPU (headless EGL) and compare them")
         ->excludes(source);
@@ -131,10 +134,15 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     app.add_option("--colour-space", args->colourSpace, "Ortho files: the averaging of preprocessOrtho (srgb or linear)")
         ->capture_default_str();
     return [args]() {
+        // A file alone, or a region set (its main file, index or directory), verified whole.
+        const bool set = !findRegionIndex(args->file).empty();
         if (args->gl) {
+            if (set) {
+                fail(args->file, "--gl compares a single pyramid file, not a region set");
+            }
             return verifyGl(*args);
         }
-        switch (detectPyramidKind(args->file)) {
+        switch (set ? resolvePyramidSet(args->file).kind : detectPyramidKind(args->file)) {
         case PyramidKind::Residual:
             return verifyResidual(*args);
         case PyramidKind::Ortho:

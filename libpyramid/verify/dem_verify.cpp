@@ -7,11 +7,13 @@
 #include <filesystem>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/parallel.hpp"
@@ -25,19 +27,38 @@ bool DemVerifyReport::ok() const {
 
 namespace {
 
-// The header of `file`, which must be a whole pyramid (not a region file).
-ResidualHeader wholePyramidHeader(const std::string& file) {
-    const ResidualHeader h = ResidualFileReader::open(file)->header();
-    if (h.rootLevel != 0) {
-        fail(file, "a region file cannot be verified on its own against a whole-map source");
+// A whole pyramid: a file (not a region file on its own) or a region set.
+struct WholePyramid {
+    PyramidSet set;
+    ResidualHeader header; // the main file's, with the set's deepest level as maxLevel
+};
+
+// The whole pyramid `file` names: a residual file alone, or the region set it, its index or its
+// directory names.
+WholePyramid wholePyramid(const std::string& file) {
+    WholePyramid w;
+    if (findRegionIndex(file).empty()) {
+        w.set.main = file;
+        w.header = ResidualFileReader::open(file)->header();
+        if (w.header.rootLevel != 0) {
+            fail(file, "a region file cannot be verified on its own against a whole-map source");
+        }
+        return w;
     }
-    return h;
+    w.set = openPyramidSet(file);
+    if (w.set.kind != PyramidKind::Residual) {
+        fail(w.set.name(), "holds an ortho pyramid, not a residual one");
+    }
+    w.header = ResidualFileReader::readHeader(w.set.main);
+    w.header.maxLevel = setMaxLevel(w.set);
+    return w;
 }
 
 // Every level of `file` (of header `h`) rebuilt and compared with the finest-grid heights
 // `sampler` gives, subsampled to each level.
-DemVerifyReport compareLevels(const std::string& file, const ResidualHeader& h, const std::string& sourceName,
+DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole, const std::string& sourceName,
                               const HeightSource& sampler, int threadOption) {
+    const ResidualHeader& h = whole.header;
     const int M = h.maxLevel;
     const int64_t R = h.tileSize >> h.minLevel;
     const int threads = threadOption > 0 ? threadOption : omp_get_max_threads();
@@ -47,7 +68,7 @@ DemVerifyReport compareLevels(const std::string& file, const ResidualHeader& h, 
     report.scale = h.scale;
     report.bound = h.scale / 2.0;
     for (int l = 0; l <= M; ++l) {
-        const FileLevelProducer lp = makeFileLevelProducer(file, l);
+        const FileLevelProducer lp = makeSetLevelProducer(whole.set, l);
         const int side = 1 << (l - lp.delta);
         const int64_t count = static_cast<int64_t>(side) * side;
         const int64_t Nl = R << l;
@@ -113,7 +134,7 @@ DemVerifyReport compareLevels(const std::string& file, const ResidualHeader& h, 
 } // namespace
 
 DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath, const DemVerifyOptions& options) {
-    wholePyramidHeader(file);
+    wholePyramid(file);
     // The source as the preprocessor read it: a file, or the files a VRT, directory or glob
     // names, joined or resampled as preprocessDem does (sphere/planar_mosaic.hpp).
     const auto source = openPlanarMosaic(expandInputs({sourcePath}).paths, 256, false, options.target);
@@ -123,7 +144,8 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
 }
 
 DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, const DemVerifyOptions& options) {
-    const ResidualHeader h = wholePyramidHeader(file);
+    const WholePyramid whole = wholePyramid(file);
+    const ResidualHeader& h = whole.header;
     std::optional<double> nodata = options.nodata;
     if (!nodata && !options.ignoreDeclaredNodata) {
         nodata = source.info().nodata;
@@ -131,7 +153,7 @@ DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, c
     const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
     const DemGeometry geometry = makeDemGeometry(source.info().width, source.info().height, N, options.stretch, source.path());
     const DemSampler sampler(source, geometry, options.band, nodata);
-    return compareLevels(file, h, source.path(), sampler, options.threads);
+    return compareLevels(file, whole, source.path(), sampler, options.threads);
 }
 
 std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, const GeodeticMap& map,
@@ -141,11 +163,12 @@ std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, co
     std::vector<DemVerifyReport> reports;
     for (const int face : options.faces) {
         const std::string file = (std::filesystem::path(directory) / (options.name + std::to_string(face) + ".dat")).string();
-        const ResidualHeader h = wholePyramidHeader(file);
+        const WholePyramid whole = wholePyramid(file);
+        const ResidualHeader& h = whole.header;
         const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
         const FaceSampler faceSampler(map, body, face, FaceGrid{N, FaceGridKind::Vertices}, options.heightScale);
         const FaceHeights heights(faceSampler);
-        reports.push_back(compareLevels(file, h, options.source, heights, options.threads));
+        reports.push_back(compareLevels(file, whole, options.source, heights, options.threads));
     }
     return reports;
 }

@@ -46,12 +46,15 @@ struct DemVerifyReport {
     bool ok() const;
 };
 
+// `file` names a residual file, or a region set (its main file, index or directory:
+// formats/pyramid_set.hpp), verified whole: each tile rebuilt from the deepest file holding it.
 DemVerifyReport verifyDem(const std::string& file, const std::string& source, const DemVerifyOptions& options);
 // Against a raster already open (a caller's own heights: RasterSource::fromPixels);
 // options.target does not apply.
 DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, const DemVerifyOptions& options);
 
-// The cube faces preprocessSphericalDem wrote into a directory, against the planet's map.
+// The cube faces preprocessSphericalDem wrote into a directory, against the planet's map (a
+// face's region set when its index, NAMEi.dat.regions.json, is beside it).
 struct SphericalDemVerifyOptions {
     std::string body = "wgs84";  // as encoded (PlanetBody::parse)
     std::string name = "DEM";    // files NAME1.dat .. NAME6.dat

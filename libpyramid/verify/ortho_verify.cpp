@@ -7,10 +7,12 @@
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/support/parallel.hpp"
 
 namespace pyramid {
@@ -48,11 +50,19 @@ std::vector<uint8_t> expected(const TrueTile& t, const OrthoHeader& h, int sourc
 } // namespace
 
 OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source, const OrthoVerifyOptions& options) {
-    const auto reader = OrthoFileReader::open(file);
-    const OrthoHeader& h = reader->header();
-    if (h.rootLevel != 0) {
-        fail(file, "a region file cannot be verified on its own against a whole-map source");
+    // A file alone, or the region set it, its index or its directory names: tiles are read from
+    // the deepest file holding them.
+    std::shared_ptr<const OrthoProducer> reader;
+    if (findRegionIndex(file).empty()) {
+        if (OrthoFileReader::open(file)->header().rootLevel != 0) {
+            fail(file, "a region file cannot be verified on its own against a whole-map source");
+        }
+        reader = std::make_shared<OrthoProducer>(file);
+    } else {
+        reader = openOrthoSet(file);
     }
+    OrthoHeader h = reader->header();
+    h.maxLevel = reader->maxLevel();
     OrthoLevelsOptions lo;
     lo.tileSize = h.tileSize;
     lo.maxLevel = h.maxLevel;
@@ -67,7 +77,7 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     const OrthoLevels levels(sources, lo);
     std::shared_ptr<ColourProducer> residuals;
     if (options.colourResiduals) {
-        residuals = std::make_shared<ColourProducer>(std::make_shared<OrthoProducer>(file), 1024);
+        residuals = std::make_shared<ColourProducer>(reader, 1024);
     }
     OrthoVerifyReport report;
     report.file = file;
@@ -93,11 +103,11 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
             if (residuals) {
                 got = *residuals->tile(t.level, t.tx, t.ty);
                 want = t.pixels.pixels;
-                r.lossy = describeTiff(reader->readTileBytes(t.level, t.tx, t.ty)).starts_with("jpeg");
+                r.lossy = describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
             } else {
-                got = reader->readTile(t.level, t.tx, t.ty);
+                got = reader->tile(t.level, t.tx, t.ty);
                 want = expected(t, h, levels.channels());
-                r.lossy = h.dxt() || describeTiff(reader->readTileBytes(t.level, t.tx, t.ty)).starts_with("jpeg");
+                r.lossy = h.dxt() || describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
             }
             if (got.size() != want.size()) {
                 fail(file, "tile (" + std::to_string(t.level) + "," + std::to_string(t.tx) + "," + std::to_string(t.ty) +

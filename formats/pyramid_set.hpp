@@ -1,0 +1,94 @@
+// Region sets (doc/format.md, 1.5): a main pyramid file plus region files nested in it, listed
+// by an index beside the main file. Here: the region files' names, the index's codec, which
+// files a path given by a user names, and the rules a set must keep. No processing.
+//
+//   DEM.dat                  the main file (rootLevel 0)
+//   DEM-L6-12-40.dat         a region file, named after its absolute root tile (6, 12, 40)
+//   DEM.dat.regions.json     the index: {"format": "libpyramid region set", "version": 1,
+//                            "kind": "residual", "main": "DEM.dat",
+//                            "regions": [{"file": "DEM-L6-12-40.dat", "root": [6, 12, 40]}]}
+#pragma once
+#include <string>
+#include <vector>
+
+#include "formats/pyramid_kind.hpp"
+
+namespace pyramid {
+
+// An absolute tile of the enclosing pyramid: the root of a region file.
+struct RegionRoot {
+    int level = 0, tx = 0, ty = 0;
+    auto operator<=>(const RegionRoot&) const = default;
+};
+
+struct RegionEntry {
+    std::string file; // as the index spells it: relative to the index's directory
+    RegionRoot root;
+};
+
+// An index as it stands on disk.
+struct RegionIndex {
+    PyramidKind kind = PyramidKind::Residual;
+    std::string main;                 // relative to the index's directory
+    std::vector<RegionEntry> regions; // sorted by root (level, tx, ty)
+};
+
+inline constexpr const char* kRegionIndexFormat = "libpyramid region set";
+inline constexpr int kRegionIndexVersion = 1;
+inline constexpr const char* kRegionIndexSuffix = ".regions.json";
+
+// "DIR/DEM.dat" -> "DIR/DEM.dat.regions.json".
+std::string regionIndexPath(const std::string& mainFile);
+// The region file of `mainFile` rooted at `root`: "DIR/DEM.dat", (6, 12, 40) -> "DIR/DEM-L6-12-40.dat"
+// (the main file's stem and extension).
+std::string regionFilePath(const std::string& mainFile, const RegionRoot& root);
+
+// Parses an index (its regions in any order). Throws Error("PATH: ...") for text that is not
+// such an index: bad JSON, another format or version, an unknown kind, an empty file name, a
+// root that is not three whole numbers (level 1..30, tx and ty inside the level).
+RegionIndex parseRegionIndex(const std::string& text, const std::string& path);
+std::string formatRegionIndex(const RegionIndex& index); // pretty JSON and a final newline
+RegionIndex readRegionIndex(const std::string& path);
+// Writes `index` to `path` atomically (a temporary renamed into place: formats/atomic_file.hpp),
+// its regions sorted by root. Throws Error for an index parseRegionIndex would refuse.
+void writeRegionIndex(const std::string& path, RegionIndex index);
+// The index of a main file and its regions, named by the rule above (regionFilePath), the
+// paths relative to the main file's directory: what writeRegionIndex(regionIndexPath(mainFile),
+// ...) records for a set a preprocessor wrote.
+RegionIndex makeRegionIndex(const std::string& mainFile, PyramidKind kind, const std::vector<RegionRoot>& roots);
+
+// The files a path names, resolved but not yet checked.
+struct PyramidSet {
+    std::string index;                // the index's path; empty for a file alone
+    PyramidKind kind = PyramidKind::Residual;
+    std::string main;                 // the main file's path
+    std::vector<std::string> regions; // the region files' paths, in the index's order
+    std::vector<RegionRoot> roots;    // their roots, as the index says
+    // What messages call the set: the index, or the file alone.
+    const std::string& name() const { return index.empty() ? main : index; }
+};
+
+// Which files `path` names: (a) an index: the set it lists; (b) a pyramid file: the set of its
+// index beside it (regionIndexPath) when there is one, else the file alone (of the kind it
+// holds: its kind is detected); (c) a directory: the set of the one *.regions.json in it.
+// Throws Error naming the path: missing, a directory with several indexes or none, a bad index.
+// The files themselves are opened by pyramidSetProblems only (a file alone: its kind detected).
+PyramidSet resolvePyramidSet(const std::string& path);
+
+// The problems that break the rules of a set, one line each naming the file and the problem
+// (empty: a good set). For a set with an index: every listed file exists and holds a pyramid
+// of the index's kind; the main file has rootLevel 0; every region has minLevel 0 (residual),
+// the main file's tile size, its scale (residual) or its channels, border and DXT flag (ortho),
+// and the root the index gives; its parent tile lies in the main file or in another region of
+// the set; no two regions share a root. A file alone has none of these rules: it is only opened.
+std::vector<std::string> pyramidSetProblems(const PyramidSet& set);
+
+// The index `path` names (a): itself; (b) the index beside it, or "" when there is none; (c) the
+// one in the directory. A missing path names no index (unless it ends in .json): its reader
+// says it is missing. Throws as resolvePyramidSet for a directory with several indexes or none.
+std::string findRegionIndex(const std::string& path);
+
+// resolvePyramidSet, then the first of pyramidSetProblems thrown as an Error.
+PyramidSet openPyramidSet(const std::string& path);
+
+} // namespace pyramid
