@@ -5,10 +5,8 @@
 #include <tuple>
 #include <unordered_set>
 
-#include <nlohmann/json.hpp>
-
-#include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/pyramid_set.hpp"
 
 namespace pyramid {
 
@@ -85,14 +83,6 @@ private:
 
 } // namespace
 
-std::string regionFileName(const std::string& mainName, int level, int tx, int ty) {
-    std::string stem = mainName;
-    if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ".dat") == 0) {
-        stem.resize(stem.size() - 4);
-    }
-    return stem + "-L" + std::to_string(level) + "-" + std::to_string(tx) + "-" + std::to_string(ty) + ".dat";
-}
-
 std::vector<ResidualSetFile> writeResidualSet(const ResidualFileWriter& whole, const std::string& mainName,
                                               uint64_t maxFileBytes,
                                               const std::function<std::string(const std::string&)>& place) {
@@ -114,7 +104,7 @@ std::vector<ResidualSetFile> writeResidualSet(const ResidualFileWriter& whole, c
         if (p.level == 0) {
             f.name = mainName;
         } else {
-            f.name = regionFileName(mainName, p.level, p.tx, p.ty);
+            f.name = regionFilePath(mainName, RegionRoot{p.level, p.tx, p.ty});
             f.header.minLevel = 0;
             f.header.maxLevel = p.last - p.level;
             f.header.rootLevel = p.level;
@@ -138,25 +128,6 @@ std::vector<ResidualSetFile> writeResidualSet(const ResidualFileWriter& whole, c
         files.push_back(std::move(f));
     }
     return files;
-}
-
-std::string regionIndexName(const std::string& mainName) { return mainName + ".regions.json"; }
-
-void writeResidualSetIndex(const std::string& path, const std::vector<ResidualSetFile>& files) {
-    nlohmann::json regions = nlohmann::json::array();
-    for (size_t k = 1; k < files.size(); ++k) {
-        const ResidualHeader& h = files[k].header;
-        regions.push_back({{"file", files[k].name}, {"root", {h.rootLevel, h.rootTx, h.rootTy}}});
-    }
-    const nlohmann::json index = {{"format", "libpyramid region set"},
-                                  {"version", 1},
-                                  {"kind", "residual"},
-                                  {"main", files.at(0).name},
-                                  {"regions", regions}};
-    const std::string text = index.dump(2) + "\n";
-    AtomicFile out(path);
-    out.writeAt(0, text.data(), text.size());
-    out.commit();
 }
 
 } // namespace pyramid

@@ -1,4 +1,4 @@
-// A residual pyramid written as a region set (doc/format.md 1.4 and 1.6): the main file holds
+// A residual pyramid written as a region set (doc/format.md 1.4 and 1.5): the main file holds
 // the top levels and each subtree below them is a region file named after its root tile
 // (DEM.dat, DEM-L6-12-40.dat, ...), every file at most a given size; an index beside the main
 // file (DEM.dat.regions.json) lists them. The tiles are the whole pyramid's, byte for byte:
@@ -21,24 +21,16 @@ struct ResidualSetFile {
     uint64_t bytes = 0;
 };
 
-// The name of the region file of `mainName` ("DEM.dat") rooted at absolute tile (level, tx,
-// ty): "DEM-L6-12-40.dat".
-std::string regionFileName(const std::string& mainName, int level, int tx, int ty);
-
 // Writes the pyramid `whole` holds (every tile written, past 4 GiB if need be; it must be a
 // root pyramid, rootLevel 0) as a set named after `mainName`: the main file takes the most top
 // levels that fit in `maxFileBytes`, from level 0 to at least minLevel - 1; each subtree below
 // is one region file, or is split the same way when it does not fit (regions nest). File
-// `name` is written to place(name) and committed there (atomically); the index is not written
-// (writeResidualSetIndex). Returns the files, the main first, then the regions by (level, tx,
+// `name` is written to place(name) and committed there (atomically), named as
+// formats/pyramid_set.hpp names region files; the index is not written (writeRegionIndex). Returns the files, the main first, then the regions by (level, tx,
 // ty). Throws Error when a file cannot fit (a single tile, or the main file's levels below
 // minLevel, larger than the limit).
 std::vector<ResidualSetFile> writeResidualSet(const ResidualFileWriter& whole, const std::string& mainName,
                                               uint64_t maxFileBytes,
                                               const std::function<std::string(const std::string&)>& place);
-
-// The index of a set (doc/format.md 1.6) at place(regionIndexName(files[0].name)), atomically.
-std::string regionIndexName(const std::string& mainName); // "DEM.dat.regions.json"
-void writeResidualSetIndex(const std::string& path, const std::vector<ResidualSetFile>& files);
 
 } // namespace pyramid

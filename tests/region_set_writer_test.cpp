@@ -7,13 +7,16 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "formats/residual_set.hpp"
 #include "libpyramid/api/encoders.hpp"
+#include "libpyramid/capi/pyramid.h"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/residual_producer.hpp"
 #include "tests/support/paths.hpp"
@@ -43,8 +46,10 @@ Built readSet(const std::string& dir, const std::string& main) {
 void expectSameElevations(const std::string& single, const std::string& main, const std::vector<std::string>& regions) {
     const ResidualHeader h = ResidualFileReader::open(single)->header();
     ElevationProducerOptions eo;
-    const auto one = std::make_shared<ResidualProducer>(single);
-    const auto set = std::make_shared<ResidualProducer>(main, regions);
+    ResidualProducerOptions ro;
+    ro.delta = h.minLevel; // elevation tiles of the file's tile size
+    const auto one = std::make_shared<ResidualProducer>(single, std::vector<std::string>{}, ro);
+    const auto set = std::make_shared<ResidualProducer>(main, regions, ro);
     ElevationProducer a(one, eo), b(set, eo);
     for (int l = h.minLevel; l <= h.maxLevel; ++l) {
         const int side = 1 << (l - h.minLevel);
@@ -67,7 +72,7 @@ TEST(RegionSetWriter, SmallLimitSplitsIntoNestedRegionsThatRebuildTheSingleFile)
     o.scale = 0.25;
     const DemReport single = encodeDem(dir.file("in.tif"), dir.file("one.dat"), o);
     ASSERT_EQ(single.header.maxLevel, 5); // 8 << 5 = 256
-    const uint64_t cap = 30000;
+    const uint64_t cap = 8000;
     o.maxFileBytes = cap;
     const DemReport split = encodeDem(dir.file("in.tif"), dir.file("DEM.dat"), o);
     const Built set = readSet(dir.path(), "DEM.dat");
@@ -105,12 +110,53 @@ TEST(RegionSetWriter, SmallLimitSplitsIntoNestedRegionsThatRebuildTheSingleFile)
         EXPECT_EQ(rh.rootTx, root[1].get<int>());
         EXPECT_EQ(rh.rootTy, root[2].get<int>());
         EXPECT_EQ(std::filesystem::path(set.regions[k]).filename().string(),
-                  regionFileName("DEM.dat", rh.rootLevel, rh.rootTx, rh.rootTy));
+                  regionFilePath("DEM.dat", RegionRoot{rh.rootLevel, rh.rootTx, rh.rootTy}));
         EXPECT_LE(rh.rootLevel + rh.maxLevel, single.header.maxLevel);
         nested = nested || rh.rootLevel > mh.maxLevel + 1;
     }
     EXPECT_TRUE(nested) << "a limit this small nests regions";
     expectSameElevations(dir.file("one.dat"), dir.file("DEM.dat"), set.regions);
+    // The set, opened by its main file, verifies against the source down to the finest level.
+    const DemVerifyReport v = verifyDem(dir.file("DEM.dat"), dir.file("in.tif"), DemVerifyOptions{});
+    EXPECT_TRUE(v.ok());
+    ASSERT_EQ(v.levels.size(), static_cast<size_t>(single.header.maxLevel) + 1);
+    EXPECT_EQ(v.levels.back().samples, 257 * 257);
+    // The programs write the same set (the same bytes) with --max-file-bytes.
+    const test::RunResult run = test::run(test::programPath("preprocessDem") + " -q " + dir.file("in.tif") + " -o " +
+                                          dir.file("cli/DEM.dat") + " --tile-size 32 --root-tile-size 8 --scale 0.25 " +
+                                          "--max-file-bytes 8000");
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    for (const auto& [name, bytes] : split.files) {
+        EXPECT_EQ(test::readFile(dir.file("cli/" + name)), test::readFile(dir.file(name))) << name;
+    }
+    EXPECT_EQ(test::readFile(dir.file("cli/DEM.dat.regions.json")), test::readFile(dir.file("DEM.dat.regions.json")));
+
+    // The C API opens the set by its main file, its index or its directory: the single file's
+    // elevations, at the finest level too.
+    pyramid_elevation* one = nullptr;
+    ASSERT_EQ(pyramid_elevation_open(dir.file("one.dat").c_str(), 0, 0, 8, &one), PYRAMID_OK);
+    for (const std::string& path : {dir.file("DEM.dat"), dir.file("DEM.dat.regions.json"), dir.file("cli")}) {
+        pyramid_elevation* opened = nullptr;
+        ASSERT_EQ(pyramid_elevation_open(path.c_str(), 0, 0, 8, &opened), PYRAMID_OK) << path << ": " << pyramid_last_error();
+        const int side = pyramid_elevation_side(opened);
+        std::vector<float> a(static_cast<size_t>(side * side)), b(a.size());
+        for (const auto& [level, tx, ty] : {std::tuple{0, 0, 0}, {2, 1, 3}, {3, 5, 6}}) {
+            ASSERT_EQ(pyramid_elevation_tile(one, level, tx, ty, a.data(), nullptr, nullptr, a.size()), PYRAMID_OK);
+            ASSERT_EQ(pyramid_elevation_tile(opened, level, tx, ty, b.data(), nullptr, nullptr, b.size()), PYRAMID_OK);
+            EXPECT_EQ(a, b) << path << " tile " << level << "," << tx << "," << ty;
+        }
+        double za = 0.0, zb = 0.0;
+        ASSERT_EQ(pyramid_elevation_height(one, -1, 0.3, 0.7, &za), PYRAMID_OK);
+        ASSERT_EQ(pyramid_elevation_height(opened, -1, 0.3, 0.7, &zb), PYRAMID_OK);
+        EXPECT_EQ(za, zb);
+        pyramid_elevation_close(opened);
+    }
+    pyramid_elevation_close(one);
+    // A set missing a region is refused, naming the file.
+    std::filesystem::remove(dir.file("cli/") + split.files.back().first);
+    pyramid_elevation* broken = nullptr;
+    EXPECT_EQ(pyramid_elevation_open(dir.file("cli").c_str(), 0, 0, 8, &broken), PYRAMID_ERROR_FILE);
+    EXPECT_NE(std::string(pyramid_last_error()).find(split.files.back().first), std::string::npos) << pyramid_last_error();
 }
 
 TEST(RegionSetWriter, APyramidThatFitsIsOneFileAndAnIndex) {
@@ -155,7 +201,7 @@ TEST(RegionSetWriter, SphericalFacesSplitEachIntoTheirOwnSet) {
     o.body = "sphere";
     o.faces = {2, 5};
     encodeSphericalDem(planet, dir.file("one"), o);
-    o.dem.maxFileBytes = 20000;
+    o.dem.maxFileBytes = 6000;
     const SphericalDemReport r = encodeSphericalDem(planet, dir.file("set"), o);
     for (const int f : o.faces) {
         const std::string name = "DEM" + std::to_string(f) + ".dat";

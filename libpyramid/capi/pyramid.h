@@ -192,7 +192,10 @@ typedef struct pyramid_elevation pyramid_elevation;
 /* Elevation tiles of n = tile_size intervals ((n+5)^2 samples), n = the file's tile size
  * divided by a power of two no larger than 2^min_level (0 = the file's tile size), rendered
  * with grid_size quads per side for the coarse elevations zc (0 = n). At most `cache_tiles`
- * tiles are kept (least recently used first out). */
+ * tiles are kept (least recently used first out). `residual_path` may also name a region set
+ * (doc/format.md 1.5): its main file with its index beside it, the index (NAME.regions.json)
+ * or the directory holding it; the set's rules are checked and each tile comes from the
+ * deepest file holding it. */
 PYRAMID_API pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, int grid_size, size_t cache_tiles,
                                       pyramid_elevation** producer);
 /* The same over a main file and `region_count` region files nested in it (each rooted at a tile
@@ -240,7 +243,8 @@ PYRAMID_API pyramid_status pyramid_elevation_height(pyramid_elevation* producer,
 typedef struct pyramid_ortho pyramid_ortho;
 
 /* colour_residuals = 0: the file's tiles as they are; 1: the file holds colour residuals and
- * tiles are rebuilt by the colour upsample (any level, smooth beyond the file's deepest). */
+ * tiles are rebuilt by the colour upsample (any level, smooth beyond the file's deepest).
+ * `path` may name a region set, as for pyramid_elevation_open. */
 PYRAMID_API pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t cache_tiles, pyramid_ortho** producer);
 /* The same over a main file and `region_count` nested region files (same tile size, channels
  * and flags). */

@@ -16,6 +16,7 @@
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/capi/last_error.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
@@ -323,6 +324,29 @@ bool regionList(const char* const* paths, size_t count, std::vector<pyramid_sour
     return true;
 }
 
+// The files a path names (formats/pyramid_set.hpp): a pyramid file alone, or the main file and
+// the regions of a set named by its main file (its index beside it), its index or its
+// directory. files[0] is the main file; `regions` points into files[1..].
+pyramid_status setFiles(const char* path, const char* function, std::vector<std::string>& files,
+                        std::vector<const char*>& regions) {
+    if (!path) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, std::string(function) + ": null argument");
+    }
+    return guarded([&] {
+        if (pyramid::findRegionIndex(path).empty()) {
+            files = {path}; // a file alone: its reader says what is wrong with it
+            return PYRAMID_OK;
+        }
+        const pyramid::PyramidSet set = pyramid::openPyramidSet(path);
+        files.push_back(set.main);
+        files.insert(files.end(), set.regions.begin(), set.regions.end());
+        for (size_t k = 1; k < files.size(); ++k) {
+            regions.push_back(files[k].c_str());
+        }
+        return PYRAMID_OK;
+    });
+}
+
 } // namespace
 
 extern "C" {
@@ -571,7 +595,16 @@ pyramid_status pyramid_read_tile_bytes(const pyramid_file* file, int level, int 
 
 pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, int grid_size, size_t cache_tiles,
                                       pyramid_elevation** producer) {
-    return pyramid_elevation_open_regions(residual_path, nullptr, 0, tile_size, grid_size, cache_tiles, producer);
+    std::vector<std::string> files;
+    std::vector<const char*> regions;
+    if (const pyramid_status s = setFiles(residual_path, "pyramid_elevation_open", files, regions); s != PYRAMID_OK) {
+        if (producer) {
+            *producer = nullptr;
+        }
+        return s;
+    }
+    return pyramid_elevation_open_regions(files[0].c_str(), regions.data(), regions.size(), tile_size, grid_size,
+                                          cache_tiles, producer);
 }
 
 pyramid_status pyramid_elevation_open_regions(const char* residual_path, const char* const* region_paths,
@@ -690,7 +723,16 @@ pyramid_status pyramid_elevation_height(pyramid_elevation* producer, int level, 
 }
 
 pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
-    return pyramid_ortho_open_regions(path, nullptr, 0, colour_residuals, cache_tiles, producer);
+    std::vector<std::string> files;
+    std::vector<const char*> regions;
+    if (const pyramid_status s = setFiles(path, "pyramid_ortho_open", files, regions); s != PYRAMID_OK) {
+        if (producer) {
+            *producer = nullptr;
+        }
+        return s;
+    }
+    return pyramid_ortho_open_regions(files[0].c_str(), regions.data(), regions.size(), colour_residuals, cache_tiles,
+                                      producer);
 }
 
 pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* region_paths, size_t region_count,

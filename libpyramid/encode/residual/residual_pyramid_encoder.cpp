@@ -10,6 +10,7 @@
 #include <mutex>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_set.hpp"
 #include "formats/staging_directory.hpp"
 #include "formats/temporaries.hpp"
@@ -449,7 +450,12 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                                          [&](const std::string& name) { return staging->path(name); });
             }
             whole.reset(); // its temporary (a split pyramid's) is not staged
-            writeResidualSetIndex(staging->path(regionIndexName(fileName)), files);
+            std::vector<RegionRoot> roots;
+            for (size_t k = 1; k < files.size(); ++k) {
+                roots.push_back(RegionRoot{files[k].header.rootLevel, files[k].header.rootTx, files[k].header.rootTy});
+            }
+            writeRegionIndex(regionIndexPath(staging->path(fileName)),
+                             makeRegionIndex(staging->path(fileName), PyramidKind::Residual, roots));
             auto lock = lockTemporaries();
             staging->commit();
             if (job.alongside) {
