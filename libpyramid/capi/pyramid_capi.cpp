@@ -18,7 +18,7 @@
 #include "formats/pyramid_kind.hpp"
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
-#include "libpyramid/capi/last_error.hpp"
+#include "libpyramid/capi/capi_status.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/height_query.hpp"
@@ -43,32 +43,8 @@ namespace {
 
 thread_local std::string lastError;
 
-pyramid_status failWith(pyramid_status status, const std::string& message) {
-    lastError = message;
-    return status;
-}
-
-// Runs `body`, turning exceptions into statuses: a missing tile is NOT_FOUND, an option the
-// library refuses an argument error, any other Error a file problem, unless `body` already
-// decided otherwise by returning a status.
-template <class Body>
-pyramid_status guarded(Body body) {
-    try {
-        return body();
-    } catch (const pyramid::MissingTileError& e) {
-        return failWith(PYRAMID_ERROR_NOT_FOUND, e.what());
-    } catch (const pyramid::OptionError& e) {
-        return failWith(PYRAMID_ERROR_ARGUMENT, e.what());
-    } catch (const pyramid::Error& e) {
-        return failWith(PYRAMID_ERROR_FILE, e.what());
-    } catch (const std::bad_alloc&) {
-        return failWith(PYRAMID_ERROR_MEMORY, "out of memory");
-    } catch (const std::exception& e) {
-        return failWith(PYRAMID_ERROR_INTERNAL, e.what());
-    } catch (...) {
-        return failWith(PYRAMID_ERROR_INTERNAL, "unknown error");
-    }
-}
+using pyramid::capi::failWith;
+using pyramid::capi::guarded;
 
 pyramid_status tooSmall(size_t size, size_t bytes);
 
@@ -820,6 +796,9 @@ pyramid_status pyramid_ortho_tile(pyramid_ortho* producer, int level, int tx, in
 
 namespace pyramid::capi {
 
-void setLastError(const std::string& message) { lastError = message; }
+pyramid_status failWith(pyramid_status status, const std::string& message) {
+    lastError = message;
+    return status;
+}
 
 } // namespace pyramid::capi

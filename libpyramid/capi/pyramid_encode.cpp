@@ -3,42 +3,18 @@
 
 #include <algorithm>
 #include <cstring>
-#include <new>
 #include <optional>
 #include <span>
 #include <string>
 
 #include "formats/error.hpp"
 #include "libpyramid/api/encoders.hpp"
-#include "libpyramid/capi/last_error.hpp"
+#include "libpyramid/capi/capi_status.hpp"
 
 namespace {
 
-using pyramid::capi::setLastError;
-
-pyramid_status failWith(pyramid_status status, const std::string& message) {
-    setLastError(message);
-    return status;
-}
-
-template <class Body>
-pyramid_status guarded(Body body) {
-    try {
-        return body();
-    } catch (const pyramid::Cancelled& e) {
-        return failWith(PYRAMID_ERROR_CANCELLED, e.what());
-    } catch (const pyramid::OptionError& e) {
-        return failWith(PYRAMID_ERROR_ARGUMENT, e.what());
-    } catch (const pyramid::Error& e) {
-        return failWith(PYRAMID_ERROR_FILE, e.what());
-    } catch (const std::bad_alloc&) {
-        return failWith(PYRAMID_ERROR_MEMORY, "out of memory");
-    } catch (const std::exception& e) {
-        return failWith(PYRAMID_ERROR_INTERNAL, e.what());
-    } catch (...) {
-        return failWith(PYRAMID_ERROR_INTERNAL, "unknown error");
-    }
-}
+using pyramid::capi::failWith;
+using pyramid::capi::guarded;
 
 // A size-prefixed struct as this library knows it: `given`'s first struct_size bytes over
 // `defaults` (a caller built against a smaller struct gets the defaults of the fields it lacks).
