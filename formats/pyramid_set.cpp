@@ -19,11 +19,19 @@ namespace pyramid {
 
 namespace fs = std::filesystem;
 
-namespace {
-
 std::string tileText(const RegionRoot& r) {
-    return "(" + std::to_string(r.level) + "," + std::to_string(r.tx) + "," + std::to_string(r.ty) + ")";
+    // Appended piece by piece: GCC 12 at -O3 misreads "(" + std::string&& as an overlapping copy.
+    std::string text(1, '(');
+    text += std::to_string(r.level);
+    text += ',';
+    text += std::to_string(r.tx);
+    text += ',';
+    text += std::to_string(r.ty);
+    text += ')';
+    return text;
 }
+
+namespace {
 
 bool endsWith(const std::string& s, const std::string& suffix) {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;

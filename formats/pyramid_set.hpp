@@ -37,6 +37,9 @@ inline constexpr const char* kRegionIndexFormat = "libpyramid region set";
 inline constexpr int kRegionIndexVersion = 1;
 inline constexpr const char* kRegionIndexSuffix = ".regions.json";
 
+// "(6,12,40)": a tile in messages.
+std::string tileText(const RegionRoot& root);
+
 // "DIR/DEM.dat" -> "DIR/DEM.dat.regions.json".
 std::string regionIndexPath(const std::string& mainFile);
 // The region file of `mainFile` rooted at `root`: "DIR/DEM.dat", (6, 12, 40) -> "DIR/DEM-L6-12-40.dat"

@@ -18,10 +18,6 @@ void requireKind(const PyramidSet& set, PyramidKind kind) {
     }
 }
 
-std::string tileText(int level, int tx, int ty) {
-    return "(" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")";
-}
-
 // The files' headers, as deepestHolder takes them (main file first).
 struct HeaderOnly {
     ResidualHeader h;
@@ -49,7 +45,7 @@ StoredResidualTile storedResidualTile(const PyramidSet& set, int level, int tx, 
     RelativeTile rel;
     const int k = deepestHolder(residualHeaders(set), level, tx, ty, rel);
     if (k < 0) {
-        fail(set.name(), "no tile " + tileText(level, tx, ty) + " in any file of the set");
+        fail(set.name(), "no tile " + tileText(RegionRoot{level, tx, ty}) + " in any file of the set");
     }
     StoredResidualTile t;
     t.file = k == 0 ? set.main : set.regions[static_cast<size_t>(k - 1)];
