@@ -181,7 +181,12 @@ struct SourceSet {
         if (!readSized(in, d, what)) {
             return false;
         }
-        switch (d.kind) {
+        // A C caller may store any int in the enum: read it as one (a value outside the enum is
+        // no valid pyramid_source_kind in C++).
+        int kind = 0;
+        static_assert(sizeof kind == sizeof d.kind);
+        std::memcpy(&kind, &d.kind, sizeof kind);
+        switch (kind) {
         case PYRAMID_SOURCE_PATH:
             if (!d.path) {
                 failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": a path source without a path");
@@ -208,7 +213,7 @@ struct SourceSet {
             return true;
         }
         }
-        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": unknown source kind " + std::to_string(d.kind));
+        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": unknown source kind " + std::to_string(kind));
         return false;
     }
 
@@ -338,7 +343,10 @@ const char* pyramid_version_string(void) {
 const char* pyramid_last_error(void) { return lastError.c_str(); }
 
 const char* pyramid_status_name(pyramid_status status) {
-    switch (status) {
+    int value = 0; // any int a C caller passes, read as one (see make())
+    static_assert(sizeof value == sizeof status);
+    std::memcpy(&value, &status, sizeof value);
+    switch (value) {
     case PYRAMID_OK:
         return "ok";
     case PYRAMID_ERROR_ARGUMENT:
