@@ -90,9 +90,23 @@ std::string flagName(const std::string& option) {
     return flag;
 }
 
+namespace {
+
+std::vector<std::string>& arguments() {
+    static std::vector<std::string> list;
+    return list;
+}
+
+} // namespace
+
+const std::vector<std::string>& commandArguments() { return arguments(); }
+
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count) {
     keepBuffersInTheHeap();
     stopOnSignals(app.get_name());
+    // After the signals are blocked: MPI's own threads inherit the mask.
+    TeamScope team(argc, argv);
+    arguments().assign(argv, argv + argc);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -113,6 +127,8 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
         }
         std::cerr << app.get_name() << ": no command given (see --help)\n";
         return kExitUsage;
+    } catch (const TeamFailed&) {
+        // Another rank of an MPI run failed: rank 0 says why, once.
     } catch (const OptionError& e) {
         std::cerr << app.get_name() << ": " << flagName(e.option()) << ": " << e.problem() << "\n";
     } catch (const Error& e) {

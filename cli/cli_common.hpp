@@ -42,7 +42,12 @@ struct NamedRunner {
 // the run's temporaries (formats/temporaries.hpp: after a commit in progress ends) and exits
 // with 128 + the signal's number. SIGXFSZ is ignored: a write past the file size limit fails
 // with EFBIG, reported as any full disk, instead of killing the process with its temporaries.
+// Under mpirun (when built with MPI) the program joins the MPI world for its run
+// (libpyramid/distribute/team.hpp).
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count);
+
+// The command line runProgram was given (after MPI took its own arguments).
+const std::vector<std::string>& commandArguments();
 
 // The flag of a library option name: "tileSize" -> "--tile-size".
 std::string flagName(const std::string& option);

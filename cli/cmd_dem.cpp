@@ -1,4 +1,5 @@
 // `pyramid dem` / `preprocessDem`: an elevation raster in, a residual pyramid out.
+#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -23,26 +24,43 @@ CommandRunner setupDemCommand(CLI::App& app) {
         DemEncodeOptions options = resolveDemOptions(*args);
         options.target = target->resolve();
         checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
-        OutputPreflight preflight(args->output, false, args->report);
+        const bool talk = speaks(*args);
+        std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t done, int64_t total) {
             if (!progress || done == 1) { // a new attempt (--scale auto) starts over
-                progress = std::make_unique<Progress>("preprocessDem", total, args->quiet);
+                progress = std::make_unique<Progress>("preprocessDem", total, !talk);
             }
             progress->advance(1);
         };
-        const DemReport report = encodeDem(args->input.resolve(), args->output, options);
+        DemReport report;
+        const std::filesystem::path output(args->output);
+        ResidualBuild build;
+        build.program = "preprocessDem";
+        build.directory = output.has_parent_path() ? output.parent_path().string() : std::string(".");
+        build.name = output.filename().string();
+        build.prepare = [&] { preflight = std::make_unique<OutputPreflight>(args->output, false, args->report); };
+        build.encode = [&](const ResidualShare* share) {
+            DemEncodeOptions run = options;
+            run.share = share;
+            report = encodeDem(args->input.resolve(), args->output, run);
+        };
+        build.merged = [&](const ResidualMergeReport& merged) { takeMerged(report, merged.pyramids.at(0)); };
+        const BuildRole role = runResidualBuild(*args, build);
         if (progress) {
             progress->finish();
         }
-        if (!args->quiet) {
+        if (role == BuildRole::OtherRank) {
+            return kExitOk;
+        }
+        if (talk && role != BuildRole::Part) {
             printDemSummary(report);
             printGeoreferenceSummary(report.georeference, georeferenceSidecarPath(args->output));
         }
         if (!args->report.empty()) {
             writeJson(toJson(report), args->report);
         }
-        preflight.keep();
+        preflight->keep();
         return kExitOk;
     };
 }

@@ -37,21 +37,41 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         options.faces = choice.faces;
         options.heightScale = parseRatio(*heightScale, "--height-scale");
         options.name = *name;
-        OutputPreflight preflight(args->output, true, args->report);
+        const bool talk = speaks(*args);
+        std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
         int64_t shown = 0;
         options.dem.progress = [&](int64_t done, int64_t total) {
             if (!progress) {
-                progress = std::make_unique<Progress>("preprocessSphericalDem", total, args->quiet);
+                progress = std::make_unique<Progress>("preprocessSphericalDem", total, !talk);
             }
             progress->advance(done - shown);
             shown = done;
         };
-        const SphericalDemReport report = encodeSphericalDem(args->input.resolve(), args->output, options);
+        SphericalDemReport report;
+        ResidualBuild build;
+        build.program = "preprocessSphericalDem";
+        build.directory = args->output;
+        build.name = options.name;
+        build.prepare = [&] { preflight = std::make_unique<OutputPreflight>(args->output, true, args->report); };
+        build.encode = [&](const ResidualShare* share) {
+            SphericalDemOptions run = options;
+            run.dem.share = share;
+            report = encodeSphericalDem(args->input.resolve(), args->output, run);
+        };
+        build.merged = [&](const ResidualMergeReport& merged) {
+            for (size_t k = 0; k < report.faces.size() && k < merged.pyramids.size(); ++k) {
+                takeMerged(report.faces[k].dem, merged.pyramids[k]);
+            }
+        };
+        const BuildRole role = runResidualBuild(*args, build);
         if (progress) {
             progress->finish();
         }
-        if (!args->quiet) {
+        if (role == BuildRole::OtherRank) {
+            return kExitOk;
+        }
+        if (talk && role != BuildRole::Part) {
             std::fprintf(stderr, "%s: %s\n", args->output.c_str(), report.body.c_str());
             for (const SphericalDemFaceReport& f : report.faces) {
                 printDemSummary(f.dem);
@@ -62,7 +82,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         if (!args->report.empty()) {
             writeJson(toJson(report), args->report);
         }
-        preflight.keep();
+        preflight->keep();
         return kExitOk;
     };
 }

@@ -20,6 +20,7 @@ CommandRunner setupOrthoCommand(CLI::App& app);   // pyramid ortho / preprocessO
 CommandRunner setupSphereDemCommand(CLI::App& app);   // pyramid sphere-dem / preprocessSphericalDem
 CommandRunner setupSphereOrthoCommand(CLI::App& app); // pyramid sphere-ortho / preprocessSphericalOrtho
 CommandRunner setupVerifyCommand(CLI::App& app);  // pyramid verify FILE --source INPUT [--gl]
+CommandRunner setupMergeCommand(CLI::App& app);   // pyramid merge PART... [-o DIR]
 CommandRunner setupHeightCommand(CLI::App& app);  // pyramid height FILE|DIR --grid/--pixel/--lonlat
 
 } // namespace pyramid::cli

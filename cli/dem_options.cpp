@@ -1,8 +1,10 @@
 #include "cli/dem_options.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include <CLI/CLI.hpp>
 
@@ -46,6 +48,10 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
         ->expected(0, 1)
         ->each([args](const std::string&) { args->split = true; })
         ->trigger_on_parse();
+    app.add_option("--part", args->part,
+                   "Encode only part I of N (0 <= I < N) into OUTPUT.part-I-of-N, for batch schedulers; "
+                   "'pyramid merge' assembles the parts into the files one run writes")
+        ->type_name("I/N");
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
 }
@@ -75,6 +81,117 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
                              "255 samples (tile size 250)\n", options.tileSize + 5);
     }
     return options;
+}
+
+namespace {
+
+// The build's identity in its part files: the command line without what does not change the
+// files (the part, threads, cache, report, quiet).
+nlohmann::json buildIdentity(const char* program) {
+    std::vector<std::string> kept;
+    const std::vector<std::string>& all = commandArguments();
+    for (size_t i = 1; i < all.size(); ++i) {
+        const std::string& a = all[i];
+        if (a == "-q" || a == "--quiet") {
+            continue;
+        }
+        bool dropped = false;
+        for (const std::string flag : {"--part", "--threads", "--cache-mb", "--report"}) {
+            if (a == flag) {
+                ++i; // and its value
+                dropped = true;
+                break;
+            }
+            if (a.rfind(flag + "=", 0) == 0) {
+                dropped = true;
+                break;
+            }
+        }
+        if (!dropped) {
+            kept.push_back(a);
+        }
+    }
+    return {{"program", program}, {"arguments", kept}};
+}
+
+// A whole number of --part.
+int64_t partNumber(const std::string& text, const std::string& part) {
+    int64_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size()) {
+        fail("--part", "must be I/N (part I of N, from 0), not " + part);
+    }
+    return value;
+}
+
+} // namespace
+
+bool speaks(const DemArgs& args) { return !args.quiet && worldTeam().rank() == 0; }
+
+BuildRole runResidualBuild(const DemArgs& args, const ResidualBuild& build) {
+    Team& team = worldTeam();
+    if (!args.part.empty()) {
+        const size_t slash = args.part.find('/');
+        if (slash == std::string::npos) {
+            fail("--part", "must be I/N (part I of N, from 0), not " + args.part);
+        }
+        const int64_t index = partNumber(args.part.substr(0, slash), args.part);
+        const int64_t count = partNumber(args.part.substr(slash + 1), args.part);
+        if (count < 1 || count > 1000000 || index < 0 || index >= count) {
+            fail("--part", "must be I/N with 0 <= I < N, not " + args.part);
+        }
+        if (team.size() > 1) {
+            fail("--part", "splits a build for batch jobs; under mpirun the ranks split it themselves");
+        }
+        build.prepare();
+        const std::string base = (std::filesystem::path(build.directory) / build.name).string();
+        const std::string path = runResidualPart(static_cast<int>(index), static_cast<int>(count), base,
+                                                 buildIdentity(build.program),
+                                                 [&](const ResidualShare& share) { build.encode(&share); });
+        if (!args.quiet) {
+            std::fprintf(stderr, "%s: part %lld of %lld written to %s; 'pyramid merge' assembles the parts\n",
+                         build.program, static_cast<long long>(index), static_cast<long long>(count), path.c_str());
+        }
+        return BuildRole::Part;
+    }
+    if (team.size() == 1) {
+        build.prepare();
+        build.encode(nullptr);
+        return BuildRole::Whole;
+    }
+    std::unique_ptr<Progress> merging;
+    const auto report = runResidualTeam(
+        team, build.directory, build.name,
+        buildIdentity(build.program), build.prepare, [&](const ResidualShare& share) { build.encode(&share); },
+        [&](int64_t done, int64_t total) {
+            if (!merging) {
+                merging = std::make_unique<Progress>(std::string(build.program) + " (merging " +
+                                                         std::to_string(team.size()) + " ranks)",
+                                                     total, args.quiet);
+            }
+            merging->advance(1);
+            (void)done;
+        });
+    if (merging) {
+        merging->finish();
+    }
+    if (team.rank() != 0) {
+        return BuildRole::OtherRank;
+    }
+    build.merged(*report);
+    return BuildRole::Root;
+}
+
+void takeMerged(DemReport& report, const ResidualPyramidReport& merged) {
+    report.header = merged.header;
+    report.tiles = merged.tiles;
+    report.sharedTiles = merged.sharedTiles;
+    report.bytes = merged.bytes;
+    report.files = merged.files;
+    report.finestSamples = merged.finestSamples;
+    report.nodataFilled = merged.nodataFilled;
+    report.levels = merged.levels;
+    report.scalesTried = merged.scalesTried;
 }
 
 void printDemSummary(const DemReport& r) {

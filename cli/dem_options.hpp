@@ -2,6 +2,7 @@
 // band, nodata, threads, cache, report, quiet), declared once and resolved into
 // DemEncodeOptions once the command line is parsed.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -26,6 +27,7 @@ struct DemArgs {
     bool quiet = false;
     std::string maxFileBytes; // "" when --max-file-bytes is given without a size
     bool split = false;       // --max-file-bytes given
+    std::string part;         // --part I/N
     DemEncodeOptions options;
 };
 
@@ -40,5 +42,27 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args);
 // The two summary lines of one residual file on stderr: tiles, levels, scale, bits per sample,
 // time; the largest error against the bound, filled nodata and the sampling rule.
 void printDemSummary(const DemReport& report);
+
+// How a residual build runs: whole, as part I of N of a batch (--part), or as one rank of an MPI
+// run (every rank encodes its share, rank 0 merges).
+enum class BuildRole { Whole, Part, Root, OtherRank };
+
+struct ResidualBuild {
+    const char* program;
+    std::string directory; // the outputs' directory
+    std::string name;      // part files: partFileName(directory/name, I, N)
+    std::function<void()> prepare;                    // output checks, before any work
+    std::function<void(const ResidualShare*)> encode; // the build (null share: whole)
+    std::function<void(const ResidualMergeReport&)> merged; // rank 0: the merged pyramids
+};
+
+// Runs `build` in the role the command line and the launcher give it; prints the part line of a
+// part (unless quiet) and writes nothing else. Returns the role.
+BuildRole runResidualBuild(const DemArgs& args, const ResidualBuild& build);
+// Whether this process prints: not on the ranks other than 0 of an MPI run.
+bool speaks(const DemArgs& args);
+
+// The merged pyramid's figures into a rank-0 report of its own share.
+void takeMerged(DemReport& report, const ResidualPyramidReport& merged);
 
 } // namespace pyramid::cli

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
         {"sphere-ortho", "Build six cube-face ortho pyramids from global imagery (same as preprocessSphericalOrtho)",
          setupSphereOrthoCommand},
         {"verify", "Rebuild every level and compare with the source (or CPU with GL)", setupVerifyCommand},
+        {"merge", "Assemble the part files of a split build (--part I/N) into its pyramids", setupMergeCommand},
         {"height", "Print the reconstructed height at a point (grid, source pixel, or longitude and latitude)",
          setupHeightCommand},
     };

@@ -12,6 +12,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/api/sources.hpp"
+#include "libpyramid/distribute/split_build.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"

@@ -72,19 +72,17 @@ nlohmann::json toJson(const PyramidGeoreference& g) {
             {"units_per_sample", levels}};
 }
 
-std::unique_ptr<AtomicFile> stageGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid,
-                                                     const PyramidGeoreference& g) {
+std::string georeferenceSidecarText(const std::string& pyramid, const PyramidGeoreference& g) {
     nlohmann::json j = toJson(g);
     j["pyramid"] = std::filesystem::path(pyramid).filename().string();
-    const std::string text = j.dump(2) + "\n";
-    auto file = std::make_unique<AtomicFile>(sidecar);
-    file->writeAt(0, text.data(), text.size());
-    file->flush();
-    return file;
+    return j.dump(2) + "\n";
 }
 
 void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g) {
-    stageGeoreferenceSidecar(sidecar, pyramid, g)->commit();
+    const std::string text = georeferenceSidecarText(pyramid, g);
+    AtomicFile file(sidecar);
+    file.writeAt(0, text.data(), text.size());
+    file.commit();
 }
 
 } // namespace pyramid

@@ -42,9 +42,7 @@ nlohmann::json toJson(const PyramidGeoreference& g);
 
 // Writes toJson(g) (and the pyramid file's name) to `sidecar` atomically (formats/atomic_file.hpp).
 void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g);
-// The same, written and flushed but not yet renamed into place: the caller commits it together
-// with the pyramid it describes.
-std::unique_ptr<AtomicFile> stageGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid,
-                                                     const PyramidGeoreference& g);
+// The sidecar's text for the pyramid file `pyramid` (its name is recorded).
+std::string georeferenceSidecarText(const std::string& pyramid, const PyramidGeoreference& g);
 
 } // namespace pyramid

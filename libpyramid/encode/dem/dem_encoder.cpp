@@ -141,8 +141,7 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
     report.sampling = geometry.describe();
     const DemSampler sampler(*source, geometry, options.band, nodata);
     job.heights = &sampler;
-    // The sidecar is written first and renamed right after the pyramid: the two appear together.
-    std::unique_ptr<AtomicFile> sidecar;
+    // The sidecar appears together with the pyramid.
     if (const auto& g = source->info().georeference; g && g->problem.empty()) {
         // Sample x of the finest grid is at input column x * lx / N, a pixel centre: +0.5 in
         // PixelIsArea coordinates.
@@ -153,8 +152,9 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
         const std::array<double, 4> root{0.5, 0.5, static_cast<double>(geometry.lx) + 0.5,
                                          static_cast<double>(geometry.ly) + 0.5};
         report.georeference = georeferencePyramid(*g, geometry.width, geometry.height, root, intervals, "vertices");
-        sidecar = stageGeoreferenceSidecar(georeferenceSidecarPath(output), output, *report.georeference);
-        job.alongside = [&sidecar] { sidecar->commit(); };
+        job.companions.push_back(
+            CompanionFile{std::filesystem::path(georeferenceSidecarPath(output)).filename().string(),
+                          georeferenceSidecarText(output, *report.georeference)});
     }
     encodeResidualPyramid(job, output, options, report);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

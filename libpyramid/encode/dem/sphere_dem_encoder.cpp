@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "formats/error.hpp"
 #include "formats/staging_directory.hpp"
@@ -89,7 +90,11 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     const int64_t N = static_cast<int64_t>(header.tileSize >> header.minLevel) << header.maxLevel;
     report.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
 
-    StagingDirectory staging(directory);
+    // A split build's part writes its share of every face into its part file, and no face.
+    std::unique_ptr<StagingDirectory> staging;
+    if (!o.share) {
+        staging = std::make_unique<StagingDirectory>(directory);
+    }
     const int64_t faceTiles = header.tileCount();
     const int64_t totalTiles = faceTiles * static_cast<int64_t>(options.faces.size());
     int64_t finished = 0; // tiles of the faces already done
@@ -103,6 +108,8 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         job.edges = GridEdges::Folded;
         job.emptyFill = 0.0f; // a face the map does not reach at all lies at height 0
         job.input = input;
+        job.pyramid = static_cast<int>(report.faces.size());
+        job.pyramids = static_cast<int>(options.faces.size());
         DemEncodeOptions run = faceOptions;
         if (o.progress) {
             run.progress = [&](int64_t done, int64_t) {
@@ -129,7 +136,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         fr.dem.sampling = "face " + std::to_string(face) + " of the cube, " + std::to_string(N) +
                           " intervals across, sampled bilinearly on the " + body.name() +
                           " body; borders from the neighbouring faces";
-        encodeResidualPyramid(job, staging.path(name), run, fr.dem);
+        encodeResidualPyramid(job, staging ? staging->path(name) : fr.dem.output, run, fr.dem);
         fr.dem.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - faceStart).count();
         for (int l = 0; l <= header.maxLevel; ++l) {
             const int64_t n = static_cast<int64_t>(header.tileSize >> header.minLevel) << l;
@@ -138,9 +145,11 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         report.faces.push_back(std::move(fr));
         finished += faceTiles;
     }
-    staging.commit();
-    for (SphericalDemFaceReport& f : report.faces) {
-        f.dem.bytes = std::filesystem::file_size(f.dem.output);
+    if (staging) {
+        staging->commit();
+        for (SphericalDemFaceReport& f : report.faces) {
+            f.dem.bytes = std::filesystem::file_size(f.dem.output);
+        }
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;

@@ -10,10 +10,7 @@
 #include <mutex>
 
 #include "formats/error.hpp"
-#include "formats/pyramid_set.hpp"
-#include "formats/residual_set.hpp"
-#include "formats/staging_directory.hpp"
-#include "formats/temporaries.hpp"
+#include "libpyramid/encode/residual/residual_parts.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 #include "libpyramid/encode/residual/root_fill.hpp"
 #include "libpyramid/support/morton.hpp"
@@ -78,22 +75,48 @@ std::string roundUp3(double x) {
     return numberText(std::ceil(x / p - 1e-9) * p);
 }
 
-struct Overflow {
-    double scale;
-    int64_t residual;
-    int level;
+using Overflow = ResidualOverflow;
+
+// Where an encoder's tiles go: a pyramid writer, or a share's part file (with each tile's
+// statistics, for the merge's report).
+struct TileSink {
+    ResidualFileWriter* writer = nullptr;
+    PartFileWriter* part = nullptr;
+    uint32_t stream = 0;
+
+    void put(const EncodedTile& t) const {
+        if (part) {
+            part->add(stream, t.level, t.tx, t.ty, packLevelStats(t.stats), t.blob);
+        } else {
+            writer->writeTileBytes(t.level, t.tx, t.ty, t.blob);
+        }
+    }
 };
 
 class Encoder {
 public:
     Encoder(const ResidualPlan& plan, const HeightSource& sampler, const SourceGrid& grid, const ResidualEncodeOptions& options,
-            int threads, const std::string& input)
-        : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads), input_(input) {}
+            int threads, const std::string& input, const ShareRange& range)
+        : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads), input_(input), range_(range) {}
 
-    // Encodes the whole pyramid at plan_.scale into `writer`; returns the first overflow, if any.
-    std::optional<Overflow> run(ResidualFileWriter& writer, std::vector<LevelStats>& stats, int64_t& nodataFilled) {
+    // The tiles the range records.
+    int64_t tiles() const {
+        if (plan_.C == plan_.M) {
+            return range_.top ? plan_.header.tileCount() : 0;
+        }
+        int64_t top = 0;
+        for (int l = 0; l <= plan_.C; ++l) {
+            top += static_cast<int64_t>(plan_.tilesPerSide(l)) * plan_.tilesPerSide(l);
+        }
+        const int d = plan_.M - plan_.C - 1;
+        const int64_t subtree = ((int64_t{1} << (2 * (d + 1))) - 1) / 3;
+        return (range_.top ? top : 0) + (range_.end - range_.begin) * subtree;
+    }
+
+    // Encodes the range's tiles at plan_.scale into `sink`; returns the first overflow, if any.
+    std::optional<Overflow> run(const TileSink& sink, std::vector<LevelStats>& stats, int64_t& nodataFilled) {
         stats.assign(static_cast<size_t>(plan_.M) + 1, LevelStats{});
-        total_ = plan_.header.tileCount();
+        total_ = tiles();
         done_ = 0;
         std::vector<std::vector<float>> previous;
         for (int l = 0; l <= plan_.C; ++l) {
@@ -111,28 +134,35 @@ public:
                 tiles[static_cast<size_t>(m)] = encodeResidualTile(plan_, l, static_cast<int>(tx), static_cast<int>(ty), parent, grid_);
             });
             std::vector<std::vector<float>> current(static_cast<size_t>(count));
+            int64_t overflow = 0;
             for (EncodedTile& t : tiles) {
-                write(writer, t, stats);
+                if (range_.top) {
+                    write(sink, t, stats);
+                }
+                overflow = std::max(overflow, t.stats.overflowResidual);
                 current[static_cast<size_t>(t.ty * side + t.tx)] = std::move(t.recon);
             }
-            if (stats[static_cast<size_t>(l)].overflowResidual) {
-                return Overflow{plan_.scale, stats[static_cast<size_t>(l)].overflowResidual, l};
+            if (overflow) {
+                return Overflow{plan_.scale, overflow, l, -1};
             }
             previous = std::move(current);
         }
         if (plan_.C == plan_.M) {
+            if (!range_.top) {
+                return std::nullopt;
+            }
             for (int64_t y = 0; y <= plan_.N; ++y) {
                 const uint8_t* valid = grid_.valid.data() + grid_.index(0, y);
                 nodataFilled += (plan_.N + 1) - std::count(valid, valid + plan_.N + 1, uint8_t{1});
             }
             return std::nullopt;
         }
-        return runSubtrees(writer, stats, previous, nodataFilled);
+        return runSubtrees(sink, stats, previous, nodataFilled);
     }
 
 private:
-    void write(ResidualFileWriter& writer, const EncodedTile& t, std::vector<LevelStats>& stats) {
-        writer.writeTileBytes(t.level, t.tx, t.ty, t.blob);
+    void write(const TileSink& sink, const EncodedTile& t, std::vector<LevelStats>& stats) {
+        sink.put(t);
         if (options_.reconstruction) {
             options_.reconstruction(t.level, t.tx, t.ty, t.recon);
         }
@@ -232,12 +262,13 @@ private:
 
     // Subtrees go to the threads in Z order and are written in Z order by the ordered writer
     // while later ones are encoded. At most `window` subtrees' tiles are held at once.
-    std::optional<Overflow> runSubtrees(ResidualFileWriter& writer, std::vector<LevelStats>& stats,
+    // Subtrees range_.begin to range_.end - 1; item i of the ordered writer is subtree begin + i.
+    std::optional<Overflow> runSubtrees(const TileSink& sink, std::vector<LevelStats>& stats,
                                         const std::vector<std::vector<float>>& levelC, int64_t& nodataFilled) {
         const int top = plan_.C + 1;
-        const int side = plan_.tilesPerSide(top);
         const int cside = plan_.tilesPerSide(plan_.C);
-        const int64_t count = static_cast<int64_t>(side) * side;
+        const int64_t first = range_.begin;
+        const int64_t count = range_.end - range_.begin;
         const int d = plan_.M - top;
         struct Subtree {
             std::vector<EncodedTile> tiles;
@@ -245,27 +276,32 @@ private:
         };
         int64_t overflow = 0; // the writer's: the largest |residual| beyond int16 so far
         int overflowLevel = 0;
+        int64_t overflowEnd = 0;
         OrderedWriter<Subtree> ordered(
-            std::max<int64_t>(kSubtreesInFlight, 2 * threads_), [&](int64_t m, Subtree& subtree) {
+            std::max<int64_t>(kSubtreesInFlight, 2 * threads_), [&](int64_t i, Subtree& subtree) {
+                const int64_t m = first + i;
                 nodataFilled += subtree.filled;
                 for (const EncodedTile& t : subtree.tiles) {
-                    write(writer, t, stats);
+                    write(sink, t, stats);
                     if (t.stats.overflowResidual > overflow) {
                         overflow = t.stats.overflowResidual;
                         overflowLevel = t.level;
                     }
                 }
                 // An overflow ends the encoding at the end of its group of kSubtreesInFlight
-                // subtrees (the overflow reported is the group's largest), whatever the threads.
-                if (overflow && (m + 1) % kSubtreesInFlight == 0) {
-                    ordered.stopAt(m + 1);
+                // subtrees (the overflow reported is the group's largest), whatever the threads
+                // (and the parts: a share is whole groups).
+                if (overflow && !overflowEnd && ((m + 1) % kSubtreesInFlight == 0 || i + 1 == count)) {
+                    overflowEnd = m + 1;
+                    ordered.stopAt(i + 1);
                 }
             });
         std::vector<SourceGrid> footprints(static_cast<size_t>(threads_));
-        parallelFor(count, threads_, [&](int64_t m) {
-            if (!ordered.admit(m)) {
+        parallelFor(count, threads_, [&](int64_t i) {
+            if (!ordered.admit(i)) {
                 return;
             }
+            const int64_t m = first + i;
             Subtree result;
             try {
                 const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
@@ -296,7 +332,7 @@ private:
                     !sampler_.mayHaveHeights(footprint.x0, footprint.y0, x1, y1)) {
                     result.filled = (rowEnd - oy0) * (columnEnd - ox0);
                     emptySubtree(top, static_cast<int>(tx), static_cast<int>(ty), result.tiles);
-                    ordered.deliver(m, std::move(result));
+                    ordered.deliver(i, std::move(result));
                     return;
                 }
                 sampleReachable(footprint);
@@ -307,14 +343,14 @@ private:
                 const std::vector<float>& parent = levelC[static_cast<size_t>((ty / 2) * cside + tx / 2)];
                 encodeSubtree(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint, result.tiles);
             } catch (...) {
-                ordered.stopAt(m);
+                ordered.stopAt(i);
                 throw;
             }
-            ordered.deliver(m, std::move(result));
+            ordered.deliver(i, std::move(result));
         });
         ordered.finish(count);
         if (overflow) {
-            return Overflow{plan_.scale, overflow, overflowLevel};
+            return Overflow{plan_.scale, overflow, overflowLevel, overflowEnd};
         }
         return std::nullopt;
     }
@@ -325,11 +361,30 @@ private:
     const ResidualEncodeOptions& options_;
     int threads_;
     const std::string& input_;
+    ShareRange range_;
     int64_t total_ = 0;
     int64_t done_ = 0;
     std::once_flag zeroBlobOnce_;
     std::vector<uint8_t> zeroBlob_;
 };
+
+// The scale the next attempt takes after `overflow` with an automatic scale; the error otherwise
+// (and for a part of a split build that cannot agree with the others on a new scale).
+double nextScale(const Overflow& overflow, const ResidualEncodeOptions& options, const std::string& input, int attempt,
+                 bool alone) {
+    const double needed = overflow.scale * static_cast<double>(overflow.residual) / 32767.0;
+    const std::string what = "residuals of " + input + " overflow int16 at scale " + numberText(overflow.scale) +
+                             " (|residual| " + std::to_string(overflow.residual) + " at level " +
+                             std::to_string(overflow.level) + ")";
+    if (alone && options.autoScale) {
+        failOption("scale", what + " in this part: a part cannot raise the scale alone; run every part again with --scale " +
+                                numberText(niceCeil(std::max(needed, overflow.scale * 1.000001))));
+    }
+    if (!options.autoScale || attempt >= 12) {
+        failOption("scale", what + ": use " + roundUp3(needed) + " or more, or auto");
+    }
+    return niceCeil(std::max(needed, overflow.scale * 1.000001));
+}
 
 } // namespace
 
@@ -347,6 +402,23 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     plan.folded = job.edges == GridEdges::Folded;
     const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
     report.threads = threads;
+    const ResidualShare* share = options.share;
+    const int64_t units = plan.C == plan.M ? 1
+                                           : static_cast<int64_t>(plan.tilesPerSide(plan.C + 1)) * plan.tilesPerSide(plan.C + 1);
+    const ShareRange range = share ? shareRange(share->index, share->count, job.pyramid, job.pyramids, units)
+                                   : ShareRange{0, units, true};
+    report.header = plan.header;
+    if (!range.active()) {
+        // Nothing of this pyramid is this part's: it only follows the build's attempts.
+        for (int attempt = 0; share->agree; ++attempt) {
+            const std::optional<Overflow> overflow = share->agree(std::nullopt);
+            if (!overflow) {
+                break;
+            }
+            nextScale(*overflow, options, job.input, attempt, false);
+        }
+        return;
+    }
 
     // Pass 1: the in-memory grid of levels 0..C, one level-C row of samples at a time (each
     // reads two input rows at most), in row order, so the input streams through once.
@@ -405,92 +477,60 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         }
         scale = std::max(niceCeil(maxAbs / 32767.0), 0.001);
     }
+    const uint64_t partStart = share ? share->out->file().position() : 0;
     for (int attempt = 0;; ++attempt) {
         plan.scale = static_cast<float>(scale);
         plan.header.scale = plan.scale;
         report.scalesTried.push_back(scale);
         std::vector<LevelStats> stats;
         int64_t nodataFilled = 0;
-        // A region set is staged whole beside the output and put in place all together.
-        std::unique_ptr<StagingDirectory> staging;
-        const std::filesystem::path outputPath(output);
-        const std::string fileName = outputPath.filename().string();
-        if (options.maxFileBytes > 0) {
-            const std::filesystem::path parent = outputPath.parent_path();
-            staging = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
+        std::unique_ptr<ResidualOutput> out;
+        TileSink sink;
+        if (share) {
+            share->out->file().rewind(partStart);
+            sink.part = &share->out->file();
+            sink.stream = static_cast<uint32_t>(job.pyramid);
+        } else {
+            out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes);
+            sink.writer = &out->writer();
         }
-        auto whole = std::make_unique<ResidualFileWriter>(staging ? staging->path(fileName) : output, plan.header);
-        if (staging) {
-            whole->allowPastLimit();
+        Encoder encoder(plan, *job.heights, grid, options, threads, job.input, range);
+        std::optional<Overflow> overflow = encoder.run(sink, stats, nodataFilled);
+        if (share && share->agree) {
+            overflow = share->agree(overflow);
         }
-        ResidualFileWriter& writer = *whole;
-        Encoder encoder(plan, *job.heights, grid, options, threads, job.input);
-        const std::optional<Overflow> overflow = encoder.run(writer, stats, nodataFilled);
         if (overflow) {
-            const double needed = scale * static_cast<double>(overflow->residual) / 32767.0;
-            if (!options.autoScale || attempt >= 12) {
-                failOption("scale", "residuals of " + job.input + " overflow int16 at scale " + numberText(scale) +
-                                        " (|residual| " + std::to_string(overflow->residual) + " at level " +
-                                        std::to_string(overflow->level) + "): use " + roundUp3(needed) +
-                                        " or more, or auto");
-            }
-            scale = niceCeil(std::max(needed, scale * 1.000001));
+            scale = nextScale(*overflow, options, job.input, attempt, share && !share->agree && overflow->position >= 0);
             continue;
         }
-        report.sharedTiles = writer.sharedTiles();
-        if (staging) {
-            const uint64_t wholeBytes = ResidualHeader::kBytes + 8 * static_cast<uint64_t>(plan.header.tileCount()) +
-                                        writer.bytesWritten();
-            std::vector<ResidualSetFile> files;
-            if (!writer.pastLimit() && wholeBytes <= options.maxFileBytes) {
-                writer.commit(); // into the staging directory
-                files.push_back(ResidualSetFile{fileName, plan.header, wholeBytes});
-            } else {
-                files = writeResidualSet(writer, fileName, options.maxFileBytes,
-                                         [&](const std::string& name) { return staging->path(name); });
-            }
-            whole.reset(); // its temporary (a split pyramid's) is not staged
-            std::vector<RegionRoot> roots;
-            for (size_t k = 1; k < files.size(); ++k) {
-                roots.push_back(RegionRoot{files[k].header.rootLevel, files[k].header.rootTx, files[k].header.rootTy});
-            }
-            writeRegionIndex(regionIndexPath(staging->path(fileName)),
-                             makeRegionIndex(staging->path(fileName), PyramidKind::Residual, roots));
-            auto lock = lockTemporaries();
-            staging->commit();
-            if (job.alongside) {
-                job.alongside();
-            }
-            report.bytes = 0;
-            for (const ResidualSetFile& f : files) {
-                report.files.emplace_back(f.name, f.bytes);
-                report.bytes += f.bytes;
-            }
-        } else {
-            writer.finish(); // complete and on disk: only the renames are left
-            {
-                auto lock = lockTemporaries();
-                writer.commit();
-                if (job.alongside) {
-                    job.alongside();
-                }
-            }
-            report.bytes = std::filesystem::file_size(output);
-        }
         report.header = plan.header;
-        report.tiles = plan.header.tileCount();
+        report.tiles = encoder.tiles();
         report.finestSamples = (plan.N + 1) * (plan.N + 1);
         report.nodataFilled = nodataFilled;
-        for (int l = 0; l <= plan.M; ++l) {
-            const LevelStats& s = stats[static_cast<size_t>(l)];
-            ResidualLevelReport lr;
-            lr.level = l;
-            lr.tiles = static_cast<int64_t>(plan.tilesPerSide(l)) * plan.tilesPerSide(l);
-            lr.samples = s.samples;
-            lr.maxError = s.maxError;
-            lr.rmsError = s.samples ? std::sqrt(s.sumSquares / static_cast<double>(s.samples)) : 0.0;
-            lr.maxAbsResidual = s.maxAbsResidual;
-            report.levels.push_back(lr);
+        report.levels = residualLevelReports(plan.header, stats);
+        if (share) {
+            nlohmann::json companions = nlohmann::json::object();
+            for (const CompanionFile& c : job.companions) {
+                companions[c.name] = c.text;
+            }
+            share->out->addPyramid({{"pyramid", job.pyramid},
+                                    {"pyramids", job.pyramids},
+                                    {"name", std::filesystem::path(output).filename().string()},
+                                    {"header", residualHeaderJson(plan.header)},
+                                    {"units", units},
+                                    {"begin", range.begin},
+                                    {"end", range.end},
+                                    {"top", range.top},
+                                    {"records", {partStart, share->out->file().position()}},
+                                    {"tiles", report.tiles},
+                                    {"nodata_filled", nodataFilled},
+                                    {"finest_samples", report.finestSamples},
+                                    {"scales_tried", report.scalesTried},
+                                    {"max_file_bytes", options.maxFileBytes},
+                                    {"companions", companions}});
+            report.bytes = share->out->file().position() - partStart;
+        } else {
+            out->place(job.companions, report);
         }
         break;
     }

@@ -16,10 +16,37 @@
 
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/residual/height_source.hpp"
+#include "libpyramid/encode/residual/residual_output.hpp"
 
 namespace pyramid {
 
 enum class GridEdges { Clamped, Folded };
+
+class ResidualPartOutput;
+
+// An attempt's int16 overflow: the largest |residual| beyond int16 where the encoding stops, at
+// which scale and level. position -1: in the in-memory top levels; else the end of the group of 4
+// subtrees it was found in (the encoding stops at the end of the first such group).
+struct ResidualOverflow {
+    double scale = 0.0;
+    int64_t residual = 0;
+    int level = 0;
+    int64_t position = -1;
+};
+
+// One process's share of a build split across processes (residual_parts.hpp): part `index` of
+// `count`, whose tiles go to `out` instead of the outputs.
+struct ResidualShare {
+    int index = 0;
+    int count = 1;
+    ResidualPartOutput* out = nullptr;
+    // When the parts run together (the ranks of an MPI run): called by every part once per
+    // attempt of each pyramid, in the same order, with the part's own overflow (none when it
+    // encodes nothing of the pyramid); returns the build's, the first by position, which every
+    // part then acts on alike (a larger automatic scale, or the error). Without it a part can
+    // only fail on an overflow in its subtrees: the other parts' scale would not follow.
+    std::function<std::optional<ResidualOverflow>(const std::optional<ResidualOverflow>&)> agree;
+};
 
 // How residuals are quantized and the encoding is run: the options every residual pyramid
 // takes, whatever its heights' source (the DEM front ends' options extend them).
@@ -30,6 +57,8 @@ struct ResidualEncodeOptions {
     // 0: one file (its tile data at most 4 GiB). Otherwise a region set of files of at most
     // this many bytes each, and its index (formats/residual_set.hpp, doc/format.md 1.6).
     uint64_t maxFileBytes = 0;
+    // Set in each process of a split build: encode only this share, into its part file.
+    const ResidualShare* share = nullptr;
     // Called from one thread at a time with (tiles done, total tiles).
     std::function<void(int64_t, int64_t)> progress;
     // Asked after every tile, from one thread at a time: true stops the encoding, which throws
@@ -75,13 +104,16 @@ struct ResidualPyramidJob {
     // outside a partial extent); none: such a pyramid is an error.
     std::optional<float> emptyFill;
     std::string input;               // names the input in messages
-    // Puts in place the files that go with the pyramid (its georeference sidecar, complete and
-    // flushed), right after the pyramid's rename and under the temporaries' lock
-    // (formats/temporaries.hpp): a signal finds both old or both new.
-    std::function<void()> alongside;
+    // The files that go with the pyramid (its georeference sidecar), put in place together with
+    // it (residual_output.hpp).
+    std::vector<CompanionFile> companions;
+    // This pyramid among the build's (a cube face among six), for a split build's shares.
+    int pyramid = 0;
+    int pyramids = 1;
 };
 
-// Encodes the pyramid into `output` (written atomically) with the options' scale (or the
+// Encodes the pyramid into `output` (written atomically; with options.share, the share's tiles
+// into its part file instead, and nothing when it has none of the pyramid's) with the options' scale (or the
 // automatic one), threads, progress and reconstruction hook, and fills `report`. Throws Error
 // on int16 overflow (naming the smallest scale that would fit) and when no sample is valid.
 void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output,

@@ -1,0 +1,236 @@
+#include "formats/part_file.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <string_view>
+
+#include <unistd.h>
+
+#include "formats/atomic_file.hpp"
+#include "formats/error.hpp"
+#include "formats/header_bytes.hpp"
+
+namespace pyramid {
+
+namespace {
+
+using detail::loadU32;
+using detail::storeU32;
+
+constexpr char kMagic[8] = {'L', 'P', 'Y', 'R', 'P', 'A', 'R', 'T'};
+constexpr char kEnd[8] = {'L', 'P', 'Y', 'R', 'P', 'E', 'N', 'D'};
+constexpr uint32_t kVersion = 1;
+constexpr uint64_t kHeaderBytes = 16;
+constexpr uint64_t kRecordBytes = 32;
+constexpr uint64_t kFooterBytes = 24;
+constexpr size_t kBufferBytes = size_t{1} << 20;
+// Blobs this small are looked up among the ones already stored; at most kSmallCount are kept.
+constexpr size_t kSmallBlob = 1024;
+constexpr size_t kSmallCount = 8192;
+
+void storeU64(uint8_t* p, uint64_t v) {
+    storeU32(p, static_cast<uint32_t>(v));
+    storeU32(p + 4, static_cast<uint32_t>(v >> 32));
+}
+
+uint64_t loadU64(const uint8_t* p) { return uint64_t{loadU32(p)} | (uint64_t{loadU32(p + 4)} << 32); }
+
+void append(std::vector<uint8_t>& out, const void* data, size_t size) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    out.insert(out.end(), p, p + size);
+}
+
+} // namespace
+
+PartFileWriter::PartFileWriter(const std::string& path) : file_(std::make_unique<AtomicFile>(path)) {
+    uint8_t header[kHeaderBytes] = {};
+    std::memcpy(header, kMagic, 8);
+    storeU32(header + 8, kVersion);
+    buffer_.reserve(kBufferBytes);
+    append(buffer_, header, sizeof(header));
+}
+
+PartFileWriter::~PartFileWriter() = default;
+
+const std::string& PartFileWriter::path() const { return file_->path(); }
+
+void PartFileWriter::flushBuffer() {
+    if (!buffer_.empty()) {
+        file_->writeAt(position_, buffer_.data(), buffer_.size());
+        position_ += buffer_.size();
+        buffer_.clear();
+    }
+}
+
+void PartFileWriter::add(uint32_t stream, int level, int tx, int ty, std::span<const uint8_t> extra,
+                         std::span<const uint8_t> blob) {
+    const uint64_t at = position();
+    const uint64_t dataAt = at + kRecordBytes + extra.size();
+    uint64_t blobAt = dataAt;
+    uint64_t hash = 0;
+    if (blob.size() <= kSmallBlob) {
+        hash = std::hash<std::string_view>{}(
+            std::string_view(reinterpret_cast<const char*>(blob.data()), blob.size()));
+        if (auto it = small_.find(hash); it != small_.end()) {
+            for (const Stored& s : it->second) {
+                if (s.bytes.size() == blob.size() && std::equal(blob.begin(), blob.end(), s.bytes.begin())) {
+                    blobAt = s.at;
+                    break;
+                }
+            }
+        }
+    }
+    uint8_t record[kRecordBytes];
+    storeU32(record, stream);
+    storeU32(record + 4, static_cast<uint32_t>(level));
+    storeU32(record + 8, static_cast<uint32_t>(tx));
+    storeU32(record + 12, static_cast<uint32_t>(ty));
+    storeU32(record + 16, static_cast<uint32_t>(extra.size()));
+    storeU32(record + 20, static_cast<uint32_t>(blob.size()));
+    storeU64(record + 24, blobAt);
+    append(buffer_, record, sizeof(record));
+    append(buffer_, extra.data(), extra.size());
+    if (blobAt == dataAt) {
+        append(buffer_, blob.data(), blob.size());
+        if (blob.size() <= kSmallBlob && smallCount_ < kSmallCount) {
+            small_[hash].push_back(Stored{dataAt, std::vector<uint8_t>(blob.begin(), blob.end())});
+            ++smallCount_;
+        }
+    }
+    if (buffer_.size() >= kBufferBytes) {
+        flushBuffer();
+    }
+}
+
+void PartFileWriter::rewind(uint64_t to) {
+    if (to < kHeaderBytes || to > position()) {
+        fail(path(), "cannot rewind a part file to byte " + std::to_string(to));
+    }
+    if (to >= position_) {
+        buffer_.resize(static_cast<size_t>(to - position_));
+    } else {
+        buffer_.clear();
+        position_ = to; // the bytes past it are overwritten, or cut off at commit
+        if (ftruncate(file_->fd(), static_cast<off_t>(to)) != 0) {
+            fail(path(), "cannot truncate its temporary");
+        }
+    }
+    for (auto it = small_.begin(); it != small_.end();) {
+        auto& list = it->second;
+        const size_t before = list.size();
+        list.erase(std::remove_if(list.begin(), list.end(), [&](const Stored& s) { return s.at >= to; }), list.end());
+        smallCount_ -= before - list.size();
+        it = list.empty() ? small_.erase(it) : std::next(it);
+    }
+}
+
+void PartFileWriter::commit(const std::string& trailer) {
+    const uint64_t trailerAt = position();
+    append(buffer_, trailer.data(), trailer.size());
+    uint8_t footer[kFooterBytes];
+    storeU64(footer, trailerAt);
+    storeU64(footer + 8, trailer.size());
+    std::memcpy(footer + 16, kEnd, 8);
+    append(buffer_, footer, sizeof(footer));
+    flushBuffer();
+    file_->commit();
+}
+
+PartFileReader::PartFileReader(const std::string& path) : source_(openFileSource(path)) {
+    const uint64_t size = source_->size();
+    uint8_t header[kHeaderBytes];
+    uint8_t footer[kFooterBytes];
+    if (size < kHeaderBytes + kFooterBytes) {
+        fail(path, "not a part file (too short)");
+    }
+    source_->readAt(0, header, sizeof(header));
+    if (std::memcmp(header, kMagic, 8) != 0) {
+        fail(path, "not a part file (no LPYRPART signature)");
+    }
+    if (loadU32(header + 8) != kVersion) {
+        fail(path, "part file version " + std::to_string(loadU32(header + 8)) + " is not supported (1 is)");
+    }
+    source_->readAt(size - kFooterBytes, footer, sizeof(footer));
+    if (std::memcmp(footer + 16, kEnd, 8) != 0) {
+        fail(path, "incomplete part file (no end signature)");
+    }
+    trailerAt_ = loadU64(footer);
+    const uint64_t trailerBytes = loadU64(footer + 8);
+    if (trailerAt_ < kHeaderBytes || trailerAt_ > size - kFooterBytes || trailerBytes != size - kFooterBytes - trailerAt_) {
+        fail(path, "corrupt part file (its trailer lies outside the file)");
+    }
+    trailer_.resize(static_cast<size_t>(trailerBytes));
+    source_->readAt(trailerAt_, trailer_.data(), trailer_.size());
+}
+
+PartFileReader::Cursor PartFileReader::records(uint64_t begin, uint64_t end) const {
+    if (begin < kHeaderBytes || begin > end || end > trailerAt_) {
+        fail(path(), "corrupt part file (records [" + std::to_string(begin) + ", " + std::to_string(end) +
+                         ") lie outside its " + std::to_string(trailerAt_) + " bytes of records)");
+    }
+    return Cursor(*this, begin, end);
+}
+
+PartFileReader::Cursor::Cursor(const PartFileReader& reader, uint64_t begin, uint64_t end)
+    : reader_(reader), at_(begin), end_(end), bufferAt_(begin) {}
+
+void PartFileReader::Cursor::read(uint64_t at, void* out, size_t size) {
+    if (at < bufferAt_ || at + size > bufferAt_ + buffer_.size()) {
+        if (size > kBufferBytes) {
+            reader_.source_->readAt(at, out, size);
+            return;
+        }
+        const uint64_t n = std::min<uint64_t>(kBufferBytes, reader_.trailerAt_ - at);
+        buffer_.resize(static_cast<size_t>(n));
+        reader_.source_->readAt(at, buffer_.data(), buffer_.size());
+        bufferAt_ = at;
+    }
+    std::memcpy(out, buffer_.data() + (at - bufferAt_), size);
+}
+
+bool PartFileReader::Cursor::next(Record& r) {
+    if (at_ == end_) {
+        return false;
+    }
+    const auto corrupt = [&](const std::string& what) {
+        fail(reader_.path(), "corrupt part file (record at byte " + std::to_string(at_) + ": " + what + ")");
+    };
+    if (end_ - at_ < kRecordBytes) {
+        corrupt("truncated");
+    }
+    uint8_t head[kRecordBytes];
+    read(at_, head, sizeof(head));
+    r.stream = loadU32(head);
+    const uint32_t level = loadU32(head + 4), tx = loadU32(head + 8), ty = loadU32(head + 12);
+    // tx and ty are checked against the pyramid by whoever writes the tile; here only the level.
+    if (level > 30) {
+        corrupt("level " + std::to_string(level));
+    }
+    r.level = static_cast<int>(level);
+    r.tx = static_cast<int>(tx);
+    r.ty = static_cast<int>(ty);
+    const uint64_t extraBytes = loadU32(head + 16), blobBytes = loadU32(head + 20), blobAt = loadU64(head + 24);
+    const uint64_t dataAt = at_ + kRecordBytes + extraBytes;
+    if (dataAt > end_) {
+        corrupt("its bytes pass the end of its range");
+    }
+    r.extra.resize(static_cast<size_t>(extraBytes));
+    read(at_ + kRecordBytes, r.extra.data(), r.extra.size());
+    r.blob.resize(static_cast<size_t>(blobBytes));
+    if (blobAt == dataAt) {
+        if (blobBytes > end_ - dataAt) {
+            corrupt("its bytes pass the end of its range");
+        }
+        read(dataAt, r.blob.data(), r.blob.size());
+        at_ = dataAt + blobBytes;
+    } else {
+        if (blobAt < kHeaderBytes || blobAt > at_ || blobBytes > at_ - blobAt) {
+            corrupt("its shared bytes are not an earlier record's");
+        }
+        read(blobAt, r.blob.data(), r.blob.size());
+        at_ = dataAt;
+    }
+    return true;
+}
+
+} // namespace pyramid

@@ -1,0 +1,86 @@
+#include "libpyramid/encode/residual/residual_output.hpp"
+
+#include <filesystem>
+
+#include "formats/atomic_file.hpp"
+#include "formats/pyramid_set.hpp"
+#include "formats/residual_set.hpp"
+#include "formats/staging_directory.hpp"
+#include "formats/temporaries.hpp"
+#include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
+
+namespace pyramid {
+
+ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes)
+    : output_(output), header_(header), maxFileBytes_(maxFileBytes) {
+    const std::filesystem::path outputPath(output);
+    if (maxFileBytes_ > 0) {
+        const std::filesystem::path parent = outputPath.parent_path();
+        staging_ = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
+        writer_ = std::make_unique<ResidualFileWriter>(staging_->path(outputPath.filename().string()), header);
+        writer_->allowPastLimit();
+    } else {
+        writer_ = std::make_unique<ResidualFileWriter>(output, header);
+    }
+}
+
+ResidualOutput::~ResidualOutput() = default;
+
+void ResidualOutput::place(const std::vector<CompanionFile>& companions, ResidualPyramidReport& report) {
+    const std::filesystem::path outputPath(output_);
+    const std::filesystem::path directory = outputPath.parent_path();
+    const std::string fileName = outputPath.filename().string();
+    report.header = header_;
+    report.sharedTiles = writer_->sharedTiles();
+    report.files.clear();
+    if (staging_) {
+        ResidualFileWriter& writer = *writer_;
+        const uint64_t wholeBytes =
+            ResidualHeader::kBytes + 8 * static_cast<uint64_t>(header_.tileCount()) + writer.bytesWritten();
+        std::vector<ResidualSetFile> files;
+        if (!writer.pastLimit() && wholeBytes <= maxFileBytes_) {
+            writer.commit(); // into the staging directory
+            files.push_back(ResidualSetFile{fileName, header_, wholeBytes});
+        } else {
+            files = writeResidualSet(writer, fileName, maxFileBytes_,
+                                     [&](const std::string& name) { return staging_->path(name); });
+        }
+        writer_.reset(); // its temporary (a split pyramid's) is not staged
+        std::vector<RegionRoot> roots;
+        for (size_t k = 1; k < files.size(); ++k) {
+            roots.push_back(RegionRoot{files[k].header.rootLevel, files[k].header.rootTx, files[k].header.rootTy});
+        }
+        writeRegionIndex(regionIndexPath(staging_->path(fileName)),
+                         makeRegionIndex(staging_->path(fileName), PyramidKind::Residual, roots));
+        for (const CompanionFile& c : companions) {
+            AtomicFile file(staging_->path(c.name));
+            file.writeAt(0, c.text.data(), c.text.size());
+            file.commit();
+        }
+        auto lock = lockTemporaries();
+        staging_->commit();
+        report.bytes = 0;
+        for (const ResidualSetFile& f : files) {
+            report.files.emplace_back(f.name, f.bytes);
+            report.bytes += f.bytes;
+        }
+        return;
+    }
+    writer_->finish(); // complete and on disk: only the renames are left
+    std::vector<std::unique_ptr<AtomicFile>> staged;
+    for (const CompanionFile& c : companions) {
+        staged.push_back(std::make_unique<AtomicFile>((directory / c.name).string()));
+        staged.back()->writeAt(0, c.text.data(), c.text.size());
+        staged.back()->flush();
+    }
+    {
+        auto lock = lockTemporaries();
+        writer_->commit();
+        for (auto& file : staged) {
+            file->commit();
+        }
+    }
+    report.bytes = std::filesystem::file_size(output_);
+}
+
+} // namespace pyramid

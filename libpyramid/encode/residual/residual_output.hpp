@@ -1,0 +1,49 @@
+// Where a residual pyramid's tiles go while they are encoded, and how the pyramid is put in
+// place at the end: one file, or (with a file size cap) a region set and its index
+// (formats/residual_set.hpp), with the files that go beside it (a georeference sidecar). The
+// one owner of that rule for the encoder and for the merge of a split build (residual_parts.hpp).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "formats/residual_file.hpp"
+
+namespace pyramid {
+
+class StagingDirectory;
+struct ResidualPyramidReport;
+
+// A text file written beside a pyramid, in place together with it: `name` is relative to the
+// pyramid's directory.
+struct CompanionFile {
+    std::string name;
+    std::string text;
+};
+
+class ResidualOutput {
+public:
+    // `maxFileBytes` 0: one file, `output`, written atomically. Otherwise the pyramid is staged
+    // whole beside `output` (past 4 GiB if need be) and becomes a set of files of at most that
+    // many bytes each, which appear together with the index.
+    ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes);
+    ~ResidualOutput();
+    ResidualOutput(const ResidualOutput&) = delete;
+    ResidualOutput& operator=(const ResidualOutput&) = delete;
+
+    ResidualFileWriter& writer() { return *writer_; }
+    // Every tile written: puts the pyramid and `companions` in place under the temporaries' lock
+    // (formats/temporaries.hpp), so that a signal finds all old or all new, and fills the report's
+    // header, sharedTiles, bytes and files.
+    void place(const std::vector<CompanionFile>& companions, ResidualPyramidReport& report);
+
+private:
+    std::string output_;
+    ResidualHeader header_;
+    uint64_t maxFileBytes_ = 0;
+    std::unique_ptr<StagingDirectory> staging_;
+    std::unique_ptr<ResidualFileWriter> writer_;
+};
+
+} // namespace pyramid

@@ -1,0 +1,280 @@
+// Builds split into parts (--part I/N and `pyramid merge`, the ranks of an MPI run): the merged
+// files are the single run's, byte for byte, for any number of parts, planar and spherical, one
+// file or a region set; a merge refuses parts that are missing, doubled or of another build, and
+// writes nothing then; an int16 overflow in one part's subtrees fails that part with the scale to
+// use. Under mpirun (when built with MPI): 1, 2 and 3 ranks give the single run's bytes, an
+// automatic scale raised by one rank's overflow is raised on every rank, and a failing rank fails
+// the run with its message and leaves nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "libpyramid/api/encoders.hpp"
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+
+// Every file under `root` (hidden ones included) with its bytes.
+std::map<std::string, std::string> snapshot(const std::string& root) {
+    std::map<std::string, std::string> files;
+    for (const auto& e : fs::recursive_directory_iterator(root)) {
+        if (e.is_regular_file()) {
+            files[fs::relative(e.path(), root).string()] = test::readFile(e.path().string());
+        }
+    }
+    return files;
+}
+
+DemEncodeOptions smallDem() {
+    DemEncodeOptions o;
+    o.tileSize = 32;
+    o.rootTileSize = 8;
+    o.scale = 0.25;
+    o.threads = 2;
+    return o;
+}
+
+// Runs the build as `count` parts into dir/parts and merges them into dir/merged.
+std::vector<std::string> buildInParts(const std::string& input, const std::string& partsDir, int count,
+                                      const DemEncodeOptions& options) {
+    fs::create_directories(partsDir);
+    std::vector<std::string> parts;
+    for (int i = 0; i < count; ++i) {
+        parts.push_back(runResidualPart(i, count, partsDir + "/DEM.dat", {{"test", 1}}, [&](const ResidualShare& share) {
+            DemEncodeOptions o = options;
+            o.share = &share;
+            o.threads = 1 + i % 2;
+            encodeDem(input, partsDir + "/DEM.dat", o);
+        }));
+    }
+    return parts;
+}
+
+TEST(SplitBuild, PartsMergeIntoTheSingleRunsBytesForAnyCount) {
+    TempDir dir;
+    const int w = 257;
+    test::writeFloatRaster(dir.file("in.tif"), w, w, test::syntheticHeights(w, w, 2000.0f));
+    const DemEncodeOptions o = smallDem();
+    fs::create_directories(dir.file("one"));
+    const DemReport single = encodeDem(dir.file("in.tif"), dir.file("one/DEM.dat"), o);
+    for (const int count : {1, 2, 3, 4, 5, 7}) { // 4 groups of 4 subtrees: 5 and 7 leave parts empty
+        const std::string parts = dir.file("p" + std::to_string(count));
+        const std::vector<std::string> files = buildInParts(dir.file("in.tif"), parts, count, o);
+        std::vector<std::string> shuffled(files.rbegin(), files.rend());
+        const ResidualMergeReport merged = mergeResidualParts(shuffled, dir.file("m" + std::to_string(count)));
+        EXPECT_EQ(test::readFile(dir.file("m" + std::to_string(count) + "/DEM.dat")), test::readFile(dir.file("one/DEM.dat")))
+            << count << " parts";
+        ASSERT_EQ(merged.pyramids.size(), 1u);
+        const ResidualPyramidReport& p = merged.pyramids[0];
+        EXPECT_EQ(p.tiles, single.tiles);
+        EXPECT_EQ(p.sharedTiles, single.sharedTiles);
+        EXPECT_EQ(p.bytes, single.bytes);
+        ASSERT_EQ(p.levels.size(), single.levels.size());
+        for (size_t l = 0; l < p.levels.size(); ++l) {
+            EXPECT_EQ(p.levels[l].samples, single.levels[l].samples);
+            EXPECT_EQ(p.levels[l].maxError, single.levels[l].maxError);
+            EXPECT_EQ(p.levels[l].rmsError, single.levels[l].rmsError); // summed in the same order
+        }
+    }
+}
+
+TEST(SplitBuild, PartsMergeIntoTheSameRegionSet) {
+    TempDir dir;
+    const int w = 257;
+    test::writeFloatRaster(dir.file("in.tif"), w, w, test::syntheticHeights(w, w, 2000.0f));
+    DemEncodeOptions o = smallDem();
+    o.maxFileBytes = 8000;
+    fs::create_directories(dir.file("one"));
+    encodeDem(dir.file("in.tif"), dir.file("one/DEM.dat"), o);
+    const auto single = snapshot(dir.file("one"));
+    ASSERT_GT(single.size(), 3u); // a set: main, regions, index
+    const std::vector<std::string> files = buildInParts(dir.file("in.tif"), dir.file("parts"), 3, o);
+    mergeResidualParts(files, dir.file("merged"));
+    EXPECT_EQ(snapshot(dir.file("merged")), single);
+}
+
+TEST(SplitBuild, SphericalPartsMergeIntoTheSixFaces) {
+    TempDir dir;
+    const int W = 360, H = 180;
+    std::vector<float> v(static_cast<size_t>(W) * H);
+    for (int j = 0; j < H; ++j) {
+        for (int i = 0; i < W; ++i) {
+            v[static_cast<size_t>(i + j * W)] = static_cast<float>(1000.0 * std::sin(i * 0.05) * std::cos(j * 0.07) + 5.0 * i);
+        }
+    }
+    test::writeFloatRaster(dir.file("map.tif"), W, H, v);
+    SphericalDemOptions o;
+    o.dem.tileSize = 8;
+    o.dem.rootTileSize = 4;
+    o.dem.maxLevel = 4;
+    o.dem.scale = 0.25;
+    encodeSphericalDem(dir.file("map.tif"), dir.file("one"), o);
+    const auto single = snapshot(dir.file("one"));
+    ASSERT_EQ(single.size(), 6u);
+    for (const int count : {2, 3, 8}) {
+        const std::string parts = dir.file("p" + std::to_string(count));
+        fs::create_directories(parts);
+        std::vector<std::string> files;
+        for (int i = 0; i < count; ++i) {
+            files.push_back(runResidualPart(i, count, parts + "/DEM", {{"test", 2}}, [&](const ResidualShare& share) {
+                SphericalDemOptions run = o;
+                run.dem.share = &share;
+                encodeSphericalDem(dir.file("map.tif"), parts, run);
+            }));
+        }
+        const std::string merged = dir.file("m" + std::to_string(count));
+        const ResidualMergeReport report = mergeResidualParts(files, merged);
+        EXPECT_EQ(report.pyramids.size(), 6u);
+        EXPECT_EQ(snapshot(merged), single) << count << " parts";
+    }
+}
+
+TEST(SplitBuild, MergeRefusesIncompleteDoubledOrForeignPartsAndWritesNothing) {
+    TempDir dir;
+    const int w = 129;
+    test::writeFloatRaster(dir.file("in.tif"), w, w, test::syntheticHeights(w, w, 500.0f));
+    DemEncodeOptions o = smallDem();
+    const std::vector<std::string> files = buildInParts(dir.file("in.tif"), dir.file("a"), 3, o);
+    const auto expectRefused = [&](const std::vector<std::string>& parts, const std::string& words) {
+        try {
+            mergeResidualParts(parts, dir.file("out"));
+            ADD_FAILURE() << "merged: " << words;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+        }
+        EXPECT_FALSE(fs::exists(dir.file("out/DEM.dat")));
+    };
+    expectRefused({files[0], files[2]}, "part 1 of 3 is missing");
+    expectRefused({files[0], files[1], files[1], files[2]}, "is given twice");
+    o.scale = 0.5; // another build of the same input
+    fs::create_directories(dir.file("b"));
+    const std::string other = runResidualPart(1, 3, dir.file("b/DEM.dat"), {{"test", 3}}, [&](const ResidualShare& share) {
+        DemEncodeOptions run = o;
+        run.share = &share;
+        encodeDem(dir.file("in.tif"), dir.file("b/DEM.dat"), run);
+    });
+    expectRefused({files[0], other, files[2]}, "is a part of another build");
+    test::writeFloatRaster(dir.file("not.tif"), 4, 4, std::vector<float>(16, 1.0f));
+    expectRefused({files[0], dir.file("not.tif"), files[2]}, "not a part file");
+    // A part cut short.
+    const std::string bytes = test::readFile(files[1]);
+    std::ofstream(dir.file("short.part"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    expectRefused({files[0], dir.file("short.part"), files[2]}, "incomplete part file");
+}
+
+// Heights 0 except tall spikes at odd samples near the north-east corner (the last subtree in Z
+// order, the finest grid's y running north): the automatic scale's first guess (from the
+// in-memory grid of every 4th sample, which the spikes miss) overflows in the last subtrees only.
+std::vector<float> spikes(int w) {
+    std::vector<float> v(static_cast<size_t>(w) * w, 0.0f);
+    for (int k = 0; k < 4; ++k) {
+        const int column = w - 6 - 2 * k, row = 3 + 2 * k;
+        v[static_cast<size_t>(column + row * w)] = 4.0e5f * static_cast<float>(k + 1);
+    }
+    return v;
+}
+
+TEST(SplitBuild, AnOverflowInOnePartsSubtreesFailsThatPartWithTheScaleToUse) {
+    TempDir dir;
+    const int w = 257;
+    test::writeFloatRaster(dir.file("in.tif"), w, w, spikes(w));
+    DemEncodeOptions o = smallDem();
+    o.autoScale = true;
+    fs::create_directories(dir.file("one"));
+    const DemReport single = encodeDem(dir.file("in.tif"), dir.file("one/DEM.dat"), o);
+    ASSERT_GT(single.scalesTried.size(), 1u); // the single run raised its scale
+    fs::create_directories(dir.file("p"));
+    for (const int part : {0, 1}) { // their subtrees are all 0
+        runResidualPart(part, 3, dir.file("p/DEM.dat"), {{"test", 4}}, [&](const ResidualShare& share) {
+            DemEncodeOptions run = o;
+            run.share = &share;
+            encodeDem(dir.file("in.tif"), dir.file("p/DEM.dat"), run);
+        });
+        fs::remove(partFileName(dir.file("p/DEM.dat"), part, 3));
+    }
+    try {
+        runResidualPart(2, 3, dir.file("p/DEM.dat"), {{"test", 4}}, [&](const ResidualShare& share) {
+            DemEncodeOptions run = o;
+            run.share = &share;
+            encodeDem(dir.file("in.tif"), dir.file("p/DEM.dat"), run);
+        });
+        ADD_FAILURE() << "the last part did not fail";
+    } catch (const OptionError& e) {
+        EXPECT_NE(e.problem().find("run every part again with --scale"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::is_empty(dir.file("p")));
+}
+
+#ifdef PYRAMID_TEST_MPIRUN
+std::string mpirun(int ranks) {
+    return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 ") +
+           PYRAMID_TEST_MPIRUN + " -n " + std::to_string(ranks) + " --oversubscribe ";
+}
+
+TEST(SplitBuildMpi, RanksWriteTheSingleRunsBytes) {
+    TempDir dir;
+    const int w = 257;
+    test::writeFloatRaster(dir.file("in.tif"), w, w, test::syntheticHeights(w, w, 2000.0f));
+    const std::string dem = test::programPath("preprocessDem") + " " + dir.file("in.tif") +
+                            " --tile-size 32 --root-tile-size 8 --scale 0.25 --threads 1 -q -o ";
+    ASSERT_EQ(test::run(dem + dir.file("one/DEM.dat")).exitCode, 0);
+    const std::string sphere = test::programPath("preprocessSphericalDem") + " " + dir.file("in.tif") +
+                               " --tile-size 8 --root-tile-size 4 --max-level 4 --scale 0.25 --threads 1 -q -o ";
+    ASSERT_EQ(test::run(sphere + dir.file("sphere")).exitCode, 0);
+    for (const int ranks : {1, 2, 3}) {
+        const std::string n = std::to_string(ranks);
+        const test::RunResult r = test::run(mpirun(ranks) + dem + dir.file("dem" + n + "/DEM.dat"));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(snapshot(dir.file("dem" + n)), snapshot(dir.file("one"))) << ranks << " ranks";
+        const test::RunResult s = test::run(mpirun(ranks) + sphere + dir.file("sphere" + n) + " --max-file-bytes 3K");
+        ASSERT_EQ(s.exitCode, 0) << s.err;
+        const test::RunResult t = test::run(sphere + dir.file("sphere-one" + n) + " --max-file-bytes 3K");
+        ASSERT_EQ(t.exitCode, 0) << t.err;
+        EXPECT_EQ(snapshot(dir.file("sphere" + n)), snapshot(dir.file("sphere-one" + n))) << ranks << " ranks";
+        EXPECT_GT(snapshot(dir.file("sphere" + n)).size(), 12u); // sets: faces split into regions
+    }
+}
+
+TEST(SplitBuildMpi, AnAutomaticScaleRaisedByOneRankIsRaisedOnEveryRank) {
+    TempDir dir;
+    const int w = 257;
+    test::writeFloatRaster(dir.file("in.tif"), w, w, spikes(w));
+    const std::string dem = test::programPath("preprocessDem") + " " + dir.file("in.tif") +
+                            " --tile-size 32 --root-tile-size 8 --scale auto --threads 1 -q -o ";
+    ASSERT_EQ(test::run(dem + dir.file("one/DEM.dat")).exitCode, 0);
+    const test::RunResult r = test::run(mpirun(3) + dem + dir.file("three/DEM.dat"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(test::readFile(dir.file("three/DEM.dat")), test::readFile(dir.file("one/DEM.dat")));
+}
+
+TEST(SplitBuildMpi, AFailingRankFailsTheRunWithItsMessageAndLeavesNothing) {
+    TempDir dir;
+    const int w = 257;
+    std::vector<float> v = test::syntheticHeights(w, w, 2000.0f);
+    // An infinite height at an odd sample near the far corner: only the last subtrees read it.
+    v[static_cast<size_t>((w - 4) + 3 * w)] = INFINITY; // north-east: the last subtree's (rank 2)
+    test::writeFloatRaster(dir.file("in.tif"), w, w, v);
+    fs::create_directories(dir.file("out"));
+    test::writeFloatRaster(dir.file("out/keep.tif"), 2, 2, std::vector<float>(4, 1.0f));
+    const auto before = snapshot(dir.file("out"));
+    const test::RunResult r = test::run(mpirun(3) + test::programPath("preprocessDem") + " " + dir.file("in.tif") +
+                                        " --tile-size 32 --root-tile-size 8 --threads 1 -q -o " + dir.file("out/DEM.dat"));
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.err.find("preprocessDem: rank 2: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("in.tif"), std::string::npos) << r.err;
+    EXPECT_EQ(snapshot(dir.file("out")), before); // no part, no staging directory, no output
+}
+#endif
+
+} // namespace
+} // namespace pyramid
