@@ -7,6 +7,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libgtest-dev
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   openimageio-tools
+  openmpi-bin libopenmpi-dev openssh-client
 )
 # The fuzz targets (fuzz/README.md) build with clang, whose OpenMP needs libomp.
 if [ "${PYRAMID_BUILD_FUZZERS:-OFF}" = ON ]; then
