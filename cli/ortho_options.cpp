@@ -1,5 +1,6 @@
 #include "cli/ortho_options.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -7,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "formats/error.hpp"
+#include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid::cli {
 
@@ -78,6 +80,11 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
     OrthoEncodeOptions& o = a->options;
     app.add_option("--threads", o.levels.threads, "Worker threads (default: all cores; the output does not depend on it)");
     app.add_option("--cache-mb", o.levels.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
+    a->maxFileBytesOption =
+        app.add_option("--max-file-bytes", a->maxFileBytes,
+                       "Write each output as a region set of files of at most SIZE bytes each (K, M, G, T: powers "
+                       "of 1024) and its index FILE.regions.json; without SIZE, just under 4 GiB")
+            ->expected(0, 1);
     app.add_option("--report", a->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
 }
@@ -94,6 +101,10 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     } else {
         fail("--colour-space", "'" + a.colourSpace + "' is not srgb or linear");
     }
+    if (a.maxFileBytesOption && a.maxFileBytesOption->count() > 0) {
+        options.maxFileBytes =
+            a.maxFileBytes.empty() ? kDefaultOrthoMaxFileBytes : parseByteSize(a.maxFileBytes, "--max-file-bytes");
+    }
     if (options.compression == TilePolicy::JpegYCbCr && options.writeTiff && !a.quiet) {
         std::fprintf(stderr, "warning: --compression jpeg-ycbcr: the original Proland runtime cannot read these "
                              "tiles (libpyramid's readers can)\n");
@@ -106,6 +117,14 @@ void printOrthoSummary(const OrthoReport& report) {
         std::fprintf(stderr, "%s: %lld tiles (%lld shared), %llu bytes\n", report.outputs[k].c_str(),
                      static_cast<long long>(report.tiles), static_cast<long long>(report.sharedTiles[k]),
                      static_cast<unsigned long long>(report.bytes[k]));
+        if (k < report.files.size() && !report.files[k].empty()) {
+            uint64_t largest = 0;
+            for (const auto& f : report.files[k]) {
+                largest = std::max(largest, f.second);
+            }
+            std::fprintf(stderr, "  a region set of %zu files (the largest %llu bytes), listed in %s.regions.json\n",
+                         report.files[k].size(), static_cast<unsigned long long>(largest), report.outputs[k].c_str());
+        }
     }
     std::fprintf(stderr, "  levels 0..%d of %d-pixel tiles, %.1f s; %s\n", report.maxLevel, report.tileSize,
                  report.seconds, report.sampling.c_str());

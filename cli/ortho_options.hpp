@@ -2,6 +2,7 @@
 // levels, channels, border, compressions, colour space, threads, cache, report, quiet),
 // declared once and resolved into OrthoEncodeOptions once the command line is parsed.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -10,15 +11,24 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace pyramid::cli {
+
+// --max-file-bytes without a size: files just under 4 GiB, as the DEM preprocessors write them
+// (ortho files have 64-bit offsets, but 4 GiB files suit FAT32 and HTTP range tooling).
+inline constexpr uint64_t kDefaultOrthoMaxFileBytes = 0xFFFFFFFF;
 
 struct OrthoArgs {
     InputArgs input;
     std::string output, outputs = "tiff,dxt,residuals", compression = "deflate",
                                residualCompression = "deflate", colourSpace = "srgb", report;
     bool quiet = false;
+    std::string maxFileBytes; // "" when --max-file-bytes is given without a size
+    // --max-file-bytes, to ask whether it was given: given without a size, it has no value for
+    // a callback to see, only a count.
+    const CLI::Option* maxFileBytesOption = nullptr;
     OrthoEncodeOptions options;
 };
 
@@ -26,13 +36,15 @@ struct OrthoArgs {
 void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args, const char* inputHelp,
                      const char* outputHelp, const char* maxLevelHelp);
 
-// Declares --threads, --cache-mb, --report and --quiet (after any command-specific options).
+// Declares --threads, --cache-mb, --max-file-bytes, --report and --quiet (after any
+// command-specific options).
 void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args);
 
 // Throws Error naming the option when a value is not valid.
 OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& args);
 
-// One line per output file (tiles, shared tiles, bytes) and one for the levels, on stderr.
+// One line per output file (tiles, shared tiles, bytes; a region set's files and the largest
+// of them) and one for the levels, on stderr.
 void printOrthoSummary(const OrthoReport& report);
 
 } // namespace pyramid::cli

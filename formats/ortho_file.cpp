@@ -110,16 +110,21 @@ std::vector<uint8_t> OrthoFileReader::readTile(int level, int tx, int ty) const 
     return decodeOrthoTiff(blob, size, header_.channels, where);
 }
 
+std::vector<uint8_t> packOrthoHeader(const OrthoHeader& h) {
+    std::vector<uint8_t> raw(OrthoHeader::kBytes);
+    detail::storeU32(raw.data() + 0, static_cast<uint32_t>(h.maxLevel));
+    detail::storeU32(raw.data() + 4, static_cast<uint32_t>(h.tileSize));
+    detail::storeU32(raw.data() + 8, static_cast<uint32_t>(h.channels));
+    detail::storeU32(raw.data() + 12, static_cast<uint32_t>(h.rootLevel));
+    detail::storeU32(raw.data() + 16, static_cast<uint32_t>(h.rootTx));
+    detail::storeU32(raw.data() + 20, static_cast<uint32_t>(h.rootTy));
+    detail::storeU32(raw.data() + 24, h.flags);
+    return raw;
+}
+
 OrthoFileWriter::OrthoFileWriter(const std::string& path, const OrthoHeader& header) : path_(path), header_(header) {
     header_.validate(path);
-    std::vector<uint8_t> raw(OrthoHeader::kBytes);
-    detail::storeU32(raw.data() + 0, static_cast<uint32_t>(header_.maxLevel));
-    detail::storeU32(raw.data() + 4, static_cast<uint32_t>(header_.tileSize));
-    detail::storeU32(raw.data() + 8, static_cast<uint32_t>(header_.channels));
-    detail::storeU32(raw.data() + 12, static_cast<uint32_t>(header_.rootLevel));
-    detail::storeU32(raw.data() + 16, static_cast<uint32_t>(header_.rootTx));
-    detail::storeU32(raw.data() + 20, static_cast<uint32_t>(header_.rootTy));
-    detail::storeU32(raw.data() + 24, header_.flags);
+    const std::vector<uint8_t> raw = packOrthoHeader(header_);
     table_ = std::make_unique<TileTableWriter>(path, raw, header_.tileCount(), 8, static_cast<uint64_t>(INT64_MAX));
 }
 
@@ -134,6 +139,11 @@ void OrthoFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const 
 }
 
 void OrthoFileWriter::commit() {
+    finish();
+    table_->commit();
+}
+
+void OrthoFileWriter::finish() {
     // The table would name a missing tile by its index only: name it by its coordinates.
     for (int level = 0; level <= header_.maxLevel; ++level) {
         const int side = static_cast<int>(int64_t{1} << level);
@@ -146,7 +156,7 @@ void OrthoFileWriter::commit() {
             }
         }
     }
-    table_->commit();
+    table_->finish();
 }
 
 uint64_t OrthoFileWriter::bytesWritten() const { return table_->bytesWritten(); }

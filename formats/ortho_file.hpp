@@ -48,6 +48,9 @@ struct OrthoHeader {
 // The block format of a DXT file's tiles: DXT5 for 4 channels, DXT1 otherwise.
 inline DxtFormat dxtFormatOf(const OrthoHeader& h) { return h.channels == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1; }
 
+// The header as stored: 28 little-endian bytes (not validated).
+std::vector<uint8_t> packOrthoHeader(const OrthoHeader& h);
+
 class OrthoFileReader {
 public:
     static std::unique_ptr<OrthoFileReader> open(const std::string& path);
@@ -97,10 +100,17 @@ public:
     void writeTile(int level, int tx, int ty, std::span<const uint8_t> pixels,
                    const OrthoTileEncoding& encoding = {});
     void writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob);
+    // Fails if any tile is missing. finish() does everything but the rename (the file complete
+    // and on disk); commit() does what is left.
+    void finish();
     void commit();
 
     uint64_t bytesWritten() const;
     int64_t sharedTiles() const;
+    const std::string& path() const { return path_; }
+    // The tiles written so far, by index: a pyramid written as a region set
+    // (formats/ortho_set.hpp) is split from them.
+    const TileTableWriter& table() const { return *table_; }
 
 private:
     std::string path_;

@@ -125,8 +125,7 @@ std::vector<int16_t> ResidualFileReader::readTile(int level, int tx, int ty) con
     return decodeResidualTiff(blob, header_.tileSamples(level), tileName(path_, level, tx, ty));
 }
 
-namespace {
-std::vector<uint8_t> packHeader(const ResidualHeader& h) {
+std::vector<uint8_t> packResidualHeader(const ResidualHeader& h) {
     std::vector<uint8_t> raw(ResidualHeader::kBytes);
     detail::storeU32(raw.data() + 0, static_cast<uint32_t>(h.minLevel));
     detail::storeU32(raw.data() + 4, static_cast<uint32_t>(h.maxLevel));
@@ -137,12 +136,11 @@ std::vector<uint8_t> packHeader(const ResidualHeader& h) {
     detail::storeF32(raw.data() + 24, h.scale);
     return raw;
 }
-} // namespace
 
 ResidualFileWriter::ResidualFileWriter(const std::string& path, const ResidualHeader& header)
     : path_(path), header_(header) {
     header_.validate(path);
-    const std::vector<uint8_t> raw = packHeader(header_);
+    const std::vector<uint8_t> raw = packResidualHeader(header_);
     table_ = std::make_unique<TileTableWriter>(path, raw, header_.tileCount(), 4, UINT32_MAX);
 }
 

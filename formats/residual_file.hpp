@@ -44,6 +44,9 @@ struct ResidualHeader {
     void validate(const std::string& where) const;
 };
 
+// The header as stored: 28 little-endian bytes (not validated).
+std::vector<uint8_t> packResidualHeader(const ResidualHeader& h);
+
 // Thread-safe reader: opens the file once, validates the header and the whole offset table
 // against the file size, then serves tiles to any number of threads (positional reads).
 class ResidualFileReader {
@@ -108,6 +111,8 @@ public:
     bool pastLimit() const { return table_->pastLimit(); }
     TileTable::Range tileRange(int level, int tx, int ty) const { return table_->range(header_.tileIndex(level, tx, ty)); }
     std::vector<uint8_t> readTileBytes(int level, int tx, int ty) const { return table_->read(header_.tileIndex(level, tx, ty)); }
+    // The tiles written so far, by index (formats/set_splitter.hpp reads them back).
+    const TileTableWriter& table() const { return *table_; }
 
 private:
     std::string path_;

@@ -26,9 +26,10 @@ struct ResidualSetFile {
 // levels that fit in `maxFileBytes`, from level 0 to at least minLevel - 1; each subtree below
 // is one region file, or is split the same way when it does not fit (regions nest). File
 // `name` is written to place(name) and committed there (atomically), named as
-// formats/pyramid_set.hpp names region files; the index is not written (writeRegionIndex). Returns the files, the main first, then the regions by (level, tx,
-// ty). Throws Error when a file cannot fit (a single tile, or the main file's levels below
-// minLevel, larger than the limit).
+// formats/pyramid_set.hpp names region files; the index is not written (writeRegionIndex).
+// Returns the files, the main first, then the regions by (level, tx, ty). Throws Error when a
+// file cannot fit (a single tile, or the main file's levels below minLevel, larger than the
+// limit). The cut is formats/set_splitter.hpp's, the one rule for both kinds of file.
 std::vector<ResidualSetFile> writeResidualSet(const ResidualFileWriter& whole, const std::string& mainName,
                                               uint64_t maxFileBytes,
                                               const std::function<std::string(const std::string&)>& place);

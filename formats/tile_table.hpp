@@ -89,7 +89,7 @@ public:
 
     // Lets tile data pass `maxOffset`: writes go on, finish() then refuses the file, and the
     // tiles stay readable (range, read) for a writer that splits them into files that fit
-    // (formats/residual_set.hpp). Call before the first write.
+    // (formats/set_splitter.hpp). Call before the first write.
     void allowPastLimit();
     bool pastLimit() const; // the data passed maxOffset
     // Where tile `index` lies among the tile bytes (tiles sharing bytes share the range), and its

@@ -7,9 +7,12 @@
 #include <map>
 #include <memory>
 #include <tuple>
+#include <utility>
 
 #include "formats/dxt_codec.hpp"
 #include "formats/error.hpp"
+#include "formats/ortho_set.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/ortho/ortho_tile_encoder.hpp"
 #include "libpyramid/support/ordered_writer.hpp"
@@ -39,7 +42,8 @@ class OrthoOutputs {
 public:
     // Names the outputs' final paths in `directory` in report.outputs.
     OrthoOutputs(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
-                 const OrthoEncodeOptions& o, OrthoReport& report) {
+                 const OrthoEncodeOptions& o, OrthoReport& report)
+        : staging_(staging), maxFileBytes_(o.maxFileBytes) {
         OrthoHeader base;
         base.maxLevel = levels.maxLevel();
         base.tileSize = levels.tileSize();
@@ -48,9 +52,9 @@ public:
         const std::filesystem::path dir(directory);
         const std::string file = o.name + ".dat";
         auto output = [&](const std::string& relative, const OrthoHeader& h) {
-            staged_.push_back(staging.path(relative));
+            names_.push_back(relative);
             report.outputs.push_back((dir / relative).string());
-            return std::make_unique<OrthoFileWriter>(staged_.back(), h);
+            return std::make_unique<OrthoFileWriter>(staging.path(relative), h);
         };
         if (o.writeTiff) {
             tiff_ = output(file, base);
@@ -82,20 +86,64 @@ public:
 
     bool residuals() const { return residual_ != nullptr; }
 
-    // Completes the files; their sizes and shared tiles go to the report.
+    // Completes the files (each a region set with its index when maxFileBytes is set); their
+    // sizes and shared tiles go to the report.
     void commit(OrthoReport& report) {
-        for (auto* w : {tiff_.get(), dxt_.get(), residual_.get()}) {
-            if (w) {
-                w->commit();
-                report.bytes.push_back(std::filesystem::file_size(staged_[report.bytes.size()]));
-                report.sharedTiles.push_back(w->sharedTiles());
+        size_t k = 0;
+        for (auto* w : {&tiff_, &dxt_, &residual_}) {
+            if (*w) {
+                report.sharedTiles.push_back((*w)->sharedTiles());
+                commitOne(std::move(*w), names_[k], report.outputs[k], report);
+                ++k;
             }
         }
     }
 
 private:
+    // `name`: the output's path relative to the directory; `output`: its final path.
+    void commitOne(std::unique_ptr<OrthoFileWriter> writer, const std::string& name, const std::string& output,
+                   OrthoReport& report) {
+        std::vector<std::pair<std::string, uint64_t>> files;
+        if (maxFileBytes_ == 0) {
+            writer->commit();
+            report.bytes.push_back(std::filesystem::file_size(staging_.path(name)));
+            report.files.push_back(std::move(files));
+            return;
+        }
+        // As the DEM preprocessors do: the pyramid written whole is the one file when it fits,
+        // else it is split into a set and its temporary removed before the staging directory
+        // is committed.
+        const OrthoHeader& h = writer->header();
+        const uint64_t wholeBytes =
+            OrthoHeader::kBytes + 16 * static_cast<uint64_t>(h.tileCount()) + writer->bytesWritten();
+        std::vector<RegionRoot> roots;
+        if (wholeBytes <= maxFileBytes_) {
+            writer->commit();
+            files.emplace_back(name, wholeBytes);
+        } else {
+            const auto place = [&](const std::string& n) { return staging_.path(n); };
+            for (const OrthoSetFile& f : writeOrthoSet(*writer, name, maxFileBytes_, place, output)) {
+                files.emplace_back(f.name, f.bytes);
+                if (f.header.rootLevel > 0) {
+                    roots.push_back(RegionRoot{f.header.rootLevel, f.header.rootTx, f.header.rootTy});
+                }
+            }
+        }
+        writer.reset(); // a split pyramid's temporary is not staged
+        writeRegionIndex(regionIndexPath(staging_.path(name)),
+                         makeRegionIndex(staging_.path(name), PyramidKind::Ortho, roots));
+        uint64_t total = 0;
+        for (const auto& f : files) {
+            total += f.second;
+        }
+        report.bytes.push_back(total);
+        report.files.push_back(std::move(files));
+    }
+
+    StagingDirectory& staging_;
+    const uint64_t maxFileBytes_;
     std::unique_ptr<OrthoFileWriter> tiff_, dxt_, residual_;
-    std::vector<std::string> staged_; // where each output is written before the commit
+    std::vector<std::string> names_; // each output's path relative to the directory and the staging directory
 };
 
 // A level's statistics, added up tile by tile.
@@ -357,10 +405,18 @@ nlohmann::json toJson(const OrthoReport& r) {
                           {"residual_rms_error", l.residualRmsError},
                           {"clamped_residuals", l.clampedResiduals}});
     }
+    // The region sets' files, output after output, each main file first ([] without maxFileBytes).
+    nlohmann::json files = nlohmann::json::array();
+    for (const auto& set : r.files) {
+        for (const auto& [name, bytes] : set) {
+            files.push_back({{"file", name}, {"bytes", bytes}});
+        }
+    }
     return {{"input", {{"path", r.input}, {"width", r.inputWidth}, {"height", r.inputHeight}, {"channels", r.channels}}},
             {"directory", r.directory},
             {"outputs", r.outputs},
             {"bytes", r.bytes},
+            {"files", files},
             {"shared_tiles", r.sharedTiles},
             {"sampling", r.sampling},
             {"tile_size", r.tileSize},

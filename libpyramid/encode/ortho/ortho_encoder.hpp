@@ -3,11 +3,14 @@
 //   DIR/NAME.dat            plain tiles, TIFF (lossless Deflate by default)
 //   DIR/dxt/NAME.dat        DXT1 (1-3 channels, expanded to RGB) or DXT5 (4 channels)
 //   DIR/residuals/NAME.dat  colour residuals for the colour-residual producer, closed loop
+// With maxFileBytes, each of them is a region set when it does not fit (formats/ortho_set.hpp):
+//   DIR/NAME.dat, DIR/NAME-L6-12-40.dat, ..., DIR/NAME.dat.regions.json (and so in dxt/, residuals/)
 #pragma once
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -42,6 +45,11 @@ struct OrthoEncodeOptions {
     bool measureJpegError = false;
     int dxtQuality = 1;              // 0 fastest .. 3 best (formats/dxt_codec.hpp)
     TilePolicy residualCompression = TilePolicy::Deflate; // Deflate or Jpeg
+    // 0: each output one file (ortho files have 64-bit offsets: no size limit). Otherwise each
+    // output is a region set of files of at most this many bytes each, with its index
+    // (formats/ortho_set.hpp, doc/planet-scale.md); an output that fits is the one file a build
+    // without it writes, byte for byte, and an index of no regions.
+    uint64_t maxFileBytes = 0;
     std::function<void(int64_t, int64_t)> progress;       // (tiles done, total), one thread at a time
     // Asked after every tile, from one thread at a time: true stops the encoding, which throws
     // Cancelled (formats/error.hpp) and leaves no file behind.
@@ -74,7 +82,10 @@ struct OrthoReport {
     int inputWidth = 0, inputHeight = 0, channels = 0;
     int tileSize = 0, maxLevel = 0, border = 0;
     int64_t tiles = 0;
-    std::vector<uint64_t> bytes;     // per output
+    std::vector<uint64_t> bytes;     // per output (a region set: the total of its files)
+    // Per output, with maxFileBytes: its region set's files, the main first, named relative to
+    // `directory` ("dxt/RGB-L6-12-40.dat"), and their sizes; empty lists without maxFileBytes.
+    std::vector<std::vector<std::pair<std::string, uint64_t>>> files;
     std::vector<int64_t> sharedTiles;
     std::vector<OrthoLevelReport> levels;
     bool jpegErrorMeasured = false; // options.measureJpegError
