@@ -42,12 +42,10 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "Value marking missing heights: a number, 'nan', 'inf', '-inf', or 'none' (default: what the file declares)");
     app.add_option("--threads", o.threads, "Worker threads (default: all cores; the output does not depend on it)");
     app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
-    app.add_option("--max-file-bytes", args->maxFileBytes,
+    args->maxFileBytesOption = app.add_option("--max-file-bytes", args->maxFileBytes,
                    "Write a region set of files of at most SIZE bytes each (K, M, G, T: powers of 1024) and its "
                    "index FILE.regions.json; without SIZE, just under 4 GiB")
-        ->expected(0, 1)
-        ->each([args](const std::string&) { args->split = true; })
-        ->trigger_on_parse();
+        ->expected(0, 1);
     app.add_option("--part", args->part,
                    "Encode only part I of N (0 <= I < N) into OUTPUT.part-I-of-N, for batch schedulers; "
                    "'pyramid merge' assembles the parts into the files one run writes")
@@ -68,7 +66,7 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     } else {
         options.scale = parseNumber(args.scale, "--scale", "a number or 'auto'"); // its range: validate()
     }
-    if (args.split) {
+    if (args.maxFileBytesOption && args.maxFileBytesOption->count() > 0) {
         options.maxFileBytes = args.maxFileBytes.empty() ? uint64_t{0xFFFFFFFF}
                                                          : parseByteSize(args.maxFileBytes, "--max-file-bytes");
     }

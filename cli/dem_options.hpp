@@ -11,6 +11,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace pyramid::cli {
@@ -26,7 +27,7 @@ struct DemArgs {
     std::string report;
     bool quiet = false;
     std::string maxFileBytes; // "" when --max-file-bytes is given without a size
-    bool split = false;       // --max-file-bytes given
+    CLI::Option* maxFileBytesOption = nullptr; // given (with or without a size) when counted
     std::string part;         // --part I/N
     DemEncodeOptions options;
 };

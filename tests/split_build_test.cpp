@@ -215,6 +215,45 @@ TEST(SplitBuild, AnOverflowInOnePartsSubtreesFailsThatPartWithTheScaleToUse) {
     EXPECT_TRUE(fs::is_empty(dir.file("p")));
 }
 
+TEST(SplitBuildCli, PartsOfTheProgramsMergeIntoTheSingleRunsFilesSidecarIncluded) {
+    const std::string input = test::sharedFixturePath("inputs/mt_rainier_90m.tif");
+    ASSERT_FALSE(input.empty()) << "../shared/fixtures is needed";
+    TempDir dir;
+    const std::string dem = test::programPath("preprocessDem") + " " + input + " -q -o ";
+    ASSERT_EQ(test::run(dem + dir.file("one/DEM.dat")).exitCode, 0);
+    ASSERT_TRUE(fs::exists(dir.file("one/DEM.dat.georef.json")));
+    for (int i = 0; i < 3; ++i) {
+        const test::RunResult r = test::run(dem + dir.file("p/DEM.dat") + " --part " + std::to_string(i) + "/3 --threads " +
+                                            std::to_string(1 + i % 2));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir.file("p/DEM.dat")));
+    // A part of another build (another scale) is refused by name, and nothing is written.
+    ASSERT_EQ(test::run(dem + dir.file("q/DEM.dat") + " --part 1/3 --scale 2").exitCode, 0);
+    const std::string merge = test::programPath("pyramid") + " merge -q ";
+    const test::RunResult foreign = test::run(merge + dir.file("p/DEM.dat.part-0-of-3 ") + dir.file("q/DEM.dat.part-1-of-3 ") +
+                                              dir.file("p/DEM.dat.part-2-of-3"));
+    EXPECT_EQ(foreign.exitCode, 1);
+    EXPECT_NE(foreign.err.find("q/DEM.dat.part-1-of-3: is a part of another build"), std::string::npos) << foreign.err;
+    EXPECT_FALSE(fs::exists(dir.file("p/DEM.dat")));
+    const test::RunResult r = test::run(merge + dir.file("p/DEM.dat.part-*-of-3"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(snapshot(dir.file("p")), snapshot(dir.file("one"))); // the parts are gone
+    const test::RunResult bad = test::run(dem + dir.file("p/DEM.dat") + " --part 3/3");
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("--part: must be I/N with 0 <= I < N, not 3/3"), std::string::npos) << bad.err;
+}
+
+TEST(SplitBuildCli, MaxFileBytesWithoutASizeWritesTheFileAndAnIndex) {
+    const std::string input = test::sharedFixturePath("inputs/mt_rainier_90m.tif");
+    ASSERT_FALSE(input.empty()) << "../shared/fixtures is needed";
+    TempDir dir;
+    const test::RunResult r = test::run(test::programPath("preprocessDem") + " " + input + " -q --max-file-bytes -o " +
+                                        dir.file("DEM.dat"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir.file("DEM.dat.regions.json")));
+}
+
 #ifdef PYRAMID_TEST_MPIRUN
 std::string mpirun(int ranks) {
     return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 ") +
