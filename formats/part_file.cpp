@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <string_view>
 
 #include <unistd.h>
@@ -231,6 +232,156 @@ bool PartFileReader::Cursor::next(Record& r) {
         at_ = dataAt;
     }
     return true;
+}
+
+
+std::string partFileName(const std::string& output, int index, int count) {
+    return output + ".part-" + std::to_string(index) + "-of-" + std::to_string(count);
+}
+
+PartOutput::PartOutput(const std::string& path, std::string format, int index, int count, nlohmann::json job)
+    : file_(path), format_(std::move(format)), index_(index), count_(count), job_(std::move(job)) {}
+
+void PartOutput::addPyramid(nlohmann::json entry) { pyramids_.push_back(std::move(entry)); }
+
+void PartOutput::commit() {
+    const nlohmann::json trailer{{"format", format_}, {"version", 1},   {"part", index_},
+                                 {"parts", count_},   {"job", job_},    {"pyramids", pyramids_}};
+    file_.commit(trailer.dump());
+}
+
+std::string partFileFormat(const std::string& path) {
+    const PartFileReader reader(path);
+    try {
+        return nlohmann::json::parse(reader.trailer()).at("format").get<std::string>();
+    } catch (const nlohmann::json::exception& e) {
+        fail(path, std::string("corrupt part file trailer (") + e.what() + ")");
+    }
+}
+
+PartSet readPartSet(const std::vector<std::string>& paths, const std::string& format) {
+    if (paths.empty()) {
+        failOption("parts", "no part files to merge");
+    }
+    std::vector<PartSet::Part> parts;
+    for (const std::string& path : paths) {
+        PartSet::Part p;
+        p.reader = std::make_unique<PartFileReader>(path);
+        try {
+            p.trailer = nlohmann::json::parse(p.reader->trailer());
+            if (p.trailer.at("format").get<std::string>() != format || p.trailer.at("version").get<int>() != 1) {
+                fail(path, "is a " + p.trailer.at("format").get<std::string>() + ", not a " + format);
+            }
+            (void)p.trailer.at("part").get<int>();
+            (void)p.trailer.at("parts").get<int>();
+            (void)p.trailer.at("pyramids").size();
+        } catch (const nlohmann::json::exception& e) {
+            fail(path, std::string("corrupt part file trailer (") + e.what() + ")");
+        }
+        parts.push_back(std::move(p));
+    }
+    std::sort(parts.begin(), parts.end(), [](const PartSet::Part& a, const PartSet::Part& b) {
+        return a.trailer["part"].get<int>() < b.trailer["part"].get<int>();
+    });
+    const int count = parts[0].trailer["parts"].get<int>();
+    std::vector<const PartSet::Part*> byIndex(static_cast<size_t>(std::max(count, 0)), nullptr);
+    for (const PartSet::Part& p : parts) {
+        const std::string& where = p.reader->path();
+        if (p.trailer["parts"].get<int>() != count) {
+            fail(where, "is a part of " + std::to_string(p.trailer["parts"].get<int>()) + ", the others of " +
+                            std::to_string(count));
+        }
+        if (p.trailer["job"] != parts[0].trailer["job"]) {
+            fail(where, "is a part of another build than " + parts[0].reader->path() + " (" +
+                            p.trailer["job"].dump() + " against " + parts[0].trailer["job"].dump() + ")");
+        }
+        const int index = p.trailer["part"].get<int>();
+        if (index < 0 || index >= count) {
+            fail(where, "corrupt part file trailer (part " + std::to_string(index) + " of " + std::to_string(count) + ")");
+        }
+        if (byIndex[static_cast<size_t>(index)]) {
+            fail(where, "part " + std::to_string(index) + " of " + std::to_string(count) + " is given twice (also " +
+                            byIndex[static_cast<size_t>(index)]->reader->path() + ")");
+        }
+        byIndex[static_cast<size_t>(index)] = &p;
+    }
+    for (int i = 0; i < count; ++i) {
+        if (!byIndex[static_cast<size_t>(i)]) {
+            fail(parts[0].reader->path(), "part " + std::to_string(i) + " of " + std::to_string(count) +
+                                               " is missing: every part of the build is needed");
+        }
+    }
+
+    // Each pyramid's shares, in order.
+    PartSet set;
+    set.count = count;
+    set.parts = std::move(parts);
+    std::map<int, std::vector<PartSet::Share>>& runs = set.shares;
+    int pyramids = -1;
+    int64_t totalTiles = 0;
+    for (const PartSet::Part& p : set.parts) {
+        const std::string& where = p.reader->path();
+        try {
+            for (const nlohmann::json& e : p.trailer["pyramids"]) {
+                const int k = e.at("pyramid").get<int>();
+                const int of = e.at("pyramids").get<int>();
+                if (pyramids < 0) {
+                    pyramids = of;
+                }
+                if (of != pyramids || k < 0 || k >= pyramids) {
+                    fail(where, "corrupt part file trailer (pyramid " + std::to_string(k) + " of " + std::to_string(of) + ")");
+                }
+                (void)e.at("begin").get<int64_t>();
+                (void)e.at("end").get<int64_t>();
+                (void)e.at("top").get<bool>();
+                (void)e.at("name").get<std::string>();
+                (void)e.at("units").get<int64_t>();
+                (void)e.at("records").at(1).get<uint64_t>();
+                totalTiles += e.at("tiles").get<int64_t>();
+                runs[k].push_back(PartSet::Share{&p, &e});
+            }
+        } catch (const nlohmann::json::exception& e) {
+            fail(where, std::string("corrupt part file trailer (") + e.what() + ")");
+        }
+    }
+    if (pyramids <= 0) {
+        fail(set.parts[0].reader->path(), "the parts hold no pyramid");
+    }
+    for (int k = 0; k < pyramids; ++k) {
+        std::vector<PartSet::Share>& list = runs[k];
+        if (list.empty()) {
+            fail(set.parts[0].reader->path(), "no part holds pyramid " + std::to_string(k + 1) + " of " + std::to_string(pyramids));
+        }
+        const nlohmann::json& first = *list[0].entry;
+        const int64_t units = first.at("units").get<int64_t>();
+        int64_t next = 0;
+        for (size_t i = 0; i < list.size(); ++i) {
+            const PartSet::Share& r = list[i];
+            const std::string& where = r.part->reader->path();
+            const nlohmann::json& e = *r.entry;
+            const int64_t begin = e["begin"].get<int64_t>(), end = e["end"].get<int64_t>();
+            const bool top = e["top"].get<bool>();
+            if (e.at("name") != first.at("name") || e.at("header") != first.at("header") || e.at("units") != first.at("units") ||
+                e.value("max_file_bytes", nlohmann::json()) != first.value("max_file_bytes", nlohmann::json())) {
+                fail(where, "its pyramid " + e.at("name").get<std::string>() + " differs from " +
+                                list[0].part->reader->path() + "'s (header, scale or split)");
+            }
+            if (top != (i == 0) || begin != next || end < begin || end > units) {
+                fail(where, "its share of " + e.at("name").get<std::string>() + " (subtrees " + std::to_string(begin) +
+                                " to " + std::to_string(end) + ") does not follow the part before it (which ends at " +
+                                std::to_string(next) + ")");
+            }
+            next = end;
+        }
+        if (next != units) {
+            fail(list.back().part->reader->path(), "the parts of " + first.at("name").get<std::string>() +
+                                                       " end at subtree " + std::to_string(next) + " of " +
+                                                       std::to_string(units));
+        }
+    }
+    set.pyramids = pyramids;
+    set.tiles = totalTiles;
+    return set;
 }
 
 } // namespace pyramid

@@ -15,11 +15,14 @@
 // `stream` tells the pyramids of one part apart (the six faces of a planet).
 #pragma once
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "formats/byte_source.hpp"
 
@@ -93,5 +96,51 @@ private:
     uint64_t trailerAt_ = 0;
     std::string trailer_;
 };
+
+// The name of part `index` of `count` of a build whose output is `output` (a file, or a
+// directory and a name prefix): OUTPUT.part-I-of-N.
+std::string partFileName(const std::string& output, int index, int count);
+
+// The part file one share writes: its records, then a trailer that says which kind of build
+// (`format`), which build (`job`, the same JSON in every part of it), which part, and what each
+// pyramid's records are (the encoder's entries; see readPartSet for the fields every entry has).
+class PartOutput {
+public:
+    PartOutput(const std::string& path, std::string format, int index, int count, nlohmann::json job);
+    PartFileWriter& file() { return file_; }
+    void addPyramid(nlohmann::json entry);
+    void commit();
+    const std::string& path() const { return file_.path(); }
+
+private:
+    PartFileWriter file_;
+    std::string format_;
+    int index_, count_;
+    nlohmann::json job_;
+    nlohmann::json pyramids_ = nlohmann::json::array();
+};
+
+// Every part of one build, checked: each part 0..N-1 once, of one format and one job; each
+// pyramid's shares (entries with "pyramid", "pyramids", "name", "header", "units", "begin",
+// "end", "top", "records", "tiles") the same pyramid, following each other from the part with
+// the top levels to the last unit. Throws Error naming the part file and the problem.
+struct PartSet {
+    struct Part {
+        std::unique_ptr<PartFileReader> reader;
+        nlohmann::json trailer;
+    };
+    struct Share {
+        const Part* part = nullptr;
+        const nlohmann::json* entry = nullptr;
+    };
+    int count = 0;
+    int pyramids = 0;
+    int64_t tiles = 0;                       // records of every share
+    std::vector<Part> parts;                 // by part number
+    std::map<int, std::vector<Share>> shares; // each pyramid's, in order (the top levels' first)
+};
+PartSet readPartSet(const std::vector<std::string>& paths, const std::string& format);
+// The format a part file's trailer names ("libpyramid residual part", ...).
+std::string partFileFormat(const std::string& path);
 
 } // namespace pyramid

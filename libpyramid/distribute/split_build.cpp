@@ -13,7 +13,7 @@ std::string runResidualPart(int index, int count, const std::string& base, const
     if (count < 1 || index < 0 || index >= count) {
         failOption("part", "must be I/N with 0 <= I < N, not " + std::to_string(index) + "/" + std::to_string(count));
     }
-    ResidualPartOutput out(partFileName(base, index, count), index, count, job);
+    PartOutput out(partFileName(base, index, count), kResidualPartFormat, index, count, job);
     ResidualShare share;
     share.index = index;
     share.count = count;
@@ -74,8 +74,8 @@ std::optional<ResidualMergeReport> runResidualTeam(Team& team, const std::string
     // takes the place of a rank's next step, so every rank sees it at the same step.
     bool seen = false;
     try {
-        ResidualPartOutput out((std::filesystem::path(partsDirectory) / partFileName(partName, rank, size)).string(),
-                               rank, size, job);
+        PartOutput out((std::filesystem::path(partsDirectory) / partFileName(partName, rank, size)).string(),
+                       kResidualPartFormat, rank, size, job);
         ResidualShare share;
         share.index = rank;
         share.count = size;

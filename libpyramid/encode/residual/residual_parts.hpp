@@ -21,42 +21,14 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/part_file.hpp"
+#include "libpyramid/support/work_share.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 
 namespace pyramid {
 
-// The units [begin, end) of one pyramid that a share encodes, and whether it records the
-// pyramid's top levels.
-struct ShareRange {
-    int64_t begin = 0, end = 0;
-    bool top = false;
-    bool active() const { return top || begin < end; }
-};
-// Part `index` of `count` of a build of `pyramids` pyramids of `units` units each: its range in
-// pyramid `pyramid`.
-ShareRange shareRange(int index, int count, int pyramid, int pyramids, int64_t units);
-
-// The part file a share writes: the pyramids' records, then a trailer that says which build
-// (`job`, the same JSON in every part of it), which part, and what each pyramid's records are.
-class ResidualPartOutput {
-public:
-    ResidualPartOutput(const std::string& path, int index, int count, nlohmann::json job);
-    PartFileWriter& file() { return file_; }
-    void addPyramid(nlohmann::json entry); // the encoder's account of one pyramid
-    void commit();
-    const std::string& path() const { return file_.path(); }
-
-private:
-    PartFileWriter file_;
-    int index_, count_;
-    nlohmann::json job_;
-    nlohmann::json pyramids_ = nlohmann::json::array();
-};
-
-// The name of part `index` of `count` of a build whose output is `output` (a file, or a
-// directory and a name prefix): OUTPUT.part-I-of-N.
-std::string partFileName(const std::string& output, int index, int count);
+// The format residual builds' part files name in their trailers.
+inline constexpr const char* kResidualPartFormat = "libpyramid residual part";
 
 // A header as part files record it (the scale included).
 nlohmann::json residualHeaderJson(const ResidualHeader& header);

@@ -22,7 +22,7 @@ namespace pyramid {
 
 enum class GridEdges { Clamped, Folded };
 
-class ResidualPartOutput;
+class PartOutput;
 
 // An attempt's int16 overflow: the largest |residual| beyond int16 where the encoding stops, at
 // which scale and level. position -1: in the in-memory top levels; else the end of the group of 4
@@ -39,7 +39,7 @@ struct ResidualOverflow {
 struct ResidualShare {
     int index = 0;
     int count = 1;
-    ResidualPartOutput* out = nullptr;
+    PartOutput* out = nullptr;
     // When the parts run together (the ranks of an MPI run): called by every part once per
     // attempt of each pyramid, in the same order, with the part's own overflow (none when it
     // encodes nothing of the pyramid); returns the build's, the first by position, which every
