@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -271,6 +272,101 @@ void addInputOptions(CLI::App& app, InputArgs& args, const char* inputHelp) {
             throw CLI::RequiredError("INPUT (or --input-list)");
         }
     });
+}
+
+namespace {
+
+// The build's identity in its part files: the command line without what does not change the
+// files (the part, threads, cache, report, quiet).
+nlohmann::json buildIdentity(const char* program) {
+    std::vector<std::string> kept;
+    const std::vector<std::string>& all = commandArguments();
+    for (size_t i = 1; i < all.size(); ++i) {
+        const std::string& a = all[i];
+        if (a == "-q" || a == "--quiet") {
+            continue;
+        }
+        bool dropped = false;
+        for (const std::string flag : {"--part", "--threads", "--cache-mb", "--report"}) {
+            if (a == flag) {
+                ++i; // and its value
+                dropped = true;
+                break;
+            }
+            if (a.rfind(flag + "=", 0) == 0) {
+                dropped = true;
+                break;
+            }
+        }
+        if (!dropped) {
+            kept.push_back(a);
+        }
+    }
+    return {{"program", program}, {"arguments", kept}};
+}
+
+// A whole number of --part.
+int64_t partNumber(const std::string& text, const std::string& part) {
+    int64_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size()) {
+        fail("--part", "must be I/N (part I of N, from 0), not " + part);
+    }
+    return value;
+}
+
+} // namespace
+
+std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show) {
+    auto progress = std::make_shared<std::unique_ptr<Progress>>();
+    return [progress, program, show](int64_t done, int64_t total) {
+        if (!*progress) {
+            *progress = std::make_unique<Progress>(program + " (merging)", total, !show);
+        }
+        (*progress)->advance(1);
+        if (done == total) {
+            (*progress)->finish();
+        }
+    };
+}
+
+bool speaks(bool quiet) { return !quiet && worldTeam().rank() == 0; }
+
+BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& build) {
+    Team& team = worldTeam();
+    if (!part.empty()) {
+        const size_t slash = part.find('/');
+        if (slash == std::string::npos) {
+            fail("--part", "must be I/N (part I of N, from 0), not " + part);
+        }
+        const int64_t index = partNumber(part.substr(0, slash), part);
+        const int64_t count = partNumber(part.substr(slash + 1), part);
+        if (count < 1 || count > 1000000 || index < 0 || index >= count) {
+            fail("--part", "must be I/N with 0 <= I < N, not " + part);
+        }
+        if (team.size() > 1) {
+            fail("--part", "splits a build for batch jobs; under mpirun the ranks split it themselves");
+        }
+        build.prepare();
+        const std::string base = (std::filesystem::path(build.directory) / build.name).string();
+        const std::string path = runPart(static_cast<int>(index), static_cast<int>(count), base, build.format,
+                                         buildIdentity(build.program),
+                                         [&](const PartContext& share) { build.encode(&share); });
+        if (!quiet) {
+            std::fprintf(stderr, "%s: part %lld of %lld written to %s; 'pyramid merge' assembles the parts\n",
+                         build.program, static_cast<long long>(index), static_cast<long long>(count), path.c_str());
+        }
+        return BuildRole::Part;
+    }
+    if (team.size() == 1) {
+        build.prepare();
+        build.encode(nullptr);
+        return BuildRole::Whole;
+    }
+    runTeam(team, build.directory, build.name, build.format, buildIdentity(build.program), build.prepare,
+            [&](const PartContext& share) { build.encode(&share); },
+            [&](const std::vector<std::string>& parts) { build.merge(parts); });
+    return team.rank() == 0 ? BuildRole::Root : BuildRole::OtherRank;
 }
 
 } // namespace pyramid::cli

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -116,5 +117,27 @@ void writeJson(const nlohmann::json& json, const std::string& path);
 void checkReportIsNotSidecar(const std::string& report, const std::string& sidecar);
 // One line on stderr for a georeferenced input: its CRS and the sidecar written.
 void printGeoreferenceSummary(const std::optional<PyramidGeoreference>& georeference, const std::string& sidecar);
+
+// How a build that can be split runs: whole, as part I of N of a batch (--part), or as one rank
+// of an MPI run (every rank encodes its share, rank 0 merges).
+enum class BuildRole { Whole, Part, Root, OtherRank };
+
+struct SplitBuild {
+    const char* program;
+    std::string directory; // the outputs' directory
+    std::string name;      // part files: partFileName(directory/name, I, N)
+    std::string format;    // kResidualPartFormat, kOrthoPartFormat
+    std::function<void()> prepare;                             // output checks, before any work
+    std::function<void(const PartContext*)> encode;            // the build (null: whole)
+    std::function<void(const std::vector<std::string>&)> merge; // rank 0: every part file, in order
+};
+
+// Runs `build` in the role `part` (the --part text, "" without) and the launcher give it; prints
+// the line of a part unless quiet. Returns the role.
+BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& build);
+// A merge's progress on stderr ("PROGRAM (merging): 42% ..."), when `show`.
+std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show);
+// Whether this process prints: not when quiet, nor on the ranks other than 0 of an MPI run.
+bool speaks(bool quiet);
 
 } // namespace pyramid::cli

@@ -24,7 +24,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
         DemEncodeOptions options = resolveDemOptions(*args);
         options.target = target->resolve();
         checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
-        const bool talk = speaks(*args);
+        const bool talk = speaks(args->quiet);
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t done, int64_t total) {
@@ -35,18 +35,26 @@ CommandRunner setupDemCommand(CLI::App& app) {
         };
         DemReport report;
         const std::filesystem::path output(args->output);
-        ResidualBuild build;
+        SplitBuild build;
         build.program = "preprocessDem";
         build.directory = output.has_parent_path() ? output.parent_path().string() : std::string(".");
         build.name = output.filename().string();
         build.prepare = [&] { preflight = std::make_unique<OutputPreflight>(args->output, false, args->report); };
-        build.encode = [&](const ResidualShare* share) {
+        build.format = kResidualPartFormat;
+        build.encode = [&](const PartContext* part) {
             DemEncodeOptions run = options;
-            run.share = share;
+            ResidualShare share;
+            if (part) {
+                share = ResidualShare{part->index, part->count, part->out, part->agree};
+                run.share = &share;
+            }
             report = encodeDem(args->input.resolve(), args->output, run);
         };
-        build.merged = [&](const ResidualMergeReport& merged) { takeMerged(report, merged.pyramids.at(0)); };
-        const BuildRole role = runResidualBuild(*args, build);
+        build.merge = [&](const std::vector<std::string>& parts) {
+            const ResidualMergeReport merged = mergeResidualParts(parts, build.directory, mergeProgress("preprocessDem", talk));
+            takeMerged(report, merged.pyramids.at(0));
+        };
+        const BuildRole role = runSplitBuild(args->part, args->quiet, build);
         if (progress) {
             progress->finish();
         }

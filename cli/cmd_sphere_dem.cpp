@@ -37,7 +37,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         options.faces = choice.faces;
         options.heightScale = parseRatio(*heightScale, "--height-scale");
         options.name = *name;
-        const bool talk = speaks(*args);
+        const bool talk = speaks(args->quiet);
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
         int64_t shown = 0;
@@ -49,22 +49,29 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
             shown = done;
         };
         SphericalDemReport report;
-        ResidualBuild build;
+        SplitBuild build;
         build.program = "preprocessSphericalDem";
         build.directory = args->output;
         build.name = options.name;
         build.prepare = [&] { preflight = std::make_unique<OutputPreflight>(args->output, true, args->report); };
-        build.encode = [&](const ResidualShare* share) {
+        build.format = kResidualPartFormat;
+        build.encode = [&](const PartContext* part) {
             SphericalDemOptions run = options;
-            run.dem.share = share;
+            ResidualShare share;
+            if (part) {
+                share = ResidualShare{part->index, part->count, part->out, part->agree};
+                run.dem.share = &share;
+            }
             report = encodeSphericalDem(args->input.resolve(), args->output, run);
         };
-        build.merged = [&](const ResidualMergeReport& merged) {
+        build.merge = [&](const std::vector<std::string>& parts) {
+            const ResidualMergeReport merged =
+                mergeResidualParts(parts, build.directory, mergeProgress("preprocessSphericalDem", talk));
             for (size_t k = 0; k < report.faces.size() && k < merged.pyramids.size(); ++k) {
                 takeMerged(report.faces[k].dem, merged.pyramids[k]);
             }
         };
-        const BuildRole role = runResidualBuild(*args, build);
+        const BuildRole role = runSplitBuild(args->part, args->quiet, build);
         if (progress) {
             progress->finish();
         }

@@ -44,25 +44,6 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args);
 // time; the largest error against the bound, filled nodata and the sampling rule.
 void printDemSummary(const DemReport& report);
 
-// How a residual build runs: whole, as part I of N of a batch (--part), or as one rank of an MPI
-// run (every rank encodes its share, rank 0 merges).
-enum class BuildRole { Whole, Part, Root, OtherRank };
-
-struct ResidualBuild {
-    const char* program;
-    std::string directory; // the outputs' directory
-    std::string name;      // part files: partFileName(directory/name, I, N)
-    std::function<void()> prepare;                    // output checks, before any work
-    std::function<void(const ResidualShare*)> encode; // the build (null share: whole)
-    std::function<void(const ResidualMergeReport&)> merged; // rank 0: the merged pyramids
-};
-
-// Runs `build` in the role the command line and the launcher give it; prints the part line of a
-// part (unless quiet) and writes nothing else. Returns the role.
-BuildRole runResidualBuild(const DemArgs& args, const ResidualBuild& build);
-// Whether this process prints: not on the ranks other than 0 of an MPI run.
-bool speaks(const DemArgs& args);
-
 // The merged pyramid's figures into a rank-0 report of its own share.
 void takeMerged(DemReport& report, const ResidualPyramidReport& merged);
 

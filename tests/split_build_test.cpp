@@ -50,7 +50,8 @@ std::vector<std::string> buildInParts(const std::string& input, const std::strin
     fs::create_directories(partsDir);
     std::vector<std::string> parts;
     for (int i = 0; i < count; ++i) {
-        parts.push_back(runResidualPart(i, count, partsDir + "/DEM.dat", {{"test", 1}}, [&](const ResidualShare& share) {
+        parts.push_back(runPart(i, count, partsDir + "/DEM.dat", kResidualPartFormat, {{"test", 1}}, [&](const PartContext& part) {
+            const ResidualShare share{part.index, part.count, part.out, part.agree};
             DemEncodeOptions o = options;
             o.share = &share;
             o.threads = 1 + i % 2;
@@ -126,7 +127,8 @@ TEST(SplitBuild, SphericalPartsMergeIntoTheSixFaces) {
         fs::create_directories(parts);
         std::vector<std::string> files;
         for (int i = 0; i < count; ++i) {
-            files.push_back(runResidualPart(i, count, parts + "/DEM", {{"test", 2}}, [&](const ResidualShare& share) {
+            files.push_back(runPart(i, count, parts + "/DEM", kResidualPartFormat, {{"test", 2}}, [&](const PartContext& part) {
+            const ResidualShare share{part.index, part.count, part.out, part.agree};
                 SphericalDemOptions run = o;
                 run.dem.share = &share;
                 encodeSphericalDem(dir.file("map.tif"), parts, run);
@@ -158,7 +160,8 @@ TEST(SplitBuild, MergeRefusesIncompleteDoubledOrForeignPartsAndWritesNothing) {
     expectRefused({files[0], files[1], files[1], files[2]}, "is given twice");
     o.scale = 0.5; // another build of the same input
     fs::create_directories(dir.file("b"));
-    const std::string other = runResidualPart(1, 3, dir.file("b/DEM.dat"), {{"test", 3}}, [&](const ResidualShare& share) {
+    const std::string other = runPart(1, 3, dir.file("b/DEM.dat"), kResidualPartFormat, {{"test", 3}}, [&](const PartContext& part) {
+            const ResidualShare share{part.index, part.count, part.out, part.agree};
         DemEncodeOptions run = o;
         run.share = &share;
         encodeDem(dir.file("in.tif"), dir.file("b/DEM.dat"), run);
@@ -194,16 +197,18 @@ TEST(SplitBuild, AnOverflowInOnePartsSubtreesFailsThatPartWithTheScaleToUse) {
     const DemReport single = encodeDem(dir.file("in.tif"), dir.file("one/DEM.dat"), o);
     ASSERT_GT(single.scalesTried.size(), 1u); // the single run raised its scale
     fs::create_directories(dir.file("p"));
-    for (const int part : {0, 1}) { // their subtrees are all 0
-        runResidualPart(part, 3, dir.file("p/DEM.dat"), {{"test", 4}}, [&](const ResidualShare& share) {
+    for (const int index : {0, 1}) { // their subtrees are all 0
+        runPart(index, 3, dir.file("p/DEM.dat"), kResidualPartFormat, {{"test", 4}}, [&](const PartContext& part) {
+            const ResidualShare share{part.index, part.count, part.out, part.agree};
             DemEncodeOptions run = o;
             run.share = &share;
             encodeDem(dir.file("in.tif"), dir.file("p/DEM.dat"), run);
         });
-        fs::remove(partFileName(dir.file("p/DEM.dat"), part, 3));
+        fs::remove(partFileName(dir.file("p/DEM.dat"), index, 3));
     }
     try {
-        runResidualPart(2, 3, dir.file("p/DEM.dat"), {{"test", 4}}, [&](const ResidualShare& share) {
+        runPart(2, 3, dir.file("p/DEM.dat"), kResidualPartFormat, {{"test", 4}}, [&](const PartContext& part) {
+            const ResidualShare share{part.index, part.count, part.out, part.agree};
             DemEncodeOptions run = o;
             run.share = &share;
             encodeDem(dir.file("in.tif"), dir.file("p/DEM.dat"), run);

@@ -8,13 +8,13 @@
 
 namespace pyramid {
 
-std::string runResidualPart(int index, int count, const std::string& base, const nlohmann::json& job,
-                            const ShareEncode& encode) {
+std::string runPart(int index, int count, const std::string& base, const std::string& format, const nlohmann::json& job,
+                    const PartEncode& encode) {
     if (count < 1 || index < 0 || index >= count) {
         failOption("part", "must be I/N with 0 <= I < N, not " + std::to_string(index) + "/" + std::to_string(count));
     }
-    PartOutput out(partFileName(base, index, count), kResidualPartFormat, index, count, job);
-    ResidualShare share;
+    PartOutput out(partFileName(base, index, count), format, index, count, job);
+    PartContext share;
     share.index = index;
     share.count = count;
     share.out = &out;
@@ -30,10 +30,9 @@ struct FailureSeen {};
 
 } // namespace
 
-std::optional<ResidualMergeReport> runResidualTeam(Team& team, const std::string& directory, const std::string& partName,
-                                                   const nlohmann::json& job, const std::function<void()>& prepare,
-                                                   const ShareEncode& encode,
-                                                   const std::function<void(int64_t, int64_t)>& mergeProgress) {
+void runTeam(Team& team, const std::string& directory, const std::string& partName, const std::string& format,
+             const nlohmann::json& job, const std::function<void()>& prepare, const PartEncode& encode,
+             const std::function<void(const std::vector<std::string>&)>& merge) {
     const int rank = team.rank(), size = team.size();
     std::exception_ptr error; // this rank's own failure
     std::string message;
@@ -74,9 +73,9 @@ std::optional<ResidualMergeReport> runResidualTeam(Team& team, const std::string
     // takes the place of a rank's next step, so every rank sees it at the same step.
     bool seen = false;
     try {
-        PartOutput out((std::filesystem::path(partsDirectory) / partFileName(partName, rank, size)).string(),
-                       kResidualPartFormat, rank, size, job);
-        ResidualShare share;
+        PartOutput out((std::filesystem::path(partsDirectory) / partFileName(partName, rank, size)).string(), format,
+                       rank, size, job);
+        PartContext share;
         share.index = rank;
         share.count = size;
         share.out = &out;
@@ -133,7 +132,6 @@ std::optional<ResidualMergeReport> runResidualTeam(Team& team, const std::string
     }
 
     // Rank 0 merges; the others wait for its word.
-    std::optional<ResidualMergeReport> report;
     said.clear();
     if (rank == 0) {
         try {
@@ -141,7 +139,7 @@ std::optional<ResidualMergeReport> runResidualTeam(Team& team, const std::string
             for (int r = 0; r < size; ++r) {
                 files.push_back((std::filesystem::path(partsDirectory) / partFileName(partName, r, size)).string());
             }
-            report = mergeResidualParts(files, directory, mergeProgress);
+            merge(files);
             said = "ok";
         } catch (...) {
             failHere();
@@ -156,7 +154,6 @@ std::optional<ResidualMergeReport> runResidualTeam(Team& team, const std::string
         }
         throw TeamFailed();
     }
-    return report;
 }
 
 } // namespace pyramid

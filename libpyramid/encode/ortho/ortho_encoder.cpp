@@ -6,14 +6,17 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <utility>
 
 #include "formats/dxt_codec.hpp"
 #include "formats/error.hpp"
-#include "formats/ortho_set.hpp"
-#include "formats/pyramid_set.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/part_file.hpp"
+#include "libpyramid/support/work_share.hpp"
 #include "formats/staging_directory.hpp"
+#include "libpyramid/encode/ortho/ortho_output.hpp"
 #include "libpyramid/encode/ortho/ortho_tile_encoder.hpp"
 #include "libpyramid/support/ordered_writer.hpp"
 #include "libpyramid/support/parallel.hpp"
@@ -100,84 +103,15 @@ public:
     }
 
 private:
-    // `name`: the output's path relative to the directory; `output`: its final path.
     void commitOne(std::unique_ptr<OrthoFileWriter> writer, const std::string& name, const std::string& output,
                    OrthoReport& report) {
-        std::vector<std::pair<std::string, uint64_t>> files;
-        if (maxFileBytes_ == 0) {
-            writer->commit();
-            report.bytes.push_back(std::filesystem::file_size(staging_.path(name)));
-            report.files.push_back(std::move(files));
-            return;
-        }
-        // As the DEM preprocessors do: the pyramid written whole is the one file when it fits,
-        // else it is split into a set and its temporary removed before the staging directory
-        // is committed.
-        const OrthoHeader& h = writer->header();
-        const uint64_t wholeBytes =
-            OrthoHeader::kBytes + 16 * static_cast<uint64_t>(h.tileCount()) + writer->bytesWritten();
-        std::vector<RegionRoot> roots;
-        if (wholeBytes <= maxFileBytes_) {
-            writer->commit();
-            files.emplace_back(name, wholeBytes);
-        } else {
-            const auto place = [&](const std::string& n) { return staging_.path(n); };
-            for (const OrthoSetFile& f : writeOrthoSet(*writer, name, maxFileBytes_, place, output)) {
-                files.emplace_back(f.name, f.bytes);
-                if (f.header.rootLevel > 0) {
-                    roots.push_back(RegionRoot{f.header.rootLevel, f.header.rootTx, f.header.rootTy});
-                }
-            }
-        }
-        writer.reset(); // a split pyramid's temporary is not staged
-        writeRegionIndex(regionIndexPath(staging_.path(name)),
-                         makeRegionIndex(staging_.path(name), PyramidKind::Ortho, roots));
-        uint64_t total = 0;
-        for (const auto& f : files) {
-            total += f.second;
-        }
-        report.bytes.push_back(total);
-        report.files.push_back(std::move(files));
+        placeOrthoOutput(std::move(writer), name, output, maxFileBytes_, staging_, report);
     }
 
     StagingDirectory& staging_;
     const uint64_t maxFileBytes_;
     std::unique_ptr<OrthoFileWriter> tiff_, dxt_, residual_;
     std::vector<std::string> names_; // each output's path relative to the directory and the staging directory
-};
-
-// A level's statistics, added up tile by tile.
-struct LevelTotals {
-    int64_t tiles = 0;
-    OrthoTileStats s;
-
-    void add(const OrthoTileStats& t) {
-        tiles += 1;
-        s.tiffMaxError = std::max(s.tiffMaxError, t.tiffMaxError);
-        s.jpegTiles += t.jpegTiles;
-        s.dxtSquares += t.dxtSquares;
-        s.dxtSamples += t.dxtSamples;
-        s.residualMaxError = std::max(s.residualMaxError, t.residualMaxError);
-        s.residualSquares += t.residualSquares;
-        s.residualSamples += t.residualSamples;
-        s.clamped += t.clamped;
-    }
-
-    OrthoLevelReport report(int level) const {
-        OrthoLevelReport r;
-        r.level = level;
-        r.tiles = tiles;
-        r.tiffMaxError = s.tiffMaxError;
-        r.jpegTiles = s.jpegTiles;
-        if (s.dxtSamples) {
-            const double mse = s.dxtSquares / static_cast<double>(s.dxtSamples);
-            r.dxtPsnr = mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0;
-        }
-        r.residualMaxError = s.residualMaxError;
-        r.residualRmsError = s.residualSamples ? std::sqrt(s.residualSquares / static_cast<double>(s.residualSamples)) : 0.0;
-        r.clampedResiduals = s.clamped;
-        return r;
-    }
 };
 
 // A walk group's encoded tiles, item by item in the walk's order.
@@ -243,20 +177,94 @@ private:
     std::map<TileKey, std::vector<uint8_t>> shallowRecon_; // levels 0..C
 };
 
-// Writes the outputs into `staging` (the caller commits it); the report names their final
-// paths in `directory`.
-OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
-                         const OrthoEncodeOptions& o, std::chrono::steady_clock::time_point start) {
+// The outputs' headers and names, as part files record them.
+nlohmann::json orthoOutputsJson(const OrthoLevels& levels, const OrthoEncodeOptions& o) {
+    nlohmann::json list = nlohmann::json::array();
+    const std::string file = o.name + ".dat";
+    const uint32_t flags = o.border == 0 ? OrthoHeader::kFlagNoBorder : 0u;
+    const auto add = [&](int slot, const std::string& name, int channels, uint32_t f) {
+        list.push_back({{"slot", slot},
+                        {"name", name},
+                        {"max_level", levels.maxLevel()},
+                        {"tile_size", levels.tileSize()},
+                        {"channels", channels},
+                        {"flags", f}});
+    };
+    if (o.writeTiff) {
+        add(0, file, levels.channels(), flags);
+    }
+    if (o.writeDxt) {
+        add(1, "dxt/" + file, std::max(3, levels.channels()), flags | OrthoHeader::kFlagDxt);
+    }
+    if (o.writeResiduals) {
+        add(2, "residuals/" + file, levels.channels(), 0u);
+    }
+    return list;
+}
+
+// Writes the outputs and `companions` into `staging` (the caller commits it); the report names
+// their final paths in `directory`. With o.share, the share's tiles go to its part file instead
+// (and `staging` is null).
+OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory, StagingDirectory* staging,
+                         const OrthoEncodeOptions& o, const std::vector<std::pair<std::string, std::string>>& companions,
+                         std::chrono::steady_clock::time_point start) {
     checkAgainstInput(o, levels);
     OrthoReport report;
     report.input = levels.inputPath();
     report.directory = directory;
-    OrthoOutputs outputs(levels, directory, staging, o, report);
+    report.sampling = levels.sampling();
+    report.inputWidth = levels.inputWidth();
+    report.inputHeight = levels.inputHeight();
+    report.channels = levels.channels();
+    report.tileSize = levels.tileSize();
+    report.maxLevel = levels.maxLevel();
+    report.border = o.border;
+    report.threads = levels.threads();
+    report.jpegErrorMeasured = o.measureJpegError;
+    // Colour residuals predict each tile from its parent's rebuilt colours: parents first.
+    // Without them, tiles are independent, and the input is read once (OrthoLevels::walk).
+    const auto order = o.writeResiduals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass;
+    const OrthoShare* share = o.share;
+    const int64_t items = levels.subtreeItems(order);
+    const int64_t units = std::max<int64_t>(1, items);
+    ShareRange range{0, items, true};
+    if (share) {
+        range = shareRange(share->index, share->count, o.pyramid, o.pyramids, units);
+        if (items == 0) {
+            range.begin = range.end = 0; // the one unit is the top levels
+        }
+    }
+    const int topLevel = levels.topLevels(order);
+    const int64_t topTiles = ((int64_t{1} << (2 * (topLevel + 1))) - 1) / 3;
+    const int64_t subtreeTiles = ((int64_t{1} << (2 * (levels.maxLevel() - topLevel))) - 1) / 3;
+    const int64_t total = share ? (range.top ? topTiles : 0) + (range.end - range.begin) * subtreeTiles : levels.tileCount();
+    report.tiles = total;
+    if (share && !range.active()) {
+        return report; // nothing of this pyramid is this share's
+    }
+    std::unique_ptr<OrthoOutputs> outputs;
+    if (!share) {
+        outputs = std::make_unique<OrthoOutputs>(levels, directory, *staging, o, report);
+    }
+    const uint64_t recordsStart = share ? share->out->file().position() : 0;
+    const nlohmann::json slots = orthoOutputsJson(levels, o);
     GroupEncoder encoder(levels, o);
-    std::vector<LevelTotals> totals(static_cast<size_t>(levels.maxLevel()) + 1);
-    const int64_t total = levels.tileCount();
+    std::vector<OrthoLevelTotals> totals(static_cast<size_t>(levels.maxLevel()) + 1);
     int64_t done = 0;
 
+    // A share records its tiles in each output's stream (pyramid x 3 + slot), the tile's
+    // statistics with its first output's.
+    const auto record = [&](const EncodedOrthoTile& e) {
+        PartFileWriter& file = share->out->file();
+        bool first = true;
+        for (const nlohmann::json& slot : slots) {
+            const int k = slot["slot"].get<int>();
+            const std::vector<uint8_t>& blob = k == 0 ? e.tiff : k == 1 ? e.dxt : e.residual;
+            file.add(static_cast<uint32_t>(o.pyramid * 3 + k), e.level, e.tx, e.ty,
+                     first ? packOrthoTileStats(e.stats) : std::vector<uint8_t>{}, blob);
+            first = false;
+        }
+    };
     // A group is written (content hashes, file writes: serial, in the walk's order) by the
     // writer's thread while the walk samples and encodes the next group, instead of both cores
     // waiting for it. Window 1, admitted once encoded: a group waits for the previous one to be
@@ -265,9 +273,16 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     OrderedWriter<EncodedGroup> writer(1, [&](int64_t, EncodedGroup& group) {
         for (auto& item : group) {
             for (const EncodedOrthoTile& e : item) {
-                outputs.write(e);
+                if (share) {
+                    if (!range.top && e.level <= topLevel) {
+                        continue; // another share's
+                    }
+                    record(e);
+                } else {
+                    outputs->write(e);
+                }
                 totals[static_cast<size_t>(e.level)].add(e.stats);
-                if (o.colourReconstruction && outputs.residuals()) {
+                if (o.colourReconstruction && o.writeResiduals) {
                     o.colourReconstruction(e.level, e.tx, e.ty, e.recon);
                 }
                 if (o.progress) {
@@ -279,31 +294,45 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             }
         }
     });
-    // Colour residuals predict each tile from its parent's rebuilt colours: parents first.
-    // Without them, tiles are independent, and the input is read once (OrthoLevels::walk).
-    const auto order = o.writeResiduals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass;
     int64_t groups = 0;
-    levels.walk([&](std::vector<TileBatch>& group) {
-        EncodedGroup encoded = encoder.encode(group);
-        const int64_t index = groups++;
-        if (!writer.admit(index)) {
-            writer.finish(index); // a write failed: rethrows its error
-        }
-        writer.deliver(index, std::move(encoded));
-    }, order);
+    const OrthoLevels::Range walkRange{range.begin, range.end, range.top};
+    levels.walk(
+        [&](std::vector<TileBatch>& group) {
+            EncodedGroup encoded = encoder.encode(group);
+            const int64_t index = groups++;
+            if (!writer.admit(index)) {
+                writer.finish(index); // a write failed: rethrows its error
+            }
+            writer.deliver(index, std::move(encoded));
+        },
+        order, share ? &walkRange : nullptr);
     writer.finish(groups);
 
-    outputs.commit(report);
-    report.sampling = levels.sampling();
-    report.inputWidth = levels.inputWidth();
-    report.inputHeight = levels.inputHeight();
-    report.channels = levels.channels();
-    report.tileSize = levels.tileSize();
-    report.maxLevel = levels.maxLevel();
-    report.border = o.border;
-    report.tiles = total;
-    report.threads = levels.threads();
-    report.jpegErrorMeasured = o.measureJpegError;
+    if (share) {
+        nlohmann::json companionJson = nlohmann::json::object();
+        for (const auto& [name, text] : companions) {
+            companionJson[name] = text;
+        }
+        share->out->addPyramid({{"pyramid", o.pyramid},
+                                {"pyramids", o.pyramids},
+                                {"name", o.name + ".dat"},
+                                {"header", {{"outputs", slots}}},
+                                {"units", units},
+                                {"begin", range.begin},
+                                {"end", range.end},
+                                {"top", range.top},
+                                {"records", {recordsStart, share->out->file().position()}},
+                                {"tiles", total},
+                                {"max_file_bytes", o.maxFileBytes},
+                                {"companions", companionJson}});
+    } else {
+        outputs->commit(report);
+        for (const auto& [name, text] : companions) {
+            AtomicFile file(staging->path(name));
+            file.writeAt(0, text.data(), text.size());
+            file.commit();
+        }
+    }
     for (size_t l = 0; l < totals.size(); ++l) {
         report.levels.push_back(totals[l].report(static_cast<int>(l)));
     }
@@ -344,11 +373,12 @@ OrthoReport encodeOrtho(const std::string& input, const std::string& directory, 
 
 namespace {
 
-// A planar pyramid's outputs and its georeference sidecar, committed together.
+// A planar pyramid's outputs and its georeference sidecar, committed together (with o.share:
+// the share's tiles, and the sidecar, into its part file).
 OrthoReport encodePlanar(const OrthoLevels& levels, const std::string& directory, const OrthoEncodeOptions& o,
                          std::chrono::steady_clock::time_point start) {
-    StagingDirectory staging(directory);
-    OrthoReport report = encodeLevels(levels, directory, staging, o, start);
+    std::optional<PyramidGeoreference> georeference;
+    std::vector<std::pair<std::string, std::string>> companions;
     if (const auto& g = levels.inputInfo().georeference; g && g->problem.empty()) {
         // The finest level's pixels tile the root quad: the input's pixels, or its longer side's
         // square with the aspect kept (planar_pixels.hpp).
@@ -359,11 +389,19 @@ OrthoReport encodePlanar(const OrthoLevels& levels, const std::string& directory
         for (int l = 0; l <= levels.maxLevel(); ++l) {
             pixels.push_back(static_cast<int64_t>(levels.tileSize()) << l);
         }
-        report.georeference = georeferencePyramid(*g, w, h, root, pixels, "pixel centres");
-        const std::string name = georeferenceSidecarPath(o.name + ".dat");
-        writeGeoreferenceSidecar(staging.path(name), o.name + ".dat", *report.georeference);
+        georeference = georeferencePyramid(*g, w, h, root, pixels, "pixel centres");
+        companions.emplace_back(georeferenceSidecarPath(o.name + ".dat"),
+                                georeferenceSidecarText(o.name + ".dat", *georeference));
     }
-    staging.commit(); // the outputs appear together, or none of them
+    std::unique_ptr<StagingDirectory> staging;
+    if (!o.share) {
+        staging = std::make_unique<StagingDirectory>(directory);
+    }
+    OrthoReport report = encodeLevels(levels, directory, staging.get(), o, companions, start);
+    report.georeference = georeference;
+    if (staging) {
+        staging->commit(); // the outputs appear together, or none of them
+    }
     return report;
 }
 
@@ -387,7 +425,16 @@ OrthoReport encodeOrtho(const OrthoLevels& levels, const std::string& directory,
                         const OrthoEncodeOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     o.validate();
-    return encodeLevels(levels, directory, staging, o, start);
+    return encodeLevels(levels, directory, o.share ? nullptr : &staging, o, {}, start);
+}
+
+OrthoReport encodeOrthoShare(const OrthoLevels& levels, const std::string& directory, const OrthoEncodeOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    o.validate();
+    if (!o.share) {
+        failOption("share", "encodeOrthoShare needs a share");
+    }
+    return encodeLevels(levels, directory, nullptr, o, {}, start);
 }
 
 nlohmann::json toJson(const OrthoReport& r) {

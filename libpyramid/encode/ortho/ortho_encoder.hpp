@@ -26,6 +26,19 @@ namespace pyramid {
 // readable by the original runtime (formats/ortho_file.hpp).
 enum class TilePolicy { Deflate, Lzw, Jpeg, JpegYCbCr, None, Original };
 
+class PartOutput;
+
+// One process's share of a build split across processes (support/work_share.hpp,
+// doc/planet-scale.md): part `index` of `count`, whose tiles go to `out` instead of the outputs.
+struct OrthoShare {
+    int index = 0;
+    int count = 1;
+    PartOutput* out = nullptr;
+};
+
+// The format ortho builds' part files name in their trailers (formats/part_file.hpp).
+inline constexpr const char* kOrthoPartFormat = "libpyramid ortho part";
+
 struct OrthoEncodeOptions {
     OrthoLevelsOptions levels;
     std::string name = "RGB";
@@ -50,6 +63,11 @@ struct OrthoEncodeOptions {
     // (formats/ortho_set.hpp, doc/planet-scale.md); an output that fits is the one file a build
     // without it writes, byte for byte, and an index of no regions.
     uint64_t maxFileBytes = 0;
+    // Set in each process of a split build: encode only this share, into its part file; this
+    // pyramid is `pyramid` of the build's `pyramids` (a cube face among the faces built).
+    const OrthoShare* share = nullptr;
+    int pyramid = 0;
+    int pyramids = 1;
     std::function<void(int64_t, int64_t)> progress;       // (tiles done, total), one thread at a time
     // Asked after every tile, from one thread at a time: true stops the encoding, which throws
     // Cancelled (formats/error.hpp) and leaves no file behind.
@@ -110,6 +128,9 @@ OrthoReport encodeOrtho(const RasterSource& source, const std::string& directory
 // files are named options.name.
 OrthoReport encodeOrtho(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
                         const OrthoEncodeOptions& options);
+
+// The same as one share of a split build (options.share set): its tiles into the share's part file.
+OrthoReport encodeOrthoShare(const OrthoLevels& levels, const std::string& directory, const OrthoEncodeOptions& options);
 
 nlohmann::json toJson(const OrthoReport& report);
 

@@ -95,7 +95,7 @@ struct OrthoLevels::Impl {
         return img;
     }
 
-    std::vector<Image8> coarseLevelsFromBands() const;
+    std::vector<Image8> coarseLevelsFromBands(int c) const;
     void reduceCoarserLevels(std::vector<Image8>& levels) const;
     void consumeCoarseLevels(const std::vector<Image8>& levels,
                              const std::function<void(std::vector<TileBatch>&)>& consume) const;
@@ -213,12 +213,12 @@ int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M +
 // Levels 0..C as images, from bands of 2^(M-C) finest rows, a face's margin included; northern
 // rows first, so that an input still being decoded from its first row (PNG) is worked on as it
 // arrives.
-std::vector<Image8> OrthoLevels::Impl::coarseLevelsFromBands() const {
-    const int k = M - C;
-    const int64_t marginC = margin(C);
-    const int64_t sideC = levelWidth(C) + 2 * marginC;
-    std::vector<Image8> levels(static_cast<size_t>(C) + 1);
-    Image8& levelC = levels[static_cast<size_t>(C)];
+std::vector<Image8> OrthoLevels::Impl::coarseLevelsFromBands(int c) const {
+    const int k = M - c;
+    const int64_t marginC = margin(c);
+    const int64_t sideC = levelWidth(c) + 2 * marginC;
+    std::vector<Image8> levels(static_cast<size_t>(c) + 1);
+    Image8& levelC = levels[static_cast<size_t>(c)];
     levelC = Image8(static_cast<int>(sideC), static_cast<int>(sideC), channels);
     parallelFor(sideC, threads, [&](int64_t i) {
         const int64_t row = sideC - 1 - i;
@@ -343,8 +343,24 @@ void OrthoLevels::Impl::blankSubtree(int l, int tx, int ty, TileBatch& out) cons
     }
 }
 
-void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume, WalkOrder order) const {
+int OrthoLevels::topLevels(WalkOrder order) const {
     const Impl& m = *impl_;
+    return order == WalkOrder::SinglePass && m.M > 0 ? m.singlePassC : m.C;
+}
+
+int64_t OrthoLevels::subtreeItems(WalkOrder order) const {
+    const Impl& m = *impl_;
+    if (order == WalkOrder::SinglePass && m.M > 0) {
+        return int64_t{1} << (2 * (m.singlePassC + 1));
+    }
+    return m.C == m.M ? 0 : int64_t{1} << (2 * (m.C + 1));
+}
+
+void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume, WalkOrder order,
+                       const Range* range) const {
+    const Impl& m = *impl_;
+    const int64_t items = subtreeItems(order);
+    const int64_t begin = range ? range->begin : 0, end = range ? range->end : items;
     const int64_t groupSize = std::max<int64_t>(4, 2 * m.threads);
     if (order == WalkOrder::SinglePass && m.M > 0) {
         // The subtrees first, row by row from the north edge, west to east, so that an input
@@ -355,36 +371,46 @@ void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consu
         const int top = c + 1;
         const int side = 1 << top;
         const int64_t count = int64_t{side} * side;
+        // A share without every subtree takes levels 0..C from bands instead.
+        const bool whole = begin == 0 && end == count;
         std::vector<Image8> levels(static_cast<size_t>(c) + 1);
         Image8& levelC = levels[static_cast<size_t>(c)];
         const auto sideC = static_cast<int>(m.levelWidth(c) + 2 * m.margin(c));
-        levelC = Image8(sideC, sideC, m.channels);
-        for (int64_t first = 0; first < count; first += groupSize) {
-            std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, count - first)));
+        if (whole) {
+            levelC = Image8(sideC, sideC, m.channels);
+        }
+        for (int64_t first = begin; first < end; first += groupSize) {
+            std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, end - first)));
             parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
                 const int64_t n = first + i;
                 const int tx = static_cast<int>(n % side), ty = side - 1 - static_cast<int>(n / side);
-                m.subtreeFromFootprint(top, tx, ty, group[static_cast<size_t>(i)], &levelC);
+                m.subtreeFromFootprint(top, tx, ty, group[static_cast<size_t>(i)], whole ? &levelC : nullptr);
             });
             consume(group);
         }
-        if (m.margin(c) > 0) {
-            m.marginFromBands(c, levelC);
+        if (range && !range->top) {
+            return;
         }
-        m.reduceCoarserLevels(levels);
+        if (whole) {
+            if (m.margin(c) > 0) {
+                m.marginFromBands(c, levelC);
+            }
+            m.reduceCoarserLevels(levels);
+        } else {
+            levels = m.coarseLevelsFromBands(c);
+        }
         m.consumeCoarseLevels(levels, consume);
         return;
     }
     // Levels 0..C from one pass over the input, then the subtrees of level C + 1 in Z order,
     // each from its own footprint: every tile comes after its parent.
-    m.consumeCoarseLevels(m.coarseLevelsFromBands(), consume);
+    m.consumeCoarseLevels(m.coarseLevelsFromBands(m.C), consume);
     if (m.C == m.M) {
         return;
     }
     const int top = m.C + 1;
-    const int64_t count = int64_t{1} << (2 * top);
-    for (int64_t first = 0; first < count; first += groupSize) {
-        std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, count - first)));
+    for (int64_t first = begin; first < end; first += groupSize) {
+        std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, end - first)));
         parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
             const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(first + i));
             m.subtreeFromFootprint(top, static_cast<int>(tx), static_cast<int>(ty), group[static_cast<size_t>(i)], nullptr);

@@ -118,8 +118,20 @@ public:
     //    edge (the face's +y edge), west to east, then one item per level 0..C; the finest
     //    level is sampled once instead of twice (a face's margin beyond it excepted).
     enum class WalkOrder { CoarseFirst, SinglePass };
+    // A share of a walk (a build split across processes: support/work_share.hpp): the subtree
+    // items [begin, end) of the order, and the items of levels 0..C when `top`. A CoarseFirst
+    // walk gives levels 0..C whatever `top` (they are its subtrees' parents); a SinglePass walk
+    // with `top` computes them from the input in bands, the same pixels as from every subtree.
+    struct Range {
+        int64_t begin = 0, end = 0;
+        bool top = true;
+    };
+    // The deepest level of a walk's top levels (C) in `order`.
+    int topLevels(WalkOrder order) const;
+    // The subtree items of a walk in `order` (0 when levels 0..C are the whole pyramid).
+    int64_t subtreeItems(WalkOrder order) const;
     void walk(const std::function<void(std::vector<TileBatch>&)>& consume,
-              WalkOrder order = WalkOrder::CoarseFirst) const;
+              WalkOrder order = WalkOrder::CoarseFirst, const Range* range = nullptr) const;
 
 private:
     struct Impl;

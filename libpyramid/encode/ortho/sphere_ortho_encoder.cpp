@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <optional>
 
 #include "formats/error.hpp"
 #include "formats/staging_directory.hpp"
@@ -56,13 +57,19 @@ SphericalOrthoReport encodeFaces(const RasterSource& source, const GeodeticMap* 
     report.extent = placement.extent;
     report.crs = placement.crs;
     report.threads = faces.front()->threads();
-    StagingDirectory staging(directory); // the faces appear together at the end, or none of them
+    // The faces appear together at the end, or none of them; a split build's share writes its part.
+    std::optional<StagingDirectory> staging;
+    if (!o.ortho.share) {
+        staging.emplace(directory);
+    }
     int64_t done = 0;
     for (size_t k = 0; k < faces.size(); ++k) {
         const OrthoLevels& levels = *faces[k];
         const int f = o.faces[k];
         OrthoEncodeOptions fo = o.ortho;
         fo.name = o.ortho.name + std::to_string(f);
+        fo.pyramid = static_cast<int>(k);
+        fo.pyramids = static_cast<int>(faces.size());
         if (o.ortho.progress) {
             fo.progress = [&o, before = done, total](int64_t tiles, int64_t) {
                 o.ortho.progress(before + tiles, total);
@@ -70,7 +77,7 @@ SphericalOrthoReport encodeFaces(const RasterSource& source, const GeodeticMap* 
         }
         SphericalOrthoFaceReport r;
         r.face = f;
-        r.ortho = encodeOrtho(levels, directory, staging, fo);
+        r.ortho = staging ? encodeOrtho(levels, directory, *staging, fo) : encodeOrthoShare(levels, directory, fo);
         for (int l = 0; l <= levels.maxLevel(); ++l) {
             const FaceGrid grid{static_cast<int64_t>(levels.tileSize()) << l, FaceGridKind::PixelCentres};
             r.gsd.push_back(faceGroundSampleDistance(body, f, grid));
@@ -78,7 +85,9 @@ SphericalOrthoReport encodeFaces(const RasterSource& source, const GeodeticMap* 
         done += levels.tileCount();
         report.faces.push_back(std::move(r));
     }
-    staging.commit();
+    if (staging) {
+        staging->commit();
+    }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }
