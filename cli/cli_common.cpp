@@ -317,6 +317,13 @@ int64_t partNumber(const std::string& text, const std::string& part) {
 
 } // namespace
 
+void addPartOption(CLI::App& app, std::string& part) {
+    app.add_option("--part", part,
+                   "Encode only part I of N (0 <= I < N) into OUTPUT.part-I-of-N, for batch schedulers; "
+                   "'pyramid merge' assembles the parts into the files one run writes")
+        ->type_name("I/N");
+}
+
 std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show) {
     auto progress = std::make_shared<std::unique_ptr<Progress>>();
     return [progress, program, show](int64_t done, int64_t total) {

@@ -132,6 +132,9 @@ struct SplitBuild {
     std::function<void(const std::vector<std::string>&)> merge; // rank 0: every part file, in order
 };
 
+// Declares --part I/N, bound to `part`.
+void addPartOption(CLI::App& app, std::string& part);
+
 // Runs `build` in the role `part` (the --part text, "" without) and the launcher give it; prints
 // the line of a part unless quiet. Returns the role.
 BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& build);

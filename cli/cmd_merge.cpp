@@ -2,15 +2,27 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <system_error>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "cli/cli_common.hpp"
 #include "formats/error.hpp"
+#include "formats/part_file.hpp"
 #include "libpyramid/api/encoders.hpp"
 
 namespace pyramid::cli {
+
+namespace {
+
+// ", a region set of N files" for a set, "" for one file.
+std::string setText(size_t files) {
+    return files > 1 ? ", a region set of " + std::to_string(files) + " files" : std::string();
+}
+
+} // namespace
 
 CommandRunner setupMergeCommand(CLI::App& app) {
     struct Args {
@@ -36,16 +48,35 @@ CommandRunner setupMergeCommand(CLI::App& app) {
             directory = first.has_parent_path() ? first.parent_path().string() : std::string(".");
         }
         prepareOutputDirectory(directory);
-        std::unique_ptr<Progress> progress;
-        const ResidualMergeReport report =
-            mergeResidualParts(args->parts, directory, [&](int64_t, int64_t total) {
-                if (!progress) {
-                    progress = std::make_unique<Progress>("pyramid merge", total, args->quiet);
+        const bool show = !args->quiet;
+        nlohmann::json json;
+        std::vector<std::string> lines;
+        int parts = 0;
+        double seconds = 0.0;
+        if (partFileFormat(args->parts.front()) == kOrthoPartFormat) {
+            const OrthoMergeReport report = mergeOrthoParts(args->parts, directory, mergeProgress("pyramid merge", show));
+            for (const OrthoReport& p : report.pyramids) {
+                for (size_t i = 0; i < p.outputs.size(); ++i) {
+                    lines.push_back(p.outputs[i] + ": " + std::to_string(p.tiles) + " tiles (" +
+                                    std::to_string(p.sharedTiles[i]) + " shared), " + std::to_string(p.bytes[i]) +
+                                    " bytes" + setText(p.files[i].size()));
                 }
-                progress->advance(1);
-            });
-        if (progress) {
-            progress->finish();
+            }
+            json = toJson(report);
+            parts = report.parts;
+            seconds = report.seconds;
+        } else {
+            const ResidualMergeReport report =
+                mergeResidualParts(args->parts, directory, mergeProgress("pyramid merge", show));
+            for (size_t k = 0; k < report.pyramids.size(); ++k) {
+                const ResidualPyramidReport& p = report.pyramids[k];
+                lines.push_back(report.outputs[k] + ": " + std::to_string(p.tiles) + " tiles (" +
+                                std::to_string(p.sharedTiles) + " shared), " + std::to_string(p.bytes) + " bytes" +
+                                setText(p.files.size()));
+            }
+            json = toJson(report);
+            parts = report.parts;
+            seconds = report.seconds;
         }
         if (!args->keep) {
             for (const std::string& part : args->parts) {
@@ -53,20 +84,14 @@ CommandRunner setupMergeCommand(CLI::App& app) {
                 std::filesystem::remove(part, ec);
             }
         }
-        if (!args->quiet) {
-            for (size_t k = 0; k < report.pyramids.size(); ++k) {
-                const ResidualPyramidReport& p = report.pyramids[k];
-                std::fprintf(stderr, "%s: %lld tiles (%lld shared), %llu bytes%s\n", report.outputs[k].c_str(),
-                             static_cast<long long>(p.tiles), static_cast<long long>(p.sharedTiles),
-                             static_cast<unsigned long long>(p.bytes),
-                             p.files.size() > 1 ? (", a region set of " + std::to_string(p.files.size()) + " files").c_str()
-                                                : "");
+        if (show) {
+            for (const std::string& line : lines) {
+                std::fprintf(stderr, "%s\n", line.c_str());
             }
-            std::fprintf(stderr, "merged %d parts in %.1f s%s\n", report.parts, report.seconds,
-                         args->keep ? "" : "; the parts are removed");
+            std::fprintf(stderr, "merged %d parts in %.1f s%s\n", parts, seconds, args->keep ? "" : "; the parts are removed");
         }
         if (!args->report.empty()) {
-            writeJson(toJson(report), args->report);
+            writeJson(json, args->report);
         }
         return kExitOk;
     };

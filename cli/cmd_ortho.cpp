@@ -1,6 +1,8 @@
 // `pyramid ortho` / `preprocessOrtho`: imagery in, ortho pyramids out.
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -25,26 +27,50 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
         const std::string sidecar =
             (std::filesystem::path(a->output) / georeferenceSidecarPath(options.name + ".dat")).string();
         checkReportIsNotSidecar(a->report, sidecar);
-        OutputPreflight preflight(a->output, true, a->report);
+        const bool talk = speaks(a->quiet);
+        std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t, int64_t total) {
             if (!progress) {
-                progress = std::make_unique<Progress>("preprocessOrtho", total, a->quiet);
+                progress = std::make_unique<Progress>("preprocessOrtho", total, !talk);
             }
             progress->advance(1);
         };
-        const OrthoReport report = encodeOrtho(a->input.resolve(), a->output, options);
+        OrthoReport report;
+        SplitBuild build;
+        build.program = "preprocessOrtho";
+        build.directory = a->output;
+        build.name = options.name;
+        build.format = kOrthoPartFormat;
+        build.prepare = [&] { preflight = std::make_unique<OutputPreflight>(a->output, true, a->report); };
+        build.encode = [&](const PartContext* part) {
+            OrthoEncodeOptions run = options;
+            OrthoShare share;
+            if (part) {
+                share = OrthoShare{part->index, part->count, part->out};
+                run.share = &share;
+            }
+            report = encodeOrtho(a->input.resolve(), a->output, run);
+        };
+        build.merge = [&](const std::vector<std::string>& parts) {
+            const OrthoMergeReport merged = mergeOrthoParts(parts, build.directory, mergeProgress("preprocessOrtho", talk));
+            takeMerged(report, merged.pyramids.at(0));
+        };
+        const BuildRole role = runSplitBuild(a->part, a->quiet, build);
         if (progress) {
             progress->finish();
         }
-        if (!a->quiet) {
+        if (role == BuildRole::OtherRank) {
+            return kExitOk;
+        }
+        if (talk && role != BuildRole::Part) {
             printOrthoSummary(report);
             printGeoreferenceSummary(report.georeference, sidecar);
         }
         if (!a->report.empty()) {
             writeJson(toJson(report), a->report);
         }
-        preflight.keep();
+        preflight->keep();
         return kExitOk;
     };
 }

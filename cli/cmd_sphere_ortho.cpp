@@ -2,6 +2,8 @@
 // pyramids out (each with its dxt/ and residuals/ variants).
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -30,21 +32,48 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
         options.extent = choice.extent;
         options.body = choice.body;
         options.faces = choice.faces;
-        OutputPreflight preflight(a->output, true, a->report);
+        const bool talk = speaks(a->quiet);
+        std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
         int64_t shown = 0;
         options.ortho.progress = [&](int64_t done, int64_t total) {
             if (!progress) {
-                progress = std::make_unique<Progress>("preprocessSphericalOrtho", total, a->quiet);
+                progress = std::make_unique<Progress>("preprocessSphericalOrtho", total, !talk);
             }
             progress->advance(done - shown);
             shown = done;
         };
-        const SphericalOrthoReport report = encodeSphericalOrtho(a->input.resolve(), a->output, options);
+        SphericalOrthoReport report;
+        SplitBuild build;
+        build.program = "preprocessSphericalOrtho";
+        build.directory = a->output;
+        build.name = options.ortho.name;
+        build.format = kOrthoPartFormat;
+        build.prepare = [&] { preflight = std::make_unique<OutputPreflight>(a->output, true, a->report); };
+        build.encode = [&](const PartContext* part) {
+            SphericalOrthoOptions run = options;
+            OrthoShare share;
+            if (part) {
+                share = OrthoShare{part->index, part->count, part->out};
+                run.ortho.share = &share;
+            }
+            report = encodeSphericalOrtho(a->input.resolve(), a->output, run);
+        };
+        build.merge = [&](const std::vector<std::string>& parts) {
+            const OrthoMergeReport merged =
+                mergeOrthoParts(parts, build.directory, mergeProgress("preprocessSphericalOrtho", talk));
+            for (size_t k = 0; k < report.faces.size() && k < merged.pyramids.size(); ++k) {
+                takeMerged(report.faces[k].ortho, merged.pyramids[k]);
+            }
+        };
+        const BuildRole role = runSplitBuild(a->part, a->quiet, build);
         if (progress) {
             progress->finish();
         }
-        if (!a->quiet) {
+        if (role == BuildRole::OtherRank) {
+            return kExitOk;
+        }
+        if (talk && role != BuildRole::Part) {
             std::fprintf(stderr, "%s: %s\n", a->output.c_str(), report.body.c_str());
             for (const SphericalOrthoFaceReport& f : report.faces) {
                 printOrthoSummary(f.ortho);
@@ -55,7 +84,7 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
         if (!a->report.empty()) {
             writeJson(toJson(report), a->report);
         }
-        preflight.keep();
+        preflight->keep();
         return kExitOk;
     };
 }

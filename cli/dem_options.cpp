@@ -46,10 +46,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "Write a region set of files of at most SIZE bytes each (K, M, G, T: powers of 1024) and its "
                    "index FILE.regions.json; without SIZE, just under 4 GiB")
         ->expected(0, 1);
-    app.add_option("--part", args->part,
-                   "Encode only part I of N (0 <= I < N) into OUTPUT.part-I-of-N, for batch schedulers; "
-                   "'pyramid merge' assembles the parts into the files one run writes")
-        ->type_name("I/N");
+    addPartOption(app, args->part);
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
 }

@@ -85,6 +85,7 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
                        "Write each output as a region set of files of at most SIZE bytes each (K, M, G, T: powers "
                        "of 1024) and its index FILE.regions.json; without SIZE, just under 4 GiB")
             ->expected(0, 1);
+    addPartOption(app, a->part);
     app.add_option("--report", a->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
 }
@@ -110,6 +111,15 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
                              "tiles (libpyramid's readers can)\n");
     }
     return options;
+}
+
+void takeMerged(OrthoReport& report, const OrthoReport& merged) {
+    report.outputs = merged.outputs;
+    report.bytes = merged.bytes;
+    report.files = merged.files;
+    report.sharedTiles = merged.sharedTiles;
+    report.levels = merged.levels;
+    report.tiles = merged.tiles;
 }
 
 void printOrthoSummary(const OrthoReport& report) {

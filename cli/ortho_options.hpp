@@ -25,6 +25,7 @@ struct OrthoArgs {
     std::string output, outputs = "tiff,dxt,residuals", compression = "deflate",
                                residualCompression = "deflate", colourSpace = "srgb", report;
     bool quiet = false;
+    std::string part; // --part I/N
     std::string maxFileBytes; // "" when --max-file-bytes is given without a size
     // --max-file-bytes, to ask whether it was given: given without a size, it has no value for
     // a callback to see, only a count.
@@ -42,6 +43,9 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args);
 
 // Throws Error naming the option when a value is not valid.
 OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& args);
+
+// The merged outputs' figures into a rank-0 report of its own share.
+void takeMerged(OrthoReport& report, const OrthoReport& merged);
 
 // One line per output file (tiles, shared tiles, bytes; a region set's files and the largest
 // of them) and one for the levels, on stderr.

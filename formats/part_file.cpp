@@ -366,7 +366,9 @@ PartSet readPartSet(const std::vector<std::string>& paths, const std::string& fo
                 fail(where, "its pyramid " + e.at("name").get<std::string>() + " differs from " +
                                 list[0].part->reader->path() + "'s (header, scale or split)");
             }
-            if (top != (i == 0) || begin != next || end < begin || end > units) {
+            // The top levels come first, or (a walk that writes them after its subtrees) last.
+            const size_t topShare = first.value("top_last", false) ? list.size() - 1 : 0;
+            if (top != (i == topShare) || begin != next || end < begin || end > units) {
                 fail(where, "its share of " + e.at("name").get<std::string>() + " (subtrees " + std::to_string(begin) +
                                 " to " + std::to_string(end) + ") does not follow the part before it (which ends at " +
                                 std::to_string(next) + ")");

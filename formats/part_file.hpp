@@ -122,8 +122,8 @@ private:
 
 // Every part of one build, checked: each part 0..N-1 once, of one format and one job; each
 // pyramid's shares (entries with "pyramid", "pyramids", "name", "header", "units", "begin",
-// "end", "top", "records", "tiles") the same pyramid, following each other from the part with
-// the top levels to the last unit. Throws Error naming the part file and the problem.
+// "end", "top", "records", "tiles") the same pyramid, following each other from the first unit to
+// the last, the top levels in the first share (or the last, when the entries say "top_last"). Throws Error naming the part file and the problem.
 struct PartSet {
     struct Part {
         std::unique_ptr<PartFileReader> reader;
@@ -137,7 +137,7 @@ struct PartSet {
     int pyramids = 0;
     int64_t tiles = 0;                       // records of every share
     std::vector<Part> parts;                 // by part number
-    std::map<int, std::vector<Share>> shares; // each pyramid's, in order (the top levels' first)
+    std::map<int, std::vector<Share>> shares; // each pyramid's, in order
 };
 PartSet readPartSet(const std::vector<std::string>& paths, const std::string& format);
 // The format a part file's trailer names ("libpyramid residual part", ...).

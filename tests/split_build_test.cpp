@@ -259,6 +259,46 @@ TEST(SplitBuildCli, MaxFileBytesWithoutASizeWritesTheFileAndAnIndex) {
     EXPECT_TRUE(fs::exists(dir.file("DEM.dat.regions.json")));
 }
 
+// An ortho build in parts, both walk orders (with colour residuals: top levels first; without:
+// subtrees first, the top levels from bands in the last share), planar and on the cube.
+TEST(SplitBuild, OrthoPartsMergeIntoTheSingleRunsOutputs) {
+    TempDir dir;
+    const std::string image = test::samplePath("bluemarble.png");
+    for (const std::string outputs : {"tiff,dxt,residuals", "tiff,dxt"}) {
+        for (const std::string program : {"preprocessOrtho", "preprocessSphericalOrtho"}) {
+            const std::string tag = program + "-" + outputs;
+            const std::string cmd = test::programPath(program) + " " + image + " --outputs " + outputs +
+                                    (program == "preprocessOrtho" ? " --tile-size 64" : " --tile-size 16 --max-level 3") +
+                                    " --max-file-bytes 40K -q -o ";
+            ASSERT_EQ(test::run(cmd + dir.file("one-" + tag)).exitCode, 0);
+            for (const int count : {2, 5}) {
+                const std::string parts = dir.file("p" + std::to_string(count) + "-" + tag);
+                for (int i = 0; i < count; ++i) {
+                    const test::RunResult r =
+                        test::run(cmd + parts + " --part " + std::to_string(i) + "/" + std::to_string(count));
+                    ASSERT_EQ(r.exitCode, 0) << r.err;
+                }
+                const test::RunResult m = test::run(test::programPath("pyramid") + " merge -q " + parts + "/RGB.part-*");
+                ASSERT_EQ(m.exitCode, 0) << m.err;
+                EXPECT_EQ(snapshot(parts), snapshot(dir.file("one-" + tag))) << tag << ", " << count << " parts";
+            }
+        }
+    }
+    // An ortho part is no residual part.
+    ASSERT_EQ(test::run(test::programPath("preprocessOrtho") + " " + image + " --tile-size 64 -q --part 0/2 -o " +
+                        dir.file("mixed")).exitCode, 0);
+    TempDir dem;
+    test::writeFloatRaster(dem.file("in.tif"), 129, 129, test::syntheticHeights(129, 129, 500.0f));
+    const std::vector<std::string> residual = buildInParts(dem.file("in.tif"), dem.file("p"), 2, smallDem());
+    try {
+        mergeResidualParts({residual[0], dir.file("mixed/RGB.part-0-of-2")}, dem.file("out"));
+        ADD_FAILURE() << "merged an ortho part into a residual build";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("is a libpyramid ortho part, not a libpyramid residual part"), std::string::npos)
+            << e.what();
+    }
+}
+
 #ifdef PYRAMID_TEST_MPIRUN
 std::string mpirun(int ranks) {
     return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 ") +
@@ -286,6 +326,30 @@ TEST(SplitBuildMpi, RanksWriteTheSingleRunsBytes) {
         ASSERT_EQ(t.exitCode, 0) << t.err;
         EXPECT_EQ(snapshot(dir.file("sphere" + n)), snapshot(dir.file("sphere-one" + n))) << ranks << " ranks";
         EXPECT_GT(snapshot(dir.file("sphere" + n)).size(), 12u); // sets: faces split into regions
+    }
+}
+
+TEST(SplitBuildMpi, OrthoRanksWriteTheSingleRunsOutputs) {
+    TempDir dir;
+    const std::string image = test::samplePath("bluemarble.png");
+    for (const std::string outputs : {"tiff,dxt,residuals", "tiff"}) {
+        const std::string planar = test::programPath("preprocessOrtho") + " " + image + " --outputs " + outputs +
+                                   " --tile-size 64 --threads 1 -q -o ";
+        const std::string sphere = test::programPath("preprocessSphericalOrtho") + " " + image + " --outputs " + outputs +
+                                   " --tile-size 16 --max-level 3 --threads 1 -q -o ";
+        ASSERT_EQ(test::run(planar + dir.file("one")).exitCode, 0);
+        ASSERT_EQ(test::run(sphere + dir.file("sphere")).exitCode, 0);
+        for (const int ranks : {2, 3}) {
+            const std::string n = std::to_string(ranks) + outputs;
+            const test::RunResult r = test::run(mpirun(ranks) + planar + dir.file("o" + n));
+            ASSERT_EQ(r.exitCode, 0) << r.err;
+            EXPECT_EQ(snapshot(dir.file("o" + n)), snapshot(dir.file("one"))) << ranks << " ranks, " << outputs;
+            const test::RunResult s = test::run(mpirun(ranks) + sphere + dir.file("s" + n));
+            ASSERT_EQ(s.exitCode, 0) << s.err;
+            EXPECT_EQ(snapshot(dir.file("s" + n)), snapshot(dir.file("sphere"))) << ranks << " ranks, " << outputs;
+        }
+        fs::remove_all(dir.file("one"));
+        fs::remove_all(dir.file("sphere"));
     }
 }
 

@@ -13,6 +13,10 @@ std::string runPart(int index, int count, const std::string& base, const std::st
     if (count < 1 || index < 0 || index >= count) {
         failOption("part", "must be I/N with 0 <= I < N, not " + std::to_string(index) + "/" + std::to_string(count));
     }
+    const std::filesystem::path parent = std::filesystem::path(base).parent_path();
+    if (!parent.empty()) {
+        std::filesystem::create_directories(parent); // an output directory not made yet
+    }
     PartOutput out(partFileName(base, index, count), format, index, count, job);
     PartContext share;
     share.index = index;

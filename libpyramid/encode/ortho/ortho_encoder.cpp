@@ -226,12 +226,16 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     const auto order = o.writeResiduals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass;
     const OrthoShare* share = o.share;
     const int64_t items = levels.subtreeItems(order);
+    // A SinglePass walk gives the top levels after its subtrees: the share of the last one records them.
+    const bool topLast = order == OrthoLevels::WalkOrder::SinglePass && items > 0;
     const int64_t units = std::max<int64_t>(1, items);
     ShareRange range{0, items, true};
     if (share) {
         range = shareRange(share->index, share->count, o.pyramid, o.pyramids, units);
         if (items == 0) {
             range.begin = range.end = 0; // the one unit is the top levels
+        } else if (topLast) {
+            range.top = range.begin < range.end && range.end == units; // the share of the last subtree
         }
     }
     const int topLevel = levels.topLevels(order);
@@ -321,6 +325,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                                 {"begin", range.begin},
                                 {"end", range.end},
                                 {"top", range.top},
+                                {"top_last", topLast},
                                 {"records", {recordsStart, share->out->file().position()}},
                                 {"tiles", total},
                                 {"max_file_bytes", o.maxFileBytes},
