@@ -50,6 +50,16 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "Encode only part I of N (0 <= I < N) into OUTPUT.part-I-of-N, for batch schedulers; "
                    "'pyramid merge' assembles the parts into the files one run writes")
         ->type_name("I/N");
+    app.add_option("--region", args->region,
+                   "Write only the sub-pyramid rooted at tile (LEVEL, TX, TY), as one region file whose tiles are "
+                   "the whole pyramid's (name it as a set does, e.g. DEM-L6-12-40.dat)")
+        ->type_name("LEVEL,TX,TY")
+        ->excludes("--part");
+    app.add_option("--parent", args->parent,
+                   "With --region: the main file (or set) of the same build, whose reconstruction the region is "
+                   "encoded against instead of encoding the levels above it from the input")
+        ->type_name("FILE")
+        ->needs("--region");
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
 }
@@ -69,6 +79,9 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     if (args.maxFileBytesOption && args.maxFileBytesOption->count() > 0) {
         options.maxFileBytes = args.maxFileBytes.empty() ? uint64_t{0xFFFFFFFF}
                                                          : parseByteSize(args.maxFileBytes, "--max-file-bytes");
+    }
+    if (!args.region.empty()) {
+        options.region = ResidualRegion{parseRegionRoot(args.region), args.parent};
     }
     options.band = args.band - 1;
     const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");
@@ -123,6 +136,22 @@ int64_t partNumber(const std::string& text, const std::string& part) {
 }
 
 } // namespace
+
+RegionRoot parseRegionRoot(const std::string& text) {
+    RegionRoot root;
+    int* fields[3] = {&root.level, &root.tx, &root.ty};
+    const char* p = text.data();
+    const char* const end = text.data() + text.size();
+    for (int k = 0; k < 3; ++k) {
+        const auto [next, error] = std::from_chars(p, end, *fields[k]);
+        const bool last = k == 2;
+        if (error != std::errc() || next == p || (last ? next != end : (next == end || *next != ','))) {
+            fail("--region", "must be LEVEL,TX,TY (a tile: three whole numbers), not '" + text + "'");
+        }
+        p = next + (last ? 0 : 1);
+    }
+    return root;
+}
 
 bool speaks(const DemArgs& args) { return !args.quiet && worldTeam().rank() == 0; }
 
