@@ -44,7 +44,7 @@ void checkSphericalDemOptions(const SphericalDemOptions& options) {
     }
     checkFaceList(options.faces);
     if (o.region && options.faces.size() != 1) {
-        failOption("faces", "a region build (region) encodes one face: give a single face, not " +
+        failOption("faces", "a region build encodes one face: give a single face, not " +
                                 std::to_string(options.faces.size()));
     }
     if (o.rootTileSize < 2) {
