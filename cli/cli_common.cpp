@@ -317,8 +317,8 @@ int64_t partNumber(const std::string& text, const std::string& part) {
 
 } // namespace
 
-void addPartOption(CLI::App& app, std::string& part) {
-    app.add_option("--part", part,
+CLI::Option* addPartOption(CLI::App& app, std::string& part) {
+    return app.add_option("--part", part,
                    "Encode only part I of N (0 <= I < N) into OUTPUT.part-I-of-N, for batch schedulers; "
                    "'pyramid merge' assembles the parts into the files one run writes")
         ->type_name("I/N");

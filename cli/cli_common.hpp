@@ -18,6 +18,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace pyramid::cli {
@@ -133,7 +134,7 @@ struct SplitBuild {
 };
 
 // Declares --part I/N, bound to `part`.
-void addPartOption(CLI::App& app, std::string& part);
+CLI::Option* addPartOption(CLI::App& app, std::string& part);
 
 // Runs `build` in the role `part` (the --part text, "" without) and the launcher give it; prints
 // the line of a part unless quiet. Returns the role.

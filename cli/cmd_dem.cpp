@@ -63,7 +63,9 @@ CommandRunner setupDemCommand(CLI::App& app) {
         }
         if (talk && role != BuildRole::Part) {
             printDemSummary(report);
-            printGeoreferenceSummary(report.georeference, georeferenceSidecarPath(args->output));
+            if (!options.region) { // a region file has no sidecar of its own: the main file's places it
+                printGeoreferenceSummary(report.georeference, georeferenceSidecarPath(args->output));
+            }
         }
         if (!args->report.empty()) {
             writeJson(toJson(report), args->report);

@@ -19,6 +19,16 @@ namespace pyramid {
 
 namespace fs = std::filesystem;
 
+bool regionHolds(const RegionRoot& root, int level, int tx, int ty) {
+    const int d = level - root.level;
+    return d >= 0 && (tx >> d) == root.tx && (ty >> d) == root.ty;
+}
+
+RegionRoot regionRelativeTile(const RegionRoot& root, int level, int tx, int ty) {
+    const int d = level - root.level;
+    return RegionRoot{d, tx - (root.tx << d), ty - (root.ty << d)};
+}
+
 std::string tileText(const RegionRoot& r) {
     // Appended piece by piece: GCC 12 at -O3 misreads "(" + std::string&& as an overlapping copy.
     std::string text(1, '(');

@@ -37,6 +37,12 @@ inline constexpr const char* kRegionIndexFormat = "libpyramid region set";
 inline constexpr int kRegionIndexVersion = 1;
 inline constexpr const char* kRegionIndexSuffix = ".regions.json";
 
+// Whether absolute tile (level, tx, ty) lies in the region rooted at `root` (at or below it).
+bool regionHolds(const RegionRoot& root, int level, int tx, int ty);
+// The region file's own coordinates of absolute tile (level, tx, ty), which it holds: its level
+// below the root, its position within the root's subtree.
+RegionRoot regionRelativeTile(const RegionRoot& root, int level, int tx, int ty);
+
 // "(6,12,40)": a tile in messages.
 std::string tileText(const RegionRoot& root);
 

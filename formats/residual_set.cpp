@@ -8,6 +8,19 @@
 
 namespace pyramid {
 
+ResidualHeader residualRegionHeader(const ResidualHeader& whole, const RegionRoot& root, int last) {
+    ResidualHeader r = whole;
+    r.maxLevel = last;
+    if (root.level > 0) {
+        r.minLevel = 0;
+        r.maxLevel = last - root.level;
+        r.rootLevel = root.level;
+        r.rootTx = root.tx;
+        r.rootTy = root.ty;
+    }
+    return r;
+}
+
 std::vector<ResidualSetFile> writeResidualSet(const ResidualFileWriter& whole, const std::string& mainName,
                                               uint64_t maxFileBytes,
                                               const std::function<std::string(const std::string&)>& place) {
@@ -23,19 +36,7 @@ std::vector<ResidualSetFile> writeResidualSet(const ResidualFileWriter& whole, c
     source.headerBytes = ResidualHeader::kBytes;
     source.offsetBytes = 4;
     source.maxOffset = UINT32_MAX;
-    // The main file: the whole header down to its last level; a region: minLevel 0, its root.
-    auto headerOf = [&h](const SplitFile& f) {
-        ResidualHeader r = h;
-        r.maxLevel = f.last;
-        if (f.root.level > 0) {
-            r.minLevel = 0;
-            r.maxLevel = f.last - f.root.level;
-            r.rootLevel = f.root.level;
-            r.rootTx = f.root.tx;
-            r.rootTy = f.root.ty;
-        }
-        return r;
-    };
+    auto headerOf = [&h](const SplitFile& f) { return residualRegionHeader(h, f.root, f.last); };
     const std::vector<SplitFile> split = writeSplitSet(
         source, mainName, maxFileBytes,
         [&](const std::string& path, const SplitFile& f) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 
 namespace pyramid {
@@ -20,6 +21,12 @@ struct ResidualSetFile {
     ResidualHeader header;
     uint64_t bytes = 0;
 };
+
+// The header of the file of a set of the root pyramid `whole` rooted at absolute tile `root`,
+// down to absolute level `last`: the main file (root level 0) keeps the whole header to `last`;
+// a region file has minLevel 0, its root in the header, and levels counted from it (doc/format.md
+// 1.4). Not validated.
+ResidualHeader residualRegionHeader(const ResidualHeader& whole, const RegionRoot& root, int last);
 
 // Writes the pyramid `whole` holds (every tile written, past 4 GiB if need be; it must be a
 // root pyramid, rootLevel 0) as a set named after `mainName`: the main file takes the most top

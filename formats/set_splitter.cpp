@@ -122,13 +122,13 @@ std::vector<SplitFile> writeSplitSet(const SplitSource& whole, const std::string
         const std::string path = place(f.name);
         TileTableWriter out(path, header(path, f), tileCount, whole.offsetBytes, whole.maxOffset);
         for (int l = f.root.level; l <= f.last; ++l) {
-            const int d = l - f.root.level;
             planner.forEachTile(f, l, [&](int x, int y) {
                 const std::vector<uint8_t> blob = whole.tiles->read(wholeLayout.tileIndex(l, x, y));
                 if (main) {
                     out.write(layout.tileIndex(l, x, y), blob);
                 } else {
-                    out.write(layout.tileIndex(d, x - (f.root.tx << d), y - (f.root.ty << d)), blob);
+                    const RegionRoot r = regionRelativeTile(f.root, l, x, y);
+                    out.write(layout.tileIndex(r.level, r.tx, r.ty), blob);
                 }
             });
         }

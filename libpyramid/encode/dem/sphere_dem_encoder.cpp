@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
@@ -42,6 +43,10 @@ void checkSphericalDemOptions(const SphericalDemOptions& options) {
         failOption("heightScale", "must be a finite non-zero number, not " + numberText(options.heightScale));
     }
     checkFaceList(options.faces);
+    if (o.region && options.faces.size() != 1) {
+        failOption("faces", "a region build encodes one face: give a single face, not " +
+                                std::to_string(options.faces.size()));
+    }
     if (o.rootTileSize < 2) {
         // The root tile's 2-interval borders fold onto the neighbouring faces: at most a face deep.
         failOption("rootTileSize", "cube faces need a root tile of at least 2 intervals, not " +
@@ -112,10 +117,10 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         job.pyramids = static_cast<int>(options.faces.size());
         DemEncodeOptions run = faceOptions;
         if (o.progress) {
-            run.progress = [&](int64_t done, int64_t) {
+            run.progress = [&](int64_t done, int64_t total) {
                 if (finished + done > shown) {
                     shown = finished + done;
-                    o.progress(shown, totalTiles);
+                    o.progress(shown, o.region ? total : totalTiles); // a region: its one face's tiles
                 }
             };
         }
@@ -127,7 +132,9 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         const auto faceStart = std::chrono::steady_clock::now();
         SphericalDemFaceReport fr;
         fr.face = face;
-        const std::string name = options.name + std::to_string(face) + ".dat";
+        // A region build writes the face's region file, named as its set would name it.
+        const std::string faceName = options.name + std::to_string(face) + ".dat";
+        const std::string name = o.region ? regionFilePath(faceName, o.region->root) : faceName;
         fr.dem.input = input;
         fr.dem.output = (std::filesystem::path(directory) / name).string();
         fr.dem.inputInfo = sources.info;

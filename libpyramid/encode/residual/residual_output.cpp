@@ -11,10 +11,15 @@
 
 namespace pyramid {
 
-ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes)
-    : output_(output), header_(header), maxFileBytes_(maxFileBytes) {
+ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes,
+                               bool levelOrder)
+    : output_(output), header_(header), maxFileBytes_(maxFileBytes), levelOrder_(levelOrder && maxFileBytes == 0) {
     const std::filesystem::path outputPath(output);
-    if (maxFileBytes_ > 0) {
+    if (levelOrder_) {
+        // Never committed: its temporary goes when the writer does.
+        writer_ = std::make_unique<ResidualFileWriter>(output + ".staged", header);
+        writer_->allowPastLimit();
+    } else if (maxFileBytes_ > 0) {
         const std::filesystem::path parent = outputPath.parent_path();
         staging_ = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
         writer_ = std::make_unique<ResidualFileWriter>(staging_->path(outputPath.filename().string()), header);
@@ -65,6 +70,20 @@ void ResidualOutput::place(const std::vector<CompanionFile>& companions, Residua
             report.bytes += f.bytes;
         }
         return;
+    }
+    if (levelOrder_) {
+        auto ordered = std::make_unique<ResidualFileWriter>(output_, header_);
+        for (int l = 0; l <= header_.maxLevel; ++l) {
+            const int64_t side = header_.tilesPerSide(l);
+            for (int64_t ty = 0; ty < side; ++ty) {
+                for (int64_t tx = 0; tx < side; ++tx) {
+                    const int x = static_cast<int>(tx), y = static_cast<int>(ty);
+                    ordered->writeTileBytes(l, x, y, writer_->readTileBytes(l, x, y));
+                }
+            }
+        }
+        writer_ = std::move(ordered);
+        report.sharedTiles = writer_->sharedTiles();
     }
     writer_->finish(); // complete and on disk: only the renames are left
     std::vector<std::unique_ptr<AtomicFile>> staged;

@@ -26,8 +26,12 @@ class ResidualOutput {
 public:
     // `maxFileBytes` 0: one file, `output`, written atomically. Otherwise the pyramid is staged
     // whole beside `output` (past 4 GiB if need be) and becomes a set of files of at most that
-    // many bytes each, which appear together with the index.
-    ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes);
+    // many bytes each, which appear together with the index. `levelOrder` (one file): the tiles
+    // are staged as they come and written into `output` level by level, row by row, when it is
+    // put in place: the order the set splitter gives a region file, so that a region built alone
+    // (options.region) is byte for byte the file of a set.
+    ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes,
+                   bool levelOrder = false);
     ~ResidualOutput();
     ResidualOutput(const ResidualOutput&) = delete;
     ResidualOutput& operator=(const ResidualOutput&) = delete;
@@ -42,6 +46,7 @@ private:
     std::string output_;
     ResidualHeader header_;
     uint64_t maxFileBytes_ = 0;
+    bool levelOrder_ = false;
     std::unique_ptr<StagingDirectory> staging_;
     std::unique_ptr<ResidualFileWriter> writer_;
 };

@@ -10,9 +10,11 @@
 #include <mutex>
 
 #include "formats/error.hpp"
+#include "formats/residual_set.hpp"
 #include "libpyramid/encode/residual/residual_parts.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 #include "libpyramid/encode/residual/root_fill.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/support/morton.hpp"
 #include "libpyramid/support/ordered_writer.hpp"
 #include "libpyramid/support/parallel.hpp"
@@ -77,30 +79,48 @@ std::string roundUp3(double x) {
 
 using Overflow = ResidualOverflow;
 
-// Where an encoder's tiles go: a pyramid writer, or a share's part file (with each tile's
-// statistics, for the merge's report).
+// Where an encoder's tiles go: a pyramid writer, a region file's (the tiles at the region's own
+// coordinates), or a share's part file (with each tile's statistics, for the merge's report).
 struct TileSink {
     ResidualFileWriter* writer = nullptr;
     PartFileWriter* part = nullptr;
     uint32_t stream = 0;
+    const RegionRoot* region = nullptr;
 
     void put(const EncodedTile& t) const {
         if (part) {
             part->add(stream, t.level, t.tx, t.ty, packLevelStats(t.stats), t.blob);
+        } else if (region) {
+            const RegionRoot r = regionRelativeTile(*region, t.level, t.tx, t.ty);
+            writer->writeTileBytes(r.level, r.tx, r.ty, t.blob);
         } else {
             writer->writeTileBytes(t.level, t.tx, t.ty, t.blob);
         }
     }
 };
 
+// A half-open box of finest samples [x0, x1) x [y0, y1).
+struct SampleBox {
+    int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 class Encoder {
 public:
+    // With `region`, only the region's tiles are recorded (the range then holds the subtrees
+    // that reach it); with `regionParent` as well (the reconstruction of the root's parent, a
+    // root below level C), the region is encoded from it alone, without the top levels.
     Encoder(const ResidualPlan& plan, const HeightSource& sampler, const SourceGrid& grid, const ResidualEncodeOptions& options,
-            int threads, const std::string& input, const ShareRange& range)
-        : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads), input_(input), range_(range) {}
+            int threads, const std::string& input, const ShareRange& range, const RegionRoot* region = nullptr,
+            const std::vector<float>* regionParent = nullptr)
+        : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads), input_(input), range_(range),
+          region_(region), regionParent_(regionParent) {}
 
     // The tiles the range records.
     int64_t tiles() const {
+        if (region_) {
+            const int d = plan_.M - region_->level;
+            return ((int64_t{1} << (2 * (d + 1))) - 1) / 3;
+        }
         if (plan_.C == plan_.M) {
             return range_.top ? plan_.header.tileCount() : 0;
         }
@@ -118,6 +138,9 @@ public:
         stats.assign(static_cast<size_t>(plan_.M) + 1, LevelStats{});
         total_ = tiles();
         done_ = 0;
+        if (regionParent_) {
+            return runRegion(sink, stats, nodataFilled);
+        }
         std::vector<std::vector<float>> previous;
         for (int l = 0; l <= plan_.C; ++l) {
             const int side = plan_.tilesPerSide(l);
@@ -136,7 +159,7 @@ public:
             std::vector<std::vector<float>> current(static_cast<size_t>(count));
             int64_t overflow = 0;
             for (EncodedTile& t : tiles) {
-                if (range_.top) {
+                if (range_.top && holds(t.level, t.tx, t.ty)) {
                     write(sink, t, stats);
                 }
                 overflow = std::max(overflow, t.stats.overflowResidual);
@@ -151,9 +174,11 @@ public:
             if (!range_.top) {
                 return std::nullopt;
             }
-            for (int64_t y = 0; y <= plan_.N; ++y) {
-                const uint8_t* valid = grid_.valid.data() + grid_.index(0, y);
-                nodataFilled += (plan_.N + 1) - std::count(valid, valid + plan_.N + 1, uint8_t{1});
+            const SampleBox box = region_ ? owned(region_->level, region_->tx, region_->ty)
+                                          : SampleBox{0, 0, plan_.N + 1, plan_.N + 1};
+            for (int64_t y = box.y0; y < box.y1; ++y) {
+                const uint8_t* valid = grid_.valid.data() + grid_.index(box.x0, y);
+                nodataFilled += (box.x1 - box.x0) - std::count(valid, valid + (box.x1 - box.x0), uint8_t{1});
             }
             return std::nullopt;
         }
@@ -161,6 +186,39 @@ public:
     }
 
 private:
+    struct Subtree {
+        std::vector<EncodedTile> tiles;
+        int64_t filled = 0;
+    };
+
+    // Whether the tile is recorded: every tile, or the region's.
+    bool holds(int l, int tx, int ty) const { return !region_ || regionHolds(*region_, l, tx, ty); }
+    // Whether the tile is encoded: the region's tiles and their ancestors (whose reconstructions
+    // they are predicted from).
+    bool needed(int l, int tx, int ty) const {
+        return holds(l, tx, ty) ||
+               (l < region_->level && regionHolds(RegionRoot{l, tx, ty}, region_->level, region_->tx, region_->ty));
+    }
+
+    // The finest samples tile (l, tx, ty) (l >= minLevel) owns, the map's far edges included,
+    // within the region's when there is one.
+    SampleBox owned(int l, int tx, int ty) const {
+        const int d = plan_.M - l;
+        const int64_t T = plan_.T;
+        SampleBox b{static_cast<int64_t>(tx) * T << d, static_cast<int64_t>(ty) * T << d,
+                    (static_cast<int64_t>(tx) + 1) * T << d, (static_cast<int64_t>(ty) + 1) * T << d};
+        if (region_) {
+            const int rd = plan_.M - region_->level;
+            b.x0 = std::max(b.x0, static_cast<int64_t>(region_->tx) * T << rd);
+            b.y0 = std::max(b.y0, static_cast<int64_t>(region_->ty) * T << rd);
+            b.x1 = std::min(b.x1, (static_cast<int64_t>(region_->tx) + 1) * T << rd);
+            b.y1 = std::min(b.y1, (static_cast<int64_t>(region_->ty) + 1) * T << rd);
+        }
+        b.x1 += b.x1 == plan_.N ? 1 : 0;
+        b.y1 += b.y1 == plan_.N ? 1 : 0;
+        return b;
+    }
+
     void write(const TileSink& sink, const EncodedTile& t, std::vector<LevelStats>& stats) {
         sink.put(t);
         if (options_.reconstruction) {
@@ -178,6 +236,9 @@ private:
 
     void encodeSubtree(int l, int tx, int ty, const std::vector<float>& parent, const SourceGrid& footprint,
                        std::vector<EncodedTile>& out) {
+        if (region_ && !needed(l, tx, ty)) {
+            return;
+        }
         EncodedTile tile = encodeResidualTile(plan_, l, tx, ty, &parent, footprint);
         // The children's parent; the tile keeps its reconstruction only for the hook, so that
         // memory stays per subtree.
@@ -189,7 +250,9 @@ private:
             tile.recon.clear();
             tile.recon.shrink_to_fit();
         }
-        out.push_back(std::move(tile));
+        if (holds(l, tx, ty)) {
+            out.push_back(std::move(tile));
+        }
         if (l < plan_.M) {
             for (int c = 0; c < 4; ++c) {
                 encodeSubtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), recon, footprint, out);
@@ -246,18 +309,80 @@ private:
 
     // The tiles of a subtree without valid heights, in encodeSubtree's order: residuals 0.
     void emptySubtree(int l, int tx, int ty, std::vector<EncodedTile>& out) {
+        if (region_ && !needed(l, tx, ty)) {
+            return;
+        }
         std::call_once(zeroBlobOnce_, [this] { zeroBlob_ = zeroResidualBlob(plan_.T + 5); });
         EncodedTile tile;
         tile.level = l;
         tile.tx = tx;
         tile.ty = ty;
         tile.blob = zeroBlob_;
-        out.push_back(std::move(tile));
+        if (holds(l, tx, ty)) {
+            out.push_back(std::move(tile));
+        }
         if (l < plan_.M) {
             for (int c = 0; c < 4; ++c) {
                 emptySubtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), out);
             }
         }
+    }
+
+    // The tiles of the subtree rooted at tile (l, tx, ty) (l > C), encoded from `parent`, the
+    // reconstruction of its parent tile, and the finest samples of its footprint (the root tile
+    // with its borders), sampled into `footprint`; with the owned samples that were filled.
+    Subtree encodeRooted(int l, int tx, int ty, const std::vector<float>& parent, SourceGrid& footprint) {
+        Subtree result;
+        const int d = plan_.M - l;
+        const int64_t T = plan_.T;
+        footprint.stride = 1;
+        // The subtree's tiles with their borders; clamped to the map unless edges are folded.
+        const int64_t unit = int64_t{1} << d;
+        const int64_t lo = plan_.folded ? std::numeric_limits<int64_t>::min() : 0;
+        const int64_t hi = plan_.folded ? std::numeric_limits<int64_t>::max() : plan_.N;
+        footprint.x0 = std::max<int64_t>(lo, (static_cast<int64_t>(tx) * T - 2) * unit);
+        footprint.y0 = std::max<int64_t>(lo, (static_cast<int64_t>(ty) * T - 2) * unit);
+        const int64_t x1 = std::min<int64_t>(hi, (static_cast<int64_t>(tx) * T + T + 2) * unit);
+        const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit);
+        footprint.nx = x1 - footprint.x0 + 1;
+        footprint.ny = y1 - footprint.y0 + 1;
+        // Finest samples this subtree owns (of the region's, with one).
+        const SampleBox box = owned(l, tx, ty);
+        // A subtree no valid height can reach (a face beyond a small map) is all residual
+        // 0, exactly what encoding its all-nodata samples gives, without sampling it. With
+        // the reconstruction hook every tile is encoded, as the hook wants each one.
+        if (!options_.reconstruction && !sampler_.mayHaveHeights(footprint.x0, footprint.y0, x1, y1)) {
+            result.filled = (box.y1 - box.y0) * (box.x1 - box.x0);
+            emptySubtree(l, tx, ty, result.tiles);
+            return result;
+        }
+        sampleReachable(footprint);
+        for (int64_t fy = box.y0; fy < box.y1; ++fy) {
+            const uint8_t* valid = footprint.valid.data() + footprint.index(box.x0, fy);
+            result.filled += std::count(valid, valid + (box.x1 - box.x0), uint8_t{0});
+        }
+        encodeSubtree(l, tx, ty, parent, footprint, result.tiles);
+        return result;
+    }
+
+    // The region alone from its root's parent reconstruction: its subtree in one piece.
+    std::optional<Overflow> runRegion(const TileSink& sink, std::vector<LevelStats>& stats, int64_t& nodataFilled) {
+        SourceGrid footprint;
+        Subtree subtree = encodeRooted(region_->level, region_->tx, region_->ty, *regionParent_, footprint);
+        nodataFilled += subtree.filled;
+        int64_t overflow = 0;
+        int overflowLevel = 0;
+        for (const EncodedTile& t : subtree.tiles) {
+            write(sink, t, stats);
+            if (t.stats.overflowResidual > overflow) {
+                overflow = t.stats.overflowResidual;
+                overflowLevel = t.level;
+            }
+        }
+        if (overflow) {
+            return Overflow{plan_.scale, overflow, overflowLevel, 0};
+        }
+        return std::nullopt;
     }
 
     // Subtrees go to the threads in Z order and are written in Z order by the ordered writer
@@ -269,11 +394,6 @@ private:
         const int cside = plan_.tilesPerSide(plan_.C);
         const int64_t first = range_.begin;
         const int64_t count = range_.end - range_.begin;
-        const int d = plan_.M - top;
-        struct Subtree {
-            std::vector<EncodedTile> tiles;
-            int64_t filled = 0;
-        };
         int64_t overflow = 0; // the writer's: the largest |residual| beyond int16 so far
         int overflowLevel = 0;
         int64_t overflowEnd = 0;
@@ -308,40 +428,8 @@ private:
                 // Each thread reuses its footprint's buffers from subtree to subtree: no fresh
                 // pages (faults, zeroing) per subtree.
                 SourceGrid& footprint = footprints[static_cast<size_t>(omp_get_thread_num())];
-                const int64_t T = plan_.T;
-                footprint.stride = 1;
-                // The subtree's tiles with their borders; clamped to the map unless edges are folded.
-                const int64_t unit = int64_t{1} << d;
-                const int64_t lo = plan_.folded ? std::numeric_limits<int64_t>::min() : 0;
-                const int64_t hi = plan_.folded ? std::numeric_limits<int64_t>::max() : plan_.N;
-                footprint.x0 = std::max<int64_t>(lo, (static_cast<int64_t>(tx) * T - 2) * unit);
-                footprint.y0 = std::max<int64_t>(lo, (static_cast<int64_t>(ty) * T - 2) * unit);
-                const int64_t x1 = std::min<int64_t>(hi, (static_cast<int64_t>(tx) * T + T + 2) * unit);
-                const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit);
-                footprint.nx = x1 - footprint.x0 + 1;
-                footprint.ny = y1 - footprint.y0 + 1;
-                // Finest samples this subtree owns: [tx*T << d, (tx+1)*T << d), plus the map's edge.
-                const int64_t ox0 = static_cast<int64_t>(tx) * T << d, ox1 = (static_cast<int64_t>(tx) + 1) * T << d;
-                const int64_t oy0 = static_cast<int64_t>(ty) * T << d, oy1 = (static_cast<int64_t>(ty) + 1) * T << d;
-                const int64_t rowEnd = oy1 == plan_.N ? oy1 + 1 : oy1;
-                const int64_t columnEnd = ox1 == plan_.N ? ox1 + 1 : ox1;
-                // A subtree no valid height can reach (a face beyond a small map) is all residual
-                // 0, exactly what encoding its all-nodata samples gives, without sampling it. With
-                // the reconstruction hook every tile is encoded, as the hook wants each one.
-                if (!options_.reconstruction &&
-                    !sampler_.mayHaveHeights(footprint.x0, footprint.y0, x1, y1)) {
-                    result.filled = (rowEnd - oy0) * (columnEnd - ox0);
-                    emptySubtree(top, static_cast<int>(tx), static_cast<int>(ty), result.tiles);
-                    ordered.deliver(i, std::move(result));
-                    return;
-                }
-                sampleReachable(footprint);
-                for (int64_t fy = oy0; fy < rowEnd; ++fy) {
-                    const uint8_t* valid = footprint.valid.data() + footprint.index(ox0, fy);
-                    result.filled += std::count(valid, valid + (columnEnd - ox0), uint8_t{0});
-                }
                 const std::vector<float>& parent = levelC[static_cast<size_t>((ty / 2) * cside + tx / 2)];
-                encodeSubtree(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint, result.tiles);
+                result = encodeRooted(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint);
             } catch (...) {
                 ordered.stopAt(i);
                 throw;
@@ -362,6 +450,8 @@ private:
     int threads_;
     const std::string& input_;
     ShareRange range_;
+    const RegionRoot* region_;
+    const std::vector<float>* regionParent_;
     int64_t total_ = 0;
     int64_t done_ = 0;
     std::once_flag zeroBlobOnce_;
@@ -386,6 +476,106 @@ double nextScale(const Overflow& overflow, const ResidualEncodeOptions& options,
     return niceCeil(std::max(needed, overflow.scale * 1.000001));
 }
 
+// What a region build needs beyond the plan: the region file's header, the subtrees below level
+// C that reach the region, and from a parent, its scale and (for a root below level C) the
+// reconstruction of the root's parent tile.
+struct RegionBuild {
+    RegionRoot root;
+    ResidualHeader header; // the region file's, its scale set per attempt
+    ShareRange range;
+    std::optional<float> parentScale;
+    std::vector<float> parentRecon;
+    bool fromParent = false; // the region is encoded from parentRecon alone
+};
+
+// Checks a region build's options and its parent (one-line errors naming the option or the
+// file), before anything is written.
+RegionBuild planRegion(const ResidualPlan& plan, const ResidualEncodeOptions& options) {
+    const ResidualRegion& region = *options.region;
+    const RegionRoot& root = region.root;
+    if (options.share) {
+        failOption("region", "writes one region file; it is not built in parts (--part, mpirun)");
+    }
+    if (options.maxFileBytes > 0) {
+        failOption("region", "writes one region file; --max-file-bytes cuts a whole pyramid into a set");
+    }
+    const int lowest = std::max(1, plan.minLevel);
+    if (root.level < lowest || root.level > plan.M) {
+        failOption("region", "tile " + tileText(root) + " cannot root a region: its level must be from " +
+                                 std::to_string(lowest) + " to " + std::to_string(plan.M) +
+                                 " (levels of full-size tiles, below the root)");
+    }
+    const int side = plan.tilesPerSide(root.level);
+    if (root.tx < 0 || root.ty < 0 || root.tx >= side || root.ty >= side) {
+        failOption("region", "tile " + tileText(root) + " is outside the pyramid (level " + std::to_string(root.level) +
+                                 " has " + std::to_string(side) + " x " + std::to_string(side) + " tiles)");
+    }
+    if (options.autoScale && region.parent.empty()) {
+        failOption("scale", "auto is the whole pyramid's choice, which one region cannot see: give the build's scale, "
+                            "or --parent to take it from the main file");
+    }
+    RegionBuild r;
+    r.root = root;
+    r.header = residualRegionHeader(plan.header, root, plan.M);
+    if (plan.C == plan.M) {
+        r.range = ShareRange{0, 1, true};
+    } else if (root.level <= plan.C) {
+        const int k = plan.C + 1 - root.level;
+        const auto begin =
+            static_cast<int64_t>(mortonEncode(static_cast<uint32_t>(root.tx) << k, static_cast<uint32_t>(root.ty) << k));
+        r.range = ShareRange{begin, begin + (int64_t{1} << (2 * k)), true};
+    } else {
+        const int k = root.level - plan.C - 1;
+        const auto m =
+            static_cast<int64_t>(mortonEncode(static_cast<uint32_t>(root.tx) >> k, static_cast<uint32_t>(root.ty) >> k));
+        r.range = ShareRange{m, m + 1, true};
+    }
+    if (region.parent.empty()) {
+        return r;
+    }
+    const PyramidSet set = openPyramidSet(region.parent);
+    const auto mismatch = [&](const std::string& what) {
+        failOption("parent", set.name() + " is not a pyramid of this build: " + what);
+    };
+    if (set.kind != PyramidKind::Residual) {
+        mismatch("it holds orthos, not residuals");
+    }
+    const ResidualHeader parent = ResidualFileReader::readHeader(set.main);
+    if (parent.rootLevel != 0) {
+        mismatch("its main file " + set.main + " is a region file (root " +
+                 tileText(RegionRoot{parent.rootLevel, parent.rootTx, parent.rootTy}) + ")");
+    }
+    if (parent.tileSize != plan.T || parent.minLevel != plan.minLevel) {
+        mismatch("tileSize " + std::to_string(parent.tileSize) + " and minLevel " + std::to_string(parent.minLevel) +
+                 ", not " + std::to_string(plan.T) + " and " + std::to_string(plan.minLevel));
+    }
+    const int deepest = setMaxLevel(set);
+    if (deepest > plan.M) {
+        mismatch("it has levels down to " + std::to_string(deepest) + ", this build to " + std::to_string(plan.M));
+    }
+    if (deepest < root.level - 1) {
+        mismatch("it has levels down to " + std::to_string(deepest) + ", the region's root " + tileText(root) +
+                 " needs level " + std::to_string(root.level - 1));
+    }
+    if (!options.autoScale && parent.scale != static_cast<float>(options.scale)) {
+        mismatch("scale " + numberText(parent.scale) + ", not " + numberText(static_cast<float>(options.scale)));
+    }
+    r.parentScale = parent.scale;
+    if (root.level > plan.C) {
+        // The root's parent as the runtime rebuilds it: the encoder's reconstruction, bit for bit.
+        const FileLevelProducer producer = makeSetLevelProducer(set, root.level - 1, 4);
+        const auto tile = producer.fileTile(root.level - 1, root.tx >> 1, root.ty >> 1);
+        const size_t samples = static_cast<size_t>(plan.tileIntervals(root.level - 1) + 5);
+        if (tile->zf.size() != samples * samples) {
+            mismatch("its tiles at level " + std::to_string(root.level - 1) + " have " + std::to_string(tile->size) +
+                     " samples a side, not " + std::to_string(samples));
+        }
+        r.parentRecon = tile->zf;
+        r.fromParent = true;
+    }
+    return r;
+}
+
 } // namespace
 
 void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output,
@@ -405,9 +595,14 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     const ResidualShare* share = options.share;
     const int64_t units = plan.C == plan.M ? 1
                                            : static_cast<int64_t>(plan.tilesPerSide(plan.C + 1)) * plan.tilesPerSide(plan.C + 1);
-    const ShareRange range = share ? shareRange(share->index, share->count, job.pyramid, job.pyramids, units)
-                                   : ShareRange{0, units, true};
-    report.header = plan.header;
+    std::optional<RegionBuild> region;
+    if (options.region) {
+        region = planRegion(plan, options);
+    }
+    const ShareRange range = share    ? shareRange(share->index, share->count, job.pyramid, job.pyramids, units)
+                             : region ? region->range
+                                      : ShareRange{0, units, true};
+    report.header = region ? region->header : plan.header;
     if (!range.active()) {
         // Nothing of this pyramid is this part's: it only follows the build's attempts.
         for (int attempt = 0; share->agree; ++attempt) {
@@ -420,55 +615,60 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         return;
     }
 
-    // Pass 1: the in-memory grid of levels 0..C, one level-C row of samples at a time (each
-    // reads two input rows at most), in row order, so the input streams through once.
-    // With folded edges the grid reaches the root tile's borders, 2 level-0 intervals beyond.
+    // A region encoded from its parent's reconstruction reads only its own subtree's samples.
     SourceGrid grid;
-    grid.stride = int64_t{1} << (plan.M - plan.C);
-    const int64_t margin = plan.folded ? int64_t{2} << plan.M : 0;
-    grid.x0 = grid.y0 = -margin;
-    grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
-    grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
-    grid.valid.resize(grid.height.size());
-    // Blocks of kBlock x kBlock grid samples that no valid height can reach are left nodata
-    // without sampling (what sampling them gives); each row samples its other runs of blocks.
-    constexpr int64_t kBlock = 64;
-    const int64_t blocksAcross = (grid.nx + kBlock - 1) / kBlock;
-    const int64_t blocksDown = (grid.ny + kBlock - 1) / kBlock;
-    std::vector<uint8_t> reachable(static_cast<size_t>(blocksAcross * blocksDown));
-    parallelFor(blocksAcross * blocksDown, threads, [&](int64_t b) {
-        const int64_t bx = b % blocksAcross, by = b / blocksAcross;
-        const int64_t x0 = grid.x0 + bx * kBlock * grid.stride, y0 = grid.y0 + by * kBlock * grid.stride;
-        const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kBlock - 1) * grid.stride;
-        const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kBlock - 1) * grid.stride;
-        reachable[static_cast<size_t>(b)] = job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
-    });
-    parallelFor(grid.ny, threads, [&](int64_t row) {
-        const uint8_t* blocks = reachable.data() + (row / kBlock) * blocksAcross;
-        for (int64_t b0 = 0; b0 < blocksAcross;) {
-            int64_t b1 = b0;
-            while (b1 < blocksAcross && blocks[b1] == blocks[b0]) {
-                ++b1;
+    if (!region || !region->fromParent) {
+        // Pass 1: the in-memory grid of levels 0..C, one level-C row of samples at a time (each
+        // reads two input rows at most), in row order, so the input streams through once.
+        // With folded edges the grid reaches the root tile's borders, 2 level-0 intervals beyond.
+        grid.stride = int64_t{1} << (plan.M - plan.C);
+        const int64_t margin = plan.folded ? int64_t{2} << plan.M : 0;
+        grid.x0 = grid.y0 = -margin;
+        grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
+        grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
+        grid.valid.resize(grid.height.size());
+        // Blocks of kBlock x kBlock grid samples that no valid height can reach are left nodata
+        // without sampling (what sampling them gives); each row samples its other runs of blocks.
+        constexpr int64_t kBlock = 64;
+        const int64_t blocksAcross = (grid.nx + kBlock - 1) / kBlock;
+        const int64_t blocksDown = (grid.ny + kBlock - 1) / kBlock;
+        std::vector<uint8_t> reachable(static_cast<size_t>(blocksAcross * blocksDown));
+        parallelFor(blocksAcross * blocksDown, threads, [&](int64_t b) {
+            const int64_t bx = b % blocksAcross, by = b / blocksAcross;
+            const int64_t x0 = grid.x0 + bx * kBlock * grid.stride, y0 = grid.y0 + by * kBlock * grid.stride;
+            const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kBlock - 1) * grid.stride;
+            const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kBlock - 1) * grid.stride;
+            reachable[static_cast<size_t>(b)] = job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
+        });
+        parallelFor(grid.ny, threads, [&](int64_t row) {
+            const uint8_t* blocks = reachable.data() + (row / kBlock) * blocksAcross;
+            for (int64_t b0 = 0; b0 < blocksAcross;) {
+                int64_t b1 = b0;
+                while (b1 < blocksAcross && blocks[b1] == blocks[b0]) {
+                    ++b1;
+                }
+                const int64_t c0 = b0 * kBlock, c1 = std::min(grid.nx, b1 * kBlock);
+                if (blocks[b0]) {
+                    SourceGrid line;
+                    line.stride = grid.stride;
+                    line.x0 = grid.x0 + c0 * grid.stride;
+                    line.y0 = grid.y0 + row * grid.stride;
+                    line.nx = c1 - c0;
+                    line.ny = 1;
+                    job.heights->sample(line);
+                    std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx + c0);
+                    std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx + c0);
+                }
+                b0 = b1;
             }
-            const int64_t c0 = b0 * kBlock, c1 = std::min(grid.nx, b1 * kBlock);
-            if (blocks[b0]) {
-                SourceGrid line;
-                line.stride = grid.stride;
-                line.x0 = grid.x0 + c0 * grid.stride;
-                line.y0 = grid.y0 + row * grid.stride;
-                line.nx = c1 - c0;
-                line.ny = 1;
-                job.heights->sample(line);
-                std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx + c0);
-                std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx + c0);
-            }
-            b0 = b1;
-        }
-    });
-    fillRootNodata(plan, grid, job.emptyFill, job.input);
+        });
+        fillRootNodata(plan, grid, job.emptyFill, job.input);
+    }
 
     double scale = options.scale;
-    if (options.autoScale) {
+    if (region && region->parentScale) {
+        scale = *region->parentScale; // the build's (the parent's) scale, fixed
+    } else if (options.autoScale) {
         double maxAbs = 0.0;
         for (size_t s = 0; s < grid.height.size(); ++s) {
             if (grid.valid[s]) {
@@ -490,14 +690,26 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
             share->out->file().rewind(partStart);
             sink.part = &share->out->file();
             sink.stream = static_cast<uint32_t>(job.pyramid);
+        } else if (region) {
+            region->header.scale = plan.scale;
+            out = std::make_unique<ResidualOutput>(output, region->header, 0, true);
+            sink.writer = &out->writer();
+            sink.region = &region->root;
         } else {
             out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes);
             sink.writer = &out->writer();
         }
-        Encoder encoder(plan, *job.heights, grid, options, threads, job.input, range);
+        Encoder encoder(plan, *job.heights, grid, options, threads, job.input, range, region ? &region->root : nullptr,
+                        region && region->fromParent ? &region->parentRecon : nullptr);
         std::optional<Overflow> overflow = encoder.run(sink, stats, nodataFilled);
         if (share && share->agree) {
             overflow = share->agree(overflow);
+        }
+        if (overflow && region && region->parentScale) {
+            // The parent fixes the scale: a region cannot raise it alone.
+            ResidualEncodeOptions fixed = options;
+            fixed.autoScale = false;
+            nextScale(*overflow, fixed, job.input, attempt, false);
         }
         if (overflow) {
             scale = nextScale(*overflow, options, job.input, attempt, share && !share->agree && overflow->position >= 0);
@@ -508,6 +720,15 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         report.finestSamples = (plan.N + 1) * (plan.N + 1);
         report.nodataFilled = nodataFilled;
         report.levels = residualLevelReports(plan.header, stats);
+        if (region) {
+            // The region file's levels, counted from its root, and its finest samples.
+            const int L = region->root.level;
+            report.header = region->header;
+            const int64_t n = (static_cast<int64_t>(plan.T) << (plan.M - L)) + 1;
+            report.finestSamples = n * n;
+            report.levels = residualLevelReports(
+                region->header, std::vector<LevelStats>(stats.begin() + L, stats.end()));
+        }
         if (share) {
             nlohmann::json companions = nlohmann::json::object();
             for (const CompanionFile& c : job.companions) {
@@ -530,7 +751,9 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                                     {"companions", companions}});
             report.bytes = share->out->file().position() - partStart;
         } else {
-            out->place(job.companions, report);
+            // A region file goes without the pyramid's companions (they describe the whole pyramid,
+            // beside its main file).
+            out->place(region ? std::vector<CompanionFile>{} : job.companions, report);
         }
         break;
     }

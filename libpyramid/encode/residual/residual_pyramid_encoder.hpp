@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/residual/height_source.hpp"
 #include "libpyramid/encode/residual/residual_output.hpp"
@@ -48,6 +49,20 @@ struct ResidualShare {
     std::function<std::optional<ResidualOverflow>(const std::optional<ResidualOverflow>&)> agree;
 };
 
+// A region build (doc/planet-scale.md, "One region at a time"): only the sub-pyramid rooted at
+// absolute tile `root` of the pyramid, written as one region file (doc/format.md 1.4) at the
+// output. Its tiles are the whole pyramid's, byte for byte: residuals against the enclosing
+// pyramid's reconstruction.
+struct ResidualRegion {
+    RegionRoot root;
+    // An existing main file or set of the same build (empty: none). The root's ancestors'
+    // reconstruction is then read from it through the runtime's producers, bit-exact with the
+    // encoder's, so that a root below the in-memory top levels reads only its subtree's input
+    // window; the build takes the parent's scale (--scale auto then means: the parent's).
+    // Without it the top levels are encoded from the input first, as a whole build does.
+    std::string parent;
+};
+
 // How residuals are quantized and the encoding is run: the options every residual pyramid
 // takes, whatever its heights' source (the DEM front ends' options extend them).
 struct ResidualEncodeOptions {
@@ -59,6 +74,8 @@ struct ResidualEncodeOptions {
     uint64_t maxFileBytes = 0;
     // Set in each process of a split build: encode only this share, into its part file.
     const ResidualShare* share = nullptr;
+    // Set: encode only this region, into one region file (neither a share nor a set of files).
+    std::optional<ResidualRegion> region;
     // Called from one thread at a time with (tiles done, total tiles).
     std::function<void(int64_t, int64_t)> progress;
     // Asked after every tile, from one thread at a time: true stops the encoding, which throws
@@ -113,7 +130,9 @@ struct ResidualPyramidJob {
 };
 
 // Encodes the pyramid into `output` (written atomically; with options.share, the share's tiles
-// into its part file instead, and nothing when it has none of the pyramid's) with the options' scale (or the
+// into its part file instead, and nothing when it has none of the pyramid's; with
+// options.region, the region's tiles into the region file `output`, without the companions, and
+// the report then describes that file) with the options' scale (or the
 // automatic one), threads, progress and reconstruction hook, and fills `report`. Throws Error
 // on int16 overflow (naming the smallest scale that would fit) and when no sample is valid.
 void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output,
