@@ -8,6 +8,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
+#include "libpyramid/encode/residual/residual_parts.hpp"
 #include "libpyramid/input/height_samples.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/text.hpp"
@@ -178,29 +179,8 @@ nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int
             {"nodata", nodataJson}};
 }
 
-namespace {
-
-// A region set's files, main first ([] for one file).
-nlohmann::json filesJson(const std::vector<std::pair<std::string, uint64_t>>& files) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& [name, bytes] : files) {
-        list.push_back({{"file", name}, {"bytes", bytes}});
-    }
-    return list;
-}
-
-} // namespace
-
 nlohmann::json toJson(const DemReport& r) {
-    nlohmann::json levels = nlohmann::json::array();
-    for (const ResidualLevelReport& l : r.levels) {
-        levels.push_back({{"level", l.level},
-                          {"tiles", l.tiles},
-                          {"samples", l.samples},
-                          {"max_error", l.maxError},
-                          {"rms_error", l.rmsError},
-                          {"max_abs_residual", l.maxAbsResidual}});
-    }
+    const nlohmann::json levels = residualLevelsJson(r.levels);
     nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
     input["files"] = r.inputs;
     return {{"input", input},
@@ -214,7 +194,7 @@ nlohmann::json toJson(const DemReport& r) {
             {"tiles", r.tiles},
             {"shared_tiles", r.sharedTiles},
             {"bytes", r.bytes},
-            {"files", filesJson(r.files)},
+            {"files", residualFilesJson(r.files)},
             {"bits_per_sample", r.finestSamples ? 8.0 * static_cast<double>(r.bytes) / static_cast<double>(r.finestSamples) : 0.0},
             {"finest_samples", r.finestSamples},
             {"nodata_filled", r.nodataFilled},

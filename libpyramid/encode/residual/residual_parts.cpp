@@ -36,6 +36,27 @@ std::vector<ResidualLevelReport> residualLevelReports(const ResidualHeader& head
     return levels;
 }
 
+nlohmann::json residualLevelsJson(const std::vector<ResidualLevelReport>& levels) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const ResidualLevelReport& l : levels) {
+        list.push_back({{"level", l.level},
+                        {"tiles", l.tiles},
+                        {"samples", l.samples},
+                        {"max_error", l.maxError},
+                        {"rms_error", l.rmsError},
+                        {"max_abs_residual", l.maxAbsResidual}});
+    }
+    return list;
+}
+
+nlohmann::json residualFilesJson(const std::vector<std::pair<std::string, uint64_t>>& files) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& [name, bytes] : files) {
+        list.push_back({{"file", name}, {"bytes", bytes}});
+    }
+    return list;
+}
+
 std::vector<uint8_t> packLevelStats(const LevelStats& s) {
     std::vector<uint8_t> out(36);
     std::memcpy(out.data(), &s.samples, 8);
@@ -149,27 +170,14 @@ nlohmann::json toJson(const ResidualMergeReport& r) {
     nlohmann::json pyramids = nlohmann::json::array();
     for (size_t k = 0; k < r.pyramids.size(); ++k) {
         const ResidualPyramidReport& p = r.pyramids[k];
-        nlohmann::json files = nlohmann::json::array();
-        for (const auto& [name, bytes] : p.files) {
-            files.push_back({{"file", name}, {"bytes", bytes}});
-        }
-        nlohmann::json levels = nlohmann::json::array();
-        for (const ResidualLevelReport& l : p.levels) {
-            levels.push_back({{"level", l.level},
-                              {"tiles", l.tiles},
-                              {"samples", l.samples},
-                              {"max_error", l.maxError},
-                              {"rms_error", l.rmsError},
-                              {"max_abs_residual", l.maxAbsResidual}});
-        }
         pyramids.push_back({{"output", r.outputs[k]},
                             {"header", residualHeaderJson(p.header)},
                             {"tiles", p.tiles},
                             {"shared_tiles", p.sharedTiles},
                             {"bytes", p.bytes},
-                            {"files", files},
+                            {"files", residualFilesJson(p.files)},
                             {"nodata_filled", p.nodataFilled},
-                            {"levels", levels}});
+                            {"levels", residualLevelsJson(p.levels)}});
     }
     return {{"parts", r.parts}, {"directory", r.directory}, {"pyramids", pyramids}, {"seconds", r.seconds}};
 }

@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -34,6 +35,10 @@ inline constexpr const char* kResidualPartFormat = "libpyramid residual part";
 nlohmann::json residualHeaderJson(const ResidualHeader& header);
 // The per-level report of a pyramid from its tiles' statistics, merged in write order.
 std::vector<ResidualLevelReport> residualLevelReports(const ResidualHeader& header, const std::vector<LevelStats>& stats);
+
+// A report's levels and a set's files as the JSON reports write them.
+nlohmann::json residualLevelsJson(const std::vector<ResidualLevelReport>& levels);
+nlohmann::json residualFilesJson(const std::vector<std::pair<std::string, uint64_t>>& files);
 
 // A tile's statistics as a part file records them, and back.
 std::vector<uint8_t> packLevelStats(const LevelStats& stats);
