@@ -324,6 +324,39 @@ CLI::Option* addPartOption(CLI::App& app, std::string& part) {
         ->type_name("I/N");
 }
 
+std::optional<RegionRequest> RegionArgs::resolve() const {
+    if (region.empty()) {
+        return std::nullopt;
+    }
+    RegionRoot root;
+    int* fields[3] = {&root.level, &root.tx, &root.ty};
+    const char* p = region.data();
+    const char* const end = region.data() + region.size();
+    for (int k = 0; k < 3; ++k) {
+        const auto [next, error] = std::from_chars(p, end, *fields[k]);
+        const bool last = k == 2;
+        if (error != std::errc() || next == p || (last ? next != end : (next == end || *next != ','))) {
+            fail("--region", "must be LEVEL,TX,TY (a tile: three whole numbers), not '" + region + "'");
+        }
+        p = next + (last ? 0 : 1);
+    }
+    return RegionRequest{root, parent};
+}
+
+void addRegionOptions(CLI::App& app, RegionArgs& args, CLI::Option* part, const char* files, const char* parentFile) {
+    app.add_option("--region", args.region,
+                   std::string("Write only the sub-pyramid rooted at tile (LEVEL, TX, TY), as ") + files +
+                       " whose tiles are the whole pyramid's")
+        ->type_name("LEVEL,TX,TY")
+        ->excludes(part);
+    app.add_option("--parent", args.parent,
+                   std::string("With --region: ") + parentFile +
+                       " of the same build, whose reconstruction the region's residuals are against, instead of "
+                       "encoding the levels above it from the input")
+        ->type_name("FILE")
+        ->needs("--region");
+}
+
 std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show) {
     auto progress = std::make_shared<std::unique_ptr<Progress>>();
     return [progress, program, show](int64_t done, int64_t total) {

@@ -136,6 +136,18 @@ struct SplitBuild {
 // Declares --part I/N, bound to `part`.
 CLI::Option* addPartOption(CLI::App& app, std::string& part);
 
+// --region LEVEL,TX,TY and --parent FILE, as every preprocessor takes them.
+struct RegionArgs {
+    std::string region;
+    std::string parent;
+    // The request they make (none without --region); throws Error naming the option when the
+    // tile is not three whole numbers (whether the pyramid has it is the encoder's check).
+    std::optional<RegionRequest> resolve() const;
+};
+// Declares --region (excluding `part`) and --parent on `app`; `files` says what a region build
+// writes, `parentFile` what --parent names.
+void addRegionOptions(CLI::App& app, RegionArgs& args, CLI::Option* part, const char* files, const char* parentFile);
+
 // Runs `build` in the role `part` (the --part text, "" without) and the launcher give it; prints
 // the line of a part unless quiet. Returns the role.
 BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& build);

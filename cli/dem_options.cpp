@@ -47,16 +47,8 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "index FILE.regions.json; without SIZE, just under 4 GiB")
         ->expected(0, 1);
     CLI::Option* part = addPartOption(app, args->part);
-    app.add_option("--region", args->region,
-                   "Write only the sub-pyramid rooted at tile (LEVEL, TX, TY), as one region file whose tiles are "
-                   "the whole pyramid's (name it as a set does, e.g. DEM-L6-12-40.dat)")
-        ->type_name("LEVEL,TX,TY")
-        ->excludes(part);
-    app.add_option("--parent", args->parent,
-                   "With --region: the main file (or set) of the same build, whose reconstruction the region is "
-                   "encoded against instead of encoding the levels above it from the input")
-        ->type_name("FILE")
-        ->needs("--region");
+    addRegionOptions(app, args->region, part, "one region file (name it as a set does, e.g. DEM-L6-12-40.dat)",
+                     "the main file (or set)");
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
 }
@@ -77,9 +69,7 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
         options.maxFileBytes = args.maxFileBytes.empty() ? uint64_t{0xFFFFFFFF}
                                                          : parseByteSize(args.maxFileBytes, "--max-file-bytes");
     }
-    if (!args.region.empty()) {
-        options.region = ResidualRegion{parseRegionRoot(args.region), args.parent};
-    }
+    options.region = args.region.resolve();
     options.band = args.band - 1;
     const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");
     options.nodata = nodata.value;
@@ -89,22 +79,6 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
                              "255 samples (tile size 250)\n", options.tileSize + 5);
     }
     return options;
-}
-
-RegionRoot parseRegionRoot(const std::string& text) {
-    RegionRoot root;
-    int* fields[3] = {&root.level, &root.tx, &root.ty};
-    const char* p = text.data();
-    const char* const end = text.data() + text.size();
-    for (int k = 0; k < 3; ++k) {
-        const auto [next, error] = std::from_chars(p, end, *fields[k]);
-        const bool last = k == 2;
-        if (error != std::errc() || next == p || (last ? next != end : (next == end || *next != ','))) {
-            fail("--region", "must be LEVEL,TX,TY (a tile: three whole numbers), not '" + text + "'");
-        }
-        p = next + (last ? 0 : 1);
-    }
-    return root;
 }
 
 void takeMerged(DemReport& report, const ResidualPyramidReport& merged) {

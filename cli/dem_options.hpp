@@ -29,8 +29,7 @@ struct DemArgs {
     std::string maxFileBytes; // "" when --max-file-bytes is given without a size
     CLI::Option* maxFileBytesOption = nullptr; // given (with or without a size) when counted
     std::string part;         // --part I/N
-    std::string region;       // --region LEVEL,TX,TY
-    std::string parent;       // --parent FILE
+    RegionArgs region;        // --region LEVEL,TX,TY, --parent FILE
     DemEncodeOptions options;
 };
 
@@ -41,10 +40,6 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
 // The encoder options the parsed arguments ask for; throws Error naming the option when a
 // value is impossible. Prints the tile-size warning of the original runtime unless quiet.
 DemEncodeOptions resolveDemOptions(const DemArgs& args);
-
-// The tile of --region LEVEL,TX,TY; throws Error naming the option when it is not three whole
-// numbers (whether the pyramid has that tile is the encoder's check).
-RegionRoot parseRegionRoot(const std::string& text);
 
 // The two summary lines of one residual file on stderr: tiles, levels, scale, bits per sample,
 // time; the largest error against the bound, filled nodata and the sampling rule.

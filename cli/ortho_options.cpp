@@ -85,7 +85,10 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
                        "Write each output as a region set of files of at most SIZE bytes each (K, M, G, T: powers "
                        "of 1024) and its index FILE.regions.json; without SIZE, just under 4 GiB")
             ->expected(0, 1);
-    addPartOption(app, a->part);
+    CLI::Option* part = addPartOption(app, a->part);
+    addRegionOptions(app, a->region, part,
+                     "one region file of each output (named as a set names its files: NAME-L6-12-40.dat)",
+                     "the colour-residual file (or set), residuals/NAME.dat");
     app.add_option("--report", a->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
 }
@@ -106,6 +109,7 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
         options.maxFileBytes =
             a.maxFileBytes.empty() ? kDefaultOrthoMaxFileBytes : parseByteSize(a.maxFileBytes, "--max-file-bytes");
     }
+    options.region = a.region.resolve();
     if (options.compression == TilePolicy::JpegYCbCr && options.writeTiff && !a.quiet) {
         std::fprintf(stderr, "warning: --compression jpeg-ycbcr: the original Proland runtime cannot read these "
                              "tiles (libpyramid's readers can)\n");
@@ -136,8 +140,13 @@ void printOrthoSummary(const OrthoReport& report) {
                          report.files[k].size(), static_cast<unsigned long long>(largest), report.outputs[k].c_str());
         }
     }
-    std::fprintf(stderr, "  levels 0..%d of %d-pixel tiles, %.1f s; %s\n", report.maxLevel, report.tileSize,
-                 report.seconds, report.sampling.c_str());
+    if (report.region) {
+        std::fprintf(stderr, "  the region rooted at tile %s: its levels 0..%d", tileText(*report.region).c_str(),
+                     report.maxLevel);
+    } else {
+        std::fprintf(stderr, "  levels 0..%d", report.maxLevel);
+    }
+    std::fprintf(stderr, " of %d-pixel tiles, %.1f s; %s\n", report.tileSize, report.seconds, report.sampling.c_str());
 }
 
 } // namespace pyramid::cli

@@ -26,6 +26,7 @@ struct OrthoArgs {
                                residualCompression = "deflate", colourSpace = "srgb", report;
     bool quiet = false;
     std::string part; // --part I/N
+    RegionArgs region; // --region LEVEL,TX,TY, --parent FILE
     std::string maxFileBytes; // "" when --max-file-bytes is given without a size
     // --max-file-bytes, to ask whether it was given: given without a size, it has no value for
     // a callback to see, only a count.

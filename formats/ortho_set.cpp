@@ -8,6 +8,15 @@
 
 namespace pyramid {
 
+OrthoHeader orthoRegionHeader(const OrthoHeader& whole, const RegionRoot& root, int last) {
+    OrthoHeader r = whole;
+    r.maxLevel = last - root.level;
+    r.rootLevel = root.level;
+    r.rootTx = root.tx;
+    r.rootTy = root.ty;
+    return r;
+}
+
 std::vector<OrthoSetFile> writeOrthoSet(const OrthoFileWriter& whole, const std::string& mainName, uint64_t maxFileBytes,
                                         const std::function<std::string(const std::string&)>& place,
                                         const std::string& name) {
@@ -25,14 +34,7 @@ std::vector<OrthoSetFile> writeOrthoSet(const OrthoFileWriter& whole, const std:
     source.offsetBytes = 8;
     source.maxOffset = static_cast<uint64_t>(INT64_MAX);
     // Every file keeps the whole header's tile size, channels and flags; a region its root.
-    auto headerOf = [&h](const SplitFile& f) {
-        OrthoHeader r = h;
-        r.maxLevel = f.last - f.root.level;
-        r.rootLevel = f.root.level;
-        r.rootTx = f.root.tx;
-        r.rootTy = f.root.ty;
-        return r;
-    };
+    auto headerOf = [&h](const SplitFile& f) { return orthoRegionHeader(h, f.root, f.last); };
     const std::vector<SplitFile> split = writeSplitSet(
         source, mainName, maxFileBytes,
         [&](const std::string& path, const SplitFile& f) {

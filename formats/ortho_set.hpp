@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "formats/ortho_file.hpp"
+#include "formats/pyramid_set.hpp"
 
 namespace pyramid {
 
@@ -20,6 +21,10 @@ struct OrthoSetFile {
     OrthoHeader header;
     uint64_t bytes = 0;
 };
+
+// The header of the file of a set rooted at absolute tile `root` ((0, 0, 0): the main file) down
+// to absolute level `last`: `whole`'s tile size, channels and flags, and its root.
+OrthoHeader orthoRegionHeader(const OrthoHeader& whole, const RegionRoot& root, int last);
 
 // Writes the pyramid `whole` holds (every tile written; a root pyramid, rootLevel 0) as a set
 // named after `mainName`: the main file takes the most top levels that fit in `maxFileBytes`

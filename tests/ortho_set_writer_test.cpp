@@ -145,8 +145,12 @@ TEST(OrthoSetWriter, SmallLimitSplitsEveryOutputIntoRegionsThatServeTheSingleFil
                       regionFilePath("RGB.dat", RegionRoot{rh.rootLevel, rh.rootTx, rh.rootTy}));
             EXPECT_LE(rh.rootLevel + rh.maxLevel, oh.maxLevel);
             nested = nested || rh.rootLevel > mh.maxLevel + 1;
-            const test::RunResult alone = test::run(test::programPath("pyramid") + " check " + set.regions[r]);
-            EXPECT_EQ(alone.exitCode, 0) << set.regions[r] << ": " << alone.out << alone.err;
+        }
+        // A region file alone is a valid file (the program checks the first and the last; the
+        // set's own check below covers every file).
+        for (const std::string& region : {set.regions.front(), set.regions.back()}) {
+            const test::RunResult alone = test::run(test::programPath("pyramid") + " check " + region);
+            EXPECT_EQ(alone.exitCode, 0) << region << ": " << alone.out << alone.err;
         }
         EXPECT_TRUE(pyramidSetProblems(resolvePyramidSet(main)).empty()) << kOutputs[k];
         const test::RunResult check = test::run(test::programPath("pyramid") + " check " + main);

@@ -57,7 +57,7 @@ struct Fixture {
 DemReport buildRegion(const Fixture& f, const RegionRoot& root, const std::string& output,
                       const std::string& parent = "") {
     DemEncodeOptions o = smallDem();
-    o.region = ResidualRegion{root, parent};
+    o.region = RegionRequest{root, parent};
     return encodeDem(f.input, output, o);
 }
 
@@ -163,7 +163,7 @@ TEST(RegionBuild, RegionsFromAParentFileHoldTheWholePyramidsTiles) {
     // A deeper parent serves too, and --scale auto takes its scale.
     DemEncodeOptions o = smallDem();
     o.autoScale = true;
-    o.region = ResidualRegion{RegionRoot{5, 3, 2}, f.whole};
+    o.region = RegionRequest{RegionRoot{5, 3, 2}, f.whole};
     encodeDem(f.input, f.dir.file("c.dat"), o);
     expectRegionOfWhole(f.dir.file("c.dat"), f.whole, RegionRoot{5, 3, 2});
 }
@@ -240,7 +240,7 @@ TEST(RegionBuild, WrongRegionsAndParentsAreRefusedAndWriteNothing) {
     const auto refused = [&](const RegionRoot& root, const std::string& parent, const std::string& expected,
                              const std::function<void(DemEncodeOptions&)>& change = {}) {
         DemEncodeOptions o = smallDem();
-        o.region = ResidualRegion{root, parent};
+        o.region = RegionRequest{root, parent};
         if (change) {
             change(o);
         }
@@ -313,18 +313,18 @@ TEST(RegionBuild, ASphericalFacesRegionHoldsTheFacesTiles) {
     encodeSphericalDem(dir.file("map.tif"), dir.file("whole"), o);
     for (const RegionRoot root : {RegionRoot{2, 1, 1}, RegionRoot{5, 9, 14}}) {
         SphericalDemOptions r = o;
-        r.dem.region = ResidualRegion{root, ""};
+        r.dem.region = RegionRequest{root, ""};
         encodeSphericalDem(dir.file("map.tif"), dir.file("region"), r);
         const std::string path = regionFilePath(dir.file("region/DEM3.dat"), root);
         ASSERT_TRUE(fs::exists(path)) << path;
         expectRegionOfWhole(path, dir.file("whole/DEM3.dat"), root);
-        r.dem.region = ResidualRegion{root, dir.file("whole/DEM3.dat")};
+        r.dem.region = RegionRequest{root, dir.file("whole/DEM3.dat")};
         encodeSphericalDem(dir.file("map.tif"), dir.file("parent"), r);
         expectRegionOfWhole(regionFilePath(dir.file("parent/DEM3.dat"), root), dir.file("whole/DEM3.dat"), root);
     }
     SphericalDemOptions two = o;
     two.faces = {3, 4};
-    two.dem.region = ResidualRegion{RegionRoot{2, 1, 1}, ""};
+    two.dem.region = RegionRequest{RegionRoot{2, 1, 1}, ""};
     EXPECT_THROW(encodeSphericalDem(dir.file("map.tif"), dir.file("two"), two), OptionError);
     EXPECT_FALSE(fs::exists(dir.file("two")));
 }

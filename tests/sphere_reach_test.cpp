@@ -143,10 +143,10 @@ TEST(SphericalReach, FineImageryAtItsDefaultLevel) {
     SphericalOrthoOptions o;
     o.ortho.writeDxt = false;
     o.ortho.writeResiduals = false;
-    o.faces = {1, 3};
+    o.faces = {1}; // the face under the map (349525 tiles, nearly all skipped as blank)
     const SphericalOrthoReport r = encodeSphericalOrtho(map, dir.file("out"), o);
     // 216000 pixels around the equator: 54000 a face, level 9 of 192-pixel tiles (349525 tiles).
-    ASSERT_EQ(r.faces.size(), 2u);
+    ASSERT_EQ(r.faces.size(), 1u);
     const int T = r.faces[0].ortho.tileSize, M = r.faces[0].ortho.maxLevel;
     EXPECT_EQ(M, 9);
     // The finest tile under the map's centre holds its colour; tiles far from it are black.
@@ -166,9 +166,6 @@ TEST(SphericalReach, FineImageryAtItsDefaultLevel) {
     EXPECT_GT(coloured, T * T / 8) << "tile " << x / T << "," << y / T << " of level " << M;
     const std::vector<uint8_t> far = reader->readTile(M, 0, 0);
     EXPECT_TRUE(std::all_of(far.begin(), far.end(), [](uint8_t v) { return v == 0; }));
-    const auto other = OrthoFileReader::open(dir.file("out") + "/RGB3.dat");
-    const std::vector<uint8_t> face3 = other->readTile(3, 4, 4);
-    EXPECT_TRUE(std::all_of(face3.begin(), face3.end(), [](uint8_t v) { return v == 0; }));
 }
 
 } // namespace

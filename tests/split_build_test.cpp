@@ -268,7 +268,7 @@ TEST(SplitBuild, OrthoPartsMergeIntoTheSingleRunsOutputs) {
         for (const std::string program : {"preprocessOrtho", "preprocessSphericalOrtho"}) {
             const std::string tag = program + "-" + outputs;
             const std::string cmd = test::programPath(program) + " " + image + " --outputs " + outputs +
-                                    (program == "preprocessOrtho" ? " --tile-size 64" : " --tile-size 16 --max-level 3") +
+                                    (program == "preprocessOrtho" ? " --tile-size 64" : " --tile-size 16 --max-level 3 --faces 1,5") +
                                     " --max-file-bytes 40K -q -o ";
             ASSERT_EQ(test::run(cmd + dir.file("one-" + tag)).exitCode, 0);
             for (const int count : {2, 5}) {

@@ -16,7 +16,9 @@
 #include "formats/part_file.hpp"
 #include "libpyramid/support/work_share.hpp"
 #include "formats/staging_directory.hpp"
+#include "formats/ortho_set.hpp"
 #include "libpyramid/encode/ortho/ortho_output.hpp"
+#include "libpyramid/encode/ortho/ortho_region.hpp"
 #include "libpyramid/encode/ortho/ortho_tile_encoder.hpp"
 #include "libpyramid/support/ordered_writer.hpp"
 #include "libpyramid/support/parallel.hpp"
@@ -44,9 +46,10 @@ void checkAgainstInput(const OrthoEncodeOptions& o, const OrthoLevels& levels) {
 class OrthoOutputs {
 public:
     // Names the outputs' final paths in `directory` in report.outputs.
+    // With `region`, each output is that region's file (its tiles given at absolute coordinates).
     OrthoOutputs(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
-                 const OrthoEncodeOptions& o, OrthoReport& report)
-        : staging_(staging), maxFileBytes_(o.maxFileBytes) {
+                 const OrthoEncodeOptions& o, OrthoReport& report, const RegionRoot* region = nullptr)
+        : staging_(staging), maxFileBytes_(o.maxFileBytes), region_(region) {
         OrthoHeader base;
         base.maxLevel = levels.maxLevel();
         base.tileSize = levels.tileSize();
@@ -54,9 +57,16 @@ public:
         base.flags = o.border == 0 ? OrthoHeader::kFlagNoBorder : 0u;
         const std::filesystem::path dir(directory);
         const std::string file = o.name + ".dat";
-        auto output = [&](const std::string& relative, const OrthoHeader& h) {
+        auto output = [&](const std::string& whole, const OrthoHeader& h) {
+            const std::string relative = region ? regionFilePath(whole, *region) : whole;
             names_.push_back(relative);
             report.outputs.push_back((dir / relative).string());
+            if (region) {
+                // Staged as the tiles come, never committed: put in level order when complete.
+                const OrthoHeader r = orthoRegionHeader(h, *region, h.maxLevel);
+                r.validate(relative);
+                return std::make_unique<OrthoFileWriter>(staging.path(relative) + ".staged", r);
+            }
             return std::make_unique<OrthoFileWriter>(staging.path(relative), h);
         };
         if (o.writeTiff) {
@@ -76,14 +86,18 @@ public:
     }
 
     void write(const EncodedOrthoTile& e) {
+        RegionRoot t{e.level, e.tx, e.ty};
+        if (region_) {
+            t = regionRelativeTile(*region_, e.level, e.tx, e.ty);
+        }
         if (tiff_) {
-            tiff_->writeTileBytes(e.level, e.tx, e.ty, e.tiff);
+            tiff_->writeTileBytes(t.level, t.tx, t.ty, e.tiff);
         }
         if (dxt_) {
-            dxt_->writeTileBytes(e.level, e.tx, e.ty, e.dxt);
+            dxt_->writeTileBytes(t.level, t.tx, t.ty, e.dxt);
         }
         if (residual_) {
-            residual_->writeTileBytes(e.level, e.tx, e.ty, e.residual);
+            residual_->writeTileBytes(t.level, t.tx, t.ty, e.residual);
         }
     }
 
@@ -105,11 +119,28 @@ public:
 private:
     void commitOne(std::unique_ptr<OrthoFileWriter> writer, const std::string& name, const std::string& output,
                    OrthoReport& report) {
+        if (region_) {
+            // Level by level, row by row: the order the set splitter gives a region file, so that
+            // a region built alone is byte for byte the file of a set (formats/set_splitter.hpp).
+            const OrthoHeader& h = writer->header();
+            auto ordered = std::make_unique<OrthoFileWriter>(staging_.path(name), h);
+            for (int l = 0; l <= h.maxLevel; ++l) {
+                const int side = 1 << l;
+                for (int ty = 0; ty < side; ++ty) {
+                    for (int tx = 0; tx < side; ++tx) {
+                        ordered->writeTileBytes(l, tx, ty, writer->table().read(h.tileIndex(l, tx, ty)));
+                    }
+                }
+            }
+            writer = std::move(ordered);
+            report.sharedTiles.back() = writer->sharedTiles();
+        }
         placeOrthoOutput(std::move(writer), name, output, maxFileBytes_, staging_, report);
     }
 
     StagingDirectory& staging_;
     const uint64_t maxFileBytes_;
+    const RegionRoot* region_;
     std::unique_ptr<OrthoFileWriter> tiff_, dxt_, residual_;
     std::vector<std::string> names_; // each output's path relative to the directory and the staging directory
 };
@@ -123,6 +154,9 @@ class GroupEncoder {
 public:
     GroupEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& o)
         : encoder_(levels, o), o_(o), threads_(levels.threads()) {}
+
+    // The colour reconstruction of a tile this walk does not encode (a region's parent).
+    void seed(int level, int tx, int ty, std::vector<uint8_t> recon) { shallowRecon_[{level, tx, ty}] = std::move(recon); }
 
     EncodedGroup encode(std::vector<TileBatch>& group) {
         EncodedGroup results(group.size());
@@ -221,9 +255,17 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     report.border = o.border;
     report.threads = levels.threads();
     report.jpegErrorMeasured = o.measureJpegError;
+    std::optional<OrthoRegionPlan> region;
+    if (o.region) {
+        region = planOrthoRegion(levels, o);
+        report.region = region->root;
+        report.maxLevel = levels.maxLevel() - region->root.level;
+    }
     // Colour residuals predict each tile from its parent's rebuilt colours: parents first.
     // Without them, tiles are independent, and the input is read once (OrthoLevels::walk).
-    const auto order = o.writeResiduals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass;
+    const auto order = region                ? region->order
+                       : o.writeResiduals ? OrthoLevels::WalkOrder::CoarseFirst
+                                          : OrthoLevels::WalkOrder::SinglePass;
     const OrthoShare* share = o.share;
     const int64_t items = levels.subtreeItems(order);
     // A SinglePass walk gives the top levels after its subtrees: the share of the last one records them.
@@ -241,18 +283,25 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     const int topLevel = levels.topLevels(order);
     const int64_t topTiles = ((int64_t{1} << (2 * (topLevel + 1))) - 1) / 3;
     const int64_t subtreeTiles = ((int64_t{1} << (2 * (levels.maxLevel() - topLevel))) - 1) / 3;
-    const int64_t total = share ? (range.top ? topTiles : 0) + (range.end - range.begin) * subtreeTiles : levels.tileCount();
+    const int64_t total = region ? region->tiles
+                          : share ? (range.top ? topTiles : 0) + (range.end - range.begin) * subtreeTiles
+                                  : levels.tileCount();
     report.tiles = total;
     if (share && !range.active()) {
         return report; // nothing of this pyramid is this share's
     }
     std::unique_ptr<OrthoOutputs> outputs;
     if (!share) {
-        outputs = std::make_unique<OrthoOutputs>(levels, directory, *staging, o, report);
+        outputs = std::make_unique<OrthoOutputs>(levels, directory, *staging, o, report,
+                                                 region ? &region->root : nullptr);
     }
     const uint64_t recordsStart = share ? share->out->file().position() : 0;
     const nlohmann::json slots = orthoOutputsJson(levels, o);
     GroupEncoder encoder(levels, o);
+    if (region && !region->parentRecon.empty()) {
+        const RegionRoot& r = region->root;
+        encoder.seed(r.level - 1, r.tx >> 1, r.ty >> 1, region->parentRecon);
+    }
     std::vector<OrthoLevelTotals> totals(static_cast<size_t>(levels.maxLevel()) + 1);
     int64_t done = 0;
 
@@ -277,6 +326,9 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     OrderedWriter<EncodedGroup> writer(1, [&](int64_t, EncodedGroup& group) {
         for (auto& item : group) {
             for (const EncodedOrthoTile& e : item) {
+                if (region && !region->holds(e.level, e.tx, e.ty)) {
+                    continue; // an ancestor of the root, encoded for its reconstruction
+                }
                 if (share) {
                     if (!range.top && e.level <= topLevel) {
                         continue; // another share's
@@ -299,9 +351,15 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
         }
     });
     int64_t groups = 0;
-    const OrthoLevels::Range walkRange{range.begin, range.end, range.top};
+    const OrthoLevels::Range walkRange = region ? region->range : OrthoLevels::Range{range.begin, range.end, range.top};
     levels.walk(
         [&](std::vector<TileBatch>& group) {
+            if (region) {
+                // Only the tiles the region needs are encoded.
+                for (TileBatch& batch : group) {
+                    std::erase_if(batch, [&](const TrueTile& t) { return !region->needed(t.level, t.tx, t.ty); });
+                }
+            }
             EncodedGroup encoded = encoder.encode(group);
             const int64_t index = groups++;
             if (!writer.admit(index)) {
@@ -309,7 +367,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             }
             writer.deliver(index, std::move(encoded));
         },
-        order, share ? &walkRange : nullptr);
+        order, share || region ? &walkRange : nullptr);
     writer.finish(groups);
 
     if (share) {
@@ -338,8 +396,9 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             file.commit();
         }
     }
-    for (size_t l = 0; l < totals.size(); ++l) {
-        report.levels.push_back(totals[l].report(static_cast<int>(l)));
+    const size_t first = region ? static_cast<size_t>(region->root.level) : 0; // a region's levels count from its root
+    for (size_t l = first; l < totals.size(); ++l) {
+        report.levels.push_back(totals[l].report(static_cast<int>(l - first)));
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
@@ -384,7 +443,7 @@ OrthoReport encodePlanar(const OrthoLevels& levels, const std::string& directory
                          std::chrono::steady_clock::time_point start) {
     std::optional<PyramidGeoreference> georeference;
     std::vector<std::pair<std::string, std::string>> companions;
-    if (const auto& g = levels.inputInfo().georeference; g && g->problem.empty()) {
+    if (const auto& g = levels.inputInfo().georeference; g && g->problem.empty() && !o.region) {
         // The finest level's pixels tile the root quad: the input's pixels, or its longer side's
         // square with the aspect kept (planar_pixels.hpp).
         const int w = levels.inputWidth(), h = levels.inputHeight(), longest = std::max(w, h);
@@ -473,6 +532,7 @@ nlohmann::json toJson(const OrthoReport& r) {
             {"sampling", r.sampling},
             {"tile_size", r.tileSize},
             {"max_level", r.maxLevel},
+            {"region", r.region ? nlohmann::json::array({r.region->level, r.region->tx, r.region->ty}) : nlohmann::json()},
             {"border", r.border},
             {"tiles", r.tiles},
             {"levels", levels},

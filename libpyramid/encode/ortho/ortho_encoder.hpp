@@ -17,6 +17,7 @@
 
 #include "formats/ortho_file.hpp"
 #include "formats/staging_directory.hpp"
+#include "libpyramid/encode/region_request.hpp"
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
 #include "libpyramid/input/pyramid_georeference.hpp"
 
@@ -63,6 +64,11 @@ struct OrthoEncodeOptions {
     // (formats/ortho_set.hpp, doc/planet-scale.md); an output that fits is the one file a build
     // without it writes, byte for byte, and an index of no regions.
     uint64_t maxFileBytes = 0;
+    // Set: encode only this region (region_request.hpp), each output as one region file named as
+    // a set names its files (DIR/NAME-L6-12-40.dat, dxt/..., residuals/...), without the planar
+    // georeference sidecar (the main file's places it). Its parent is the enclosing pyramid's
+    // colour-residual file or set (residuals/NAME.dat). Neither a share nor with maxFileBytes.
+    std::optional<RegionRequest> region;
     // Set in each process of a split build: encode only this share, into its part file; this
     // pyramid is `pyramid` of the build's `pyramids` (a cube face among the faces built).
     const OrthoShare* share = nullptr;
@@ -98,14 +104,15 @@ struct OrthoReport {
     std::vector<std::string> outputs;
     std::string sampling;
     int inputWidth = 0, inputHeight = 0, channels = 0;
-    int tileSize = 0, maxLevel = 0, border = 0;
+    int tileSize = 0, maxLevel = 0, border = 0; // a region's maxLevel counts from its root
+    std::optional<RegionRoot> region;           // options.region's root
     int64_t tiles = 0;
     std::vector<uint64_t> bytes;     // per output (a region set: the total of its files)
     // Per output, with maxFileBytes: its region set's files, the main first, named relative to
     // `directory` ("dxt/RGB-L6-12-40.dat"), and their sizes; empty lists without maxFileBytes.
     std::vector<std::vector<std::pair<std::string, uint64_t>>> files;
     std::vector<int64_t> sharedTiles;
-    std::vector<OrthoLevelReport> levels;
+    std::vector<OrthoLevelReport> levels; // a region's counted from its root, as its files count them
     bool jpegErrorMeasured = false; // options.measureJpegError
     // A georeferenced input's placement of the pyramid (planar pyramids only), also written as
     // DIR/NAME.dat.georef.json.

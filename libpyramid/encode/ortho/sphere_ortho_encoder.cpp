@@ -29,6 +29,9 @@ void checkSphericalOrthoOptions(const SphericalOrthoOptions& o) {
     if (o.extent) {
         o.extent->validate();
     }
+    if (o.ortho.region && o.faces.size() != 1) {
+        failOption("faces", "a region build encodes one face: give a single face, not " + std::to_string(o.faces.size()));
+    }
     if (o.ortho.name.empty()) {
         failOption("name", "'' is not a plain file name"); // the face number alone would pass for one
     }
@@ -71,8 +74,8 @@ SphericalOrthoReport encodeFaces(const RasterSource& source, const GeodeticMap* 
         fo.pyramid = static_cast<int>(k);
         fo.pyramids = static_cast<int>(faces.size());
         if (o.ortho.progress) {
-            fo.progress = [&o, before = done, total](int64_t tiles, int64_t) {
-                o.ortho.progress(before + tiles, total);
+            fo.progress = [&o, before = done, total](int64_t tiles, int64_t faceTotal) {
+                o.ortho.progress(before + tiles, o.ortho.region ? faceTotal : total); // a region: its one face's tiles
             };
         }
         SphericalOrthoFaceReport r;

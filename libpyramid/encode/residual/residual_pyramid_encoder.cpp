@@ -491,7 +491,7 @@ struct RegionBuild {
 // Checks a region build's options and its parent (one-line errors naming the option or the
 // file), before anything is written.
 RegionBuild planRegion(const ResidualPlan& plan, const ResidualEncodeOptions& options) {
-    const ResidualRegion& region = *options.region;
+    const RegionRequest& region = *options.region;
     const RegionRoot& root = region.root;
     if (options.share) {
         failOption("region", "writes one region file; it is not built in parts (--part, mpirun)");

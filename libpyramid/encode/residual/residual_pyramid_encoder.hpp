@@ -16,6 +16,7 @@
 
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/encode/region_request.hpp"
 #include "libpyramid/encode/residual/height_source.hpp"
 #include "libpyramid/encode/residual/residual_output.hpp"
 
@@ -49,20 +50,6 @@ struct ResidualShare {
     std::function<std::optional<ResidualOverflow>(const std::optional<ResidualOverflow>&)> agree;
 };
 
-// A region build (doc/planet-scale.md, "One region at a time"): only the sub-pyramid rooted at
-// absolute tile `root` of the pyramid, written as one region file (doc/format.md 1.4) at the
-// output. Its tiles are the whole pyramid's, byte for byte: residuals against the enclosing
-// pyramid's reconstruction.
-struct ResidualRegion {
-    RegionRoot root;
-    // An existing main file or set of the same build (empty: none). The root's ancestors'
-    // reconstruction is then read from it through the runtime's producers, bit-exact with the
-    // encoder's, so that a root below the in-memory top levels reads only its subtree's input
-    // window; the build takes the parent's scale (--scale auto then means: the parent's).
-    // Without it the top levels are encoded from the input first, as a whole build does.
-    std::string parent;
-};
-
 // How residuals are quantized and the encoding is run: the options every residual pyramid
 // takes, whatever its heights' source (the DEM front ends' options extend them).
 struct ResidualEncodeOptions {
@@ -75,7 +62,7 @@ struct ResidualEncodeOptions {
     // Set in each process of a split build: encode only this share, into its part file.
     const ResidualShare* share = nullptr;
     // Set: encode only this region, into one region file (neither a share nor a set of files).
-    std::optional<ResidualRegion> region;
+    std::optional<RegionRequest> region;
     // Called from one thread at a time with (tiles done, total tiles).
     std::function<void(int64_t, int64_t)> progress;
     // Asked after every tile, from one thread at a time: true stops the encoding, which throws

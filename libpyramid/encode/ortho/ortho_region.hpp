@@ -1,0 +1,37 @@
+// How an ortho build encodes one region (OrthoEncodeOptions::region, doc/planet-scale.md "One
+// region at a time"): which walk of the levels reaches it while reading the least input, which
+// tiles are encoded, and the colour reconstruction its root is predicted from. The tiles are
+// the whole pyramid's, byte for byte: TIFF and DXT tiles do not depend on the rest of the
+// pyramid, and a colour residual tile depends only on its parent's reconstruction, which is
+// either encoded from the input along the root's ancestors, or read from the enclosing
+// residual pyramid (`parent`) through the runtime's colour producer, bit-exact with the encoder.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "formats/ortho_file.hpp"
+#include "formats/pyramid_set.hpp"
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/encode/ortho/ortho_levels.hpp"
+
+namespace pyramid {
+
+struct OrthoRegionPlan {
+    RegionRoot root;
+    OrthoLevels::WalkOrder order = OrthoLevels::WalkOrder::CoarseFirst;
+    OrthoLevels::Range range;           // the subtree items that reach the region
+    bool ancestors = false;             // the root's ancestors are encoded too (for their reconstruction)
+    std::vector<uint8_t> parentRecon;   // from `parent`: the root's parent, (tileSize+4)^2 x channels
+    int64_t tiles = 0;                  // the region's
+
+    // Whether the tile goes into the region's files.
+    bool holds(int level, int tx, int ty) const { return regionHolds(root, level, tx, ty); }
+    // Whether the tile is encoded: the region's tiles, and with `ancestors` the root's ancestors.
+    bool needed(int level, int tx, int ty) const;
+};
+
+// Checks the request against the pyramid (one-line errors naming the option or the parent file)
+// and plans it. Throws OptionError or Error.
+OrthoRegionPlan planOrthoRegion(const OrthoLevels& levels, const OrthoEncodeOptions& o);
+
+} // namespace pyramid
