@@ -241,6 +241,15 @@ TEST(SplitBuildCli, PartsOfTheProgramsMergeIntoTheSingleRunsFilesSidecarIncluded
     EXPECT_EQ(foreign.exitCode, 1);
     EXPECT_NE(foreign.err.find("q/DEM.dat.part-1-of-3: is a part of another build"), std::string::npos) << foreign.err;
     EXPECT_FALSE(fs::exists(dir.file("p/DEM.dat")));
+    // Into another directory, keeping the parts: they merge again below.
+    const test::RunResult kept =
+        test::run(merge + "--keep-parts -o " + dir.file("elsewhere") + " " + dir.file("p/DEM.dat.part-*-of-3"));
+    ASSERT_EQ(kept.exitCode, 0) << kept.err;
+    EXPECT_EQ(snapshot(dir.file("elsewhere")), snapshot(dir.file("one")));
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(fs::exists(dir.file("p/DEM.dat.part-" + std::to_string(i) + "-of-3"))) << "kept";
+    }
+    EXPECT_FALSE(fs::exists(dir.file("p/DEM.dat")));
     const test::RunResult r = test::run(merge + dir.file("p/DEM.dat.part-*-of-3"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(snapshot(dir.file("p")), snapshot(dir.file("one"))); // the parts are gone
