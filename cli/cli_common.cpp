@@ -21,6 +21,7 @@
 #include "formats/error.hpp"
 #include "formats/temporaries.hpp"
 #include "libpyramid/api/encoders.hpp"
+#include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid::cli {
 
@@ -322,6 +323,21 @@ CLI::Option* addPartOption(CLI::App& app, std::string& part) {
                    "Encode only part I of N (0 <= I < N) into OUTPUT.part-I-of-N, for batch schedulers; "
                    "'pyramid merge' assembles the parts into the files one run writes")
         ->type_name("I/N");
+}
+
+uint64_t MaxFileBytesArgs::resolve() const {
+    if (!option || option->count() == 0) {
+        return 0;
+    }
+    return size.empty() ? kDefaultMaxFileBytes : parseByteSize(size, "--max-file-bytes");
+}
+
+void addMaxFileBytesOption(CLI::App& app, MaxFileBytesArgs& args, const char* what) {
+    args.option = app.add_option("--max-file-bytes", args.size,
+                                 std::string("Write ") + what +
+                                     " of files of at most SIZE bytes each (K, M, G, T: powers of 1024) and its index "
+                                     "FILE.regions.json; without SIZE, just under 4 GiB")
+                       ->expected(0, 1);
 }
 
 std::optional<RegionRequest> RegionArgs::resolve() const {

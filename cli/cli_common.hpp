@@ -136,6 +136,20 @@ struct SplitBuild {
 // Declares --part I/N, bound to `part`.
 CLI::Option* addPartOption(CLI::App& app, std::string& part);
 
+// --max-file-bytes [SIZE], as every preprocessor takes it: without SIZE, files just under 4 GiB
+// (the residual files' 32-bit offsets; ortho files have 64-bit offsets, but 4 GiB files suit
+// FAT32 and byte-range tools).
+inline constexpr uint64_t kDefaultMaxFileBytes = 0xFFFFFFFF;
+struct MaxFileBytesArgs {
+    std::string size; // "" when given without a size
+    // Given without a size, the option has no value for a callback to see, only a count.
+    const CLI::Option* option = nullptr;
+    // 0 when not given; throws Error naming the option for a SIZE that is not one.
+    uint64_t resolve() const;
+};
+// Declares --max-file-bytes on `app`; `what` says what becomes a set.
+void addMaxFileBytesOption(CLI::App& app, MaxFileBytesArgs& args, const char* what);
+
 // --region LEVEL,TX,TY and --parent FILE, as every preprocessor takes them.
 struct RegionArgs {
     std::string region;

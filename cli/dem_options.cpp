@@ -42,10 +42,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "Value marking missing heights: a number, 'nan', 'inf', '-inf', or 'none' (default: what the file declares)");
     app.add_option("--threads", o.threads, "Worker threads (default: all cores; the output does not depend on it)");
     app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
-    args->maxFileBytesOption = app.add_option("--max-file-bytes", args->maxFileBytes,
-                   "Write a region set of files of at most SIZE bytes each (K, M, G, T: powers of 1024) and its "
-                   "index FILE.regions.json; without SIZE, just under 4 GiB")
-        ->expected(0, 1);
+    addMaxFileBytesOption(app, args->maxFileBytes, "a region set");
     CLI::Option* part = addPartOption(app, args->part);
     addRegionOptions(app, args->region, part, "one region file (name it as a set does, e.g. DEM-L6-12-40.dat)",
                      "the main file (or set)");
@@ -65,10 +62,7 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     } else {
         options.scale = parseNumber(args.scale, "--scale", "a number or 'auto'"); // its range: validate()
     }
-    if (args.maxFileBytesOption && args.maxFileBytesOption->count() > 0) {
-        options.maxFileBytes = args.maxFileBytes.empty() ? uint64_t{0xFFFFFFFF}
-                                                         : parseByteSize(args.maxFileBytes, "--max-file-bytes");
-    }
+    options.maxFileBytes = args.maxFileBytes.resolve();
     options.region = args.region.resolve();
     options.band = args.band - 1;
     const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");

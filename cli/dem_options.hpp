@@ -26,8 +26,7 @@ struct DemArgs {
     std::string nodata;
     std::string report;
     bool quiet = false;
-    std::string maxFileBytes; // "" when --max-file-bytes is given without a size
-    CLI::Option* maxFileBytesOption = nullptr; // given (with or without a size) when counted
+    MaxFileBytesArgs maxFileBytes;
     std::string part;         // --part I/N
     RegionArgs region;        // --region LEVEL,TX,TY, --parent FILE
     DemEncodeOptions options;

@@ -80,11 +80,7 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
     OrthoEncodeOptions& o = a->options;
     app.add_option("--threads", o.levels.threads, "Worker threads (default: all cores; the output does not depend on it)");
     app.add_option("--cache-mb", o.levels.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
-    a->maxFileBytesOption =
-        app.add_option("--max-file-bytes", a->maxFileBytes,
-                       "Write each output as a region set of files of at most SIZE bytes each (K, M, G, T: powers "
-                       "of 1024) and its index FILE.regions.json; without SIZE, just under 4 GiB")
-            ->expected(0, 1);
+    addMaxFileBytesOption(app, a->maxFileBytes, "each output as a region set");
     CLI::Option* part = addPartOption(app, a->part);
     addRegionOptions(app, a->region, part,
                      "one region file of each output (named as a set names its files: NAME-L6-12-40.dat)",
@@ -105,10 +101,7 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     } else {
         fail("--colour-space", "'" + a.colourSpace + "' is not srgb or linear");
     }
-    if (a.maxFileBytesOption && a.maxFileBytesOption->count() > 0) {
-        options.maxFileBytes =
-            a.maxFileBytes.empty() ? kDefaultOrthoMaxFileBytes : parseByteSize(a.maxFileBytes, "--max-file-bytes");
-    }
+    options.maxFileBytes = a.maxFileBytes.resolve();
     options.region = a.region.resolve();
     if (options.compression == TilePolicy::JpegYCbCr && options.writeTiff && !a.quiet) {
         std::fprintf(stderr, "warning: --compression jpeg-ycbcr: the original Proland runtime cannot read these "

@@ -16,10 +16,6 @@ class Option;
 
 namespace pyramid::cli {
 
-// --max-file-bytes without a size: files just under 4 GiB, as the DEM preprocessors write them
-// (ortho files have 64-bit offsets, but 4 GiB files suit FAT32 and HTTP range tooling).
-inline constexpr uint64_t kDefaultOrthoMaxFileBytes = 0xFFFFFFFF;
-
 struct OrthoArgs {
     InputArgs input;
     std::string output, outputs = "tiff,dxt,residuals", compression = "deflate",
@@ -27,10 +23,7 @@ struct OrthoArgs {
     bool quiet = false;
     std::string part; // --part I/N
     RegionArgs region; // --region LEVEL,TX,TY, --parent FILE
-    std::string maxFileBytes; // "" when --max-file-bytes is given without a size
-    // --max-file-bytes, to ask whether it was given: given without a size, it has no value for
-    // a callback to see, only a count.
-    const CLI::Option* maxFileBytesOption = nullptr;
+    MaxFileBytesArgs maxFileBytes;
     OrthoEncodeOptions options;
 };
 

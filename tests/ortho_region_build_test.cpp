@@ -23,6 +23,7 @@
 #include "formats/pyramid_set.hpp"
 #include "libpyramid/api/encoders.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/region_tiles.hpp"
 #include "tests/support/rasters.hpp"
 
 namespace pyramid {
@@ -32,21 +33,6 @@ namespace fs = std::filesystem;
 using test::TempDir;
 
 const std::vector<std::string> kOutputs = {"RGB.dat", "dxt/RGB.dat", "residuals/RGB.dat"};
-
-// A colour image with a pixel-sized texture (tiles differ and compress poorly), row 0 = north.
-std::vector<uint16_t> image(int w, int h) {
-    std::vector<uint16_t> v(static_cast<size_t>(w) * h * 3);
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            for (int c = 0; c < 3; ++c) {
-                const double s = 0.5 + 0.4 * std::sin(x / (6.0 + c) + y / 10.0) * std::cos((x - y) / 13.0);
-                v[(static_cast<size_t>(y) * w + x) * 3 + c] =
-                    static_cast<uint16_t>(std::lround(s * 230.0) + (x * 5 + y * 11 + c * 3) % 19);
-            }
-        }
-    }
-    return v;
-}
 
 // 256 x 256 pixels in tiles of 8: levels 0..5. The walk with colour residuals holds levels 0..1
 // in memory and encodes the level-2 subtrees from their footprints; the single pass (no
@@ -69,7 +55,7 @@ struct Fixture {
     Fixture() {
         const int w = 256;
         input = dir.file("in.png");
-        test::writeImage(input, w, w, 3, image(w, w), false);
+        test::writeImage(input, w, w, 3, test::texturedColours(w, w), false);
         const OrthoReport r = encodeOrtho(input, dir.file("whole"), small());
         EXPECT_EQ(r.maxLevel, 5);
     }
@@ -91,16 +77,7 @@ void expectRegionOfWhole(const std::string& path, const std::string& whole, cons
     EXPECT_EQ(h.rootTx, root.tx);
     EXPECT_EQ(h.rootTy, root.ty);
     ASSERT_EQ(h.maxLevel, w.maxLevel - root.level);
-    for (int d = 0; d <= h.maxLevel; ++d) {
-        const int side = 1 << d;
-        for (int y = 0; y < side; ++y) {
-            for (int x = 0; x < side; ++x) {
-                const int l = root.level + d, tx = (root.tx << d) + x, ty = (root.ty << d) + y;
-                ASSERT_EQ(region->readTileBytes(d, x, y), all->readTileBytes(l, tx, ty))
-                    << path << ": tile " << l << "," << tx << "," << ty;
-            }
-        }
-    }
+    test::expectRegionTilesOfWhole(*region, *all, root, path);
 }
 
 OrthoReport buildRegion(const Fixture& f, const RegionRoot& root, const std::string& directory,
@@ -196,7 +173,7 @@ TEST(OrthoRegionBuild, IsTheFileOfASetWithThatRoot) {
 TEST(OrthoRegionBuild, ACubeFacesRegionHoldsTheFacesTiles) {
     TempDir dir;
     const int W = 256, H = 128;
-    test::writeImage(dir.file("map.png"), W, H, 3, image(W, H), false);
+    test::writeImage(dir.file("map.png"), W, H, 3, test::texturedColours(W, H), false);
     SphericalOrthoOptions o;
     o.ortho.levels.tileSize = 8;
     o.ortho.levels.maxLevel = 4;

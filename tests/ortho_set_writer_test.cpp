@@ -26,21 +26,6 @@ using test::TempDir;
 
 const std::vector<std::string> kOutputs = {"RGB.dat", "dxt/RGB.dat", "residuals/RGB.dat"};
 
-// A colour image with a pixel-sized texture (so that tiles compress poorly and differ), row 0 = north.
-std::vector<uint16_t> image(int w, int h) {
-    std::vector<uint16_t> v(static_cast<size_t>(w) * h * 3);
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            for (int c = 0; c < 3; ++c) {
-                const double s = 0.5 + 0.4 * std::sin(x / (5.0 + c) + y / 9.0) * std::cos((x - y) / 11.0);
-                v[(static_cast<size_t>(y) * w + x) * 3 + c] =
-                    static_cast<uint16_t>(std::lround(s * 230.0) + (x * 7 + y * 13 + c * 5) % 17);
-            }
-        }
-    }
-    return v;
-}
-
 OrthoEncodeOptions small() {
     OrthoEncodeOptions o;
     o.levels.tileSize = 16; // 20-pixel tiles with their borders
@@ -95,7 +80,7 @@ void expectNoLeftovers(const std::string& dir) {
 TEST(OrthoSetWriter, SmallLimitSplitsEveryOutputIntoRegionsThatServeTheSingleFilesTiles) {
     TempDir dir;
     const int w = 128; // 16 << 3: levels 0..3
-    test::writeImage(dir.file("in.png"), w, w, 3, image(w, w), false);
+    test::writeImage(dir.file("in.png"), w, w, 3, test::texturedColours(w, w), false);
     OrthoEncodeOptions o = small();
     const OrthoReport single = encodeOrtho(dir.file("in.png"), dir.file("one"), o);
     ASSERT_EQ(single.maxLevel, 3);
@@ -186,7 +171,7 @@ TEST(OrthoSetWriter, SmallLimitSplitsEveryOutputIntoRegionsThatServeTheSingleFil
 
 TEST(OrthoSetWriter, OutputsThatFitAreTheSingleFilesAndAnIndex) {
     TempDir dir;
-    test::writeImage(dir.file("in.png"), 64, 64, 3, image(64, 64), false);
+    test::writeImage(dir.file("in.png"), 64, 64, 3, test::texturedColours(64, 64), false);
     OrthoEncodeOptions o = small();
     encodeOrtho(dir.file("in.png"), dir.file("one"), o);
     o.maxFileBytes = 0xFFFFFFFF;
@@ -215,7 +200,7 @@ TEST(OrthoSetWriter, OutputsThatFitAreTheSingleFilesAndAnIndex) {
 
 TEST(OrthoSetWriter, ALimitBelowTheRootTileIsRefusedAndLeavesNothing) {
     TempDir dir;
-    test::writeImage(dir.file("in.png"), 64, 64, 3, image(64, 64), false);
+    test::writeImage(dir.file("in.png"), 64, 64, 3, test::texturedColours(64, 64), false);
     OrthoEncodeOptions o = small();
     o.maxFileBytes = 100;
     try {
@@ -240,7 +225,7 @@ TEST(OrthoSetWriter, ALimitBelowTheRootTileIsRefusedAndLeavesNothing) {
 
 TEST(OrthoSetWriter, SphericalFacesSplitEachIntoTheirOwnSets) {
     TempDir dir;
-    test::writeImage(dir.file("globe.png"), 256, 128, 3, image(256, 128), false);
+    test::writeImage(dir.file("globe.png"), 256, 128, 3, test::texturedColours(256, 128), false);
     SphericalOrthoOptions o;
     o.ortho.levels.tileSize = 16;
     o.ortho.levels.maxLevel = 3;

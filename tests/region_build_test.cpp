@@ -20,6 +20,7 @@
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/residual_producer.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/region_tiles.hpp"
 #include "tests/support/rasters.hpp"
 
 namespace pyramid {
@@ -75,16 +76,7 @@ void expectRegionOfWhole(const std::string& path, const std::string& whole, cons
     EXPECT_EQ(h.rootTx, root.tx);
     EXPECT_EQ(h.rootTy, root.ty);
     ASSERT_EQ(h.maxLevel, w.maxLevel - root.level);
-    for (int d = 0; d <= h.maxLevel; ++d) {
-        const int side = 1 << d;
-        for (int y = 0; y < side; ++y) {
-            for (int x = 0; x < side; ++x) {
-                const int l = root.level + d, tx = (root.tx << d) + x, ty = (root.ty << d) + y;
-                ASSERT_EQ(region->readTileBytes(d, x, y), all->readTileBytes(l, tx, ty))
-                    << path << ": tile " << l << "," << tx << "," << ty;
-            }
-        }
-    }
+    test::expectRegionTilesOfWhole(*region, *all, root, path);
 }
 
 // A main file of the whole pyramid's levels 0..last, written through the library.

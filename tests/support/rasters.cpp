@@ -34,6 +34,20 @@ std::vector<float> syntheticHeights(int width, int height, float amplitude) {
     return v;
 }
 
+std::vector<uint16_t> texturedColours(int width, int height) {
+    std::vector<uint16_t> v(static_cast<size_t>(width) * static_cast<size_t>(height) * 3);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                const double s = 0.5 + 0.4 * std::sin(x / (5.0 + c) + y / 9.0) * std::cos((x - y) / 11.0);
+                v[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 3 + static_cast<size_t>(c)] =
+                    static_cast<uint16_t>(std::lround(s * 230.0) + (x * 7 + y * 13 + c * 5) % 17);
+            }
+        }
+    }
+    return v;
+}
+
 void writeImage(const std::string& path, int width, int height, int channels, const std::vector<uint16_t>& values,
                 bool sixteen) {
     auto out = OIIO::ImageOutput::create(path);

@@ -14,6 +14,10 @@ void writeFloatRaster(const std::string& path, int width, int height, const std:
 // non-integer values (metres), row 0 = north.
 std::vector<float> syntheticHeights(int width, int height, float amplitude = 1000.0f);
 
+// Three 8-bit channels with a pixel-sized texture (tiles differ and compress poorly), row 0 =
+// north: imagery for ortho tests.
+std::vector<uint16_t> texturedColours(int width, int height);
+
 // Writes 8-bit (or 16-bit when `sixteen`) images with `channels` channels; row 0 = north.
 void writeImage(const std::string& path, int width, int height, int channels, const std::vector<uint16_t>& values,
                 bool sixteen);
