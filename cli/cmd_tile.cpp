@@ -1,6 +1,8 @@
 // `pyramid tile SET LEVEL TX TY -o OUT [--residual]`: one tile out of a pyramid file or a region
 // set (its main file, index or directory), served by the deepest file that holds it.
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -16,6 +18,8 @@
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/input/image_io_module.hpp"
+#include "libpyramid/preview/png_writer.hpp"
+#include "libpyramid/support/text.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 
@@ -39,6 +43,51 @@ std::string extensionOf(const std::string& path) {
     return ext;
 }
 
+// Elevations or residuals as a 16-bit grey PNG, north up: the tile's smallest finite value is 0,
+// its largest 65535 (non-finite values 0), and the range is in the PNG's text ("Minimum",
+// "Maximum") so that a value can be read back: v = min + grey / 65535 * (max - min).
+void writeNormalisedPng(const TileData& tile, const std::string& path, bool isFloat) {
+    const size_t count = static_cast<size_t>(tile.side) * static_cast<size_t>(tile.side);
+    std::vector<double> values(count);
+    for (size_t k = 0; k < count; ++k) {
+        if (isFloat) {
+            float v;
+            std::memcpy(&v, tile.bytes.data() + k * sizeof(float), sizeof(float));
+            values[k] = v;
+        } else {
+            int16_t v;
+            std::memcpy(&v, tile.bytes.data() + k * sizeof(int16_t), sizeof(int16_t));
+            values[k] = v;
+        }
+    }
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const double v : values) {
+        if (std::isfinite(v)) {
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+        }
+    }
+    if (!(lo <= hi)) {
+        lo = hi = 0.0;
+    }
+    const double span = hi > lo ? hi - lo : 1.0;
+    PngWriter png(path, tile.side, tile.side, 1, 16,
+                  {{"Software", "libpyramid pyramid tile"},
+                   {"Samples", isFloat ? "elevations" : "residuals"},
+                   {"Minimum", exactNumberText(lo)},
+                   {"Maximum", exactNumberText(hi)}});
+    std::vector<uint16_t> row(static_cast<size_t>(tile.side));
+    for (int j = tile.side - 1; j >= 0; --j) {
+        for (int i = 0; i < tile.side; ++i) {
+            const double v = values[static_cast<size_t>(j) * static_cast<size_t>(tile.side) + static_cast<size_t>(i)];
+            row[static_cast<size_t>(i)] =
+                std::isfinite(v) ? static_cast<uint16_t>(std::lround((v - lo) / span * 65535.0)) : uint16_t{0};
+        }
+        png.writeRow16(row.data());
+    }
+    png.commit();
+}
+
 // Raw files keep the stored order (row 0 = bottom); images are written north-up.
 void writeTile(const TileData& tile, const std::string& path) {
     const std::string ext = extensionOf(path);
@@ -60,7 +109,8 @@ void writeTile(const TileData& tile, const std::string& path) {
         fail(path, "unknown output extension '" + ext + "' (.f32, .i16, .u8, .tif, .exr or .png)");
     }
     if (ext == ".png" && !isByte) {
-        fail(path, "PNG holds 8-bit images only; use .tif or .exr for elevations and residuals");
+        writeNormalisedPng(tile, path, isFloat);
+        return;
     }
     const size_t sampleBytes = isFloat ? 4 : isInt16 ? 2 : 1;
     const size_t rowBytes = static_cast<size_t>(tile.side) * static_cast<size_t>(tile.channels) * sampleBytes;

@@ -22,5 +22,6 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app); // pyramid sphere-ortho / 
 CommandRunner setupVerifyCommand(CLI::App& app);  // pyramid verify FILE --source INPUT [--gl]
 CommandRunner setupMergeCommand(CLI::App& app);   // pyramid merge PART... [-o DIR]
 CommandRunner setupHeightCommand(CLI::App& app);  // pyramid height FILE|DIR --grid/--pixel/--lonlat
+CommandRunner setupPreviewCommand(CLI::App& app); // pyramid preview FILE|SET -o OUT.png
 
 } // namespace pyramid::cli

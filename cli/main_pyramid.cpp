@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
          setupSphereOrthoCommand},
         {"verify", "Rebuild every level and compare with the source (or CPU with GL)", setupVerifyCommand},
         {"merge", "Assemble the part files of a split build (--part I/N) into its pyramids", setupMergeCommand},
+        {"preview", "Draw one level of a pyramid as a PNG: a hillshade, heights, residuals or the imagery",
+         setupPreviewCommand},
         {"height", "Print the reconstructed height at a point (grid, source pixel, or longitude and latitude)",
          setupHeightCommand},
     };

@@ -22,7 +22,7 @@ install(TARGETS pyramid_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/libpyra
 # through <prefix>/include/libpyramid, which the packages add too.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/formats DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/libpyramid
         FILES_MATCHING PATTERN "*.hpp")
-set(PYRAMID_HEADER_FOLDERS support filters input sphere encode runtime verify distribute api capi)
+set(PYRAMID_HEADER_FOLDERS support filters input sphere encode runtime verify preview distribute api capi)
 if(TARGET pyramid_gl)
   list(APPEND PYRAMID_HEADER_FOLDERS gl)
 endif()

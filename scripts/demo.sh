@@ -19,6 +19,11 @@ echo "== preprocessOrtho: samples/bluemarble.png -> out/ortho/{RGB.dat,dxt/RGB.d
 "$bin/pyramid" verify out/ortho/residuals/RGB.dat --source samples/bluemarble.png --colour-residuals
 "$bin/pyramid" check out/ortho/dxt/RGB.dat
 
+echo "== previews: out/DEM.png (hillshade), out/DEM-residuals.png, out/ortho.png"
+"$bin/pyramid" preview out/DEM.dat -o out/DEM.png
+"$bin/pyramid" preview out/DEM.dat --style residuals -o out/DEM-residuals.png
+"$bin/pyramid" preview out/ortho/RGB.dat -o out/ortho.png
+
 echo "== preprocessSphericalDem: samples/srtm.png (height = red x 10000/255 m) -> out/planet/DEM1..6.dat"
 "$bin/preprocessSphericalDem" samples/srtm.png -o out/planet --height-scale 10000/255 --report out/planet-dem.json
 echo "== preprocessSphericalOrtho: samples/bluemarble.png -> out/planet/{RGB1..6.dat,dxt/,residuals/}"
