@@ -18,6 +18,8 @@ namespace pyramid::cli {
 
 struct DemArgs {
     InputArgs input;
+    std::string tileSize = "192"; // a number of intervals, or "auto" where the command takes it
+    CLI::Option* rootTileSizeOption = nullptr; // counted: --tile-size auto chooses it
     std::string output; // a file (preprocessDem) or a directory (preprocessSphericalDem)
     std::string scale = "1";
     double maxError = 0.0;
@@ -34,9 +36,11 @@ struct DemArgs {
     DemEncodeOptions options;
 };
 
-// Declares INPUT, -o and the shared options on `app`, bound to `args`.
+// Declares INPUT, -o and the shared options on `app`, bound to `args`. `tileSizeAuto`: the
+// command takes `--tile-size auto` (planar inputs: preprocessDem); elsewhere `auto` is a usage
+// error that says so.
 void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp,
-                   const char* maxLevelHelp);
+                   const char* maxLevelHelp, bool tileSizeAuto = false);
 
 // The encoder options the parsed arguments ask for; throws Error naming the option when a
 // value is impossible. Prints the tile-size warning of the original runtime unless quiet.
@@ -45,6 +49,10 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args);
 // The tile of --region LEVEL,TX,TY; throws Error naming the option when it is not three whole
 // numbers (whether the pyramid has that tile is the encoder's check).
 RegionRoot parseRegionRoot(const std::string& text);
+
+// `--tile-size auto`'s choice on stderr, one line (and the original runtime's warning when its
+// tiles are too large for it); for DemEncodeOptions::tileFitChosen.
+void printTileFit(const DemTileFit& fit);
 
 // The two summary lines of one residual file on stderr: tiles, levels, scale, bits per sample,
 // time; the largest error against the bound, filled nodata and the sampling rule.
