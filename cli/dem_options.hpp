@@ -18,7 +18,9 @@ namespace pyramid::cli {
 
 struct DemArgs {
     InputArgs input;
-    std::string tileSize = "192"; // a number of intervals, or "auto" where the command takes it
+    // A number of intervals (the library's default unless given), or "auto" where the command
+    // takes it.
+    std::string tileSize = std::to_string(DemEncodeOptions{}.tileSize);
     CLI::Option* rootTileSizeOption = nullptr; // counted: --tile-size auto chooses it
     std::string output; // a file (preprocessDem) or a directory (preprocessSphericalDem)
     std::string scale = "1";
