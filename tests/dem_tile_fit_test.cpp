@@ -360,6 +360,24 @@ TEST_F(DemTileFitCli, AutoRefusesTheOptionsItChooses) {
     EXPECT_NE(r.err.find("'big' is not a whole number of intervals nor 'auto'"), std::string::npos) << r.err;
 }
 
+TEST_F(DemTileFitCli, PartsOfASplitBuildChooseAlikeAndMergeIntoTheSingleRunsFile) {
+    const std::string input = dir.file("dem.tif");
+    // 128-tiles, maxLevel 4: the level-4 subtrees are shared between the parts.
+    test::writeFloatRaster(input, 513, 513, test::syntheticHeights(513, 513));
+    ASSERT_EQ(run(programPath("preprocessDem") + " -q " + quoted(input) + " -o " + quoted(dir.file("one.dat")) +
+                  " --tile-size auto").exitCode, 0);
+    for (const char* part : {"0/2", "1/2"}) {
+        const auto r = encode(input, std::string("-q --tile-size auto --part ") + part);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+    }
+    const auto merged = run(programPath("pyramid") + " merge " + quoted(dir.file("DEM.dat.part-0-of-2")) + " " +
+                            quoted(dir.file("DEM.dat.part-1-of-2")));
+    ASSERT_EQ(merged.exitCode, 0) << merged.err;
+    const std::string one = test::readFile(dir.file("one.dat"));
+    EXPECT_GT(one.size(), 1000u);
+    EXPECT_EQ(test::readFile(dir.file("DEM.dat")), one);
+}
+
 // The real SRTM tile (1201 x 1201 int16): 150-tiles, the input as the finest level, and every
 // level within scale/2 by `pyramid verify`.
 TEST_F(DemTileFitCli, MountRainierFitsWithoutResampling) {
