@@ -1,21 +1,27 @@
 #!/usr/bin/env bash
 # preprocessDem against GDAL's COG writer with LERC (the same error bound) on the same inputs:
-# wall time, peak RSS and bits per input sample. A benchmark, run on demand (never a test);
-# GDAL is only a peer here, not a dependency.
+# bits per input sample (ours with the default tiles and with --tile-size auto, GDAL's), the
+# order-0 entropy of our residuals, wall time and peak RSS. A benchmark, run on demand (never a
+# test); GDAL is only a peer here (and converts the matplotlib DEM), not a dependency.
 #
 #   bench/dem_bench.sh            results in $WORK (default /tmp/pyramid-dem-bench)
 #
 # Environment: BUILD (a Release build directory, configured here if missing; default
 # build-release), WORK, SIZE (synthetic DEM side, default 8193), THREADS (default: all cores),
-# REPEAT (runs per case, default 5: the median wall time is reported).
+# REPEAT (runs per case, default 5: the median wall time is reported), SCALE (our --scale,
+# default 1; GDAL's MAX_Z_ERROR is SCALE / 2, the same bound).
 #
-# Inputs: a deterministic synthetic SIZE x SIZE float32 DEM (bench/dem_synthetic_heights.cpp),
-# the real one in samples/dem.tif, and a larger real-ish one: a 641 x 641 cut of samples/srtm.png
-# (the Himalaya and the Tibetan plateau, red x 10000 / 255 metres) upsampled to 4097 x 4097. Both tools keep every sample within 0.5 m: preprocessDem
-# --scale 1 (error <= scale/2) and LERC with MAX_Z_ERROR=0.5. preprocessDem runs twice on the
-# synthetic DEM: with the default 192-tiles (the pyramid's finest level then has
-# (24 << 9) + 1 = 12289 samples per side, resampled, 2.25 times the input's samples) and with
-# 128-tiles and a 16-sample root, whose finest level is the input itself (16 << 9 = 8192).
+# Inputs:
+# * real terrain: ../shared/fixtures/inputs/mt_rainier_90m.tif (an SRTM 3-arc-second tile,
+#   1201 x 1201 int16) and jacksboro-dem.tif, the USGS DEM of the Jacksboro fault (Tennessee,
+#   403 x 344 int16) that Debian's python-matplotlib-data ships as sample data (an .npz, turned
+#   into a GeoTIFF here without numpy);
+# * samples/dem.tif (385 x 385, from an 8-bit map: 39.2 m terraces) and srtm-4097.tif, a 641 x
+#   641 cut of samples/srtm.png (the Himalaya, red x 10000 / 255 metres) upsampled to 4097 x 4097;
+# * a deterministic synthetic SIZE x SIZE float32 DEM (bench/dem_synthetic_heights.cpp).
+# preprocessDem runs on each with the default 192-tiles (resampled unless the input is 24 x 2^M
+# + 1 samples a side) and with --tile-size auto (the input's own grid where one fits). Our
+# residuals' entropy comes from bench/dem_bench.c over the C API.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -24,19 +30,27 @@ WORK=${WORK:-/tmp/pyramid-dem-bench}
 SIZE=${SIZE:-8193}
 THREADS=${THREADS:-$(nproc)}
 REPEAT=${REPEAT:-5}
+SCALE=${SCALE:-1}
+MAX_Z_ERROR=$(awk -v s="$SCALE" 'BEGIN {print s / 2}')
+RAINIER=$ROOT/../shared/fixtures/inputs/mt_rainier_90m.tif
 
 # shellcheck source=bench/common.sh
 source "$ROOT/bench/common.sh"
 need_bench_tools
+need_package python3 python3-minimal
+[ -f /usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz ] ||
+    as_root apt-get install -y python-matplotlib-data >/dev/null
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
     cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPYRAMID_WITH_GL=OFF >/dev/null
 fi
-cmake --build "$BUILD" -j"$(nproc)" --target preprocessDem >/dev/null
+cmake --build "$BUILD" -j"$(nproc)" --target preprocessDem pyramid_runtime >/dev/null
 DEM=$(find "$BUILD" -name preprocessDem -type f -perm -u+x | head -n 1)
+RUNTIME=$(dirname "$(find "$BUILD" -name 'libpyramid-runtime.so' | head -n 1)")
 
 mkdir -p "$WORK"
 cd "$WORK"
+cc -std=c99 -O2 -I"$ROOT" "$ROOT/bench/dem_bench.c" -o dem_bench -L"$RUNTIME" -lpyramid-runtime -lm -Wl,-rpath,"$RUNTIME"
 if [ ! -f "synthetic-$SIZE.tif" ]; then
     g++ -std=c++20 -O2 "$ROOT/bench/dem_synthetic_heights.cpp" -o dem_synthetic_heights -lOpenImageIO -lOpenImageIO_Util
     ./dem_synthetic_heights "synthetic-$SIZE.part.tif" "$SIZE"
@@ -47,50 +61,93 @@ if [ ! -f srtm-4097.tif ]; then
     oiiotool "$ROOT/samples/srtm.png" --ch R --cut 641x641+600+17 --resize 4097x4097 --mulc 10000 -d float -o srtm-4097.part.tif
     mv srtm-4097.part.tif srtm-4097.tif
 fi
+INPUTS=()
+if [ -f "$RAINIER" ]; then
+    cp -f "$RAINIER" mt_rainier_90m.tif
+    INPUTS+=(mt_rainier_90m.tif)
+fi
+if [ ! -f jacksboro-dem.tif ]; then
+    # The .npz's elevation.npy (int16, C order, row 0 = north) as raw samples behind a GDAL VRT.
+    python3 - /usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz <<'PY'
+import ast, sys, zipfile
+npy = zipfile.ZipFile(sys.argv[1]).read("elevation.npy")
+length = int.from_bytes(npy[8:10], "little")
+header = ast.literal_eval(npy[10:10 + length].decode("latin1"))
+assert header["descr"] == "<i2" and not header["fortran_order"], header
+rows, cols = header["shape"]
+open("jacksboro.raw", "wb").write(npy[10 + length:])
+open("jacksboro.vrt", "w").write(
+    f'<VRTDataset rasterXSize="{cols}" rasterYSize="{rows}"><VRTRasterBand dataType="Int16" band="1" '
+    f'subClass="VRTRawRasterBand"><SourceFilename relativetoVRT="1">jacksboro.raw</SourceFilename>'
+    f'<ByteOrder>LSB</ByteOrder><ImageOffset>0</ImageOffset><PixelOffset>2</PixelOffset>'
+    f'<LineOffset>{2 * cols}</LineOffset></VRTRasterBand></VRTDataset>\n')
+PY
+    gdal_translate -q jacksboro.vrt jacksboro-dem.tif
+    rm -f jacksboro.raw jacksboro.vrt
+fi
+INPUTS+=(jacksboro-dem.tif dem.tif srtm-4097.tif "synthetic-$SIZE.tif")
 
 RESULTS=$WORK/results.tsv
-printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\tinput_samples\tmax_error\n' >"$RESULTS"
+printf 'input\tvariant\twall_s\tpeak_rss_mb\tbytes\tinput_samples\tmax_error\ttile\tresiduals\tentropy\ttile_bytes\n' >"$RESULTS"
 
-# run CASE TOOL INPUT OUTPUT COMMAND...: wall time (the median of $REPEAT runs, timed in
-# nanoseconds around the command), peak RSS (the largest of the runs, from /usr/bin/time) and
-# bytes of OUTPUT.
+# run INPUT VARIANT OUTPUT COMMAND...: wall time (the median of $REPEAT runs, timed in
+# nanoseconds around the command), peak RSS (the largest of the runs, from /usr/bin/time),
+# bytes of OUTPUT and, for ours, the tiles chosen and the residuals' statistics (dem_bench).
 run() {
-    local case=$1 tool=$2 input=$3 output=$4
-    shift 4
+    local input=$1 variant=$2 output=$3
+    shift 3
     BEFORE_RUN="rm -f '$output' report.json" timed_runs "$REPEAT" "$@"
-    local wall=$WALL_S rss=$PEAK_RSS_MB bytes samples error=-
+    local wall=$WALL_S rss=$PEAK_RSS_MB bytes samples error=- tile=- residuals=- entropy=- tile_bytes=-
     bytes=$(stat -c %s "$output")
     samples=$(oiiotool --info -v "$input" | awk '/^'"$input"'/ {print $3 * $5; exit}')
-    [ -f report.json ] && error=$(jq '[.levels[].max_error] | max' report.json)
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$case" "$tool" "$wall" "$rss" "$bytes" "$samples" "$error" | tee -a "$RESULTS"
+    if [ -f report.json ]; then
+        error=$(jq '[.levels[].max_error] | max' report.json)
+        tile=$(jq -r '"\(.header.tile_size)/\(.header.tile_size / pow(2; .header.min_level))/\(.header.max_level)"' report.json)
+        read -r residuals entropy tile_bytes _ < <(./dem_bench "$output")
+    fi
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$input" "$variant" "$wall" "$rss" "$bytes" "$samples" \
+        "$error" "$tile" "$residuals" "$entropy" "$tile_bytes" | tee -a "$RESULTS"
 }
 
-OURS=("$DEM" --quiet --threads "$THREADS" --scale 1 --report report.json)
-COG=(gdal_translate -q -of COG -co COMPRESS=LERC_DEFLATE -co MAX_Z_ERROR=0.5 -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
+OURS=("$DEM" --quiet --threads "$THREADS" --scale "$SCALE" --report report.json)
+COG=(gdal_translate -q -of COG -co COMPRESS=LERC_DEFLATE -co MAX_Z_ERROR="$MAX_Z_ERROR" -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
 
-synthetic=synthetic-$SIZE.tif
-run "$synthetic 192-tiles" ours "$synthetic" DEM.dat "${OURS[@]}" "$synthetic" -o DEM.dat
-run "$synthetic 128-tiles" ours "$synthetic" DEM.dat "${OURS[@]}" "$synthetic" -o DEM.dat --tile-size 128 --root-tile-size 16
-run "$synthetic" gdal "$synthetic" cog.tif "${COG[@]}" "$synthetic" cog.tif
-run "dem.tif 192-tiles" ours dem.tif DEM.dat "${OURS[@]}" dem.tif -o DEM.dat
-run "dem.tif" gdal dem.tif cog.tif "${COG[@]}" dem.tif cog.tif
-run "srtm-4097.tif 192-tiles" ours srtm-4097.tif DEM.dat "${OURS[@]}" srtm-4097.tif -o DEM.dat
-run "srtm-4097.tif" gdal srtm-4097.tif cog.tif "${COG[@]}" srtm-4097.tif cog.tif
+for input in "${INPUTS[@]}"; do
+    run "$input" default DEM.dat "${OURS[@]}" "$input" -o DEM.dat
+    run "$input" auto DEM.dat "${OURS[@]}" "$input" -o DEM.dat --tile-size auto
+    run "$input" gdal cog.tif "${COG[@]}" "$input" cog.tif
+done
 rm -f DEM.dat cog.tif report.json
 
-# The summary: each preprocessDem run against the GDAL run on the same input.
+# The summaries: each preprocessDem run against the GDAL run on the same input.
 echo
 awk -F'\t' '
     NR == 1 { next }
-    $2 == "gdal" { gwall[$1] = $3; grss[$1] = $4; gbytes[$1] = $5; gbits[$1] = 8 * $5 / $6; next }
+    $2 == "gdal" { gwall[$1] = $3; grss[$1] = $4; gbytes[$1] = $5; next }
     { ours[++count] = $0 }
     END {
-        printf "| case | ours s | GDAL s | ours/GDAL | ours RSS MB | GDAL RSS MB | ours bytes | GDAL bytes | ours bits/sample | GDAL bits/sample | ours max error |\n"
-        printf "|---|---|---|---|---|---|---|---|---|---|---|\n"
+        printf "| input | tiles | ours s | GDAL s | ours/GDAL | ours RSS MB | GDAL RSS MB | ours max error |\n"
+        printf "|---|---|---|---|---|---|---|---|\n"
         for (i = 1; i <= count; ++i) {
-            split(ours[i], f, "\t"); input = f[1]; sub(/ [0-9]+-tiles$/, "", input)
-            printf "| %s | %.3f | %.3f | %.2f | %d | %d | %d | %d | %.3f | %.3f | %s |\n", f[1], f[3], gwall[input], f[3] / gwall[input], f[4], grss[input], f[5], gbytes[input], 8 * f[5] / f[6], gbits[input], f[7]
+            split(ours[i], f, "\t")
+            printf "| %s | %s %s | %.3f | %.3f | %.2f | %d | %d | %s |\n", f[1], f[2], f[8], f[3], gwall[f[1]], f[3] / gwall[f[1]], f[4], grss[f[1]], f[7]
         }
     }' "$RESULTS"
 echo
-echo "bits/sample: file bits per input sample. raw figures: $RESULTS"
+awk -F'\t' '
+    NR == 1 { next }
+    { samples[$1] = $6; if (!($1 in seen)) { seen[$1] = 1; order[++count] = $1 } }
+    $2 == "gdal" { gbits[$1] = 8 * $5 / $6; next }
+    { bits[$1, $2] = 8 * $5 / $6; tile[$1, $2] = $8; ent[$1, $2] = $9 * $10 / $6; h[$1, $2] = $10; deflate[$1, $2] = 8 * $11 / ($9 * $10) }
+    END {
+        printf "| input | samples | default tiles | ours default | auto tiles | ours auto | GDAL LERC | default / GDAL | auto / GDAL | entropy (auto) | Deflate / entropy (auto) | entropy per residual (auto) |\n"
+        printf "|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+        for (i = 1; i <= count; ++i) {
+            n = order[i]
+            printf "| %s | %d | %s | %.3f | %s | %.3f | %.3f | %.2f | %.2f | %.3f | %.2f | %.3f |\n", n, samples[n], tile[n, "default"], bits[n, "default"], tile[n, "auto"], bits[n, "auto"], gbits[n], bits[n, "default"] / gbits[n], bits[n, "auto"] / gbits[n], ent[n, "auto"], deflate[n, "auto"], h[n, "auto"]
+        }
+    }' "$RESULTS"
+echo
+echo "bits per input sample. tiles: tile size/root tile size/maxLevel. entropy: the order-0 entropy of the"
+echo "auto pyramid's stored residuals (dem_bench.c), in bits per input sample; Deflate / entropy: the"
+echo "tiles' bytes against it. raw figures: $RESULTS"

@@ -17,7 +17,8 @@ CommandRunner setupDemCommand(CLI::App& app) {
     addDemOptions(app, args, "Elevation raster (any format OpenImageIO reads)",
                   "Residual pyramid file to write (e.g. DEM.dat)",
                   "The file's maxLevel, counted from the root tile (default: the smallest pyramid whose finest level holds "
-                  "every input sample); the original tools' dstMaxLevel counts otherwise: see --dst-max-level");
+                  "every input sample); the original tools' dstMaxLevel counts otherwise: see --dst-max-level",
+                  true);
     app.add_flag("--stretch", args->options.stretch, "Stretch width and height independently onto the square root quad");
     addPlanarTargetOptions(app, *target);
     return [args, target]() {
@@ -25,6 +26,9 @@ CommandRunner setupDemCommand(CLI::App& app) {
         options.target = target->resolve();
         checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
         const bool talk = speaks(args->quiet);
+        if (talk) {
+            options.tileFitChosen = printTileFit;
+        }
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
         options.progress = [&](int64_t done, int64_t total) {

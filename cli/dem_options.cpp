@@ -15,14 +15,48 @@
 
 namespace pyramid::cli {
 
+namespace {
+
+// The original Proland runtime's tile buffers hold 255 samples a side.
+void warnUnreadableTiles(int tileSize) {
+    if (tileSize + 5 >= 256) {
+        std::fprintf(stderr, "warning: tiles of %d samples: the original Proland runtime reads tiles of at most "
+                             "255 samples (tile size 250)\n", tileSize + 5);
+    }
+}
+
+// --tile-size: a whole number (its range is DemEncodeOptions::validate()'s), or "auto" where
+// the command takes it.
+std::string checkTileSize(const std::string& text, bool tileSizeAuto) {
+    if (text == "auto") {
+        return tileSizeAuto ? std::string()
+                            : "'auto' fits a planar input's grid (preprocessDem); cube faces take a number of "
+                              "intervals, e.g. 192";
+    }
+    int value = 0;
+    const auto [next, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || next != text.data() + text.size() || text.empty()) {
+        return "'" + text + "' is not a whole number of intervals" + (tileSizeAuto ? " nor 'auto'" : "");
+    }
+    return {};
+}
+
+} // namespace
+
 void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp,
-                   const char* maxLevelHelp) {
+                   const char* maxLevelHelp, bool tileSizeAuto) {
     DemEncodeOptions& o = args->options;
     addInputOptions(app, args->input, inputHelp);
     app.add_option("-o,--output", args->output, outputHelp)->required();
-    app.add_option("--tile-size", o.tileSize, "Tile size in intervals, without borders (tiles are size+5 samples)")
-        ->capture_default_str();
-    app.add_option("--root-tile-size", o.rootTileSize,
+    app.add_option("--tile-size", args->tileSize,
+                   tileSizeAuto ? "Tile size in intervals, without borders (tiles are size+5 samples), or 'auto': the "
+                                  "tile size, root tile size and levels whose finest level is the input's own grid "
+                                  "(vertex-registered, no resampling), or the least resampling where none is"
+                                : "Tile size in intervals, without borders (tiles are size+5 samples)")
+        ->capture_default_str()
+        ->type_name(tileSizeAuto ? "INT|auto" : "INT")
+        ->check([tileSizeAuto](const std::string& text) { return checkTileSize(text, tileSizeAuto); });
+    args->rootTileSizeOption = app.add_option("--root-tile-size", o.rootTileSize,
                    "Intervals of the level-0 tile; minLevel = log2(tile-size / root-tile-size)")
         ->capture_default_str();
     app.add_option("--max-level", o.maxLevel, maxLevelHelp);
@@ -68,11 +102,28 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");
     options.nodata = nodata.value;
     options.ignoreDeclaredNodata = nodata.ignoreDeclared;
-    if (options.tileSize + 5 >= 256 && !args.quiet) {
-        std::fprintf(stderr, "warning: tiles of %d samples: the original Proland runtime reads tiles of at most "
-                             "255 samples (tile size 250)\n", options.tileSize + 5);
+    if (args.tileSize == "auto") {
+        // The fit chooses the root tile and the levels with the tiles (dem_tile_fit.hpp).
+        if (args.rootTileSizeOption && args.rootTileSizeOption->count() > 0) {
+            fail("--root-tile-size", "is chosen by --tile-size auto: give one or the other");
+        }
+        if (options.maxLevel >= 0 || options.dstMaxLevel >= 0) {
+            fail(options.maxLevel >= 0 ? "--max-level" : "--dst-max-level",
+                 "is chosen by --tile-size auto: give one or the other");
+        }
+        options.fitTiles = true;
+        return options; // the warning, if any, comes with the choice (printTileFit)
+    }
+    options.tileSize = std::stoi(args.tileSize); // a whole number: checked while parsing
+    if (!args.quiet) {
+        warnUnreadableTiles(options.tileSize);
     }
     return options;
+}
+
+void printTileFit(const DemTileFit& fit) {
+    std::fprintf(stderr, "--tile-size auto: %s\n", fit.describe().c_str());
+    warnUnreadableTiles(fit.tileSize);
 }
 
 void takeMerged(DemReport& report, const ResidualPyramidReport& merged) {

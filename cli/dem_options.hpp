@@ -18,6 +18,10 @@ namespace pyramid::cli {
 
 struct DemArgs {
     InputArgs input;
+    // A number of intervals (the library's default unless given), or "auto" where the command
+    // takes it.
+    std::string tileSize = std::to_string(DemEncodeOptions{}.tileSize);
+    CLI::Option* rootTileSizeOption = nullptr; // counted: --tile-size auto chooses it
     std::string output; // a file (preprocessDem) or a directory (preprocessSphericalDem)
     std::string scale = "1";
     double maxError = 0.0;
@@ -32,13 +36,19 @@ struct DemArgs {
     DemEncodeOptions options;
 };
 
-// Declares INPUT, -o and the shared options on `app`, bound to `args`.
+// Declares INPUT, -o and the shared options on `app`, bound to `args`. `tileSizeAuto`: the
+// command takes `--tile-size auto` (planar inputs: preprocessDem); elsewhere `auto` is a usage
+// error that says so.
 void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp,
-                   const char* maxLevelHelp);
+                   const char* maxLevelHelp, bool tileSizeAuto = false);
 
 // The encoder options the parsed arguments ask for; throws Error naming the option when a
 // value is impossible. Prints the tile-size warning of the original runtime unless quiet.
 DemEncodeOptions resolveDemOptions(const DemArgs& args);
+
+// `--tile-size auto`'s choice on stderr, one line (and the original runtime's warning when its
+// tiles are too large for it); for DemEncodeOptions::tileFitChosen.
+void printTileFit(const DemTileFit& fit);
 
 // The two summary lines of one residual file on stderr: tiles, levels, scale, bits per sample,
 // time; the largest error against the bound, filled nodata and the sampling rule.

@@ -37,6 +37,13 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
 
 void DemEncodeOptions::validate() const {
     ResidualEncodeOptions::validate();
+    if (fitTiles && (maxLevel >= 0 || dstMaxLevel >= 0)) {
+        failOption(maxLevel >= 0 ? "maxLevel" : "dstMaxLevel",
+                   "is chosen with the tiles by tileSize auto (fitTiles): give one or the other");
+    }
+    if (fitTiles) {
+        return; // tileSize and rootTileSize are the fit's (always valid)
+    }
     if (tileSize < 2 || tileSize > 8192 || tileSize % 2 != 0) {
         failOption("tileSize", std::to_string(tileSize) + " is not an even number from 2 to 8192");
     }
@@ -57,13 +64,25 @@ void DemEncodeOptions::validate() const {
 
 int DemEncodeOptions::minLevel() const { return log2Exact(tileSize / rootTileSize); }
 
-ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o, const std::string& where) {
-    o.validate();
+ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& options, const std::string& where,
+                              DemTileFit* fit) {
+    options.validate();
+    DemEncodeOptions o = options;
+    if (options.fitTiles) {
+        const DemTileFit chosen = fitDemTiles(input.width, input.height, options.stretch, where);
+        o.tileSize = chosen.tileSize;
+        o.rootTileSize = chosen.rootTileSize;
+        o.maxLevel = chosen.maxLevel;
+        if (fit) {
+            *fit = chosen;
+        }
+    }
     const int minLevel = o.minLevel();
     const int64_t longest = std::max(input.width, input.height);
     int maxLevel = o.dstMaxLevel >= 0 ? minLevel + o.dstMaxLevel : o.maxLevel;
-    const bool given = maxLevel >= 0;
-    if (!given) {
+    // A level the caller gave (not the default, nor the fit's) is named in the errors.
+    const bool given = maxLevel >= 0 && !options.fitTiles;
+    if (maxLevel < 0) {
         maxLevel = minLevel;
         while ((static_cast<int64_t>(o.rootTileSize) << maxLevel) + 1 < longest) {
             ++maxLevel;
@@ -134,7 +153,14 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
     report.band = options.band;
     const std::optional<double> nodata = checkBandAndNodata(source->info(), options, input);
     ResidualPyramidJob job;
-    job.header = planDemPyramid(source->info(), options, input);
+    DemTileFit fit;
+    job.header = planDemPyramid(source->info(), options, input, &fit);
+    if (options.fitTiles) {
+        report.tileFit = fit;
+        if (options.tileFitChosen) {
+            options.tileFitChosen(fit);
+        }
+    }
     job.input = input;
     const int64_t N = static_cast<int64_t>(job.header.tileSize >> job.header.minLevel) << job.header.maxLevel;
     report.nodata = nodata;
@@ -179,6 +205,19 @@ nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int
             {"nodata", nodataJson}};
 }
 
+nlohmann::json toJson(const DemTileFit& f) {
+    return {{"tile_size", f.tileSize},
+            {"root_tile_size", f.rootTileSize},
+            {"min_level", f.minLevel},
+            {"max_level", f.maxLevel},
+            {"finest_samples_per_side", f.intervals + 1},
+            {"input_samples_per_side", f.inputIntervals + 1},
+            {"exact", f.exact},
+            {"resampling", f.resampling()},
+            {"proland_readable", f.prolandReadable()},
+            {"rule", f.describe()}};
+}
+
 nlohmann::json toJson(const DemReport& r) {
     const nlohmann::json levels = residualLevelsJson(r.levels);
     nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
@@ -190,6 +229,7 @@ nlohmann::json toJson(const DemReport& r) {
                         {"max_level", r.header.maxLevel},
                         {"tile_size", r.header.tileSize},
                         {"scale", r.header.scale}}},
+            {"tile_fit", r.tileFit ? toJson(*r.tileFit) : nlohmann::json()}, // null: tiles as given
             {"scales_tried", r.scalesTried},
             {"tiles", r.tiles},
             {"shared_tiles", r.sharedTiles},

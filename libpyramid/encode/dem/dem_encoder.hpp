@@ -4,6 +4,7 @@
 // encoder measured.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/residual_file.hpp"
+#include "libpyramid/encode/dem/dem_tile_fit.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/input/raster_source.hpp"
@@ -30,6 +32,14 @@ struct DemEncodeOptions : ResidualEncodeOptions {
     // the first level of full-size tiles: maxLevel = minLevel + dstMaxLevel, with minLevel =
     // log2(tileSize / rootTileSize). -1: not given. At most one of maxLevel and dstMaxLevel.
     int dstMaxLevel = -1;
+    // `--tile-size auto`: tileSize, rootTileSize and maxLevel are chosen from the input's size
+    // by fitDemTiles (dem_tile_fit.hpp), so that the finest level is the input's grid; the
+    // three fields above are then ignored, and maxLevel and dstMaxLevel may not be given.
+    // Planar inputs only: the cube faces of preprocessSphericalDem refuse it.
+    bool fitTiles = false;
+    // With fitTiles: called once the input is open and the fit chosen, before any encoding
+    // (the programs print it).
+    std::function<void(const DemTileFit&)> tileFitChosen;
     int band = 0;                   // 0-based
     std::optional<double> nodata;   // overrides what the file declares
     bool ignoreDeclaredNodata = false;
@@ -38,7 +48,7 @@ struct DemEncodeOptions : ResidualEncodeOptions {
     PlanarTarget target;            // the CRS and extent a mosaic (or one file) is resampled onto
 
     // Throws OptionError for values no input can take: tileSize, rootTileSize, maxLevel and
-    // dstMaxLevel (together, or beyond 24), scale.
+    // dstMaxLevel (together, beyond 24, or with fitTiles), scale.
     void validate() const;
     // minLevel = log2(tileSize / rootTileSize), of options that validate().
     int minLevel() const;
@@ -53,6 +63,7 @@ struct DemReport : ResidualPyramidReport {
     int band = 0;                 // 0-based, as DemEncodeOptions
     std::optional<double> nodata; // the nodata value used (option or declared), if any
     std::string sampling;         // the geometry rule applied
+    std::optional<DemTileFit> tileFit; // with options.fitTiles: the tiles and levels chosen
     // A georeferenced input's placement of the pyramid, also written beside the output
     // (georeferenceSidecarPath(output)).
     std::optional<PyramidGeoreference> georeference;
@@ -66,8 +77,10 @@ std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncod
                                          const std::string& where);
 
 // The pyramid's header for an input and options: maxLevel resolved (the default from the
-// input's size; `where` names the input when that default makes too many tiles).
-ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& options, const std::string& where);
+// input's size; `where` names the input when that default makes too many tiles), and with
+// options.fitTiles the tiles too (the fit into `fit`, when given).
+ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& options, const std::string& where,
+                              DemTileFit* fit = nullptr);
 
 // Encodes `input` into the residual file `output` (written atomically), and a georeferenced
 // input's placement into the sidecar georeferenceSidecarPath(output) (atomically, after it). Throws Error with a
@@ -82,6 +95,10 @@ DemReport encodeDem(const std::vector<std::string>& inputs, const std::string& o
 DemReport encodeDem(const RasterSource& source, const std::string& output, const DemEncodeOptions& options);
 
 nlohmann::json toJson(const DemReport& report);
+// The report's "tile_fit": the tiles and levels chosen, whether the fit is exact, finest
+// intervals per input interval ("resampling"), whether the original runtime reads the tiles,
+// and the rule in one sentence.
+nlohmann::json toJson(const DemTileFit& fit);
 
 // The "input" object of the DEM reports: path, size, channels, sample type, format, band (from
 // 1) and the nodata value used (null, a number, or "nan", "inf", "-inf": JSON has neither NaN

@@ -48,6 +48,12 @@ std::string DemGeometry::describe() const {
     if (exact()) {
         return "input samples are the finest grid samples (no resampling)";
     }
+    if (lx == N && ly == N && width != height) {
+        // The longer side spans the root quad sample for sample: x = X, y = N - Y exactly.
+        return "input samples are finest grid samples (no resampling); aspect ratio kept, input at the north-west "
+               "corner of the " + std::to_string(N + 1) + "x" + std::to_string(N + 1) +
+               " finest grid, the rest filled as nodata";
+    }
     std::string s = "bilinear resampling of " + std::to_string(width) + "x" + std::to_string(height) +
                     " input samples onto " + std::to_string(N + 1) + "x" + std::to_string(N + 1) + " finest samples";
     if (lx == ly && (width != height)) {

@@ -47,6 +47,10 @@ void checkSphericalDemOptions(const SphericalDemOptions& options) {
         failOption("faces", "a region build encodes one face: give a single face, not " +
                                 std::to_string(options.faces.size()));
     }
+    if (o.fitTiles) {
+        // A face's grid is the cube's, not the map's: no tile size makes one the other.
+        failOption("tileSize", "'auto' fits a planar input's grid; cube faces take a number (e.g. 192)");
+    }
     if (o.rootTileSize < 2) {
         // The root tile's 2-interval borders fold onto the neighbouring faces: at most a face deep.
         failOption("rootTileSize", "cube faces need a root tile of at least 2 intervals, not " +
