@@ -5,23 +5,29 @@
 #   bench/ortho_bench.sh            results in $WORK (default /tmp/pyramid-ortho-bench)
 #
 # Environment: BUILD (a Release build directory, configured here if missing; default
-# build-release), WORK, SIZE (synthetic image side, default 8192), THREADS (default: all cores),
+# build-release), WORK, SIZE (synthetic image side, default 6144), THREADS (default: all cores),
 # REPEAT (runs of each case compared with GDAL, default 3: the median wall time is reported;
-# the cases without a GDAL counterpart run once).
+# the cases without a GDAL counterpart run once), INPUTS (the inputs to run, default all four).
 #
 # Inputs: a deterministic synthetic SIZE x SIZE RGB image (bench/ortho_synthetic_image.cpp),
 # samples/bluemarble.png, a 5400x2700 upsampled copy of it, and a square 3072x3072 one (its
-# western 675x675 pixels upsampled). On the synthetic image preprocessOrtho uses --tile-size 256
-# so that its finest level is the input's pixels, as in the COG (no resampling, same pixel count
-# apart from the 2-pixel tile borders); on the Blue Marble inputs it uses the default 192-pixel
-# tiles: the 2:1 maps are resampled into the upper half of a 192 << maxLevel square (2.6 times
-# GDAL's pixels), the square one is its finest level pixel for pixel (192 << 4 = 3072).
+# western 675x675 pixels upsampled). On the synthetic image preprocessOrtho uses the tile size
+# T <= 256 with T << maxLevel = SIZE (192 for 6144, 256 for 8192) so that its finest level is
+# the input's pixels, as in the COG (no resampling, same pixel count apart from the 2-pixel tile
+# borders); on the Blue Marble inputs it uses the default 192-pixel tiles: the 2:1 maps are
+# resampled into the upper half of a 192 << maxLevel square (2.6 times GDAL's pixels), the
+# square one is its finest level pixel for pixel (192 << 4 = 3072).
+#
+# Two tables: the TIFF cases (Deflate, JPEG) against GDAL's COG of the same compression, each
+# the median of REPEAT runs; then each output alone (tiff, dxt, residuals) and the default run
+# (all three), each run paired with a GDAL COG DEFLATE run of the same input (A B A B ...), with
+# the median of the pairs' ratios, which holds when the shared machine's speed drifts.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=$(realpath -m "${BUILD:-$ROOT/build-release}")
 WORK=${WORK:-/tmp/pyramid-ortho-bench}
-SIZE=${SIZE:-8192}
+SIZE=${SIZE:-6144}
 THREADS=${THREADS:-$(nproc)}
 REPEAT=${REPEAT:-3}
 
@@ -47,6 +53,15 @@ cp -f "$ROOT/samples/bluemarble.png" bluemarble.png
 [ -f bluemarble-5400.png ] || oiiotool bluemarble.png --resize 5400x2700 -o bluemarble-5400.png
 [ -f bluemarble-3072.png ] || oiiotool bluemarble.png --cut 675x675+0+0 --resize 3072x3072 -o bluemarble-3072.png
 
+INPUTS=${INPUTS:-synthetic-$SIZE.tif bluemarble.png bluemarble-5400.png bluemarble-3072.png}
+# The synthetic image's tile size: its side halved until at most 256 (a multiple of 4, for DXT).
+SYNTHETIC_TILE=$SIZE
+while [ "$SYNTHETIC_TILE" -gt 256 ] && [ $((SYNTHETIC_TILE % 2)) = 0 ]; do SYNTHETIC_TILE=$((SYNTHETIC_TILE / 2)); done
+if [ "$SYNTHETIC_TILE" -gt 256 ] || [ $((SYNTHETIC_TILE % 4)) != 0 ]; then
+    echo "SIZE=$SIZE: no tile size of at most 256 (a multiple of 4) makes its finest level" >&2
+    exit 2
+fi
+
 RESULTS=$WORK/results.tsv
 printf 'case\ttool\twall_s\tpeak_rss_mb\tbytes\ttiles\n' >"$RESULTS"
 
@@ -66,9 +81,11 @@ run() {
 OURS=("$ORTHO" --quiet --threads "$THREADS" --report report.json)
 COG=(gdal_translate -q -of COG -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
 
-for input in "synthetic-$SIZE.tif" bluemarble.png bluemarble-5400.png bluemarble-3072.png; do
-    tile=()
-    [ "$input" = "synthetic-$SIZE.tif" ] && tile=(--tile-size 256)
+# tile_args INPUT: the --tile-size of INPUT (none: the default 192).
+tile_args() { [ "$1" = "synthetic-$SIZE.tif" ] && echo "--tile-size $SYNTHETIC_TILE"; true; }
+
+for input in $INPUTS; do
+    read -r -a tile <<<"$(tile_args "$input")"
     RUNS=$REPEAT
     run "$input deflate" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff "${tile[@]}"
     run "$input deflate" gdal out-cog.tif "${COG[@]}" -co COMPRESS=DEFLATE "$input" out-cog.tif
@@ -78,8 +95,38 @@ for input in "synthetic-$SIZE.tif" bluemarble.png bluemarble-5400.png bluemarble
     run "$input jpeg90-ycbcr" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff --compression jpeg-ycbcr --jpeg-quality 90 "${tile[@]}"
     RUNS=1
     run "$input levels-only" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs tiff --compression none "${tile[@]}"
-    run "$input dxt" ours out-ours "${OURS[@]}" "$input" -o out-ours --outputs dxt "${tile[@]}"
-    run "$input all-three" ours out-ours "${OURS[@]}" "$input" -o out-ours "${tile[@]}"
+done
+
+# paired INPUT LABEL ARGS...: REPEAT runs of preprocessOrtho INPUT ARGS, each followed by a GDAL
+# COG DEFLATE run of INPUT; one line of PAIRED: the median wall times, the median of the pairs'
+# ratios, our peak RSS, bytes and tiles.
+PAIRED=$WORK/paired.tsv
+printf 'input\toutputs\tours_s\tgdal_s\tratio\tours_rss_mb\tbytes\ttiles\ttile_pixels\n' >"$PAIRED"
+paired() {
+    local input=$1 label=$2 k ours=() gdal=() ratios=() rss=0 bytes tiles side
+    shift 2
+    for ((k = 0; k < REPEAT; ++k)); do
+        BEFORE_RUN="rm -rf out-ours report.json" timed_runs 1 "${OURS[@]}" "$input" -o out-ours "$@"
+        ours+=("$WALL_S")
+        rss=$((PEAK_RSS_MB > rss ? PEAK_RSS_MB : rss))
+        BEFORE_RUN="rm -f out-cog.tif" timed_runs 1 "${COG[@]}" -co COMPRESS=DEFLATE "$input" out-cog.tif
+        gdal+=("$WALL_S")
+        ratios+=("$(awk -v a="${ours[k]}" -v b="$WALL_S" 'BEGIN {printf "%.3f", a / b}')")
+    done
+    bytes=$(find out-ours -type f -name '*.dat' -printf '%s\n' | awk '{s += $1} END {print s}')
+    tiles=$(jq .tiles report.json)
+    side=$(($(jq .tile_size report.json) + 4))
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$input" "$label" "$(median "${ours[@]}")" "$(median "${gdal[@]}")" \
+        "$(median "${ratios[@]}")" "$rss" "$bytes" "$tiles" $((side * side)) | tee -a "$PAIRED"
+}
+median() { printf '%s\n' "$@" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
+
+for input in $INPUTS; do
+    read -r -a tile <<<"$(tile_args "$input")"
+    paired "$input" tiff --outputs tiff "${tile[@]}"
+    paired "$input" dxt --outputs dxt "${tile[@]}"
+    paired "$input" residuals --outputs residuals "${tile[@]}"
+    paired "$input" all-three "${tile[@]}"
 done
 rm -rf out-ours out-cog.tif
 
@@ -105,9 +152,23 @@ awk -F'\t' '
         for (i = 1; i <= count; ++i) {
             c = order[i]; o = c SUBSEP "ours"
             if (peer(c) in wall) continue
-            side = c ~ /^synthetic/ ? 260 : 196
+            side = c ~ /^synthetic/ ? synthetic : 196
             printf "| %s | %.2f | %d | %d | %d | %.0f | %.1f |\n", c, wall[o], rss[o], bytes[o], tiles[o], tiles[o] / wall[o], tiles[o] * side * side / wall[o] / 1e6
         }
-    }' "$RESULTS"
+    }' synthetic=$((SYNTHETIC_TILE + 4)) "$RESULTS"
 echo
-echo "raw figures: $RESULTS"
+# Each output alone and all three, against GDAL COG DEFLATE of the same input, paired.
+awk -F'\t' '
+    NR == 1 { next }
+    {
+        if (!($1 in seen)) { seen[$1] = 1; order[++count] = $1 }
+        line[$1, ++lines[$1]] = sprintf("| %s | %s | %.2f | %.2f | %.2f | %.1f | %d | %d |", $1, $2, $3, $4, $5,
+                                       $8 * $9 / $3 / 1e6, $6, $7)
+    }
+    END {
+        printf "| input | outputs | ours s | GDAL DEFLATE s | ours/GDAL (median of pairs) | Mpixel/s | ours RSS MB | ours bytes |\n"
+        printf "|---|---|---|---|---|---|---|---|\n"
+        for (i = 1; i <= count; ++i) for (k = 1; k <= lines[order[i]]; ++k) print line[order[i], k]
+    }' "$PAIRED"
+echo
+echo "raw figures: $RESULTS, $PAIRED"

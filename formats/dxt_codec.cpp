@@ -67,18 +67,25 @@ void decodeAlphaBlock(uint8_t* rgba, const uint8_t* bytes) {
     }
 }
 
+} // namespace
+
+void decodeDxtBlock(const uint8_t* bytes, DxtFormat format, uint8_t* rgba) {
+    if (format == DxtFormat::Dxt1) {
+        decodeColourBlock(rgba, bytes, true);
+    } else {
+        decodeColourBlock(rgba, bytes + 8, false);
+        decodeAlphaBlock(rgba, bytes);
+    }
+}
+
+namespace {
+
 void decompressBlocks(uint8_t* rgba, int width, int height, const uint8_t* blocks, DxtFormat format) {
-    const bool dxt1 = format == DxtFormat::Dxt1;
-    const size_t blockBytes = dxt1 ? 8u : 16u;
+    const size_t blockBytes = format == DxtFormat::Dxt1 ? 8u : 16u;
     uint8_t block[64];
     for (int by = 0; by < height; by += 4) {
         for (int bx = 0; bx < width; bx += 4) {
-            if (dxt1) {
-                decodeColourBlock(block, blocks, true);
-            } else {
-                decodeColourBlock(block, blocks + 8, false);
-                decodeAlphaBlock(block, blocks);
-            }
+            decodeDxtBlock(blocks, format, block);
             blocks += blockBytes;
             for (int j = 0; j < 4 && by + j < height; ++j) {
                 for (int i = 0; i < 4 && bx + i < width; ++i) {

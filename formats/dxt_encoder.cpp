@@ -6,6 +6,7 @@
 #include <stb/stb_dxt.h>
 
 #include <algorithm>
+#include <array>
 
 #include "formats/error.hpp"
 
@@ -22,45 +23,107 @@ int squishFlags(DxtFormat format, int quality) {
 
 bool usesStb(int quality) { return quality <= 1; }
 
-// The 4 x 4 blocks of an RGBA image, each compressed by libsquish's per-block
-// calls in the calling thread. (squish::CompressImage does the same blocks in
-// an OpenMP loop of their own: inside our own parallel loops with one thread, or a single
-// tile's handful of blocks, that spawned a team per tile and spun idle threads; tiles are
-// already encoded in parallel.) Pixels of partial blocks outside the image are masked out.
+// One 4 x 4 block as the encoders take it, RGBA: grey replicated into R, G and B, alpha
+// opaque but for 4 channels (DXT1 stores none: a grey+alpha image's alpha is dropped).
+// Pixels of a partial block beyond the image repeat the nearest pixel inside; the result is
+// the mask of the pixels inside (bit i + 4 j).
+template <int C>
+int gatherBlock(const uint8_t* pixels, int width, int height, int bx, int by, uint8_t* block) {
+    const auto expand = [](const uint8_t* p, uint8_t* q) {
+        q[0] = p[0];
+        q[1] = C >= 3 ? p[1] : p[0];
+        q[2] = C >= 3 ? p[2] : p[0];
+        q[3] = C == 4 ? p[3] : 255;
+    };
+    const size_t rowBytes = static_cast<size_t>(width) * C;
+    if (bx + 4 <= width && by + 4 <= height) { // a whole block: no clamping
+        for (int j = 0; j < 4; ++j) {
+            const uint8_t* row = pixels + static_cast<size_t>(by + j) * rowBytes + static_cast<size_t>(bx) * C;
+            for (int i = 0; i < 4; ++i) {
+                expand(row + i * C, block + 4 * (i + 4 * j));
+            }
+        }
+        return 0xffff;
+    }
+    int mask = 0;
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+            const int x = std::min(bx + i, width - 1), y = std::min(by + j, height - 1);
+            expand(pixels + static_cast<size_t>(y) * rowBytes + static_cast<size_t>(x) * C, block + 4 * (i + 4 * j));
+            mask |= (bx + i < width && by + j < height) ? 1 << (i + 4 * j) : 0;
+        }
+    }
+    return mask;
+}
+
+// The squared differences between a block's pixels inside the image and its decoded pixels:
+// R, G and B (DXT1), and A (DXT5). Over the block's 64 bytes at once, each weighed 1 or 0 (a
+// loop of fixed length, which the compiler vectorises).
+int64_t blockSquaredError(const uint8_t* block, int mask, const uint8_t* encoded, DxtFormat format) {
+    uint8_t decoded[64];
+    decodeDxtBlock(encoded, format, decoded);
+    const int samples = format == DxtFormat::Dxt1 ? 3 : 4;
+    const auto weights = [](int m, int n) {
+        std::array<uint8_t, 64> w{};
+        for (int k = 0; k < 64; ++k) {
+            w[static_cast<size_t>(k)] = static_cast<uint8_t>(((m >> (k / 4)) & 1) && k % 4 < n);
+        }
+        return w;
+    };
+    static constexpr std::array<uint8_t, 64> kWholeDxt1 = weights(0xffff, 3), kWholeDxt5 = weights(0xffff, 4);
+    const std::array<uint8_t, 64> keep = mask != 0xffff ? weights(mask, samples) : samples == 3 ? kWholeDxt1 : kWholeDxt5;
+    int squares = 0; // at most 64 x 255^2
+    for (int k = 0; k < 64; ++k) {
+        const int d = (static_cast<int>(block[k]) - static_cast<int>(decoded[k])) * keep[k];
+        squares += d * d;
+    }
+    return squares;
+}
+
+// The 4 x 4 blocks of the image, gathered from its own pixels (no RGBA copy of the whole
+// image), each compressed in the calling thread by the per-block calls: stb_dxt, or
+// libsquish's (squish::CompressImage does the same blocks in an OpenMP loop of its own: inside
+// our own parallel loops with one thread, or a single tile's handful of blocks, that spawned a
+// team per tile and spun idle threads; tiles are already encoded in parallel).
 //
 // stb_dxt takes whole blocks: the pixels of a partial block beyond the image repeat its nearest
-// pixel inside, which adds no colour to the block's fit. Its DXT5 blocks are laid out as
-// libsquish's (alpha block, then colour block).
-void compressBlocks(const uint8_t* rgba, int width, int height, uint8_t* blocks, DxtFormat format, int quality) {
+// pixel inside, which adds no colour to the block's fit; libsquish masks them out. stb_dxt's
+// DXT5 blocks are laid out as libsquish's (alpha block, then colour block).
+template <int C>
+int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* blocks, DxtFormat format, int quality,
+                       bool measure) {
     const size_t blockBytes = format == DxtFormat::Dxt1 ? 8u : 16u;
     const int flags = squishFlags(format, quality);
     const int stbMode = quality == 0 ? STB_DXT_NORMAL : STB_DXT_HIGHQUAL;
+    const int alpha = format == DxtFormat::Dxt5 ? 1 : 0;
+    int64_t squares = 0;
     uint8_t block[64];
     for (int by = 0; by < height; by += 4) {
         for (int bx = 0; bx < width; bx += 4) {
-            int mask = 0;
-            for (int j = 0; j < 4; ++j) {
-                for (int i = 0; i < 4; ++i) {
-                    const int x = std::min(bx + i, width - 1), y = std::min(by + j, height - 1);
-                    std::copy_n(rgba + 4 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)), 4,
-                                block + 4 * (i + 4 * j));
-                    mask |= (bx + i < width && by + j < height) ? 1 << (i + 4 * j) : 0;
-                }
-            }
+            const int mask = gatherBlock<C>(pixels, width, height, bx, by, block);
             if (usesStb(quality)) {
-                stb_compress_dxt_block(blocks, block, format == DxtFormat::Dxt5 ? 1 : 0, stbMode);
+                stb_compress_dxt_block(blocks, block, alpha, stbMode);
             } else {
                 squish::CompressMasked(block, mask, blocks, flags);
+            }
+            if (measure) {
+                squares += blockSquaredError(block, mask, blocks, format);
             }
             blocks += blockBytes;
         }
     }
+    return squares;
 }
 
 } // namespace
 
 std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int height, int channels,
                                DxtFormat format, int quality) {
+    return encodeDxt(pixels, width, height, channels, format, quality, nullptr);
+}
+
+std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int height, int channels,
+                               DxtFormat format, int quality, int64_t* squaredError) {
     if (width < 1 || height < 1 || channels < 1 || channels > 4 ||
         pixels.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels)) {
         fail("", "DXT tile: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height) +
@@ -69,24 +132,18 @@ std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int h
     if ((channels == 4) != (format == DxtFormat::Dxt5)) {
         fail("", "DXT tile: " + std::to_string(channels) + " channels need " + (channels == 4 ? "DXT5" : "DXT1"));
     }
-    // The encoders take RGBA: grey is replicated into R, G and B; missing alpha is opaque.
-    const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
-    std::vector<uint8_t> rgba(count * 4);
-    for (size_t k = 0; k < count; ++k) {
-        const uint8_t* p = pixels.data() + k * static_cast<size_t>(channels);
-        uint8_t* q = rgba.data() + 4 * k;
-        if (channels <= 2) {
-            q[0] = q[1] = q[2] = p[0];
-            q[3] = 255;
-        } else {
-            q[0] = p[0];
-            q[1] = p[1];
-            q[2] = p[2];
-            q[3] = channels == 4 ? p[3] : 255;
-        }
-    }
     std::vector<uint8_t> blocks(dxtBytes(width, height, format));
-    compressBlocks(rgba.data(), width, height, blocks.data(), format, quality);
+    const bool measure = squaredError != nullptr;
+    int64_t squares = 0;
+    switch (channels) {
+    case 1: squares = compressBlocks<1>(pixels.data(), width, height, blocks.data(), format, quality, measure); break;
+    case 2: squares = compressBlocks<2>(pixels.data(), width, height, blocks.data(), format, quality, measure); break;
+    case 3: squares = compressBlocks<3>(pixels.data(), width, height, blocks.data(), format, quality, measure); break;
+    default: squares = compressBlocks<4>(pixels.data(), width, height, blocks.data(), format, quality, measure); break;
+    }
+    if (squaredError) {
+        *squaredError = squares;
+    }
     return blocks;
 }
 

@@ -149,8 +149,11 @@ struct CompressorDeleter {
 // A zlib stream of `bytes` at libdeflate level `level` (1 to 12, 10 to 12 the slowest and
 // smallest), compressed in one call as libtiff's Deflate codec does with a whole strip, but
 // without allocating and initialising a compressor for every tile: one per thread and level.
-std::vector<uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
+// The stream is left in a buffer of the thread's, valid until its next call (libtiff copies
+// it into the tile), so that no tile allocates and clears a buffer of the compression bound.
+std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
     thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
+    thread_local std::vector<uint8_t> out;
     auto& compressor = compressors[level];
     if (!compressor) {
         compressor.reset(libdeflate_alloc_compressor(level));
@@ -158,19 +161,25 @@ std::vector<uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
             fail("", "out of memory for a Deflate compressor");
         }
     }
-    std::vector<uint8_t> out(libdeflate_zlib_compress_bound(compressor.get(), bytes.size()));
-    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), out.size());
+    const size_t bound = libdeflate_zlib_compress_bound(compressor.get(), bytes.size());
+    if (out.size() < bound) {
+        out.resize(bound);
+    }
+    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), bound);
     if (size == 0) {
         fail("", "cannot deflate a tile");
     }
-    out.resize(size);
-    return out;
+    return {out.data(), size};
 }
 
 // The strip libtiff's horizontal predictor would store for 8-bit samples: each sample minus the
-// same channel of the pixel to its left, modulo 256, the first pixel of each row as it is.
-std::vector<uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels) {
-    std::vector<uint8_t> out(bytes);
+// same channel of the pixel to its left, modulo 256, the first pixel of each row as it is. In
+// a buffer of the thread's, valid until its next call.
+std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels) {
+    thread_local std::vector<uint8_t> out;
+    if (out.size() < bytes) {
+        out.resize(bytes);
+    }
     const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
     const auto c = static_cast<size_t>(channels);
     for (size_t y = 0; y < bytes / row; ++y) {
@@ -181,7 +190,7 @@ std::vector<uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, 
             o[k] = static_cast<uint8_t>(in[k] - in[k - c]);
         }
     }
-    return out;
+    return {out.data(), bytes};
 }
 
 // Encodes one strip of `bits`-bit samples. Deflate strips (with the predictor: 8-bit samples
@@ -234,15 +243,13 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
     }
     tmsize_t written = 0;
     if (compression == TiffCompression::Deflate) {
-        const auto* samples = static_cast<const uint8_t*>(pixels);
-        std::vector<uint8_t> differences;
+        std::span<const uint8_t> samples(static_cast<const uint8_t*>(pixels), bytes);
         if (horizontalPredictor && bits == 8) {
             TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
-            differences = horizontalDifferences(samples, bytes, width, channels);
-            samples = differences.data();
+            samples = horizontalDifferences(samples.data(), bytes, width, channels);
         }
-        std::vector<uint8_t> deflated = zlibCompress(std::span<const uint8_t>(samples, bytes), deflateLevel);
-        written = TIFFWriteRawStrip(t, 0, deflated.data(), static_cast<tmsize_t>(deflated.size()));
+        const std::span<const uint8_t> deflated = zlibCompress(samples, deflateLevel);
+        written = TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated.data()), static_cast<tmsize_t>(deflated.size()));
     } else {
         written = TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
     }

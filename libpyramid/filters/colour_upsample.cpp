@@ -8,33 +8,103 @@ namespace pyramid {
 
 namespace {
 
+// The loops over samples below run in chunks of kChunk, then one by one: GCC at -O2 (the
+// default RelWithDebInfo build) vectorises only loops it needs no scalar remainder for, so a
+// plain loop over a row of unknown length would stay scalar; the fixed-length inner loop is
+// vectorised, and the arithmetic is the same per sample.
+constexpr size_t kChunk = 16;
+
 // The parent rows by and by + 1 blended with weights wy0 and wy1 (at most 4 x 255 x 4 = 4080):
 // `count` samples.
 PYRAMID_VECTOR_CLONES
 void blendRows(const uint8_t* __restrict r0, const uint8_t* __restrict r1, unsigned wy0, unsigned wy1, size_t count,
                uint16_t* __restrict out) {
-    for (size_t k = 0; k < count; ++k) {
+    size_t k = 0;
+    for (; k + kChunk <= count; k += kChunk) {
+        for (size_t i = k; i < k + kChunk; ++i) {
+            out[i] = static_cast<uint16_t>(wy0 * r0[i] + wy1 * r1[i]);
+        }
+    }
+    for (; k < count; ++k) {
         out[k] = static_cast<uint16_t>(wy0 * r0[k] + wy1 * r1[k]);
+    }
+}
+
+// out[s] = (a p[s] + b p[s + step]) >> 4 for s < count: `count` predictions from a blended row.
+void weightedRun(const uint16_t* __restrict p, size_t step, unsigned a, unsigned b, size_t count,
+                 uint8_t* __restrict out) {
+    size_t s = 0;
+    for (; s + kChunk <= count; s += kChunk) {
+        for (size_t i = s; i < s + kChunk; ++i) {
+            out[i] = static_cast<uint8_t>((a * p[i] + b * p[i + step]) >> 4);
+        }
+    }
+    for (; s < count; ++s) {
+        out[s] = static_cast<uint8_t>((a * p[s] + b * p[s + step]) >> 4);
     }
 }
 
 // Child pixels x = 0..side-1 from the blended parent row `v` (parent column j at v[j * C]):
 // x even (x = 2m) takes columns (m + rx, m + rx + 1) with weights (1, 3), x odd (x = 2m - 1)
-// takes (m + rx, m + rx + 1) with weights (3, 1).
+// takes (m + rx, m + rx + 1) with weights (3, 1). Computed as two runs of samples, the even
+// pixels' and the odd pixels' (each a vectorised loop over consecutive samples of the blended
+// row), then interleaved pixel by pixel: the same sums as pixel by pixel.
 template <int C>
 void predictFromBlend(const uint16_t* __restrict v, int rx, int side, uint8_t* __restrict out) {
+    const uint16_t* w = v + static_cast<size_t>(rx) * C;
+    const size_t evenSamples = static_cast<size_t>((side + 1) / 2) * C; // x = 2m: m < (side + 1) / 2
+    const size_t oddSamples = static_cast<size_t>(side / 2) * C;        // x = 2m + 1: m < side / 2
+    thread_local std::vector<uint8_t> runs;
+    runs.resize(evenSamples + oddSamples);
+    uint8_t* even = runs.data();
+    uint8_t* odd = even + evenSamples;
+    // Pixel x = 2m: 1 x column m + rx, 3 x column m + rx + 1 (sample s = m C + c); pixel
+    // x = 2m + 1: bx = m + 1 + rx, so 3 x column m + rx + 1, 1 x column m + rx + 2.
+    weightedRun(w, C, 1u, 3u, evenSamples, even);
+    weightedRun(w + C, C, 3u, 1u, oddSamples, odd);
     for (int x = 0; x < side; ++x) {
-        const int bx = (x + 1) / 2 + rx;
-        const unsigned wx0 = (x & 1) ? 3u : 1u;
-        const unsigned wx1 = 4u - wx0;
+        const uint8_t* from = (x & 1 ? odd : even) + static_cast<size_t>(x / 2) * C;
         for (int c = 0; c < C; ++c) {
-            const unsigned sum = wx0 * v[bx * C + c] + wx1 * v[(bx + 1) * C + c];
-            out[x * C + c] = static_cast<uint8_t>(sum >> 4);
+            out[x * C + c] = from[c];
         }
     }
 }
 
 } // namespace
+
+int64_t encodeColourResiduals(const uint8_t* __restrict value, const uint8_t* __restrict prediction, size_t count,
+                              uint8_t* __restrict stored) {
+    const auto one = [&](size_t k) {
+        bool clamped = false;
+        stored[k] = encodeColourResidual(value[k], prediction[k], &clamped);
+        return static_cast<int>(clamped);
+    };
+    int64_t clamped = 0;
+    size_t k = 0;
+    for (; k + kChunk <= count; k += kChunk) {
+        int chunk = 0;
+        for (size_t i = k; i < k + kChunk; ++i) {
+            chunk += one(i);
+        }
+        clamped += chunk;
+    }
+    for (; k < count; ++k) {
+        clamped += one(k);
+    }
+    return clamped;
+}
+
+void applyColourResiduals(uint8_t* __restrict values, const uint8_t* __restrict stored, size_t count) {
+    size_t k = 0;
+    for (; k + kChunk <= count; k += kChunk) {
+        for (size_t i = k; i < k + kChunk; ++i) {
+            values[i] = applyColourResidual(values[i], stored[i]);
+        }
+    }
+    for (; k < count; ++k) {
+        values[k] = applyColourResidual(values[k], stored[k]);
+    }
+}
 
 void predictColourRow(const uint8_t* parent, size_t rowBytes, int channels, int rx, int ry, int y, int side,
                      uint8_t* out) {
@@ -78,10 +148,7 @@ void upsampleColour(const uint8_t* parent, int tileSize, int channels, int tx, i
         uint8_t* row = out + static_cast<size_t>(y) * rowBytes;
         predictColourRow(parent, rowBytes, channels, rx, ry, y, side, row);
         if (residual) { // without, every stored value is 128: the prediction itself
-            const uint8_t* stored = residual + static_cast<size_t>(y) * rowBytes;
-            for (size_t k = 0; k < rowBytes; ++k) {
-                row[k] = applyColourResidual(row[k], stored[k]);
-            }
+            applyColourResiduals(row, residual + static_cast<size_t>(y) * rowBytes, rowBytes);
         }
     }
 }

@@ -41,6 +41,13 @@ inline uint8_t encodeColourResidual(uint8_t value, uint8_t prediction, bool* cla
     return static_cast<uint8_t>(c);
 }
 
+// Whole rows of samples: stored[k] = encodeColourResidual(value[k], prediction[k]) for k <
+// count, returning how many were clamped; and in place, values[k] = applyColourResidual(values[k],
+// stored[k]) (values holding the predictions on entry). The same integers as the functions
+// above, in loops the compiler vectorises at -O2 too. No buffer may overlap another.
+int64_t encodeColourResiduals(const uint8_t* value, const uint8_t* prediction, size_t count, uint8_t* stored);
+void applyColourResiduals(uint8_t* values, const uint8_t* stored, size_t count);
+
 // Rebuilds a whole child tile: out = applyColourResidual(predictColour(parent...), residual)
 // for every pixel and channel. `residual` and `out` are (T+4)^2 x channels bytes; pass
 // residual = nullptr for "no residual" (every stored value 128).
