@@ -102,12 +102,12 @@ TEST(PyramidTile, WritesReconstructedAndRawTiles) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(test::readFile(dir.file("rgb.u8")).size(), 196u * 196u * 4u);
     // Mismatched output types and absent tiles: one line, exit 1, nothing written.
-    r = run(programPath("pyramid") + " tile " + dem + " 0 0 0 -o " + shellQuoted(dir.file("z.png")));
+    r = run(programPath("pyramid") + " tile " + dem + " 0 0 0 -o " + shellQuoted(dir.file("z.i16")));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     r = run(programPath("pyramid") + " tile " + dem + " 2 1 0 -o " + shellQuoted(dir.file("none.f32")));
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_FALSE(test::fileExists(dir.file("z.png")));
+    EXPECT_FALSE(test::fileExists(dir.file("z.i16")));
     EXPECT_FALSE(test::fileExists(dir.file("none.f32")));
 }
 
