@@ -218,7 +218,9 @@ void Progress::draw(int64_t done, bool final) {
     const double percent = 100.0 * static_cast<double>(done) / static_cast<double>(total_);
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double rate = elapsed > 0.0 ? static_cast<double>(done) / elapsed : 0.0;
-    const bool timed = rate > 0.0 && done > 0;
+    // A rate only once it means something (not from the first item's microseconds).
+    const bool timed = rate > 0.0 && done > 0 && elapsed >= 0.25;
+    const bool complete = final || done >= total_;
     const double eta = timed ? static_cast<double>(total_ - done) / rate : 0.0;
     const auto line = [&] {
         char text[64];
@@ -228,7 +230,7 @@ void Progress::draw(int64_t done, bool final) {
         if (timed) {
             std::snprintf(text, sizeof text, " %.0f/s", rate);
             s += text;
-            s += final ? ", " + clockText(elapsed) : ", " + clockText(eta) + " left";
+            s += complete ? ", " + clockText(elapsed) : ", " + clockText(eta) + " left";
         }
         return s;
     };
@@ -259,12 +261,14 @@ void Progress::draw(int64_t done, bool final) {
         lastDone_ = done;
         lastStep_ = step;
         last_ = now;
-        const nlohmann::json j = {{"progress", label_},
+        const nlohmann::ordered_json j = {{"progress", label_},
                                   {"done", done},
                                   {"total", total_},
                                   {"percent", std::round(percent * 10.0) / 10.0},
-                                  {"rate", std::round(rate * 10.0) / 10.0},
-                                  {"eta_seconds", timed ? nlohmann::json(std::round(eta * 10.0) / 10.0) : nlohmann::json()}};
+                                  {"rate", timed ? nlohmann::ordered_json(std::round(rate * 10.0) / 10.0)
+                                                 : nlohmann::ordered_json()},
+                                  {"eta_seconds", timed ? nlohmann::ordered_json(std::round(eta * 10.0) / 10.0)
+                                                        : nlohmann::ordered_json()}};
         std::fprintf(stderr, "%s\n", j.dump().c_str());
         break;
     }

@@ -87,7 +87,8 @@ void addProgressOption(CLI::App& app);
 //  * Lines: the same as a line at every 5 % (and at the end).
 //  * Json: one JSON object a line, at every 1 % and at least every second, and at the end:
 //    {"progress":"LABEL","done":1234,"total":2938,"percent":42.0,"rate":310.2,"eta_seconds":5.5}
-//    (rate in items a second; eta null until there is a rate); the last has done == total.
+//    (rate in items a second; rate and eta null for the first quarter of a second); the last has
+//    done == total.
 class Progress {
 public:
     Progress(std::string label, int64_t total, bool quiet);
