@@ -8,11 +8,13 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <thread>
 
 #include <CLI/CLI.hpp>
@@ -141,8 +143,38 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
     return kExitFailure;
 }
 
+ProgressMode& progressMode() {
+    static ProgressMode mode = ProgressMode::Auto;
+    return mode;
+}
+
+void addProgressOption(CLI::App& app) {
+    app.add_option_function<std::string>(
+           "--progress",
+           [](const std::string& text) {
+               static const std::map<std::string, ProgressMode> modes = {{"auto", ProgressMode::Auto},
+                                                                        {"bar", ProgressMode::Bar},
+                                                                        {"lines", ProgressMode::Lines},
+                                                                        {"json", ProgressMode::Json},
+                                                                        {"none", ProgressMode::None}};
+               const auto it = modes.find(text);
+               if (it == modes.end()) {
+                   throw CLI::ValidationError("--progress", "'" + text + "' is not auto, bar, lines, json or none");
+               }
+               progressMode() = it->second;
+           },
+           "Progress on stderr: auto (bar on a terminal, else lines), bar, lines (every 5 %), json (JSON "
+           "lines), none")
+        ->type_name("MODE");
+}
+
 Progress::Progress(std::string label, int64_t total, bool quiet)
-    : label_(std::move(label)), total_(total > 0 ? total : 1), quiet_(quiet), tty_(isatty(2) != 0) {}
+    : label_(std::move(label)),
+      total_(total > 0 ? total : 1),
+      quiet_(quiet || progressMode() == ProgressMode::None),
+      mode_(progressMode() == ProgressMode::Auto ? (isatty(2) != 0 ? ProgressMode::Bar : ProgressMode::Lines)
+                                                 : progressMode()),
+      start_(std::chrono::steady_clock::now()) {}
 
 Progress::~Progress() { finish(); }
 
@@ -161,31 +193,88 @@ void Progress::finish() {
     finished_ = true;
 }
 
+namespace {
+
+// "0:42", "12:05", "3:02:17".
+std::string clockText(double seconds) {
+    const auto s = static_cast<long long>(std::llround(std::max(0.0, seconds)));
+    char text[32];
+    if (s >= 3600) {
+        std::snprintf(text, sizeof text, "%lld:%02lld:%02lld", s / 3600, s / 60 % 60, s % 60);
+    } else {
+        std::snprintf(text, sizeof text, "%lld:%02lld", s / 60, s % 60);
+    }
+    return text;
+}
+
+} // namespace
+
 void Progress::draw(int64_t done, bool final) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (finished_) {
         return;
     }
-    const int percent = static_cast<int>(done * 100 / total_);
     const auto now = std::chrono::steady_clock::now();
-    if (tty_) {
+    const double percent = 100.0 * static_cast<double>(done) / static_cast<double>(total_);
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double rate = elapsed > 0.0 ? static_cast<double>(done) / elapsed : 0.0;
+    // A rate only once it means something (not from the first item's microseconds).
+    const bool timed = rate > 0.0 && done > 0 && elapsed >= 0.25;
+    const bool complete = final || done >= total_;
+    const double eta = timed ? static_cast<double>(total_ - done) / rate : 0.0;
+    const auto line = [&] {
+        char text[64];
+        std::snprintf(text, sizeof text, "%3d%% (%lld/%lld)", static_cast<int>(percent), static_cast<long long>(done),
+                      static_cast<long long>(total_));
+        std::string s = label_ + ": " + text;
+        if (timed) {
+            std::snprintf(text, sizeof text, " %.0f/s", rate);
+            s += text;
+            s += complete ? ", " + clockText(elapsed) : ", " + clockText(eta) + " left";
+        }
+        return s;
+    };
+    switch (mode_) {
+    case ProgressMode::Bar: {
         if (!final && now - last_ < std::chrono::milliseconds(200)) {
             return;
         }
         last_ = now;
-        std::fprintf(stderr, "\r%s: %3d%% (%lld/%lld)%s", label_.c_str(), percent, static_cast<long long>(done),
-                     static_cast<long long>(total_), final ? "\n" : "");
-    } else {
-        const int decile = percent / 10;
-        if (decile == lastDecile_ && !final) {
-            return;
+        // Padded so that a shorter line covers a longer one.
+        std::fprintf(stderr, "\r%-78s%s", line().c_str(), final ? "\n" : "");
+        break;
+    }
+    case ProgressMode::Lines: {
+        const int step = static_cast<int>(percent) / 5;
+        if (step == lastStep_) {
+            return; // this line is already on screen (and the final one too)
         }
-        if (final && decile == lastDecile_) {
-            return; // this line is already on screen
+        lastStep_ = step;
+        std::fprintf(stderr, "%s\n", line().c_str());
+        break;
+    }
+    case ProgressMode::Json: {
+        const int step = static_cast<int>(percent);
+        if ((!final && step == lastStep_ && now - last_ < std::chrono::seconds(1)) || done == lastDone_) {
+            return; // (a final line already out as the last one)
         }
-        lastDecile_ = decile;
-        std::fprintf(stderr, "%s: %3d%% (%lld/%lld)\n", label_.c_str(), percent, static_cast<long long>(done),
-                     static_cast<long long>(total_));
+        lastDone_ = done;
+        lastStep_ = step;
+        last_ = now;
+        const nlohmann::ordered_json j = {{"progress", label_},
+                                  {"done", done},
+                                  {"total", total_},
+                                  {"percent", std::round(percent * 10.0) / 10.0},
+                                  {"rate", timed ? nlohmann::ordered_json(std::round(rate * 10.0) / 10.0)
+                                                 : nlohmann::ordered_json()},
+                                  {"eta_seconds", timed ? nlohmann::ordered_json(std::round(eta * 10.0) / 10.0)
+                                                        : nlohmann::ordered_json()}};
+        std::fprintf(stderr, "%s\n", j.dump().c_str());
+        break;
+    }
+    case ProgressMode::Auto:
+    case ProgressMode::None:
+        return;
     }
     std::fflush(stderr);
 }

@@ -75,8 +75,20 @@ struct PlanarTargetArgs {
 };
 void addPlanarTargetOptions(CLI::App& app, PlanarTargetArgs& args);
 
-// Progress on stderr: "LABEL: 42% (1234/2938 tiles)". Redrawn in place on a terminal, a line
-// every 10% otherwise, nothing when quiet. Thread-safe.
+// How progress is shown (--progress): Auto is Bar on a terminal, Lines otherwise.
+enum class ProgressMode { Auto, Bar, Lines, Json, None };
+// The mode every Progress of this process takes (the --progress of addProgressOption).
+ProgressMode& progressMode();
+// Declares --progress auto|bar|lines|json|none on `app`.
+void addProgressOption(CLI::App& app);
+
+// Progress on stderr, in the mode progressMode() says, nothing when quiet. Thread-safe.
+//  * Bar: one line redrawn in place, "LABEL:  42% (1234/2938) 310/s, 0:06 left".
+//  * Lines: the same as a line at every 5 % (and at the end).
+//  * Json: one JSON object a line, at every 1 % and at least every second, and at the end:
+//    {"progress":"LABEL","done":1234,"total":2938,"percent":42.0,"rate":310.2,"eta_seconds":5.5}
+//    (rate in items a second; rate and eta null for the first quarter of a second); the last has
+//    done == total.
 class Progress {
 public:
     Progress(std::string label, int64_t total, bool quiet);
@@ -89,11 +101,12 @@ private:
     std::string label_;
     int64_t total_;
     bool quiet_;
-    bool tty_;
+    ProgressMode mode_;
     std::atomic<int64_t> done_{0};
     std::mutex mutex_;
-    std::chrono::steady_clock::time_point last_{};
-    int lastDecile_ = -1;
+    std::chrono::steady_clock::time_point start_, last_{};
+    int lastStep_ = -1;
+    int64_t lastDone_ = -1;
     bool finished_ = false;
 };
 

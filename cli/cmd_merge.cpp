@@ -41,6 +41,7 @@ CommandRunner setupMergeCommand(CLI::App& app) {
     app.add_flag("--keep-parts", args->keep, "Keep the part files (default: removed once the pyramids are in place)");
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
+    addProgressOption(app);
     return [args]() {
         std::string directory = args->directory;
         if (directory.empty()) {

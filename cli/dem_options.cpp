@@ -78,6 +78,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
     app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
     addMaxFileBytesOption(app, args->maxFileBytes, "a region set");
     CLI::Option* part = addPartOption(app, args->part);
+    addProgressOption(app);
     addRegionOptions(app, args->region, part, "one region file (name it as a set does, e.g. DEM-L6-12-40.dat)",
                      "the main file (or set)");
     app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");

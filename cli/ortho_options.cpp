@@ -82,6 +82,7 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
     app.add_option("--cache-mb", o.levels.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
     addMaxFileBytesOption(app, a->maxFileBytes, "each output as a region set");
     CLI::Option* part = addPartOption(app, a->part);
+    addProgressOption(app);
     addRegionOptions(app, a->region, part,
                      "one region file of each output (named as a set names its files: NAME-L6-12-40.dat)",
                      "the colour-residual file (or set), residuals/NAME.dat");
