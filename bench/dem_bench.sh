@@ -9,7 +9,9 @@
 # Environment: BUILD (a Release build directory, configured here if missing; default
 # build-release), WORK, SIZE (synthetic DEM side, default 8193), THREADS (default: all cores),
 # REPEAT (runs per case, default 5: the median wall time is reported), SCALE (our --scale,
-# default 1; GDAL's MAX_Z_ERROR is SCALE / 2, the same bound).
+# default 1; GDAL's MAX_Z_ERROR is SCALE / 2, the same bound), SMALLEST_MAX (inputs of at most
+# this many samples also run --compression smallest, whose Deflate level 12 is slow; default
+# 20000000).
 #
 # Inputs:
 # * real terrain: ../shared/fixtures/inputs/mt_rainier_90m.tif (an SRTM 3-arc-second tile,
@@ -20,8 +22,10 @@
 #   641 cut of samples/srtm.png (the Himalaya, red x 10000 / 255 metres) upsampled to 4097 x 4097;
 # * a deterministic synthetic SIZE x SIZE float32 DEM (bench/dem_synthetic_heights.cpp).
 # preprocessDem runs on each with the default 192-tiles (resampled unless the input is 24 x 2^M
-# + 1 samples a side) and with --tile-size auto (the input's own grid where one fits). Our
-# residuals' entropy comes from bench/dem_bench.c over the C API.
+# + 1 samples a side) and with --tile-size auto (the input's own grid where one fits), the
+# latter with each residual codec: deflate (the original tools' tiles), smallest (the smallest
+# tiles the original runtime reads) and context (libpyramid's own). Our residuals' entropy
+# comes from bench/dem_bench.c over the C API.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -31,6 +35,7 @@ SIZE=${SIZE:-8193}
 THREADS=${THREADS:-$(nproc)}
 REPEAT=${REPEAT:-5}
 SCALE=${SCALE:-1}
+SMALLEST_MAX=${SMALLEST_MAX:-20000000}
 MAX_Z_ERROR=$(awk -v s="$SCALE" 'BEGIN {print s / 2}')
 RAINIER=$ROOT/../shared/fixtures/inputs/mt_rainier_90m.tif
 
@@ -115,6 +120,11 @@ COG=(gdal_translate -q -of COG -co COMPRESS=LERC_DEFLATE -co MAX_Z_ERROR="$MAX_Z
 for input in "${INPUTS[@]}"; do
     run "$input" default DEM.dat "${OURS[@]}" "$input" -o DEM.dat
     run "$input" auto DEM.dat "${OURS[@]}" "$input" -o DEM.dat --tile-size auto
+    samples=$(oiiotool --info -v "$input" | awk '/^'"$input"'/ {print $3 * $5; exit}')
+    if [ "$samples" -le "$SMALLEST_MAX" ]; then
+        run "$input" smallest DEM.dat "${OURS[@]}" "$input" -o DEM.dat --tile-size auto --compression smallest
+    fi
+    run "$input" context DEM.dat "${OURS[@]}" "$input" -o DEM.dat --tile-size auto --compression context
     run "$input" gdal cog.tif "${COG[@]}" "$input" cog.tif
 done
 rm -f DEM.dat cog.tif report.json
@@ -138,16 +148,19 @@ awk -F'\t' '
     NR == 1 { next }
     { samples[$1] = $6; if (!($1 in seen)) { seen[$1] = 1; order[++count] = $1 } }
     $2 == "gdal" { gbits[$1] = 8 * $5 / $6; next }
-    { bits[$1, $2] = 8 * $5 / $6; tile[$1, $2] = $8; ent[$1, $2] = $9 * $10 / $6; h[$1, $2] = $10; deflate[$1, $2] = 8 * $11 / ($9 * $10) }
+    { bits[$1, $2] = 8 * $5 / $6; tile[$1, $2] = $8; ent[$1, $2] = $9 * $10 / $6; h[$1, $2] = $10; coded[$1, $2] = 8 * $11 / ($9 * $10) }
+    function cell(v) { return v == "" ? "-" : sprintf("%.3f", v) }
+    function ratio(a, b) { return a == "" ? "-" : sprintf("%.2f", a / b) }
     END {
-        printf "| input | samples | default tiles | ours default | auto tiles | ours auto | GDAL LERC | default / GDAL | auto / GDAL | entropy (auto) | Deflate / entropy (auto) | entropy per residual (auto) |\n"
-        printf "|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+        printf "| input | samples | default tiles | ours default | auto tiles | ours auto | smallest | context | GDAL LERC | default / GDAL | auto / GDAL | smallest / GDAL | context / GDAL | entropy (auto) | Deflate / entropy | context / entropy | entropy per residual |\n"
+        printf "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
         for (i = 1; i <= count; ++i) {
             n = order[i]
-            printf "| %s | %d | %s | %.3f | %s | %.3f | %.3f | %.2f | %.2f | %.3f | %.2f | %.3f |\n", n, samples[n], tile[n, "default"], bits[n, "default"], tile[n, "auto"], bits[n, "auto"], gbits[n], bits[n, "default"] / gbits[n], bits[n, "auto"] / gbits[n], ent[n, "auto"], deflate[n, "auto"], h[n, "auto"]
+            printf "| %s | %d | %s | %.3f | %s | %.3f | %s | %s | %.3f | %.2f | %.2f | %s | %s | %.3f | %.2f | %.2f | %.3f |\n", n, samples[n], tile[n, "default"], bits[n, "default"], tile[n, "auto"], bits[n, "auto"], cell(bits[n, "smallest"]), cell(bits[n, "context"]), gbits[n], bits[n, "default"] / gbits[n], bits[n, "auto"] / gbits[n], ratio(bits[n, "smallest"], gbits[n]), ratio(bits[n, "context"], gbits[n]), ent[n, "auto"], coded[n, "auto"], coded[n, "context"], h[n, "auto"]
         }
     }' "$RESULTS"
 echo
-echo "bits per input sample. tiles: tile size/root tile size/maxLevel. entropy: the order-0 entropy of the"
-echo "auto pyramid's stored residuals (dem_bench.c), in bits per input sample; Deflate / entropy: the"
-echo "tiles' bytes against it. raw figures: $RESULTS"
+echo "bits per input sample. tiles: tile size/root tile size/maxLevel. smallest and context: the auto"
+echo "tiles with --compression smallest and context. entropy: the order-0 entropy of the auto pyramid's"
+echo "stored residuals (dem_bench.c), in bits per input sample; Deflate / entropy and context / entropy:"
+echo "the tiles' bytes against it. raw figures: $RESULTS"

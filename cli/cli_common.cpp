@@ -475,6 +475,33 @@ std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, 
     };
 }
 
+void addResidualCodingOptions(CLI::App& app, ResidualCodingArgs& args) {
+    app.add_option("--compression", args.compression,
+                   "Residual tiles: deflate (as the original tools write them), smallest (per tile the smallest "
+                   "TIFF the original runtime reads; slower), or context (the smallest files; libpyramid's readers "
+                   "only, not the original runtime)")
+        ->capture_default_str();
+    app.add_option("--deflate-level", args.deflateLevel,
+                   "Deflate level of TIFF tiles: 1 (fastest) to 12 (smallest); default 2, or 12 with "
+                   "--compression smallest")
+        ->check(CLI::Range(1, 12));
+}
+
+ResidualTileCoding ResidualCodingArgs::resolve(bool quiet) const {
+    const std::optional<ResidualCodec> codec = parseResidualCodec(compression);
+    if (!codec) {
+        fail("--compression", "'" + compression + "' is not deflate, smallest or context");
+    }
+    if (*codec == ResidualCodec::Context && deflateLevel != 0) {
+        fail("--deflate-level", "applies to TIFF tiles, not to --compression context");
+    }
+    if (*codec == ResidualCodec::Context && speaks(quiet)) {
+        std::fprintf(stderr, "warning: --compression context: the original Proland runtime cannot read these "
+                             "tiles (libpyramid's readers can)\n");
+    }
+    return ResidualTileCoding{*codec, deflateLevel};
+}
+
 bool speaks(bool quiet) { return !quiet && worldTeam().rank() == 0; }
 
 BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& build) {

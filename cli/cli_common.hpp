@@ -178,6 +178,17 @@ void addRegionOptions(CLI::App& app, RegionArgs& args, CLI::Option* part, const 
 // Runs `build` in the role `part` (the --part text, "" without) and the launcher give it; prints
 // the line of a part unless quiet. Returns the role.
 BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& build);
+// How residual tiles are coded: --compression deflate|smallest|context and --deflate-level N
+// (preprocessDem, preprocessSphericalDem, pyramid recode).
+struct ResidualCodingArgs {
+    std::string compression = "deflate";
+    int deflateLevel = 0; // 0: not given
+    // The coding asked for; throws Error naming the option for an impossible choice. Warns on
+    // stderr, unless quiet, that the original runtime cannot read context-coded tiles.
+    ResidualTileCoding resolve(bool quiet) const;
+};
+void addResidualCodingOptions(CLI::App& app, ResidualCodingArgs& args);
+
 // A merge's progress on stderr ("PROGRAM (merging): 42% ..."), when `show`.
 std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show);
 // Whether this process prints: not when quiet, nor on the ranks other than 0 of an MPI run.

@@ -14,6 +14,7 @@
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/pyramid_set.hpp"
+#include "formats/residual_codec.hpp"
 #include "formats/residual_file.hpp"
 #include "formats/tiff_tile.hpp"
 
@@ -82,7 +83,7 @@ nlohmann::json residualInfo(const std::string& path) {
             const int64_t side = h.tilesPerSide(l);
             return h.tileIndex(l, static_cast<int>(k % side), static_cast<int>(k / side));
         },
-        [&](int l) { return h.tileSamples(l); }, [](const std::vector<uint8_t>& b) { return describeTiff(b); });
+        [&](int l) { return h.tileSamples(l); }, [](const std::vector<uint8_t>& b) { return describeResidualBlob(b); });
     nlohmann::json j = censusJson(c);
     j["kind"] = "residual";
     j["header"] = {{"min_level", h.minLevel}, {"max_level", h.maxLevel}, {"tile_size", h.tileSize},

@@ -23,5 +23,6 @@ CommandRunner setupVerifyCommand(CLI::App& app);  // pyramid verify FILE --sourc
 CommandRunner setupMergeCommand(CLI::App& app);   // pyramid merge PART... [-o DIR]
 CommandRunner setupHeightCommand(CLI::App& app);  // pyramid height FILE|DIR --grid/--pixel/--lonlat
 CommandRunner setupPreviewCommand(CLI::App& app); // pyramid preview FILE|SET -o OUT.png
+CommandRunner setupRecodeCommand(CLI::App& app);  // pyramid recode FILE -o OUT --compression C
 
 } // namespace pyramid::cli

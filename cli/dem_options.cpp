@@ -74,6 +74,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
     app.add_option("--band", args->band, "Band (channel) holding the heights, from 1")->capture_default_str();
     app.add_option("--nodata", args->nodata,
                    "Value marking missing heights: a number, 'nan', 'inf', '-inf', or 'none' (default: what the file declares)");
+    addResidualCodingOptions(app, args->coding);
     app.add_option("--threads", o.threads, "Worker threads (default: all cores; the output does not depend on it)");
     app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
     addMaxFileBytesOption(app, args->maxFileBytes, "a region set");
@@ -97,6 +98,7 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     } else {
         options.scale = parseNumber(args.scale, "--scale", "a number or 'auto'"); // its range: validate()
     }
+    options.tiles = args.coding.resolve(args.quiet);
     options.maxFileBytes = args.maxFileBytes.resolve();
     options.region = args.region.resolve();
     options.band = args.band - 1;

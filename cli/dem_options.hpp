@@ -29,6 +29,7 @@ struct DemArgs {
     int band = 1;
     std::string nodata;
     std::string report;
+    ResidualCodingArgs coding; // --compression, --deflate-level
     bool quiet = false;
     MaxFileBytesArgs maxFileBytes;
     std::string part;         // --part I/N

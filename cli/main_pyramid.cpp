@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
         {"merge", "Assemble the part files of a split build (--part I/N) into its pyramids", setupMergeCommand},
         {"preview", "Draw one level of a pyramid as a PNG: a hillshade, heights, residuals or the imagery",
          setupPreviewCommand},
+        {"recode", "Store a DEM file's residuals with another codec (e.g. context coding, or back to the original's)",
+         setupRecodeCommand},
         {"height", "Print the reconstructed height at a point (grid, source pixel, or longitude and latitude)",
          setupHeightCommand},
     };

@@ -6,6 +6,7 @@
 
 #include "formats/error.hpp"
 #include "formats/header_bytes.hpp"
+#include "formats/residual_codec.hpp"
 #include "formats/tiff_tile.hpp"
 
 namespace pyramid {
@@ -122,7 +123,7 @@ std::vector<uint8_t> ResidualFileReader::readTileBytes(int level, int tx, int ty
 
 std::vector<int16_t> ResidualFileReader::readTile(int level, int tx, int ty) const {
     const std::vector<uint8_t> blob = readTileBytes(level, tx, ty);
-    return decodeResidualTiff(blob, header_.tileSamples(level), tileName(path_, level, tx, ty));
+    return decodeResidualBlob(blob, header_.tileSamples(level), tileName(path_, level, tx, ty));
 }
 
 std::vector<uint8_t> packResidualHeader(const ResidualHeader& h) {

@@ -193,12 +193,35 @@ std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t byt
     return {out.data(), bytes};
 }
 
-// Encodes one strip of `bits`-bit samples. Deflate strips (with the predictor: 8-bit samples
-// only) are compressed here, with a compressor kept per thread, and written raw: libtiff would
+// The same for 16-bit samples (native byte order, as the strip stores them), modulo 2^16.
+std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t bytes, int width, int channels) {
+    thread_local std::vector<uint16_t> out;
+    const size_t count = bytes / 2;
+    if (out.size() < count) {
+        out.resize(count);
+    }
+    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+    const auto c = static_cast<size_t>(channels);
+    std::vector<uint16_t> in(count);
+    std::memcpy(in.data(), pixels, count * 2);
+    for (size_t y = 0; y < count / row; ++y) {
+        const uint16_t* i = in.data() + y * row;
+        uint16_t* o = out.data() + y * row;
+        std::copy_n(i, c, o);
+        for (size_t k = c; k < row; ++k) {
+            o[k] = static_cast<uint16_t>(i[k] - i[k - c]);
+        }
+    }
+    return {reinterpret_cast<const uint8_t*>(out.data()), count * 2};
+}
+
+// Encodes one strip of `bits`-bit samples. Deflate strips (with or without the predictor) are
+// compressed here, with a compressor kept per thread, and written raw: libtiff would
 // copy the strip and set up a compressor for every tile.
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
-                                 int jpegQuality, int deflateLevel, bool horizontalPredictor) {
+                                 int jpegQuality, int deflateLevel, bool horizontalPredictor,
+                                 bool signedSamples = false) {
     const bool jpeg = isJpeg(compression);
     if (compression == TiffCompression::Deflate && (deflateLevel < 1 || deflateLevel > 12)) {
         fail("", "Deflate level " + std::to_string(deflateLevel) + " is not 1..12");
@@ -228,6 +251,9 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
     TIFFSetField(t, TIFFTAG_ORIENTATION, ORIENTATION_BOTLEFT);
     TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, static_cast<uint32_t>(height));
     TIFFSetField(t, TIFFTAG_COMPRESSION, compressionCode(compression));
+    if (signedSamples) {
+        TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, SAMPLEFORMAT_INT);
+    }
     if (extraSample) {
         // The channel beyond grey or RGB is unspecified data (coverage, alpha...).
         const uint16_t extra = EXTRASAMPLE_UNSPECIFIED;
@@ -244,9 +270,10 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
     tmsize_t written = 0;
     if (compression == TiffCompression::Deflate) {
         std::span<const uint8_t> samples(static_cast<const uint8_t*>(pixels), bytes);
-        if (horizontalPredictor && bits == 8) {
+        if (horizontalPredictor) {
             TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
-            samples = horizontalDifferences(samples.data(), bytes, width, channels);
+            samples = bits == 16 ? horizontalDifferences16(samples.data(), bytes, width, channels)
+                                 : horizontalDifferences(samples.data(), bytes, width, channels);
         }
         const std::span<const uint8_t> deflated = zlibCompress(samples, deflateLevel);
         written = TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated.data()), static_cast<tmsize_t>(deflated.size()));
@@ -418,9 +445,14 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
 }
 
 
-std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel) {
+std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel,
+                                        ResidualTiffLayout layout, bool horizontalPredictor) {
     if (size < 1 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
         fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
+    }
+    if (layout == ResidualTiffLayout::OneShort) {
+        return encodeStrip(residuals.data(), residuals.size() * 2, size, size, 1, 16, PHOTOMETRIC_MINISBLACK, false,
+                           TiffCompression::Deflate, 0, deflateLevel, horizontalPredictor, true);
     }
     // Two 8-bit samples per pixel: the low and the high byte of the int16, with no ExtraSamples
     // tag, exactly as the original tools write them.
@@ -431,7 +463,7 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
         bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
     }
     return encodeStrip(bytes.data(), bytes.size(), size, size, 2, 8, PHOTOMETRIC_MINISBLACK, false,
-                       TiffCompression::Deflate, 0, deflateLevel, false);
+                       TiffCompression::Deflate, 0, deflateLevel, horizontalPredictor);
 }
 
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {

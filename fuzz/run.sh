@@ -24,7 +24,7 @@ run() {
 
 run residual_file_fuzz "$src/tests/data/proland/DEM.dat" "$corpus"/residual/*.dat
 run ortho_file_fuzz "$src/tests/data/proland/RGB.dat" "$corpus"/ortho/*.dat
-run tiff_tile_fuzz "$corpus"/tiff/*.tif
+run tiff_tile_fuzz "$corpus"/tiff/*.tif "$corpus"/context/*.pyrc "$corpus"/valid/context-3.pyrc
 run dxt_tile_fuzz "$corpus"/dxt/*.bin
 run raster_input_fuzz "$corpus"/input/* "$corpus"/tiff/*.tif
 ls "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* 2>/dev/null && exit 1

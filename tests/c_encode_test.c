@@ -134,6 +134,60 @@ int main(void) {
         }
     }
 
+    /* Tiles fitted to the map (96 intervals across: the finest level is its grid), coded with
+     * Deflate and with context coding: the same residuals in every tile, in fewer bytes. */
+    {
+        pyramid_dem_encode_options fit = options;
+        pyramid_file *deflate = NULL, *context = NULL;
+        long deflate_size = 0, context_size = 0;
+        char fit_deflate[300], fit_context[300];
+        char* bytes;
+        sprintf(fit_deflate, "%s/fit-deflate.dat", dir);
+        sprintf(fit_context, "%s/fit-context.dat", dir);
+        CHECK(options.fit_tiles == 0 && options.compression == PYRAMID_RESIDUAL_DEFLATE && options.deflate_level == 0);
+        fit.fit_tiles = 1;
+        fit.max_level = 9; /* ignored: the fit chooses */
+        CHECK(pyramid_encode_dem(&source, &fit, fit_deflate) == PYRAMID_OK);
+        fit.compression = PYRAMID_RESIDUAL_CONTEXT;
+        CHECK(pyramid_encode_dem(&source, &fit, fit_context) == PYRAMID_OK);
+        bytes = read_all(fit_deflate, &deflate_size);
+        free(bytes);
+        bytes = read_all(fit_context, &context_size);
+        free(bytes);
+        CHECK(context_size > 0 && context_size < deflate_size);
+        CHECK(pyramid_open(fit_deflate, &deflate) == PYRAMID_OK);
+        CHECK(pyramid_open(fit_context, &context) == PYRAMID_OK);
+        if (deflate && context) {
+            int level, tx, ty, tiles = 0;
+            CHECK(pyramid_get_info(context, &info) == PYRAMID_OK);
+            CHECK((info.tile_size >> info.min_level) << info.max_level == 96);
+            for (level = 0; level <= info.max_level; ++level) {
+                const int side = level < info.min_level ? 1 : 1 << (level - info.min_level);
+                for (ty = 0; ty < side; ++ty) {
+                    for (tx = 0; tx < side; ++tx) {
+                        static short d[300 * 300], x[300 * 300];
+                        size_t dn = 0, xn = 0;
+                        CHECK(pyramid_read_tile(deflate, level, tx, ty, d, sizeof d, &dn) == PYRAMID_OK);
+                        CHECK(pyramid_read_tile(context, level, tx, ty, x, sizeof x, &xn) == PYRAMID_OK);
+                        CHECK(dn == xn && dn > 0 && memcmp(d, x, dn) == 0);
+                        ++tiles;
+                    }
+                }
+            }
+            CHECK(tiles > 1);
+        }
+        pyramid_close(deflate);
+        pyramid_close(context);
+        fit.compression = 3;
+        CHECK(pyramid_encode_dem(&source, &fit, cancelled_path) == PYRAMID_ERROR_ARGUMENT);
+        CHECK(strstr(pyramid_last_error(), "compression 3") != NULL);
+        fit.compression = PYRAMID_RESIDUAL_SMALLEST;
+        fit.deflate_level = 13;
+        CHECK(pyramid_encode_dem(&source, &fit, cancelled_path) == PYRAMID_ERROR_ARGUMENT);
+        CHECK(strstr(pyramid_last_error(), "deflateLevel") != NULL);
+        CHECK(access(cancelled_path, F_OK) != 0);
+    }
+
     /* An old caller's smaller options struct: the missing fields take their defaults. */
     {
         pyramid_dem_encode_options old;

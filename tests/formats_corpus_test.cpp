@@ -13,6 +13,7 @@
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "formats/residual_codec.hpp"
 #include "formats/residual_file.hpp"
 #include "formats/tiff_tile.hpp"
 #include "tests/support/paths.hpp"
@@ -81,6 +82,8 @@ void decode(const std::string& path, const std::string& decoder) {
         decodeTiff(readBytes(path), a, b, path);
     } else if (kind == "residual-tiff") {
         decodeResidualTiff(readBytes(path), a, path);
+    } else if (kind == "residual-tile") {
+        decodeResidualBlob(readBytes(path), a, path);
     } else if (kind == "ortho-tiff") {
         decodeOrthoTiff(readBytes(path), a, b, path);
     } else if (kind == "dxt1" || kind == "dxt5") {
@@ -163,7 +166,7 @@ TEST(CorpusManifest, ListsEveryFileAndOnlyExistingOnes) {
     EXPECT_EQ(listed.size(), entries.size()) << "a file is listed twice";
     EXPECT_GE(broken, 100u) << "the corpus lost files";
     std::set<std::string> present;
-    for (const char* dir : {"valid", "residual", "ortho", "tiff", "dxt"}) {
+    for (const char* dir : {"valid", "residual", "ortho", "tiff", "context", "dxt"}) {
         for (const auto& f : std::filesystem::directory_iterator(test::corpusPath(dir))) {
             present.insert(std::string(dir) + "/" + f.path().filename().string());
         }

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "formats/residual_file.hpp"
+#include "libpyramid/encode/residual/residual_recode.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/gl/gl_elevation_producer.hpp"
 #include "tests/support/gl_test_context.hpp"
@@ -17,10 +18,10 @@ namespace {
 
 std::string demPath() { return test::dataPath("proland/DEM.dat"); }
 
-std::shared_ptr<const ResidualProducer> residualsFor(int n) {
+std::shared_ptr<const ResidualProducer> residualsFor(int n, const std::string& path = demPath()) {
     ResidualProducerOptions ro;
-    ro.delta = elevationDelta(ResidualFileReader::open(demPath())->header(), n);
-    return std::make_shared<ResidualProducer>(demPath(), std::vector<std::string>{}, ro);
+    ro.delta = elevationDelta(ResidualFileReader::open(path)->header(), n);
+    return std::make_shared<ResidualProducer>(path, std::vector<std::string>{}, ro);
 }
 
 // Samples whose bits differ.
@@ -32,13 +33,13 @@ size_t differingSamples(const std::vector<float>& a, const std::vector<float>& b
     return count;
 }
 
-void expectSameTiles(int n, int gridSize, int deepestLevel) {
-    auto residuals = residualsFor(n);
+// The GL producer over `glFile` against the CPU producer over the original file.
+void expectSameTiles(int n, int gridSize, int deepestLevel, const std::string& glFile = demPath()) {
     ElevationProducerOptions o;
     o.tileSize = n;
     o.gridSize = gridSize;
-    ElevationProducer cpu(residuals, o);
-    GlElevationProducer gl(residuals, o);
+    ElevationProducer cpu(residualsFor(n), o);
+    GlElevationProducer gl(residualsFor(n, glFile), o);
     ASSERT_EQ(gl.maxLevel(), cpu.maxLevel());
     const int last = std::min(deepestLevel, cpu.maxLevel());
     int tiles = 0;
@@ -64,6 +65,19 @@ TEST(GlElevationProducer, EveryTileSizeMatchesTheCpuProducer) {
     expectSameTiles(96, 0, 30);  // delta 2
     expectSameTiles(48, 0, 3);   // delta 1 (every level: gl_verify_test)
     expectSameTiles(24, 0, 3);   // delta 0, the file's own levels below minLevel
+}
+
+// The original file recoded with context coding (formats/residual_context.hpp): the GL producer
+// over it rebuilds, bit for bit, what the CPU producer rebuilds from the original tools' file.
+TEST(GlElevationProducer, ContextCodedFilesMatchTheOriginalsCpuTiles) {
+    PYRAMID_GL_CONTEXT_OR_SKIP();
+    test::TempDir dir;
+    ResidualRecodeOptions ro;
+    ro.tiles.codec = ResidualCodec::Context;
+    const ResidualRecodeReport r = recodeResidualFile(demPath(), dir.file("DEM.dat"), ro);
+    EXPECT_LT(r.bytes, r.inputBytes);
+    expectSameTiles(192, 0, 30, dir.file("DEM.dat"));
+    expectSameTiles(48, 0, 3, dir.file("DEM.dat"));
 }
 
 TEST(GlElevationProducer, CoarseRenderGridsMatchTheCpuProducer) {

@@ -18,6 +18,7 @@
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
 #include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
+#include "libpyramid/encode/residual/residual_recode.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/verify/dem_verify.hpp"
 #include "libpyramid/verify/ortho_verify.hpp"

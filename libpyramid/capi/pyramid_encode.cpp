@@ -94,6 +94,9 @@ void pyramid_dem_encode_defaults(pyramid_dem_encode_options* options) {
     o.max_level = -1;
     o.scale = cpp.scale;
     o.threads = 0;
+    o.fit_tiles = 0;
+    o.compression = PYRAMID_RESIDUAL_DEFLATE;
+    o.deflate_level = 0;
     std::memcpy(options, &o, std::clamp(size, sizeof(size_t), sizeof o));
     options->struct_size = std::clamp(size, sizeof(size_t), sizeof o);
 }
@@ -124,6 +127,25 @@ pyramid_status pyramid_encode_dem(const pyramid_height_source* source, const pyr
         o.autoScale = c.scale == 0.0;
         o.scale = o.autoScale ? 1.0 : c.scale;
         o.threads = c.threads;
+        o.fitTiles = c.fit_tiles != 0;
+        if (o.fitTiles) {
+            o.maxLevel = -1; // chosen by the fit, as the other tile fields are
+        }
+        switch (c.compression) {
+        case PYRAMID_RESIDUAL_DEFLATE:
+            o.tiles.codec = pyramid::ResidualCodec::Deflate;
+            break;
+        case PYRAMID_RESIDUAL_SMALLEST:
+            o.tiles.codec = pyramid::ResidualCodec::Smallest;
+            break;
+        case PYRAMID_RESIDUAL_CONTEXT:
+            o.tiles.codec = pyramid::ResidualCodec::Context;
+            break;
+        default:
+            return failWith(PYRAMID_ERROR_ARGUMENT,
+                            "pyramid_encode_dem: compression " + std::to_string(c.compression) + " is not 0, 1 or 2");
+        }
+        o.tiles.deflateLevel = c.deflate_level;
         hook(o, c);
         if (s.heights) {
             if (s.width < 1 || s.height < 1) {

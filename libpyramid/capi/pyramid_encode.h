@@ -54,7 +54,19 @@ typedef struct pyramid_dem_encode_options {
     pyramid_progress_fn progress; /* may be NULL */
     pyramid_cancel_fn cancel;     /* may be NULL */
     void* user;                   /* passed to progress and cancel */
+    /* 1: tile_size, root_tile_size and max_level are chosen (and those given ignored) so that
+     * the finest level is the map's own grid, as preprocessDem --tile-size auto does. */
+    int fit_tiles;
+    int compression;       /* PYRAMID_RESIDUAL_DEFLATE (the default), _SMALLEST or _CONTEXT */
+    int deflate_level;     /* 0: the codec's default (2, or 12 for _SMALLEST); 1..12 */
 } pyramid_dem_encode_options;
+
+/* How residual tiles are coded (preprocessDem --compression; doc/format.md). */
+enum {
+    PYRAMID_RESIDUAL_DEFLATE = 0,  /* TIFF tiles as the original tools write them */
+    PYRAMID_RESIDUAL_SMALLEST = 1, /* per tile the smallest TIFF the original runtime reads */
+    PYRAMID_RESIDUAL_CONTEXT = 2   /* context-coded: smallest, libpyramid's readers only */
+};
 
 PYRAMID_API void pyramid_dem_encode_defaults(pyramid_dem_encode_options* options);
 

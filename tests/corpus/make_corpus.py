@@ -361,6 +361,20 @@ def main():
          OT, "tiled TIFF")
     emit("tiff/too-big-for-ortho.tif", ortho_tiff(9, 2), OT, "TIFF of 9x9 pixels, expected at most 4x4")
 
+    # ---- Context-coded residual tiles (doc/format.md 1.8): the 3 x 3 tile whose bytes
+    # tests/residual_codec_test.cpp pins, and what a decoder must refuse
+    context = bytes([0x50, 0x59, 0x52, 0x43, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00,
+                     0x7a, 0x67, 0x99, 0x8e, 0xf7, 0xcd, 0xfa, 0x19, 0x7a])
+    CT = "residual-tile 3"
+    emit("valid/context-3.pyrc", context, CT, "ok")
+    emit("context/truncated.pyrc", context[:-1], CT, "the stream ends early")
+    emit("context/trailing-byte.pyrc", context + b"\0", CT, "1 bytes after the end")
+    emit("context/header-only.pyrc", context[:8], CT, "damaged stream start")
+    emit("context/wrong-size.pyrc", context, "residual-tile 4", "3 samples a side, expected 4")
+    emit("context/mode-2.pyrc", context[:6] + b"\x02" + context[7:], CT, "unknown kind")
+    emit("context/version-1.pyrc", context[:7] + b"\x01" + context[8:], CT, "unknown kind")
+    emit("context/magic-only.pyrc", context[:4], CT, "not a context-coded residual tile")
+
     # ---- DXT blobs on their own
     emit("dxt/empty.bin", b"", "dxt1 4 4", "DXT tile of 0 bytes, expected 8")
     emit("dxt/dxt1-short.bin", dxt1_block[:7], "dxt1 4 4", "DXT tile of 7 bytes, expected 8")

@@ -151,6 +151,7 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
     report.output = output;
     report.inputInfo = source->info();
     report.band = options.band;
+    report.coding = options.tiles;
     const std::optional<double> nodata = checkBandAndNodata(source->info(), options, input);
     ResidualPyramidJob job;
     DemTileFit fit;
@@ -230,6 +231,9 @@ nlohmann::json toJson(const DemReport& r) {
                         {"tile_size", r.header.tileSize},
                         {"scale", r.header.scale}}},
             {"tile_fit", r.tileFit ? toJson(*r.tileFit) : nlohmann::json()}, // null: tiles as given
+            {"compression", residualCodecName(r.coding.codec)},
+            {"deflate_level", r.coding.codec == ResidualCodec::Context ? nlohmann::json()
+                                                                       : nlohmann::json(r.coding.effectiveDeflateLevel())},
             {"scales_tried", r.scalesTried},
             {"tiles", r.tiles},
             {"shared_tiles", r.sharedTiles},

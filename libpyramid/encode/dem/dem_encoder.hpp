@@ -63,6 +63,7 @@ struct DemReport : ResidualPyramidReport {
     int band = 0;                 // 0-based, as DemEncodeOptions
     std::optional<double> nodata; // the nodata value used (option or declared), if any
     std::string sampling;         // the geometry rule applied
+    ResidualTileCoding coding;    // how the tiles were coded (options.tiles)
     std::optional<DemTileFit> tileFit; // with options.fitTiles: the tiles and levels chosen
     // A georeferenced input's placement of the pyramid, also written beside the output
     // (georeferenceSidecarPath(output)).

@@ -143,6 +143,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         fr.dem.output = (std::filesystem::path(directory) / name).string();
         fr.dem.inputInfo = sources.info;
         fr.dem.band = o.band;
+        fr.dem.coding = o.tiles;
         fr.dem.nodata = nodata;
         fr.dem.sampling = "face " + std::to_string(face) + " of the cube, " + std::to_string(N) +
                           " intervals across, sampled bilinearly on the " + body.name() +

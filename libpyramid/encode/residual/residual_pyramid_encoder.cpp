@@ -29,6 +29,7 @@ void ResidualEncodeOptions::validate() const {
     if (threads < 0) {
         failOption("threads", "must be 0 (all cores) or more");
     }
+    tiles.validate();
 }
 
 namespace {
@@ -312,7 +313,7 @@ private:
         if (region_ && !needed(l, tx, ty)) {
             return;
         }
-        std::call_once(zeroBlobOnce_, [this] { zeroBlob_ = zeroResidualBlob(plan_.T + 5); });
+        std::call_once(zeroBlobOnce_, [this] { zeroBlob_ = zeroResidualBlob(plan_.T + 5, plan_.coding); });
         EncodedTile tile;
         tile.level = l;
         tile.tx = tx;
@@ -590,6 +591,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     plan.N = plan.levelIntervals(plan.M);
     plan.C = cutLevel(plan.minLevel, plan.M, plan.T, plan.N);
     plan.folded = job.edges == GridEdges::Folded;
+    plan.coding = options.tiles;
     const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
     report.threads = threads;
     const ResidualShare* share = options.share;

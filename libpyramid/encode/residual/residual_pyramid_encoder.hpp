@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "formats/pyramid_set.hpp"
+#include "formats/residual_codec.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/region_request.hpp"
 #include "libpyramid/encode/residual/height_source.hpp"
@@ -56,6 +57,9 @@ struct ResidualEncodeOptions {
     double scale = 1.0;             // quantization step (height units per residual unit)
     bool autoScale = false;         // choose the smallest 1-2-5 x 10^k scale without int16 overflow
     int threads = 0;                // 0: all cores
+    // How tiles are coded: the original tools' Deflate TIFF tiles by default (fast), the
+    // smallest TIFF tiles the original runtime reads, or libpyramid's context coding.
+    ResidualTileCoding tiles;
     // 0: one file (its tile data at most 4 GiB). Otherwise a region set of files of at most
     // this many bytes each, and its index (formats/residual_set.hpp, doc/format.md 1.6).
     uint64_t maxFileBytes = 0;

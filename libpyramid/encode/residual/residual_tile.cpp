@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "formats/tiff_tile.hpp"
+#include "formats/residual_codec.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/support/vector_clones.hpp"
 
@@ -22,11 +22,6 @@ inline double roundHalfEven(double x) {
     return std::copysign((a + kTwo52) - kTwo52, x);
 }
 
-// Deflate level of the elevation residual tiles (libdeflate, through the TIFF tile codec's
-// strip encoder with one compressor per thread): level 2 encodes residual tiles about 4 times
-// faster than level 6, for 10 to 17 % more bytes (bench/README.md); the stream is standard
-// Deflate either way, as the original runtime reads.
-constexpr int kElevationResidualDeflateLevel = 2;
 
 // How heights become residuals: r = round-half-even((height - prediction) / scale), by a
 // multiplication when scale is a power of two (the same correctly rounded quotient).
@@ -227,13 +222,13 @@ EncodedTile encodeResidualTile(const ResidualPlan& plan, int l, int tx, int ty, 
     const auto largest = static_cast<int64_t>(std::min(maxAbs, 4.0e18));
     out.stats.maxAbsResidual = static_cast<int>(std::min<int64_t>(largest, 32768));
     out.stats.overflowResidual = largest > 32767 ? largest : 0;
-    out.blob = encodeResidualTiff(residuals, S, kElevationResidualDeflateLevel);
+    out.blob = encodeResidualBlob(residuals, S, plan.coding);
     return out;
 }
 
-std::vector<uint8_t> zeroResidualBlob(int size) {
+std::vector<uint8_t> zeroResidualBlob(int size, const ResidualTileCoding& coding) {
     const std::vector<int16_t> zeros(static_cast<size_t>(size) * static_cast<size_t>(size), 0);
-    return encodeResidualTiff(zeros, size, kElevationResidualDeflateLevel);
+    return encodeResidualBlob(zeros, size, coding);
 }
 
 } // namespace pyramid

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "formats/residual_codec.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/residual/height_source.hpp"
 
@@ -23,6 +24,7 @@ struct ResidualPlan {
     int C = 0;         // deepest level encoded from the in-memory grid
     float scale = 1.0f;
     bool folded = false;                 // GridEdges::Folded: borders are real samples, never clamped
+    ResidualTileCoding coding;           // how tiles are stored (formats/residual_codec.hpp)
 
     int64_t levelIntervals(int l) const { return static_cast<int64_t>(R) << l; }
     int tileIntervals(int l) const { return l < minLevel ? T >> (minLevel - l) : T; }
@@ -63,6 +65,6 @@ EncodedTile encodeResidualTile(const ResidualPlan& plan, int l, int tx, int ty, 
 
 // The blob encodeResidualTile writes for a tile of `size` samples a side whose residuals are all
 // 0 (a tile without valid samples: its heights are its parent's prediction).
-std::vector<uint8_t> zeroResidualBlob(int size);
+std::vector<uint8_t> zeroResidualBlob(int size, const ResidualTileCoding& coding);
 
 } // namespace pyramid
