@@ -480,7 +480,8 @@ void addResidualCodingOptions(CLI::App& app, ResidualCodingArgs& args) {
                    "Residual tiles: deflate (as the original tools write them), smallest (per tile the smallest "
                    "TIFF the original runtime reads; slower), or context (the smallest files; libpyramid's readers "
                    "only, not the original runtime)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::IsMember({"deflate", "smallest", "context"}));
     app.add_option("--deflate-level", args.deflateLevel,
                    "Deflate level of TIFF tiles: 1 (fastest) to 12 (smallest); default 2, or 12 with "
                    "--compression smallest")

@@ -130,6 +130,7 @@ TEST_F(DemCli, WarnsAboutTilesTheOriginalRuntimeCannotRead) {
 TEST_F(DemCli, ImpossibleValuesFailOnOneLine) {
     expectError("--tile-size 7", "--tile-size: 7 is not an even number from 2 to 8192");
     expectError("--tile-size 16 --root-tile-size 6", "--root-tile-size");
+    expectError("--tile-size 12 --root-tile-size 3", "--root-tile-size: 3 is odd");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 1", "--max-level");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 25", "--max-level");
     expectError("--tile-size 16 --root-tile-size 4 --max-level 24", "tiles, more than");

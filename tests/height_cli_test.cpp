@@ -71,9 +71,9 @@ TEST(HeightCli, PlanarFilesOfGeoreferencedInputsTakeCrsPoints) {
     }
     test::TempDir dir;
     const std::string file = dir.file("rainier.dat");
-    // 1201 samples: 75 << 4 intervals, the input sample for sample.
+    // 1201 samples: 150 << 3 intervals, the input sample for sample.
     const auto built = run(programPath("preprocessDem") + " -q " + quoted(rainier) + " -o " + quoted(file) +
-                           " --tile-size 150 --root-tile-size 75");
+                           " --tile-size 150 --root-tile-size 150");
     ASSERT_EQ(built.exitCode, 0) << built.err;
     // Pixel (X, Y)'s centre: 1/1200 degree pixels from 122 W, 47 N (the file's PixelIsArea
     // corner lies half a pixel beyond).

@@ -52,6 +52,11 @@ void DemEncodeOptions::validate() const {
         failOption("rootTileSize", std::to_string(rootTileSize) + " must be the tile size (" +
                                        std::to_string(tileSize) + ") divided by a power of two");
     }
+    if (rootTileSize % 2 != 0) {
+        // The producers rebuild every level with tiles of its own size, which must be even.
+        failOption("rootTileSize", std::to_string(rootTileSize) + " is odd: every level's tiles need an even size (" +
+                                       std::to_string(2 * rootTileSize) + " with one level less covers the same grid)");
+    }
     if (maxLevel >= 0 && dstMaxLevel >= 0) {
         failOption("dstMaxLevel", "and maxLevel name the same level: give one of them");
     }
