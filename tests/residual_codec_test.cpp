@@ -19,6 +19,7 @@
 #include "formats/residual_file.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/encode/residual/residual_recode.hpp"
 #include "libpyramid/verify/dem_verify.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
@@ -217,6 +218,52 @@ TEST(ResidualCodec, FilesOfEachCodecHoldTheSameResiduals) {
         }
     }
     EXPECT_EQ(tiles, 2 * h.tileCount());
+}
+
+// A flat plain: residuals 0 below the root, so nearly every tile shares the bytes of one.
+// Recoding keeps the sharing, the residuals and the header, in place too.
+TEST(ResidualRecode, SharedTilesStaySharedAndInPlaceWorks) {
+    test::TempDir dir;
+    const std::string input = dir.file("flat.tif");
+    test::writeFloatRaster(input, 193, 193, std::vector<float>(193 * 193, 250.0f));
+    DemEncodeOptions o;
+    o.tileSize = 24;
+    o.rootTileSize = 12;
+    const std::string original = dir.file("flat.dat");
+    const DemReport built = encodeDem(input, original, o);
+    ASSERT_GT(built.sharedTiles, 50);
+    const std::string copy = dir.file("copy.dat");
+    ResidualRecodeOptions ro;
+    ro.tiles.codec = ResidualCodec::Context;
+    ro.threads = 2;
+    const ResidualRecodeReport context = recodeResidualFile(original, copy, ro);
+    EXPECT_EQ(context.tiles, built.tiles);
+    EXPECT_EQ(context.sharedTiles, built.sharedTiles);
+    EXPECT_LT(context.bytes, context.inputBytes);
+    ro.tiles = {ResidualCodec::Smallest, 9};
+    ro.threads = 1;
+    const ResidualRecodeReport back = recodeResidualFile(copy, copy, ro); // in place
+    EXPECT_EQ(back.sharedTiles, built.sharedTiles);
+    const auto a = ResidualFileReader::open(original);
+    const auto b = ResidualFileReader::open(copy);
+    EXPECT_EQ(b->header().maxLevel, a->header().maxLevel);
+    EXPECT_EQ(b->header().scale, a->header().scale);
+    for (int l = 0; l <= a->header().maxLevel; ++l) {
+        for (int ty = 0; ty < a->header().tilesPerSide(l); ++ty) {
+            for (int tx = 0; tx < a->header().tilesPerSide(l); ++tx) {
+                ASSERT_EQ(b->readTile(l, tx, ty), a->readTile(l, tx, ty)) << l << "," << tx << "," << ty;
+                EXPECT_EQ(describeResidualBlob(b->readTileBytes(l, tx, ty)), "deflate");
+            }
+        }
+    }
+    // The same bytes for any thread count.
+    ro.threads = 2;
+    recodeResidualFile(original, dir.file("t2.dat"), ro);
+    ro.threads = 1;
+    recodeResidualFile(original, dir.file("t1.dat"), ro);
+    EXPECT_EQ(test::readFile(dir.file("t1.dat")), test::readFile(dir.file("t2.dat")));
+    EXPECT_THROW(recodeResidualFile(input, dir.file("x.dat"), ro), Error);
+    EXPECT_FALSE(test::fileExists(dir.file("x.dat")));
 }
 
 TEST(ResidualCodec, ProgramsChooseReportAndDescribeTheCodec) {
