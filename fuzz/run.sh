@@ -22,7 +22,7 @@ run() {
         -print_final_stats=1 "$work/$target" "$corpus/valid") 2>&1 | grep -E '^(stat::|==|Done|INFO: Seed|.*ERROR)' || true
 }
 
-run residual_file_fuzz "$src/tests/data/proland/DEM.dat" "$corpus"/residual/*.dat
+run residual_file_fuzz "$src/tests/data/proland/DEM.dat" "$src/tests/data/context/dem-levels-0-2.dat" "$corpus"/residual/*.dat
 run ortho_file_fuzz "$src/tests/data/proland/RGB.dat" "$corpus"/ortho/*.dat
 run tiff_tile_fuzz "$corpus"/tiff/*.tif "$corpus"/context/*.pyrc "$corpus"/valid/context-3.pyrc
 run dxt_tile_fuzz "$corpus"/dxt/*.bin

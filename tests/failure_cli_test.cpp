@@ -220,7 +220,7 @@ protected:
 TEST_F(Failure, SigintDuringADemRunLeavesThePreviousFile) {
     const std::vector<std::string> base = {programPath("preprocessDem"), test::samplePath("dem.tif"), "-o",
                                            out + "/DEM.dat", "--threads", "2"};
-    expectInterruptionsLeaveNothing(with(base, {"--max-level", "7"}), with(base, {"--max-level", "9"}), out);
+    expectInterruptionsLeaveNothing(with(base, {"--max-level", "6"}), with(base, {"--max-level", "8"}), out);
 }
 
 TEST_F(Failure, SigintDuringAnOrthoRunLeavesThePreviousFiles) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "formats/ortho_file.hpp"
+#include "formats/residual_codec.hpp"
 #include "formats/residual_file.hpp"
 #include "formats/tiff_tile.hpp"
 #include "tests/support/paths.hpp"
@@ -61,6 +62,21 @@ TEST(OriginalDemFile, DecodesEveryTile) {
         }
     }
     EXPECT_EQ(tiles, 24);
+}
+
+// tests/data/context/dem-levels-0-2.dat is levels 0..2 of the original DEM.dat
+// (tests/corpus/valid/dem-levels-0-2.dat) recoded once with context coding (doc/format.md 1.8)
+// and committed: every later reader must decode it to the original's residuals.
+TEST(OriginalDemFile, ContextCodedCopyDecodesToTheOriginalsResiduals) {
+    auto original = ResidualFileReader::open(test::corpusPath("valid/dem-levels-0-2.dat"));
+    auto context = ResidualFileReader::open(test::dataPath("context/dem-levels-0-2.dat"));
+    ASSERT_EQ(context->header().maxLevel, original->header().maxLevel);
+    ASSERT_EQ(context->header().tileSize, original->header().tileSize);
+    for (int level = 0; level <= original->header().maxLevel; ++level) {
+        EXPECT_EQ(describeResidualBlob(context->readTileBytes(level, 0, 0)), "context");
+        EXPECT_EQ(context->readTile(level, 0, 0), original->readTile(level, 0, 0)) << level;
+    }
+    EXPECT_EQ(original->readTile(0, 0, 0)[0], 1400);
 }
 
 TEST(OriginalOrthoFile, HeaderAndTiles) {

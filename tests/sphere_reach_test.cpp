@@ -130,7 +130,7 @@ TEST(SphericalReach, SkippedSubtreesAreTheTilesEncodingWouldWrite) {
 
 TEST(SphericalReach, FineImageryAtItsDefaultLevel) {
     test::TempDir dir;
-    // 96 x 96 pixels of 6 arc-seconds (1/600 degree) at 46.5 N 121.5 W, one colour.
+    // 96 x 96 pixels of 12 arc-seconds (1/300 degree) at 46.5 N 121.5 W, one colour.
     const int W = 96;
     std::vector<uint8_t> rgb(static_cast<size_t>(W * W * 3));
     for (size_t k = 0; k < rgb.size(); k += 3) {
@@ -139,19 +139,19 @@ TEST(SphericalReach, FineImageryAtItsDefaultLevel) {
         rgb[k + 2] = 40;
     }
     const std::string map = dir.file("map.tif");
-    test::writeGeoTiffRgb(map, W, W, rgb, test::geographicTags(4326, -121.58, 46.58, 1.0 / 600.0));
+    test::writeGeoTiffRgb(map, W, W, rgb, test::geographicTags(4326, -121.66, 46.66, 1.0 / 300.0));
     SphericalOrthoOptions o;
     o.ortho.writeDxt = false;
     o.ortho.writeResiduals = false;
-    o.faces = {1}; // the face under the map (349525 tiles, nearly all skipped as blank)
+    o.faces = {1}; // the face under the map (87381 tiles, nearly all skipped as blank)
     const SphericalOrthoReport r = encodeSphericalOrtho(map, dir.file("out"), o);
-    // 216000 pixels around the equator: 54000 a face, level 9 of 192-pixel tiles (349525 tiles).
+    // 108000 pixels around the equator: 27000 a face, level 8 of 192-pixel tiles (87381 tiles).
     ASSERT_EQ(r.faces.size(), 1u);
     const int T = r.faces[0].ortho.tileSize, M = r.faces[0].ortho.maxLevel;
-    EXPECT_EQ(M, 9);
+    EXPECT_EQ(M, 8);
     // The finest tile under the map's centre holds its colour; tiles far from it are black.
     const PlanetBody body = PlanetBody::parse(o.body);
-    const FacePoint p = facePointOf(directionOf(body, GeodeticPoint{46.52, -121.52}));
+    const FacePoint p = facePointOf(directionOf(body, GeodeticPoint{46.5, -121.5}));
     ASSERT_EQ(p.face, 1);
     const int64_t n = int64_t{T} << M;
     const int64_t x = static_cast<int64_t>((p.u + 1.0) / 2.0 * static_cast<double>(n));

@@ -228,7 +228,7 @@ nlohmann::json toJson(const DemReport& r) {
     const nlohmann::json levels = residualLevelsJson(r.levels);
     nlohmann::json input = demInputJson(r.input, r.inputInfo, r.band, r.nodata);
     input["files"] = r.inputs;
-    return {{"input", input},
+    nlohmann::json j = {{"input", input},
             {"output", r.output},
             {"sampling", r.sampling},
             {"header", {{"min_level", r.header.minLevel},
@@ -236,9 +236,6 @@ nlohmann::json toJson(const DemReport& r) {
                         {"tile_size", r.header.tileSize},
                         {"scale", r.header.scale}}},
             {"tile_fit", r.tileFit ? toJson(*r.tileFit) : nlohmann::json()}, // null: tiles as given
-            {"compression", residualCodecName(r.coding.codec)},
-            {"deflate_level", r.coding.codec == ResidualCodec::Context ? nlohmann::json()
-                                                                       : nlohmann::json(r.coding.effectiveDeflateLevel())},
             {"scales_tried", r.scalesTried},
             {"tiles", r.tiles},
             {"shared_tiles", r.sharedTiles},
@@ -251,6 +248,8 @@ nlohmann::json toJson(const DemReport& r) {
             {"georeference", r.georeference ? toJson(*r.georeference) : nlohmann::json()}, // null: not georeferenced
             {"threads", r.threads},
             {"seconds", r.seconds}};
+    j.update(residualCodingJson(r.coding));
+    return j;
 }
 
 } // namespace pyramid

@@ -57,6 +57,12 @@ nlohmann::json residualFilesJson(const std::vector<std::pair<std::string, uint64
     return list;
 }
 
+nlohmann::json residualCodingJson(const ResidualTileCoding& coding) {
+    return {{"compression", residualCodecName(coding.codec)},
+            {"deflate_level", coding.codec == ResidualCodec::Context ? nlohmann::json()
+                                                                     : nlohmann::json(coding.effectiveDeflateLevel())}};
+}
+
 std::vector<uint8_t> packLevelStats(const LevelStats& s) {
     std::vector<uint8_t> out(36);
     std::memcpy(out.data(), &s.samples, 8);

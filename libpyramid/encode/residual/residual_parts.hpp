@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/part_file.hpp"
+#include "formats/residual_codec.hpp"
 #include "libpyramid/support/work_share.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
@@ -39,6 +40,9 @@ std::vector<ResidualLevelReport> residualLevelReports(const ResidualHeader& head
 // A report's levels and a set's files as the JSON reports write them.
 nlohmann::json residualLevelsJson(const std::vector<ResidualLevelReport>& levels);
 nlohmann::json residualFilesJson(const std::vector<std::pair<std::string, uint64_t>>& files);
+// How the tiles are coded, as reports write it: {"compression", "deflate_level" (null for
+// context coding)}, to merge into a report's object.
+nlohmann::json residualCodingJson(const ResidualTileCoding& coding);
 
 // A tile's statistics as a part file records them, and back.
 std::vector<uint8_t> packLevelStats(const LevelStats& stats);

@@ -12,6 +12,7 @@
 
 #include "formats/error.hpp"
 #include "formats/tile_table.hpp"
+#include "libpyramid/encode/residual/residual_parts.hpp"
 
 namespace pyramid {
 
@@ -121,17 +122,16 @@ ResidualRecodeReport recodeResidualFile(const std::string& input, const std::str
 }
 
 nlohmann::json toJson(const ResidualRecodeReport& r) {
-    return {{"input", r.input},
+    nlohmann::json j = {{"input", r.input},
             {"output", r.output},
-            {"compression", residualCodecName(r.coding.codec)},
-            {"deflate_level", r.coding.codec == ResidualCodec::Context ? nlohmann::json()
-                                                                       : nlohmann::json(r.coding.effectiveDeflateLevel())},
             {"tiles", r.tiles},
             {"shared_tiles", r.sharedTiles},
             {"input_bytes", r.inputBytes},
             {"bytes", r.bytes},
             {"threads", r.threads},
             {"seconds", r.seconds}};
+    j.update(residualCodingJson(r.coding));
+    return j;
 }
 
 } // namespace pyramid
