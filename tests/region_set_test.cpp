@@ -271,6 +271,10 @@ TEST(RegionSet, ElevationsAndHeightsEqualTheSingleFileBitForBit) {
 TEST(RegionSet, CommandsOnTheSetGiveTheSingleFilesResults) {
     SplitDem s;
     const std::string pyramid = programPath("pyramid");
+    // The set named three ways (its main file, its index, its directory): each case below takes
+    // the next one in turn, so that every way serves tiles and heights.
+    const std::vector<std::string> spellings = {s.main, s.index, s.setDir};
+    size_t turn = 0;
     // Tiles: elevations and stored residuals, from the deepest file.
     for (const auto& [l, tx, ty] : {std::tuple{6, 11, 19}, {4, 3, 5}, {1, 0, 0}, {0, 0, 0}, {3, 2, 3}}) {
         const std::string t = " " + std::to_string(l) + " " + std::to_string(tx) + " " + std::to_string(ty);
@@ -278,12 +282,10 @@ TEST(RegionSet, CommandsOnTheSetGiveTheSingleFilesResults) {
             const std::string flag = std::string(ext) == ".i16" ? " --residual" : "";
             auto r = run(pyramid + " tile " + shellQuoted(s.single) + t + flag + " -o " + shellQuoted(s.dir.file("a") + ext));
             ASSERT_EQ(r.exitCode, 0) << r.err;
-            for (const std::string& path : {s.main, s.index, s.setDir}) {
-                r = run(pyramid + " tile " + shellQuoted(path) + t + flag + " -o " + shellQuoted(s.dir.file("b") + ext));
-                ASSERT_EQ(r.exitCode, 0) << r.err;
-                EXPECT_EQ(test::readFile(s.dir.file("a") + ext), test::readFile(s.dir.file("b") + ext))
-                    << path << t << flag;
-            }
+            const std::string& path = spellings[turn++ % spellings.size()];
+            r = run(pyramid + " tile " + shellQuoted(path) + t + flag + " -o " + shellQuoted(s.dir.file("b") + ext));
+            ASSERT_EQ(r.exitCode, 0) << r.err;
+            EXPECT_EQ(test::readFile(s.dir.file("a") + ext), test::readFile(s.dir.file("b") + ext)) << path << t << flag;
         }
     }
     auto r = run(pyramid + " tile " + shellQuoted(s.setDir) + " 7 0 0 -o " + shellQuoted(s.dir.file("c.f32")));
@@ -293,14 +295,13 @@ TEST(RegionSet, CommandsOnTheSetGiveTheSingleFilesResults) {
     for (const char* grid : {"0,0", "256,256", "100.5,37.25", "170,151"}) {
         const auto one = run(pyramid + " height " + shellQuoted(s.single) + " --grid " + grid + " --json");
         ASSERT_EQ(one.exitCode, 0) << one.err;
-        for (const std::string& path : {s.main, s.index, s.setDir}) {
-            const auto many = run(pyramid + " height " + shellQuoted(path) + " --grid " + grid + " --json");
-            ASSERT_EQ(many.exitCode, 0) << many.err;
-            nlohmann::json a = nlohmann::json::parse(one.out), b = nlohmann::json::parse(many.out);
-            a.erase("file");
-            b.erase("file");
-            EXPECT_EQ(a, b) << path << " " << grid;
-        }
+        const std::string& path = spellings[turn++ % spellings.size()];
+        const auto many = run(pyramid + " height " + shellQuoted(path) + " --grid " + grid + " --json");
+        ASSERT_EQ(many.exitCode, 0) << many.err;
+        nlohmann::json a = nlohmann::json::parse(one.out), b = nlohmann::json::parse(many.out);
+        a.erase("file");
+        b.erase("file");
+        EXPECT_EQ(a, b) << path << " " << grid;
     }
     // Verification against the source.
     const auto one = run(pyramid + " verify " + shellQuoted(s.single) + " --source " + shellQuoted(s.input) + " --json");
