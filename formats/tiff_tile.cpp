@@ -200,16 +200,15 @@ std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t b
     if (out.size() < count) {
         out.resize(count);
     }
+    // The samples as they are first (the buffer may be unaligned), then differenced in place
+    // from the end of each row backwards.
+    std::memcpy(out.data(), pixels, count * 2);
     const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
     const auto c = static_cast<size_t>(channels);
-    std::vector<uint16_t> in(count);
-    std::memcpy(in.data(), pixels, count * 2);
     for (size_t y = 0; y < count / row; ++y) {
-        const uint16_t* i = in.data() + y * row;
         uint16_t* o = out.data() + y * row;
-        std::copy_n(i, c, o);
-        for (size_t k = c; k < row; ++k) {
-            o[k] = static_cast<uint16_t>(i[k] - i[k - c]);
+        for (size_t k = row; k-- > c;) {
+            o[k] = static_cast<uint16_t>(o[k] - o[k - c]);
         }
     }
     return {reinterpret_cast<const uint8_t*>(out.data()), count * 2};
