@@ -67,7 +67,7 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
         ->capture_default_str();
     app.add_flag("--jpeg-error", o.measureJpegError,
                  "Decode each JPEG TIFF tile again and report the largest error per level (tiff_max_error)");
-    app.add_option("--dxt-quality", o.dxtQuality, "DXT encoder: 0 stb_dxt (fastest), 1 stb_dxt refined twice, 2 libsquish cluster fit, 3 iterative (best, slowest)")
+    app.add_option("--dxt-quality", o.dxtQuality, "DXT encoder: 0 colour fit refined once (fastest), 1 refined twice, 2 libsquish cluster fit, 3 iterative (slowest)")
         ->capture_default_str();
     app.add_option("--residual-compression", a->residualCompression, "Colour residual tiles: deflate or jpeg")
         ->capture_default_str();

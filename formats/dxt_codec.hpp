@@ -1,5 +1,5 @@
-// DXT1 / DXT5 block streams (no container), as ortho files store them: encoded by stb_dxt
-// (fast) or libsquish (slow, a little closer), decoded by libsquish.
+// DXT1 / DXT5 block streams (no container), as ortho files store them: encoded by libpyramid's
+// colour fit (dxt_colour_fit.hpp, fast) or libsquish (slow), decoded as libsquish decodes.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -16,8 +16,8 @@ size_t dxtBytes(int width, int height, DxtFormat format);
 // `pixels`: width x height x channels (1..4) bytes. 1-3 channels are expanded to RGB
 // (grey replicated) and encoded as DXT1, 4 channels must use DXT5.
 // quality (encoders and figures in doc/ortho-encoding.md, "DXT"):
-//   0 = stb_dxt, one refinement step (fastest)
-//   1 = stb_dxt, two refinement steps
+//   0 = the colour fit, one refinement (fastest)
+//   1 = the colour fit, up to two refinements
 //   2 = libsquish's cluster fit
 //   3 = libsquish's iterative cluster fit (best, slowest)
 std::vector<uint8_t> encodeDxt(std::span<const uint8_t> pixels, int width, int height, int channels,

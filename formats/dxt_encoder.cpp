@@ -1,5 +1,6 @@
-// The DXT encoders (libsquish and stb_dxt): used by the ortho encoders only, so that the
-// runtime, which only decodes (dxt_codec.cpp), links neither.
+// The DXT encoders (libpyramid's colour fit, libsquish, and stb_dxt's alpha blocks): used by
+// the ortho encoders only, so that the runtime, which only decodes (dxt_codec.cpp), links
+// none of them.
 #include "formats/dxt_codec.hpp"
 
 #include <squish.h>
@@ -8,20 +9,23 @@
 #include <algorithm>
 #include <array>
 
+#include "formats/dxt_colour_fit.hpp"
 #include "formats/error.hpp"
 
 namespace pyramid {
 
 namespace {
 
-// Quality levels 2 and 3: libsquish's fits. (Its range fit is not offered: stb_dxt is both
-// faster and closer.)
+// Quality levels 2 and 3: libsquish's fits. (Its range fit is not offered: the colour fit is
+// both faster and closer.)
 int squishFlags(DxtFormat format, int quality) {
     const int flags = format == DxtFormat::Dxt1 ? squish::kDxt1 : squish::kDxt5;
     return flags | (quality >= 3 ? squish::kColourIterativeClusterFit : squish::kColourClusterFit);
 }
 
-bool usesStb(int quality) { return quality <= 1; }
+// Quality levels 0 and 1: libpyramid's colour fit (dxt_colour_fit.hpp), with one or two
+// least-squares refinements.
+bool usesColourFit(int quality) { return quality <= 1; }
 
 // One 4 x 4 block as the encoders take it, RGBA: grey replicated into R, G and B, alpha
 // opaque but for 4 channels (DXT1 stores none: a grey+alpha image's alpha is dropped).
@@ -81,35 +85,62 @@ int64_t blockSquaredError(const uint8_t* block, int mask, const uint8_t* encoded
 }
 
 // The 4 x 4 blocks of the image, gathered from its own pixels (no RGBA copy of the whole
-// image), each compressed in the calling thread by the per-block calls: stb_dxt, or
-// libsquish's (squish::CompressImage does the same blocks in an OpenMP loop of its own: inside
-// our own parallel loops with one thread, or a single tile's handful of blocks, that spawned a
-// team per tile and spun idle threads; tiles are already encoded in parallel).
+// image), each compressed in the calling thread: by the colour fit, a row's blocks eight at a
+// time (DXT5: the alpha block by stb_dxt's BC4 encoder), or by libsquish's per-block call
+// (squish::CompressImage does the same blocks in an OpenMP loop of its own: inside our own
+// parallel loops with one thread, or a single tile's handful of blocks, that spawned a team per
+// tile and spun idle threads; tiles are already encoded in parallel).
 //
-// stb_dxt takes whole blocks: the pixels of a partial block beyond the image repeat its nearest
-// pixel inside, which adds no colour to the block's fit; libsquish masks them out. stb_dxt's
-// DXT5 blocks are laid out as libsquish's (alpha block, then colour block).
+// The colour fit takes whole blocks: the pixels of a partial block beyond the image repeat its
+// nearest pixel inside, which adds no colour to the block's fit; libsquish masks them out.
+// DXT5 blocks are laid out as libsquish's: alpha block, then colour block.
 template <int C>
 int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* blocks, DxtFormat format, int quality,
                        bool measure) {
     const size_t blockBytes = format == DxtFormat::Dxt1 ? 8u : 16u;
+    const size_t colourOffset = format == DxtFormat::Dxt1 ? 0u : 8u;
     const int flags = squishFlags(format, quality);
-    const int stbMode = quality == 0 ? STB_DXT_NORMAL : STB_DXT_HIGHQUAL;
-    const int alpha = format == DxtFormat::Dxt5 ? 1 : 0;
+    const int refinements = quality == 0 ? 1 : 2;
     int64_t squares = 0;
-    uint8_t block[64];
+    uint8_t block[kDxtColourLanes][64];
+    int masks[kDxtColourLanes];
+    const uint8_t* lanes[kDxtColourLanes];
+    uint8_t* outputs[kDxtColourLanes];
+    for (int l = 0; l < kDxtColourLanes; ++l) {
+        lanes[l] = block[l];
+    }
     for (int by = 0; by < height; by += 4) {
-        for (int bx = 0; bx < width; bx += 4) {
-            const int mask = gatherBlock<C>(pixels, width, height, bx, by, block);
-            if (usesStb(quality)) {
-                stb_compress_dxt_block(blocks, block, alpha, stbMode);
+        for (int bx = 0; bx < width; bx += 4 * kDxtColourLanes) {
+            const int count = std::min(kDxtColourLanes, (width - bx + 3) / 4);
+            for (int l = 0; l < count; ++l) {
+                masks[l] = gatherBlock<C>(pixels, width, height, bx + 4 * l, by, block[l]);
+                outputs[l] = blocks + static_cast<size_t>(l) * blockBytes;
+            }
+            if (usesColourFit(quality)) {
+                for (int l = 0; l < count; ++l) {
+                    outputs[l] += colourOffset;
+                }
+                encodeDxtColourBlocks(lanes, outputs, count, refinements);
+                if (format == DxtFormat::Dxt5) {
+                    for (int l = 0; l < count; ++l) {
+                        uint8_t alpha[16];
+                        for (int k = 0; k < 16; ++k) {
+                            alpha[k] = block[l][4 * k + 3];
+                        }
+                        stb_compress_bc4_block(outputs[l] - colourOffset, alpha);
+                    }
+                }
             } else {
-                squish::CompressMasked(block, mask, blocks, flags);
+                for (int l = 0; l < count; ++l) {
+                    squish::CompressMasked(block[l], masks[l], outputs[l], flags);
+                }
             }
-            if (measure) {
-                squares += blockSquaredError(block, mask, blocks, format);
+            for (int l = 0; l < count; ++l) {
+                if (measure) {
+                    squares += blockSquaredError(block[l], masks[l], blocks, format);
+                }
+                blocks += blockBytes;
             }
-            blocks += blockBytes;
         }
     }
     return squares;

@@ -32,12 +32,13 @@ struct TileResult {
 std::vector<uint8_t> expected(const TrueTile& t, const OrthoHeader& h, int sourceChannels) {
     const int b = h.border();
     const int side = h.tilePixels();
-    const int c = t.pixels.channels;
+    const Image8& image = t.image();
+    const int c = image.channels;
     const int outC = h.dxt() ? (c == 4 ? 4 : 3) : c;
     std::vector<uint8_t> out(static_cast<size_t>(side) * side * outC);
     for (int y = 0; y < side; ++y) {
         for (int x = 0; x < side; ++x) {
-            const uint8_t* p = t.pixels.at(x + 2 - b, y + 2 - b);
+            const uint8_t* p = image.at(x + 2 - b, y + 2 - b);
             uint8_t* q = &out[(static_cast<size_t>(y) * side + static_cast<size_t>(x)) * outC];
             for (int k = 0; k < outC; ++k) {
                 q[k] = p[sourceChannels < 3 && outC == 3 ? 0 : k];
@@ -102,7 +103,7 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
             std::vector<uint8_t> got, want;
             if (residuals) {
                 got = *residuals->tile(t.level, t.tx, t.ty);
-                want = t.pixels.pixels;
+                want = t.image().pixels;
                 r.lossy = describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
             } else {
                 got = reader->tile(t.level, t.tx, t.ty);

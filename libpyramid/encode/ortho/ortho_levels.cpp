@@ -39,6 +39,7 @@ struct OrthoLevels::Impl {
     ColourAverager averager{ColourSpace::Srgb, 1};
     int threads = 1;
     bool blankStaysBlank = false; // averaging black and transparent pixels gives them again
+    Image8 zeroTile;              // the pixels of every blank tile (TrueTile::image)
 
     void init(const OrthoLevelsOptions& o, int64_t wanted);
     // init() of a plane: the finest level holds the source's longer side.
@@ -156,6 +157,7 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
     averager = ColourAverager(o.colourSpace, channels);
     const Image8 black = averager.reduce(Image8(2, 2, channels));
     blankStaysBlank = std::all_of(black.pixels.begin(), black.pixels.end(), [](uint8_t v) { return v == 0; });
+    zeroTile = Image8(T + 2 * kTileBorder, T + 2 * kTileBorder, channels);
     threads = o.threads > 0 ? o.threads : omp_get_max_threads();
 }
 
@@ -333,8 +335,8 @@ void OrthoLevels::Impl::blankSubtree(int l, int tx, int ty, TileBatch& out) cons
     t.level = l;
     t.tx = tx;
     t.ty = ty;
-    t.pixels = Image8(T + 2 * kTileBorder, T + 2 * kTileBorder, channels);
     t.blank = true;
+    t.zero = &zeroTile; // not a tile of 0s each: a face a small map barely touches has hundreds of thousands
     out.push_back(std::move(t));
     if (l < M) {
         for (int c = 0; c < 4; ++c) {

@@ -72,8 +72,11 @@ struct OrthoLevelsOptions {
 // One tile of the pyramid with a 2-pixel border: (tileSize + 4)^2 x channels, row 0 = south.
 struct TrueTile {
     int level = 0, tx = 0, ty = 0;
-    Image8 pixels;
-    bool blank = false; // known to be 0 everywhere without looking (beyond the input)
+    Image8 pixels;              // empty when blank (image() gives the walk's tile of 0s)
+    bool blank = false;         // known to be 0 everywhere without looking (beyond the input)
+    const Image8* zero = nullptr; // blank: the walk's one tile of 0s, shared by every blank tile
+
+    const Image8& image() const { return blank ? *zero : pixels; }
 };
 
 // A unit of work handed to the consumer: tiles in pyramid order, each tile after its parent

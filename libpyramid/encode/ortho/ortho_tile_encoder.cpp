@@ -122,7 +122,7 @@ std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const T
     if (t.level == 0) {
         return std::nullopt; // the root's residual tile holds the colours themselves
     }
-    const std::vector<uint8_t>& p = t.pixels.pixels;
+    const std::vector<uint8_t>& p = t.image().pixels;
     const auto c = static_cast<size_t>(channels_);
     // Every pixel is the first one when every byte equals the one a pixel earlier (one
     // memcmp, which stops at the first difference).
@@ -162,8 +162,9 @@ EncodedOrthoTile OrthoTileEncoder::encodeNew(const TrueTile& t, const std::vecto
     e.tx = t.tx;
     e.ty = t.ty;
     const int outSide = tileSize_ + 2 * o_.border;
-    const std::vector<uint8_t> cropped = crop(t.pixels, o_.border);
-    const std::span<const uint8_t> plain = o_.border == 2 ? std::span<const uint8_t>(t.pixels.pixels)
+    const Image8& image = t.image();
+    const std::vector<uint8_t> cropped = crop(image, o_.border);
+    const std::span<const uint8_t> plain = o_.border == 2 ? std::span<const uint8_t>(image.pixels)
                                                           : std::span<const uint8_t>(cropped);
     if (o_.writeTiff) {
         const TiffCompression c = tiffCompressionOf(t);
@@ -206,7 +207,7 @@ EncodedOrthoTile OrthoTileEncoder::encodeNew(const TrueTile& t, const std::vecto
 // (JPEG residuals are rebuilt from their decoded values once the tile is compressed).
 void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedOrthoTile& e) const {
     const int side = tileSize_ + 4;
-    const std::vector<uint8_t>& truth = t.pixels.pixels;
+    const std::vector<uint8_t>& truth = t.image().pixels;
     const size_t count = truth.size();
     const size_t rowBytes = static_cast<size_t>(side) * static_cast<size_t>(channels_);
     const bool jpeg = o_.residualCompression == TilePolicy::Jpeg;

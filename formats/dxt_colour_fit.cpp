@@ -1,0 +1,306 @@
+#include "formats/dxt_colour_fit.hpp"
+
+// The vectors here never cross a call boundary between code built for different CPUs (the
+// helpers are inlined into each clone), which is what the compilers' ABI note is about.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+#include <array>
+#include <cstdlib>
+#include <cstring>
+
+namespace pyramid {
+
+namespace {
+
+constexpr int kLanes = kDxtColourLanes;
+using f8 = float __attribute__((vector_size(4 * kLanes)));
+using i8 = int __attribute__((vector_size(4 * kLanes)));
+using u8 = unsigned __attribute__((vector_size(4 * kLanes)));
+
+constexpr int expand5(int q) { return (q << 3) | (q >> 2); }
+constexpr int expand6(int q) { return (q << 2) | (q >> 4); }
+
+// For each 8-bit value, the endpoints (a, b) of `Bits` bits whose colour at index 2,
+// (2 E(a) + E(b)) / 3, is closest to it; of equally close pairs, the one with the closest
+// endpoints (then the lowest a and b).
+struct SolidPair {
+    uint8_t a = 0, b = 0;
+};
+
+template <int Bits>
+std::array<SolidPair, 256> solidPairs() {
+    std::array<SolidPair, 256> table{};
+    const auto expand = [](int q) { return Bits == 5 ? expand5(q) : expand6(q); };
+    for (int v = 0; v < 256; ++v) {
+        int best = 1 << 30;
+        for (int a = 0; a < (1 << Bits); ++a) {
+            for (int b = 0; b < (1 << Bits); ++b) {
+                const int ea = expand(a), eb = expand(b);
+                const int cost = std::abs((2 * ea + eb) / 3 - v) * 256 + std::abs(ea - eb);
+                if (cost < best) {
+                    best = cost;
+                    table[static_cast<size_t>(v)] = {static_cast<uint8_t>(a), static_cast<uint8_t>(b)};
+                }
+            }
+        }
+    }
+    return table;
+}
+
+const std::array<SolidPair, 256> kSolid5 = solidPairs<5>();
+const std::array<SolidPair, 256> kSolid6 = solidPairs<6>();
+
+#define PYRAMID_INLINE [[gnu::always_inline]] inline
+
+PYRAMID_INLINE f8 splat(float v) { return f8{} + v; }
+PYRAMID_INLINE i8 splat(int v) { return i8{} + v; }
+PYRAMID_INLINE f8 vmin(f8 a, f8 b) { return a < b ? a : b; }
+PYRAMID_INLINE f8 vmax(f8 a, f8 b) { return a > b ? a : b; }
+PYRAMID_INLINE i8 clampInt(i8 v, int hi) { return v < 0 ? splat(0) : v > hi ? splat(hi) : v; }
+PYRAMID_INLINE f8 magnitude(f8 v) { return v < 0.0f ? -v : v; }
+PYRAMID_INLINE f8 truncated(f8 v) { return __builtin_convertvector(__builtin_convertvector(v, i8), f8); }
+
+// The 16 pixels of the lanes' blocks: r[k] holds pixel k of every block.
+struct Pixels {
+    f8 r[16], g[16], b[16];
+};
+
+// A candidate's endpoint codes (c0 >= c1), indices and squared error, per lane.
+struct Fit {
+    i8 c0, c1;
+    i8 index[16];
+    f8 error;
+};
+
+// The sum of 16 vectors, in a fixed order (a balanced tree).
+PYRAMID_INLINE f8 sum16(const f8* v) {
+    f8 s[8];
+    for (int k = 0; k < 8; ++k) {
+        s[k] = v[2 * k] + v[2 * k + 1];
+    }
+    return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+}
+
+// Quantisation of an endpoint channel (0..255, any real) to 5 or 6 bits: round to nearest, clamp.
+PYRAMID_INLINE i8 quantise(f8 v, int bits) {
+    const int top = (1 << bits) - 1;
+    return clampInt(__builtin_convertvector(v * (static_cast<float>(top) / 255.0f) + 0.5f, i8), top);
+}
+
+PYRAMID_INLINE i8 packCode(i8 r, i8 g, i8 b) { return (r << 11) | (g << 5) | b; }
+
+// A 5:6:5 code's colour, each channel widened to 8 bits by bit replication.
+PYRAMID_INLINE void widen(i8 code, f8& r, f8& g, f8& b) {
+    const i8 r5 = (code >> 11) & 31, g6 = (code >> 5) & 63, b5 = code & 31;
+    r = __builtin_convertvector((r5 << 3) | (r5 >> 2), f8);
+    g = __builtin_convertvector((g6 << 2) | (g6 >> 4), f8);
+    b = __builtin_convertvector((b5 << 3) | (b5 >> 2), f8);
+}
+
+// A candidate as the decoder sees it: codes ordered, colours widened, nearest colour per pixel.
+PYRAMID_INLINE Fit evaluate(const Pixels& p, i8 a, i8 b) {
+    Fit f;
+    const i8 larger = a > b;
+    f.c0 = larger ? a : b;
+    f.c1 = larger ? b : a;
+    f8 pr[4], pg[4], pb[4];
+    widen(f.c0, pr[0], pg[0], pb[0]);
+    widen(f.c1, pr[1], pg[1], pb[1]);
+    // The thirds by truncating division (exact: the quotients of integers below 2^24 by 3
+    // are correctly rounded, never up to the next integer).
+    pr[2] = truncated((2.0f * pr[0] + pr[1]) / 3.0f);
+    pg[2] = truncated((2.0f * pg[0] + pg[1]) / 3.0f);
+    pb[2] = truncated((2.0f * pb[0] + pb[1]) / 3.0f);
+    const i8 four = f.c0 > f.c1; // equal codes: index 3 is never taken (its colour is made index 0's)
+    pr[3] = four ? truncated((pr[0] + 2.0f * pr[1]) / 3.0f) : pr[0];
+    pg[3] = four ? truncated((pg[0] + 2.0f * pg[1]) / 3.0f) : pg[0];
+    pb[3] = four ? truncated((pb[0] + 2.0f * pb[1]) / 3.0f) : pb[0];
+    f8 best[16];
+    for (int k = 0; k < 16; ++k) {
+        const f8 dr = p.r[k] - pr[0], dg = p.g[k] - pg[0], db = p.b[k] - pb[0];
+        best[k] = dr * dr + dg * dg + db * db;
+        f.index[k] = splat(0);
+    }
+    for (int c = 1; c < 4; ++c) {
+        for (int k = 0; k < 16; ++k) {
+            const f8 dr = p.r[k] - pr[c], dg = p.g[k] - pg[c], db = p.b[k] - pb[c];
+            const f8 d = dr * dr + dg * dg + db * db;
+            const i8 closer = d < best[k];
+            best[k] = closer ? d : best[k];
+            f.index[k] = closer ? splat(c) : f.index[k];
+        }
+    }
+    f.error = sum16(best);
+    return f;
+}
+
+// Keeps, lane by lane, the candidate of lower error (`allowed` lanes only). False when no lane
+// took it.
+PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, i8 allowed) {
+    const i8 take = (candidate.error < best.error) & allowed;
+    bool any = false;
+    for (int l = 0; l < kLanes; ++l) {
+        any |= take[l] != 0;
+    }
+    if (!any) {
+        return false;
+    }
+    best.c0 = take ? candidate.c0 : best.c0;
+    best.c1 = take ? candidate.c1 : best.c1;
+    best.error = take ? candidate.error : best.error;
+    for (int k = 0; k < 16; ++k) {
+        best.index[k] = take ? candidate.index[k] : best.index[k];
+    }
+    return true;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// The same operations in wider vectors where the CPU has them (the bytes are the same).
+#define PYRAMID_DXT_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PYRAMID_DXT_CLONES
+#endif
+
+PYRAMID_DXT_CLONES
+void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements) {
+    alignas(32) float planes[3][16][kLanes];
+    int rounded[3][kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+        const uint8_t* block = blocks[l < count ? l : 0];
+        for (int k = 0; k < 16; ++k) {
+            for (int c = 0; c < 3; ++c) {
+                planes[c][k][l] = block[4 * k + c];
+            }
+        }
+    }
+    Pixels p;
+    std::memcpy(p.r, planes[0], sizeof(p.r));
+    std::memcpy(p.g, planes[1], sizeof(p.g));
+    std::memcpy(p.b, planes[2], sizeof(p.b));
+
+    // The mean (exact: a sum of integers over 16) and the covariance, in a fixed order.
+    const f8 mr = sum16(p.r) * (1.0f / 16.0f), mg = sum16(p.g) * (1.0f / 16.0f), mb = sum16(p.b) * (1.0f / 16.0f);
+    f8 dr[16], dg[16], db[16], t[16];
+    f8 prr[16], pgg[16], pbb[16], prg[16], prb[16], pgb[16];
+    for (int k = 0; k < 16; ++k) {
+        dr[k] = p.r[k] - mr;
+        dg[k] = p.g[k] - mg;
+        db[k] = p.b[k] - mb;
+        prr[k] = dr[k] * dr[k];
+        pgg[k] = dg[k] * dg[k];
+        pbb[k] = db[k] * db[k];
+        prg[k] = dr[k] * dg[k];
+        prb[k] = dr[k] * db[k];
+        pgb[k] = dg[k] * db[k];
+    }
+    const f8 crr = sum16(prr), cgg = sum16(pgg), cbb = sum16(pbb), crg = sum16(prg), crb = sum16(prb), cgb = sum16(pgb);
+
+    // The principal axis: power iteration from the covariance's largest column.
+    const i8 fromR = (crr >= cgg) & (crr >= cbb), fromG = ~fromR & (cgg >= cbb);
+    f8 vr = fromR ? crr : fromG ? crg : crb;
+    f8 vg = fromR ? crg : fromG ? cgg : cgb;
+    f8 vb = fromR ? crb : fromG ? cgb : cbb;
+    for (int it = 0; it < 4; ++it) {
+        const f8 nr = crr * vr + crg * vg + crb * vb;
+        const f8 ng = crg * vr + cgg * vg + cgb * vb;
+        const f8 nb = crb * vr + cgb * vg + cbb * vb;
+        const f8 m = vmax(magnitude(nr), vmax(magnitude(ng), magnitude(nb)));
+        const i8 moved = m > 0.0f;
+        const f8 inverse = 1.0f / (moved ? m : splat(1.0f));
+        vr = moved ? nr * inverse : vr;
+        vg = moved ? ng * inverse : vg;
+        vb = moved ? nb * inverse : vb;
+    }
+    const f8 length2 = vr * vr + vg * vg + vb * vb;
+    for (int k = 0; k < 16; ++k) {
+        t[k] = dr[k] * vr + dg[k] * vg + db[k] * vb;
+    }
+    f8 lo = t[0], hi = t[0];
+    for (int k = 1; k < 16; ++k) {
+        lo = vmin(lo, t[k]);
+        hi = vmax(hi, t[k]);
+    }
+    const i8 axis = length2 > 0.0f;
+    const f8 safeLength2 = axis ? length2 : splat(1.0f);
+    lo = axis ? lo / safeLength2 : splat(0.0f);
+    hi = axis ? hi / safeLength2 : splat(0.0f);
+    Fit best = evaluate(p, packCode(quantise(mr + hi * vr, 5), quantise(mg + hi * vg, 6), quantise(mb + hi * vb, 5)),
+                        packCode(quantise(mr + lo * vr, 5), quantise(mg + lo * vg, 6), quantise(mb + lo * vb, 5)));
+
+    // The mean colour's best pair per channel.
+    const i8 meanR = __builtin_convertvector(mr + 0.5f, i8), meanG = __builtin_convertvector(mg + 0.5f, i8),
+             meanB = __builtin_convertvector(mb + 0.5f, i8);
+    for (int l = 0; l < kLanes; ++l) {
+        rounded[0][l] = meanR[l];
+        rounded[1][l] = meanG[l];
+        rounded[2][l] = meanB[l];
+    }
+    i8 solidA, solidB;
+    for (int l = 0; l < kLanes; ++l) {
+        const SolidPair r = kSolid5[static_cast<size_t>(rounded[0][l])];
+        const SolidPair g = kSolid6[static_cast<size_t>(rounded[1][l])];
+        const SolidPair b = kSolid5[static_cast<size_t>(rounded[2][l])];
+        solidA[l] = (r.a << 11) | (g.a << 5) | b.a;
+        solidB[l] = (r.b << 11) | (g.b << 5) | b.b;
+    }
+    keepBetter(best, evaluate(p, solidA, solidB), splat(-1));
+
+    // Least-squares endpoints for the best indices (until no lane improves). Weights in thirds: index 0 is all c0 (3),
+    // 1 all c1 (0), 2 two thirds of c0 (2), 3 one third (1).
+    for (int it = 0; it < refinements; ++it) {
+        f8 waa[16], wab[16], wbb[16], war[16], wag[16], wab2[16], wbr[16], wbg[16], wbb2[16];
+        for (int k = 0; k < 16; ++k) {
+            const i8 i = best.index[k];
+            const f8 a = __builtin_convertvector(i == 0 ? splat(3) : i == 1 ? splat(0) : 4 - i, f8);
+            const f8 b = 3.0f - a;
+            waa[k] = a * a;
+            wab[k] = a * b;
+            wbb[k] = b * b;
+            war[k] = a * p.r[k];
+            wag[k] = a * p.g[k];
+            wab2[k] = a * p.b[k];
+            wbr[k] = b * p.r[k];
+            wbg[k] = b * p.g[k];
+            wbb2[k] = b * p.b[k];
+        }
+        const f8 aa = sum16(waa), ab = sum16(wab), bb = sum16(wbb);
+        const f8 ar = sum16(war), ag = sum16(wag), abl = sum16(wab2), br = sum16(wbr), bg = sum16(wbg), bbl = sum16(wbb2);
+        const f8 det = aa * bb - ab * ab;
+        const i8 solvable = det != 0.0f;
+        const f8 f = 3.0f / (solvable ? det : splat(1.0f));
+        const Fit refined = evaluate(p,
+                                     packCode(quantise((ar * bb - br * ab) * f, 5), quantise((ag * bb - bg * ab) * f, 6),
+                                              quantise((abl * bb - bbl * ab) * f, 5)),
+                                     packCode(quantise((br * aa - ar * ab) * f, 5), quantise((bg * aa - ag * ab) * f, 6),
+                                              quantise((bbl * aa - abl * ab) * f, 5)));
+        if (!keepBetter(best, refined, solvable)) {
+            break; // the same indices again: another step would give the same endpoints
+        }
+    }
+
+    u8 indices{};
+    for (int k = 0; k < 16; ++k) {
+        indices |= __builtin_convertvector(best.index[k], u8) << (2 * k);
+    }
+    for (int l = 0; l < count; ++l) {
+        uint8_t* o = out[l];
+        const auto c0 = static_cast<uint32_t>(best.c0[l]), c1 = static_cast<uint32_t>(best.c1[l]);
+        const uint32_t packed = indices[l];
+        o[0] = static_cast<uint8_t>(c0);
+        o[1] = static_cast<uint8_t>(c0 >> 8);
+        o[2] = static_cast<uint8_t>(c1);
+        o[3] = static_cast<uint8_t>(c1 >> 8);
+        o[4] = static_cast<uint8_t>(packed);
+        o[5] = static_cast<uint8_t>(packed >> 8);
+        o[6] = static_cast<uint8_t>(packed >> 16);
+        o[7] = static_cast<uint8_t>(packed >> 24);
+    }
+}
+
+} // namespace
+
+void encodeDxtColourBlocks(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements) {
+    encodeLanes(blocks, out, count, refinements);
+}
+
+} // namespace pyramid
