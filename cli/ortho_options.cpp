@@ -71,6 +71,9 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
         ->capture_default_str();
     app.add_option("--residual-compression", a->residualCompression, "Colour residual tiles: deflate or jpeg")
         ->capture_default_str();
+    app.add_option("--residual-deflate-level", o.residualDeflateLevel,
+                   "Deflate colour residual tiles: 1 (fastest) to 12 (smallest); the residuals are the same")
+        ->capture_default_str();
     app.add_option("--colour-space", a->colourSpace,
                    "Averaging for coarser levels: srgb (decode sRGB, average light, encode) or linear (as stored)")
         ->capture_default_str();

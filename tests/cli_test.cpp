@@ -276,7 +276,7 @@ TEST(PreprocessOrthoCli, BuildsVerifiesAndFailsCleanly) {
     // Bad input: one line, exit 1, no directory left behind.
     for (const std::string args :
          {" --border 3", " --compression zip", " --outputs tiff,png", " --tile-size 7", " --deflate-level 13",
-          " --dxt-quality 4"}) {
+          " --dxt-quality 4", " --residual-deflate-level 0"}) {
         r = test::run(test::programPath("preprocessOrtho") + " '" + dir.file("in.png") + "' -o '" + dir.file("bad") +
                       "'" + args);
         EXPECT_EQ(r.exitCode, 1) << args << r.err;

@@ -342,6 +342,36 @@ TEST(OrthoEncoder, DeflateLevelsDecodeToTheSameTiles) {
     EXPECT_FALSE(std::filesystem::exists(dir.file("l13")));
 }
 
+// So does the residual Deflate level: the residual tiles decode to the same residuals, and
+// the reports' errors (closed loop over them) are the same.
+TEST(OrthoEncoder, ResidualDeflateLevelsDecodeToTheSameResiduals) {
+    test::TempDir dir;
+    test::writeImage(dir.file("in.png"), 100, 60, 3, image(100, 60, 3, 255), false);
+    OrthoEncodeOptions o = small();
+    o.writeDxt = o.writeTiff = false;
+    std::vector<OrthoReport> reports;
+    for (const int level : {1, 2, 12}) {
+        o.residualDeflateLevel = level;
+        reports.push_back(encodeOrtho(dir.file("in.png"), dir.file("r" + std::to_string(level)), o));
+    }
+    EXPECT_GT(reports[0].bytes.at(0), reports[2].bytes.at(0));
+    EXPECT_GE(reports[1].bytes.at(0), reports[2].bytes.at(0));
+    const auto fastest = OrthoFileReader::open(dir.file("r1/residuals/RGB.dat"));
+    const auto smallest = OrthoFileReader::open(dir.file("r12/residuals/RGB.dat"));
+    for (int l = 0; l <= fastest->header().maxLevel; ++l) {
+        for (int ty = 0; ty < (1 << l); ++ty) {
+            for (int tx = 0; tx < (1 << l); ++tx) {
+                ASSERT_EQ(fastest->readTile(l, tx, ty), smallest->readTile(l, tx, ty)) << l << "," << tx << "," << ty;
+            }
+        }
+        EXPECT_EQ(reports[0].levels[static_cast<size_t>(l)].residualRmsError,
+                  reports[2].levels[static_cast<size_t>(l)].residualRmsError);
+    }
+    o.residualDeflateLevel = 0;
+    EXPECT_THROW(encodeOrtho(dir.file("in.png"), dir.file("r0"), o), Error);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("r0")));
+}
+
 TEST(OrthoEncoder, BadInputWritesNothing) {
     test::TempDir dir;
     std::vector<float> f(16 * 16, 0.5f);

@@ -420,6 +420,9 @@ void OrthoEncodeOptions::validate() const {
     if (deflateLevel < 1 || deflateLevel > 12) {
         failOption("deflateLevel", std::to_string(deflateLevel) + " is not 1..12");
     }
+    if (residualDeflateLevel < 1 || residualDeflateLevel > 12) {
+        failOption("residualDeflateLevel", std::to_string(residualDeflateLevel) + " is not 1..12");
+    }
     if (dxtQuality < 0 || dxtQuality >= kDxtQualityLevels) {
         failOption("dxtQuality", std::to_string(dxtQuality) + " is not 0, 1, 2 or 3");
     }

@@ -13,15 +13,6 @@ namespace pyramid {
 
 namespace {
 
-// Colour residual tiles: Deflate without predictor (residuals hover around 128, they are not
-// smooth), at libdeflate's level 4. Measured on the synthetic 8192^2 image and the 5400 x 2700
-// Blue Marble (residual file only): level 6 gives 5 % fewer bytes in 1.9 and 1.25 times the
-// time, level 1 8 to 9 % more bytes for 35 % less time on the synthetic image and none on the
-// Blue Marble. Level 2 (6144^2 synthetic, 3072^2 and 5400 x 2700 Blue Marble): 0.9 % more bytes
-// for a fifth less time on the synthetic image, 3.4 to 3.9 % more bytes and no time saved on
-// the Blue Marble, whose smooth residuals Deflate quickly at any level.
-constexpr int kColourResidualDeflateLevel = 4;
-
 // The encoded uniform tiles kept for reuse (OrthoTileEncoder::encode): a few hundred KB each.
 constexpr size_t kUniformTilesKept = 64;
 
@@ -242,7 +233,7 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
     }
     const std::span<const uint8_t> storedTile(t.level == 0 ? truth.data() : stored, count);
     e.residual = encodeTiff8(storedTile, side, side, channels_, jpeg ? TiffCompression::Jpeg : TiffCompression::Deflate,
-                             o_.jpegQuality, kColourResidualDeflateLevel);
+                             o_.jpegQuality, o_.residualDeflateLevel);
     if (jpeg) {
         const std::vector<uint8_t> decoded = decodeOrthoTiff(e.residual, side, channels_, "JPEG residual tile");
         if (t.level == 0) {
