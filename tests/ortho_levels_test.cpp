@@ -44,7 +44,7 @@ Walked walk(const OrthoLevels& levels, OrthoLevels::WalkOrder order) {
             for (const TileBatch& item : group) {
                 for (const TrueTile& t : item) {
                     const Key k{t.level, t.tx, t.ty};
-                    EXPECT_TRUE(w.tiles.emplace(k, t.image().pixels).second) << "tile given twice";
+                    EXPECT_TRUE(w.tiles.emplace(k, std::vector<uint8_t>(t.image().pixels.begin(), t.image().pixels.end())).second) << "tile given twice";
                     w.order.push_back(k);
                 }
             }

@@ -101,7 +101,7 @@ void reduceRows(const Image8& in, Image8& out, const std::array<bool, 4>& linear
 } // namespace
 
 Image8 ColourAverager::reduce(const Image8& in) const {
-    Image8 out(in.width / 2, in.height / 2, in.channels);
+    Image8 out(in.width / 2, in.height / 2, in.channels, Image8::Unset); // every pixel is written
     std::array<bool, 4> linear{};
     for (int c = 0; c < std::min(in.channels, 4); ++c) {
         linear[static_cast<size_t>(c)] = linearChannel(c);

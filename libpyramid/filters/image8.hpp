@@ -3,17 +3,49 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <utility>
 #include <vector>
 
 namespace pyramid {
 
+// An allocator whose containers leave new bytes uninitialised (default-initialised) unless a
+// value is given: buffers about to be overwritten whole are not cleared first.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = DefaultInitAllocator<U>;
+    };
+    using std::allocator<T>::allocator;
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        if constexpr (sizeof...(Args) == 0) {
+            ::new (static_cast<void*>(p)) U;
+        } else {
+            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+        }
+    }
+};
+
+using PixelBytes = std::vector<uint8_t, DefaultInitAllocator<uint8_t>>;
+
 // An 8-bit image, row-major, row 0 = bottom (south).
 struct Image8 {
+    // The constructor's pixels: 0, or left as they come (every pixel is written next).
+    enum Fill { Zeros, Unset };
     int width = 0, height = 0, channels = 0;
-    std::vector<uint8_t> pixels;
+    PixelBytes pixels;
     Image8() = default;
-    Image8(int w, int h, int c)
-        : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(c)) {}
+    Image8(int w, int h, int c, Fill fill = Zeros)
+        : width(w), height(h), channels(c) {
+        const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(c);
+        if (fill == Zeros) {
+            pixels.assign(n, 0);
+        } else {
+            pixels.resize(n);
+        }
+    }
     uint8_t* at(int x, int y) {
         return &pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * static_cast<size_t>(channels)];
     }

@@ -103,7 +103,7 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
             std::vector<uint8_t> got, want;
             if (residuals) {
                 got = *residuals->tile(t.level, t.tx, t.ty);
-                want = t.image().pixels;
+                want.assign(t.image().pixels.begin(), t.image().pixels.end());
                 r.lossy = describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
             } else {
                 got = reader->tile(t.level, t.tx, t.ty);

@@ -61,7 +61,7 @@ struct OrthoLevels::Impl {
         t.tx = tx;
         t.ty = ty;
         const int side = T + 2 * kTileBorder;
-        t.pixels = Image8(side, side, channels);
+        t.pixels = Image8(side, side, channels, Image8::Unset); // every pixel is copied below
         // The columns are the same for every row: runs of consecutive source columns (all of
         // them but clamped edge pixels) are copied as one block.
         const int64_t width = levelWidth(l);
@@ -290,7 +290,7 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
         // Level C is the 2x2 average of level C + 1, block by block: the tile's T x T interior
         // (T is even) gives the T/2 x T/2 level-C pixels under it, the same values as reducing
         // the whole of level C + 1.
-        Image8 interior(T, T, channels);
+        Image8 interior(T, T, channels, Image8::Unset);
         const size_t rowBytes = static_cast<size_t>(T) * channels;
         for (int y = 0; y < T; ++y) {
             std::copy_n(imgs[0].at(static_cast<int>(int64_t{tx} * T - x0), static_cast<int>(int64_t{ty} * T - y0 + y)),

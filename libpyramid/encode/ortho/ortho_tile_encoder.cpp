@@ -113,11 +113,11 @@ std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const T
     if (t.level == 0) {
         return std::nullopt; // the root's residual tile holds the colours themselves
     }
-    const std::vector<uint8_t>& p = t.image().pixels;
+    const PixelBytes& p = t.image().pixels;
     const auto c = static_cast<size_t>(channels_);
     // Every pixel is the first one when every byte equals the one a pixel earlier (one
     // memcmp, which stops at the first difference).
-    const auto uniform = [c](const std::vector<uint8_t>& v) {
+    const auto uniform = [c](const auto& v) {
         return v.size() >= c && std::memcmp(v.data(), v.data() + c, v.size() - c) == 0;
     };
     const auto sameColourAsTile = [&](const std::vector<uint8_t>* parent) {
@@ -198,7 +198,7 @@ EncodedOrthoTile OrthoTileEncoder::encodeNew(const TrueTile& t, const std::vecto
 // (JPEG residuals are rebuilt from their decoded values once the tile is compressed).
 void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedOrthoTile& e) const {
     const int side = tileSize_ + 4;
-    const std::vector<uint8_t>& truth = t.image().pixels;
+    const PixelBytes& truth = t.image().pixels;
     const size_t count = truth.size();
     const size_t rowBytes = static_cast<size_t>(side) * static_cast<size_t>(channels_);
     const bool jpeg = o_.residualCompression == TilePolicy::Jpeg;

@@ -84,8 +84,8 @@ PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t wid
 }
 
 Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
-    Image8 out(w, h, channels_);
     if (ax_.exact && ay_.exact && !sixteen_) {
+        Image8 out(w, h, channels_, Image8::Unset); // every row is read into place
         // 8-bit input pixels are the finest pixels: the rows are read straight into place,
         // bottom up (output row j is input row W - 1 - (y0 + j)). The general path below
         // gives the same bytes through a 16-bit window and a copy.
@@ -95,6 +95,7 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
                           out.at(0, h - 1), -rowBytes);
         return out;
     }
+    Image8 out(w, h, channels_); // pixels beyond the input stay 0
     std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
     double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
     for (int i = 0; i < w; ++i) {
