@@ -162,7 +162,7 @@ PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, i8 allowed) {
 #endif
 
 PYRAMID_DXT_CLONES
-void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements) {
+void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
     alignas(32) float planes[3][16][kLanes];
     int rounded[3][kLanes];
     for (int l = 0; l < kLanes; ++l) {
@@ -294,13 +294,17 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
         o[5] = static_cast<uint8_t>(packed >> 8);
         o[6] = static_cast<uint8_t>(packed >> 16);
         o[7] = static_cast<uint8_t>(packed >> 24);
+        if (squaredErrors != nullptr) {
+            squaredErrors[l] = static_cast<int>(best.error[l]);
+        }
     }
 }
 
 } // namespace
 
-void encodeDxtColourBlocks(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements) {
-    encodeLanes(blocks, out, count, refinements);
+void encodeDxtColourBlocks(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements,
+                           int* squaredErrors) {
+    encodeLanes(blocks, out, count, refinements, squaredErrors);
 }
 
 } // namespace pyramid

@@ -28,7 +28,11 @@ namespace pyramid {
 constexpr int kDxtColourLanes = 8;
 
 // Encodes `count` (1..kDxtColourLanes) blocks: blocks[i] is 16 RGBA pixels, row by row (alpha
-// ignored), out[i] receives the 8-byte colour block.
-void encodeDxtColourBlocks(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements);
+// ignored), out[i] receives the 8-byte colour block. With `squaredErrors`, squaredErrors[i]
+// receives block i's error as a DXT1 decoder decodes it (the sum over its 16 pixels of the
+// squared R, G and B differences; exact, as every term is an integer and the sum stays below
+// 2^24).
+void encodeDxtColourBlocks(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements,
+                           int* squaredErrors = nullptr);
 
 } // namespace pyramid

@@ -104,6 +104,7 @@ int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* bl
     int64_t squares = 0;
     uint8_t block[kDxtColourLanes][64];
     int masks[kDxtColourLanes];
+    int fitErrors[kDxtColourLanes];
     const uint8_t* lanes[kDxtColourLanes];
     uint8_t* outputs[kDxtColourLanes];
     for (int l = 0; l < kDxtColourLanes; ++l) {
@@ -120,7 +121,7 @@ int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* bl
                 for (int l = 0; l < count; ++l) {
                     outputs[l] += colourOffset;
                 }
-                encodeDxtColourBlocks(lanes, outputs, count, refinements);
+                encodeDxtColourBlocks(lanes, outputs, count, refinements, measure ? fitErrors : nullptr);
                 if (format == DxtFormat::Dxt5) {
                     for (int l = 0; l < count; ++l) {
                         uint8_t alpha[16];
@@ -137,7 +138,10 @@ int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* bl
             }
             for (int l = 0; l < count; ++l) {
                 if (measure) {
-                    squares += blockSquaredError(block[l], masks[l], blocks, format);
+                    // A whole DXT1 block's error is the fit's own (the same sum); partial blocks
+                    // count their pixels inside only, DXT5 blocks their alpha too.
+                    const bool fitError = usesColourFit(quality) && format == DxtFormat::Dxt1 && masks[l] == 0xffff;
+                    squares += fitError ? fitErrors[l] : blockSquaredError(block[l], masks[l], blocks, format);
                 }
                 blocks += blockBytes;
             }
