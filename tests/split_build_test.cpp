@@ -270,31 +270,39 @@ TEST(SplitBuildCli, MaxFileBytesWithoutASizeWritesTheFileAndAnIndex) {
 
 // An ortho build in parts, both walk orders (with colour residuals: top levels first; without:
 // subtrees first, the top levels from bands in the last share), planar and on the cube.
-TEST(SplitBuild, OrthoPartsMergeIntoTheSingleRunsOutputs) {
+// One test per program, so that the two run side by side.
+class SplitBuildOrtho : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SplitBuildOrtho, PartsMergeIntoTheSingleRunsOutputs) {
     TempDir dir;
     const std::string image = test::samplePath("bluemarble.png");
+    const std::string program = GetParam();
     for (const std::string outputs : {"tiff,dxt,residuals", "tiff,dxt"}) {
-        for (const std::string program : {"preprocessOrtho", "preprocessSphericalOrtho"}) {
-            const std::string tag = program + "-" + outputs;
-            const std::string cmd = test::programPath(program) + " " + image + " --outputs " + outputs +
-                                    (program == "preprocessOrtho" ? " --tile-size 64" : " --tile-size 16 --max-level 3 --faces 1,5") +
-                                    " --max-file-bytes 40K -q -o ";
-            ASSERT_EQ(test::run(cmd + dir.file("one-" + tag)).exitCode, 0);
-            // Without residuals, one part count (the full outputs take two).
-            for (const int count : outputs == "tiff,dxt" ? std::vector<int>{3} : std::vector<int>{2, 5}) {
-                const std::string parts = dir.file("p" + std::to_string(count) + "-" + tag);
-                for (int i = 0; i < count; ++i) {
-                    const test::RunResult r =
-                        test::run(cmd + parts + " --part " + std::to_string(i) + "/" + std::to_string(count));
-                    ASSERT_EQ(r.exitCode, 0) << r.err;
-                }
-                const test::RunResult m = test::run(test::programPath("pyramid") + " merge -q " + parts + "/RGB.part-*");
-                ASSERT_EQ(m.exitCode, 0) << m.err;
-                EXPECT_EQ(snapshot(parts), snapshot(dir.file("one-" + tag))) << tag << ", " << count << " parts";
+        const std::string tag = program + "-" + outputs;
+        const std::string cmd = test::programPath(program) + " " + image + " --outputs " + outputs +
+                                (program == "preprocessOrtho" ? " --tile-size 64" : " --tile-size 16 --max-level 3 --faces 1,5") +
+                                " --max-file-bytes 40K -q -o ";
+        ASSERT_EQ(test::run(cmd + dir.file("one-" + tag)).exitCode, 0);
+        // Without residuals, one part count (the full outputs take two).
+        for (const int count : outputs == "tiff,dxt" ? std::vector<int>{3} : std::vector<int>{2, 5}) {
+            const std::string parts = dir.file("p" + std::to_string(count) + "-" + tag);
+            for (int i = 0; i < count; ++i) {
+                const test::RunResult r =
+                    test::run(cmd + parts + " --part " + std::to_string(i) + "/" + std::to_string(count));
+                ASSERT_EQ(r.exitCode, 0) << r.err;
             }
+            const test::RunResult m = test::run(test::programPath("pyramid") + " merge -q " + parts + "/RGB.part-*");
+            ASSERT_EQ(m.exitCode, 0) << m.err;
+            EXPECT_EQ(snapshot(parts), snapshot(dir.file("one-" + tag))) << tag << ", " << count << " parts";
         }
     }
-    // An ortho part is no residual part.
+}
+
+INSTANTIATE_TEST_SUITE_P(Programs, SplitBuildOrtho, ::testing::Values("preprocessOrtho", "preprocessSphericalOrtho"));
+
+TEST(SplitBuild, AnOrthoPartIsNoResidualPart) {
+    TempDir dir;
+    const std::string image = test::samplePath("bluemarble.png");
     ASSERT_EQ(test::run(test::programPath("preprocessOrtho") + " " + image + " --tile-size 64 -q --part 0/2 -o " +
                         dir.file("mixed")).exitCode, 0);
     TempDir dem;
