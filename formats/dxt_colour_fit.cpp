@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "formats/vector_clones.hpp"
+
 namespace pyramid {
 
 namespace {
@@ -154,14 +156,7 @@ PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, i8 allowed) {
     return true;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-// The same operations in wider vectors where the CPU has them (the bytes are the same).
-#define PYRAMID_DXT_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define PYRAMID_DXT_CLONES
-#endif
-
-PYRAMID_DXT_CLONES
+PYRAMID_VECTOR_CLONES // the same bytes in wider vectors where the CPU has them
 void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
     alignas(32) float planes[3][16][kLanes];
     int rounded[3][kLanes];

@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "libpyramid/support/vector_clones.hpp"
+#include "formats/vector_clones.hpp"
 
 namespace pyramid {
 

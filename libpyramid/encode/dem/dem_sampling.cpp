@@ -7,7 +7,7 @@
 #include "libpyramid/input/height_samples.hpp"
 #include "libpyramid/input/nodata_text.hpp"
 #include "libpyramid/support/row_pair_cache.hpp"
-#include "libpyramid/support/vector_clones.hpp"
+#include "formats/vector_clones.hpp"
 
 namespace pyramid {
 

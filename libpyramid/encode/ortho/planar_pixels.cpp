@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "libpyramid/support/row_pair_cache.hpp"
-#include "libpyramid/support/vector_clones.hpp"
+#include "formats/vector_clones.hpp"
 
 namespace pyramid {
 

@@ -4,7 +4,7 @@
 
 #include "formats/residual_codec.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
-#include "libpyramid/support/vector_clones.hpp"
+#include "formats/vector_clones.hpp"
 
 namespace pyramid {
 
