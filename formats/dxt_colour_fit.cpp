@@ -58,7 +58,6 @@ PYRAMID_INLINE f8 splat(float v) { return f8{} + v; }
 PYRAMID_INLINE i8 splat(int v) { return i8{} + v; }
 PYRAMID_INLINE f8 vmin(f8 a, f8 b) { return a < b ? a : b; }
 PYRAMID_INLINE f8 vmax(f8 a, f8 b) { return a > b ? a : b; }
-PYRAMID_INLINE i8 clampInt(i8 v, int hi) { return v < 0 ? splat(0) : v > hi ? splat(hi) : v; }
 PYRAMID_INLINE f8 magnitude(f8 v) { return v < 0.0f ? -v : v; }
 PYRAMID_INLINE f8 truncated(f8 v) { return __builtin_convertvector(__builtin_convertvector(v, i8), f8); }
 
@@ -83,10 +82,15 @@ PYRAMID_INLINE f8 sum16(const f8* v) {
     return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
 }
 
-// Quantisation of an endpoint channel (0..255, any real) to 5 or 6 bits: round to nearest, clamp.
+// Quantisation of an endpoint channel (0..255, any real) to 5 or 6 bits: round to nearest,
+// clamped before the conversion (so that a far or NaN endpoint of a near-singular fit converts
+// to an integer too, the same on every CPU).
 PYRAMID_INLINE i8 quantise(f8 v, int bits) {
-    const int top = (1 << bits) - 1;
-    return clampInt(__builtin_convertvector(v * (static_cast<float>(top) / 255.0f) + 0.5f, i8), top);
+    const float top = static_cast<float>((1 << bits) - 1);
+    f8 x = v * (top / 255.0f) + 0.5f;
+    x = x > 0.0f ? x : splat(0.0f); // NaN too
+    x = x < top ? x : splat(top);
+    return __builtin_convertvector(x, i8);
 }
 
 PYRAMID_INLINE i8 packCode(i8 r, i8 g, i8 b) { return (r << 11) | (g << 5) | b; }
