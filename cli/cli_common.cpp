@@ -22,7 +22,10 @@
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
 #include "formats/temporaries.hpp"
+#include "formats/vector_clones.hpp"
+#include "libpyramid/api/build_info.hpp"
 #include "libpyramid/api/encoders.hpp"
+#include "libpyramid/distribute/team.hpp"
 #include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid::cli {
@@ -104,6 +107,33 @@ std::vector<std::string>& arguments() {
 } // namespace
 
 const std::vector<std::string>& commandArguments() { return arguments(); }
+
+std::string versionText(const std::string& program) {
+    std::string text = program + " " + PYRAMID_VERSION_TEXT + " (libpyramid)\n";
+    for (const ComponentVersion& c : libraryVersions()) {
+        text += "  " + c.name + " " + c.version + "\n";
+    }
+    const auto yesNo = [](bool on) { return on ? std::string("yes") : std::string("no"); };
+#ifdef PYRAMID_CLI_WITH_GL
+    const bool gl = true;
+#else
+    const bool gl = false;
+#endif
+    text += std::string("  build: ") + PYRAMID_CLI_BUILD_TYPE + ", OpenGL producers " + yesNo(gl) + ", Open MPI " +
+            yesNo(teamsSupported()) + ", AVX2 clones " + yesNo(PYRAMID_VECTOR_CLONES_ON != 0);
+    return text;
+}
+
+void addReportOption(CLI::App& app, std::string& report, const std::string& what) {
+    CLI::Option* file = app.add_option("--report", report, "Write " + what + " as JSON to this file ('-' for stdout)");
+    app.add_flag_callback("--json", [&report] { report = "-"; }, "The same as --report -")->excludes(file);
+}
+
+void addVersionFlag(CLI::App& app) {
+    const std::string program = app.get_name();
+    app.set_version_flag("--version", [program] { return versionText(program); },
+                         "Print the version, the libraries' versions and the build options, then exit");
+}
 
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count) {
     keepBuffersInTheHeap();
@@ -373,7 +403,7 @@ nlohmann::json buildIdentity(const char* program) {
     const std::vector<std::string>& all = commandArguments();
     for (size_t i = 1; i < all.size(); ++i) {
         const std::string& a = all[i];
-        if (a == "-q" || a == "--quiet") {
+        if (a == "-q" || a == "--quiet" || a == "--json") {
             continue;
         }
         bool dropped = false;

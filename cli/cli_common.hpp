@@ -48,6 +48,11 @@ struct NamedRunner {
 // (libpyramid/distribute/team.hpp).
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count);
 
+// --version: the program's and libpyramid's version, the libraries it runs on
+// (libpyramid/api/build_info.hpp) and the build's options, one per line.
+void addVersionFlag(CLI::App& app);
+std::string versionText(const std::string& program);
+
 // The command line runProgram was given (after MPI took its own arguments).
 const std::vector<std::string>& commandArguments();
 
@@ -122,6 +127,11 @@ public:
 private:
     OutputParents output_, report_;
 };
+
+// JSON output, one spelling for every command: --report FILE|- writes the command's JSON,
+// atomically to FILE, or to stdout with '-' in place of the text the command prints there;
+// --json is the same as --report - (the inspection commands' spelling before there was one).
+void addReportOption(CLI::App& app, std::string& report, const std::string& what);
 
 // Writes `json` (pretty, with a final newline) to `path` atomically; "-" means stdout.
 void writeJson(const nlohmann::json& json, const std::string& path);

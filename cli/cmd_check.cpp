@@ -1,4 +1,4 @@
-// `pyramid check SET [--json]`: the structure validated, every tile decoded; for a region set
+// `pyramid check SET [--report FILE|-]`: the structure validated, every tile decoded; for a region set
 // (its main file, index or directory) every file, and the set's own rules.
 #include <algorithm>
 #include <cstdio>
@@ -125,7 +125,7 @@ int64_t checkFile(const std::string& file, int threads, std::string& kind, std::
 }
 
 // A region set: the set's rules (formats/pyramid_set.hpp), then every file as checkFile does.
-int checkSet(const std::string& path, bool json, int threads, const std::string& program) {
+int checkSet(const std::string& path, const std::string& report, int threads, const std::string& program) {
     std::vector<std::string> problems;
     std::string kind = "unknown";
     std::string name = path;
@@ -165,11 +165,12 @@ int checkSet(const std::string& path, bool json, int threads, const std::string&
     } catch (const Error& e) {
         problems.push_back(e.what());
     }
-    if (json) {
+    if (!report.empty()) {
         writeJson({{"file", path}, {"set", name}, {"kind", kind}, {"files", files}, {"tiles_checked", checked},
                    {"problems", problems}, {"ok", problems.empty()}},
-                  "-");
-    } else {
+                  report);
+    }
+    if (report != "-") {
         for (const std::string& p : problems) {
             std::printf("%s\n", p.c_str());
         }
@@ -189,15 +190,15 @@ int checkSet(const std::string& path, bool json, int threads, const std::string&
 
 CommandRunner setupCheckCommand(CLI::App& app) {
     auto file = std::make_shared<std::string>();
-    auto json = std::make_shared<bool>(false);
+    auto report = std::make_shared<std::string>();
     auto threads = std::make_shared<int>(0);
     app.add_option("FILE", *file,
                    "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
         ->required();
-    app.add_flag("--json", *json, "Print the result as JSON");
+    addReportOption(app, *report, "the result");
     app.add_option("--threads", *threads, "Worker threads (default: all cores)");
     const std::string program = app.get_parent() ? app.get_parent()->get_name() : app.get_name();
-    return [file, json, threads, program]() {
+    return [file, report, threads, program]() {
         bool set = false;
         try {
             set = !findRegionIndex(*file).empty();
@@ -205,7 +206,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
             set = true; // a directory without one index: reported as the set's problem
         }
         if (set) {
-            return checkSet(*file, *json, *threads, program);
+            return checkSet(*file, *report, *threads, program);
         }
         std::vector<std::string> problems;
         std::string kind = "unknown";
@@ -215,11 +216,12 @@ CommandRunner setupCheckCommand(CLI::App& app) {
         } catch (const Error& e) {
             problems.push_back(e.what());
         }
-        if (*json) {
+        if (!report->empty()) {
             writeJson({{"file", *file}, {"kind", kind}, {"tiles_checked", checked}, {"problems", problems},
                        {"ok", problems.empty()}},
-                      "-");
-        } else {
+                      *report);
+        }
+        if (*report != "-") {
             for (const std::string& p : problems) {
                 std::printf("%s\n", p.c_str());
             }

@@ -29,7 +29,7 @@ struct HeightArgs {
     bool stretch = false;
     std::string body = "wgs84";
     std::string name = "DEM";
-    bool json = false;
+    std::string report; // --report FILE|- (or --json)
 };
 
 std::pair<double, double> parsePair(const std::string& text, const std::string& option) {
@@ -113,14 +113,15 @@ int runHeight(const HeightArgs& a) {
         }
     }
     const PointHeight p = setHeightAt(file, u, v); // a file alone, or the set it or its index names
-    if (a.json) {
+    if (!a.report.empty()) {
         nlohmann::json j = {{"file", file}, {"height", p.height}, {"level", p.level}, {"tile", {p.tx, p.ty}},
                             {"u", u}, {"v", v}};
         if (face) {
             j["face"] = face;
         }
-        writeJson(j, "-");
-    } else {
+        writeJson(j, a.report);
+    }
+    if (a.report != "-") {
         std::printf("%.9g\n", p.height);
         std::fprintf(stderr, "%s: level %d, tile (%d, %d), at %.6g, %.6g of the root quad\n", file.c_str(), p.level,
                      p.tx, p.ty, u, v);
@@ -153,7 +154,7 @@ CommandRunner setupHeightCommand(CLI::App& app) {
     app.add_option("--name", a->name, "With --lonlat: the set's file name before the face number")
         ->capture_default_str()
         ->needs(lonlat);
-    app.add_flag("--json", a->json, "Print a JSON object instead of the height alone");
+    addReportOption(app, a->report, "the height, its tile and place");
     return [a, grid, pixel, lonlat, xy]() {
         if (!*grid && !*pixel && !*lonlat && !*xy) {
             fail("", "give the point: --grid X,Y, --pixel X,Y --source INPUT, --xy X,Y or --lonlat LON,LAT");

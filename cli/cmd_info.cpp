@@ -1,4 +1,4 @@
-// `pyramid info SET [--json]`: what a pyramid file holds; for a region set (its main file, index
+// `pyramid info SET [--report FILE|-]`: what a pyramid file holds; for a region set (its main file, index
 // or directory), its files with their roots and sizes, and the totals.
 #include <algorithm>
 #include <cstdio>
@@ -196,17 +196,18 @@ void printSetInfo(const nlohmann::json& j) {
 
 CommandRunner setupInfoCommand(CLI::App& app) {
     auto file = std::make_shared<std::string>();
-    auto json = std::make_shared<bool>(false);
+    auto report = std::make_shared<std::string>();
     app.add_option("FILE", *file,
                    "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
         ->required();
-    app.add_flag("--json", *json, "Print the information as JSON");
-    return [file, json]() {
+    addReportOption(app, *report, "the information");
+    return [file, report]() {
         if (!findRegionIndex(*file).empty()) {
             const nlohmann::json j = setInfo(*file);
-            if (*json) {
-                writeJson(j, "-");
-            } else {
+            if (!report->empty()) {
+                writeJson(j, *report);
+            }
+            if (*report != "-") {
                 printSetInfo(j);
             }
             return kExitOk;
@@ -215,9 +216,10 @@ CommandRunner setupInfoCommand(CLI::App& app) {
         nlohmann::json j = kind == PyramidKind::Residual ? residualInfo(*file) : orthoInfo(*file);
         j["file"] = *file;
         j["file_bytes"] = std::filesystem::file_size(*file);
-        if (*json) {
-            writeJson(j, "-");
-        } else {
+        if (!report->empty()) {
+            writeJson(j, *report);
+        }
+        if (*report != "-") {
             printInfo(j);
         }
         return kExitOk;

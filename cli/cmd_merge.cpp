@@ -39,7 +39,7 @@ CommandRunner setupMergeCommand(CLI::App& app) {
     app.add_option("-o,--output", args->directory,
                    "Directory to write the pyramids into (default: the parts' directory)");
     app.add_flag("--keep-parts", args->keep, "Keep the part files (default: removed once the pyramids are in place)");
-    app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
+    addReportOption(app, args->report, "the report");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
     addProgressOption(app);
     return [args]() {

@@ -18,7 +18,7 @@ namespace {
 struct PreviewArgs {
     std::string target, output, style = "auto";
     PreviewOptions options;
-    bool json = false;
+    std::string report; // --report FILE|- (or --json)
     bool quiet = false;
 };
 
@@ -41,7 +41,7 @@ CommandRunner setupPreviewCommand(CLI::App& app) {
     app.add_option("--z-factor", o.zFactor, "Hillshade: heights are multiplied by this")->capture_default_str();
     app.add_option("--azimuth", o.azimuth, "Hillshade: the sun, degrees clockwise from north")->capture_default_str();
     app.add_option("--altitude", o.altitude, "Hillshade: the sun, degrees above the horizon")->capture_default_str();
-    app.add_flag("--json", a->json, "Print a JSON report on stdout");
+    addReportOption(app, a->report, "the report");
     app.add_flag("-q,--quiet", a->quiet, "No summary on stderr");
     return [a]() {
         std::string ext = std::filesystem::path(a->output).extension().string();
@@ -60,8 +60,8 @@ CommandRunner setupPreviewCommand(CLI::App& app) {
                          r.style == "residuals" ? "residuals" : r.kind == "elevation" ? "heights" : "values",
                          r.minimum, r.maximum);
         }
-        if (a->json) {
-            writeJson(toJson(r), "-");
+        if (!a->report.empty()) {
+            writeJson(toJson(r), a->report);
         }
         return kExitOk;
     };

@@ -23,7 +23,7 @@ CommandRunner setupRecodeCommand(CLI::App& app) {
         ->required();
     addResidualCodingOptions(app, args->coding);
     app.add_option("--threads", args->threads, "Worker threads (default: all cores; the output does not depend on it)");
-    app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
+    addReportOption(app, args->report, "the report");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
     addProgressOption(app);
     return [args]() {

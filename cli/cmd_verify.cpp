@@ -22,7 +22,7 @@ namespace {
 struct VerifyArgs {
     std::string file;
     std::string source;
-    bool json = false;
+    std::string report; // --report FILE|- (or --json)
     int band = 1;
     std::string nodata;
     bool stretch = false;
@@ -46,9 +46,10 @@ int verifyResidual(const VerifyArgs& a) {
     o.nodata = nodata.value;
     o.ignoreDeclaredNodata = nodata.ignoreDeclared;
     const DemVerifyReport report = verifyDem(a.file, a.source, o);
-    if (a.json) {
-        writeJson(toJson(report), "-");
-    } else {
+    if (!a.report.empty()) {
+        writeJson(toJson(report), a.report);
+    }
+    if (a.report != "-") {
         std::printf("%s against %s: scale %g, bound %g\n", a.file.c_str(), a.source.c_str(), report.scale, report.bound);
         for (const DemVerifyLevel& l : report.levels) {
             std::printf("  level %2d: %6lld tiles %10lld samples  max error %-10.6g rms %-10.6g%s", l.level,
@@ -67,9 +68,10 @@ int verifyResidual(const VerifyArgs& a) {
 int verifyGl(const VerifyArgs& a) {
 #ifdef PYRAMID_WITH_GL
     const GlVerifyReport report = verifyOnGl(a.file);
-    if (a.json) {
-        writeJson(toJson(report), "-");
-    } else {
+    if (!a.report.empty()) {
+        writeJson(toJson(report), a.report);
+    }
+    if (a.report != "-") {
         std::printf("%s: CPU against GPU (%s)\n", a.file.c_str(), report.renderer.c_str());
         for (const GlVerifyPart& p : report.parts) {
             std::printf("  %-26s %7lld tiles %7lld differing  largest difference %g %s%s\n", p.what.c_str(),
@@ -99,9 +101,10 @@ int verifyOrthoFile(const VerifyArgs& a) {
         fail("--colour-space", "'" + a.colourSpace + "' is not srgb or linear");
     }
     const OrthoVerifyReport report = verifyOrtho(a.file, a.source, o);
-    if (a.json) {
-        writeJson(toJson(report), "-");
-    } else {
+    if (!a.report.empty()) {
+        writeJson(toJson(report), a.report);
+    }
+    if (a.report != "-") {
         std::printf("%s against %s (%s)\n", a.file.c_str(), a.source.c_str(), report.mode.c_str());
         for (const OrthoVerifyLevel& l : report.levels) {
             std::printf("  level %2d: %6lld tiles  max error %3d  rms %-8.4g psnr %6.2f dB  %lld lossy tiles\n", l.level,
@@ -122,7 +125,7 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     auto* source = app.add_option("--source", args->source, "The raster the file was built from");
     app.add_flag("--gl", args->gl, "Produce every tile on the CPU and on the GPU (headless EGL) and compare them")
         ->excludes(source);
-    app.add_flag("--json", args->json, "Print the report as JSON");
+    addReportOption(app, args->report, "the report");
     app.add_option("--band", args->band, "Band of the source holding the heights, from 1 (as preprocessDem)")
         ->capture_default_str();
     app.add_option("--nodata", args->nodata, "Missing-height value of the source, as preprocessDem");

@@ -82,7 +82,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
     addProgressOption(app);
     addRegionOptions(app, args->region, part, "one region file (name it as a set does, e.g. DEM-L6-12-40.dat)",
                      "the main file (or set)");
-    app.add_option("--report", args->report, "Write a JSON report to this file ('-' for stdout)");
+    addReportOption(app, args->report, "the report");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
 }
 

@@ -6,7 +6,7 @@
 int main(int argc, char** argv) {
     using namespace pyramid::cli;
     CLI::App app{"preprocessDem: Build a residual (DEM) pyramid file from an elevation raster", "preprocessDem"};
-    app.set_version_flag("--version", PYRAMID_VERSION_TEXT);
+    addVersionFlag(app);
     NamedRunner runner{&app, setupDemCommand(app)};
     return runProgram(app, argc, argv, &runner, 1);
 }

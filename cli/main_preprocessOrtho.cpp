@@ -6,7 +6,7 @@
 int main(int argc, char** argv) {
     using namespace pyramid::cli;
     CLI::App app{"preprocessOrtho: Build ortho pyramid files (TIFF, DXT, colour residuals) from imagery", "preprocessOrtho"};
-    app.set_version_flag("--version", PYRAMID_VERSION_TEXT);
+    addVersionFlag(app);
     NamedRunner runner{&app, setupOrthoCommand(app)};
     return runProgram(app, argc, argv, &runner, 1);
 }

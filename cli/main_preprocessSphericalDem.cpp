@@ -7,7 +7,7 @@ int main(int argc, char** argv) {
     using namespace pyramid::cli;
     CLI::App app{"preprocessSphericalDem: Build six cube-face residual (DEM) pyramids from a global elevation map",
                  "preprocessSphericalDem"};
-    app.set_version_flag("--version", PYRAMID_VERSION_TEXT);
+    addVersionFlag(app);
     NamedRunner runner{&app, setupSphereDemCommand(app)};
     return runProgram(app, argc, argv, &runner, 1);
 }

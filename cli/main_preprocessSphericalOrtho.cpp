@@ -7,7 +7,7 @@ int main(int argc, char** argv) {
     using namespace pyramid::cli;
     CLI::App app{"preprocessSphericalOrtho: Build six cube-face ortho pyramids from global imagery",
                  "preprocessSphericalOrtho"};
-    app.set_version_flag("--version", PYRAMID_VERSION_TEXT);
+    addVersionFlag(app);
     NamedRunner runner{&app, setupSphereOrthoCommand(app)};
     return runProgram(app, argc, argv, &runner, 1);
 }

@@ -6,7 +6,7 @@
 int main(int argc, char** argv) {
     using namespace pyramid::cli;
     CLI::App app{"pyramid: build, inspect, check and verify Proland terrain pyramid files", "pyramid"};
-    app.set_version_flag("--version", PYRAMID_VERSION_TEXT);
+    addVersionFlag(app);
     app.require_subcommand(1);
     struct Entry {
         const char* name;

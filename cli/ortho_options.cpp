@@ -89,7 +89,7 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
     addRegionOptions(app, a->region, part,
                      "one region file of each output (named as a set names its files: NAME-L6-12-40.dat)",
                      "the colour-residual file (or set), residuals/NAME.dat");
-    app.add_option("--report", a->report, "Write a JSON report to this file ('-' for stdout)");
+    addReportOption(app, a->report, "the report");
     app.add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
 }
 

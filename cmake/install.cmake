@@ -14,6 +14,9 @@ install(TARGETS ${PYRAMID_INSTALL_LIBRARIES} EXPORT libpyramidTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS pyramid preprocessDem preprocessOrtho preprocessSphericalDem preprocessSphericalOrtho
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+if(PYRAMID_MAN_PAGES)
+  install(FILES ${PYRAMID_MAN_PAGES} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1) # cli/CMakeLists.txt
+endif()
 # Found by the programs at <bindir>/PYRAMID_OIIO_MODULE_INSTALL_DIR (libpyramid/CMakeLists.txt).
 install(TARGETS pyramid_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/libpyramid)
 

@@ -10,6 +10,8 @@
 
 #if defined(__x86_64__) && defined(__ELF__) && !defined(PYRAMID_NO_VECTOR_CLONES)
 #define PYRAMID_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#define PYRAMID_VECTOR_CLONES_ON 1 // for --version
 #else
 #define PYRAMID_VECTOR_CLONES
+#define PYRAMID_VECTOR_CLONES_ON 0
 #endif

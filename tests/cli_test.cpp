@@ -7,8 +7,13 @@
 #include <cstring>
 #include <filesystem>
 
+#include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
+#include <png.h>
+#include <tiffio.h>
+#include <zlib.h>
 
+#include "libpyramid/capi/pyramid.h"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -144,6 +149,73 @@ TEST(ImageIoModule, TiffAndPngNeedNoOpenImageIO) {
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("image I/O module"), std::string::npos) << r.err;
     EXPECT_FALSE(test::fileExists(dir.file("root.tif")));
+}
+
+// --version names the program and libpyramid's version, then each library the way the library
+// names itself when asked at run time; a module that cannot be loaded is said so, not fatal.
+TEST(Version, EveryProgramNamesItsLibraries) {
+    const std::string tiff = TIFFGetVersion();
+    const size_t at = tiff.find("Version ") + 8;
+    const std::string tiffVersion = tiff.substr(at, tiff.find_first_of(" \n", at) - at);
+    const auto png = static_cast<int>(png_access_version_number());
+    const std::string pngVersion =
+        std::to_string(png / 10000) + "." + std::to_string(png / 100 % 100) + "." + std::to_string(png % 100);
+    const int oiio = OIIO::openimageio_version();
+    const std::string oiioVersion =
+        std::to_string(oiio / 10000) + "." + std::to_string(oiio / 100 % 100) + "." + std::to_string(oiio % 100);
+    for (const std::string program :
+         {"pyramid", "preprocessDem", "preprocessOrtho", "preprocessSphericalDem", "preprocessSphericalOrtho"}) {
+        const auto r = run(programPath(program) + " --version");
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(r.out.substr(0, r.out.find('\n')),
+                  program + " " + pyramid_version_string() + " (libpyramid)");
+        for (const std::string& line : {"  libtiff " + tiffVersion, "  zlib " + std::string(zlibVersion()),
+                                       "  libpng " + pngVersion,
+                                       "  OpenImageIO " + oiioVersion}) {
+            EXPECT_NE(r.out.find(line + "\n"), std::string::npos) << program << ": no '" << line << "' in\n" << r.out;
+        }
+        for (const std::string name : {"libdeflate ", "GeographicLib ", "libgeotiff ", "OpenMP ", "build: "}) {
+            EXPECT_NE(r.out.find("\n  " + name), std::string::npos) << program << ": no " << name << "in\n" << r.out;
+        }
+    }
+    test::TempDir dir;
+    const auto r = run("PYRAMID_OIIO_MODULE=" + shellQuoted(dir.file("missing.so")) + " " + programPath("pyramid") +
+                       " --version");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("  OpenImageIO not loaded: "), std::string::npos) << r.out;
+}
+
+// JSON output has one spelling, --report FILE|-, in every command; --json is --report -.
+// The inspection commands print their text on stdout unless the JSON goes there; the two
+// spellings give the same JSON, and naming both is a usage error.
+TEST(Report, OneSpellingForEveryCommand) {
+    test::TempDir dir;
+    const std::string dem = shellQuoted(test::dataPath("proland/DEM.dat"));
+    for (const std::string command : {"info", "check"}) {
+        const std::string base = programPath("pyramid") + " " + command + " " + dem;
+        const auto alias = run(base + " --json");
+        ASSERT_EQ(alias.exitCode, 0) << alias.err;
+        const auto dash = run(base + " --report -");
+        ASSERT_EQ(dash.exitCode, 0) << dash.err;
+        EXPECT_EQ(nlohmann::json::parse(dash.out), nlohmann::json::parse(alias.out)) << command;
+        const std::string file = dir.file(command + ".json");
+        const auto toFile = run(base + " --report " + shellQuoted(file));
+        ASSERT_EQ(toFile.exitCode, 0) << toFile.err;
+        EXPECT_EQ(nlohmann::json::parse(test::readFile(file)), nlohmann::json::parse(alias.out)) << command;
+        EXPECT_FALSE(nlohmann::json::accept(toFile.out)) << "the text stays on stdout";
+        EXPECT_FALSE(toFile.out.empty());
+        EXPECT_EQ(run(base + " --json --report " + shellQuoted(dir.file("both.json"))).exitCode, 2) << command;
+        EXPECT_FALSE(test::fileExists(dir.file("both.json")));
+    }
+    // A builder: --json prints the report that --report FILE writes.
+    test::writeFloatRaster(dir.file("in.tif"), 65, 65, test::syntheticHeights(65, 65));
+    const std::string build = programPath("preprocessDem") + " -q " + shellQuoted(dir.file("in.tif")) + " -o ";
+    const auto alias = run(build + shellQuoted(dir.file("a/DEM.dat")) + " --json");
+    ASSERT_EQ(alias.exitCode, 0) << alias.err;
+    ASSERT_EQ(run(build + shellQuoted(dir.file("b/DEM.dat")) + " --report " + shellQuoted(dir.file("b.json"))).exitCode, 0);
+    auto printed = nlohmann::json::parse(alias.out), written = nlohmann::json::parse(test::readFile(dir.file("b.json")));
+    EXPECT_EQ(printed["levels"], written["levels"]);
+    EXPECT_EQ(printed["bytes"], written["bytes"]);
 }
 
 class PreprocessDemCli : public ::testing::Test {

@@ -42,10 +42,13 @@ struct ImageIoModule {
     // format the extension of `path` names, as `fileType` samples. False with `error` set.
     bool (*write)(const std::string& path, int width, int height, int channels, SampleType type, SampleType fileType,
                   const void* pixels, std::string& error) = nullptr;
+    // The version of the OpenImageIO library the module runs on ("2.4.7"), for --version.
+    std::string (*version)() = nullptr;
 };
 
-// Bumped whenever ImageIoModule, ModuleImage or RasterInfo change (2: RasterInfo::georeference).
-inline constexpr int kImageIoModuleAbi = 2;
+// Bumped whenever ImageIoModule, ModuleImage or RasterInfo change (2: RasterInfo::georeference,
+// 3: ImageIoModule::version).
+inline constexpr int kImageIoModuleAbi = 3;
 
 // The module, loaded on first use: from $PYRAMID_OIIO_MODULE if set, else beside the
 // library or program that holds this code, else in the installed library directory seen from

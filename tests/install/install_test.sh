@@ -37,6 +37,16 @@ if [ -n "$others" ]; then
   echo "$others" | head >&2
   exit 1
 fi
+# ---- Man pages: one per program, made from its --help and --version (when help2man is there). ----
+if command -v help2man >/dev/null 2>&1; then
+  for prog in pyramid preprocessDem preprocessOrtho preprocessSphericalDem preprocessSphericalOrtho; do
+    page=$prefix/share/man/man1/$prog.1
+    test -s "$page" || { echo "no man page $page" >&2; exit 1; }
+    grep -q '^\.SH DESCRIPTION' "$page" && grep -q '\\-\\-help' "$page" ||
+      { echo "$page does not hold the program's --help" >&2; exit 1; }
+  done
+fi
+
 with_gl=OFF
 if [ -n "$(find "$prefix" -name libpyramid-gl.a)" ]; then
   with_gl=ON

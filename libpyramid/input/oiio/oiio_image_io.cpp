@@ -191,7 +191,13 @@ bool writeImage(const std::string& path, int width, int height, int channels, Sa
     }
 }
 
-const ImageIoModule kModule{kImageIoModuleAbi, &openImage, &writeImage};
+// The library's own version at run time (openimageio_version(): 10000 major + 100 minor + patch).
+std::string libraryVersion() {
+    const int v = OIIO::openimageio_version();
+    return std::to_string(v / 10000) + "." + std::to_string(v / 100 % 100) + "." + std::to_string(v % 100);
+}
+
+const ImageIoModule kModule{kImageIoModuleAbi, &openImage, &writeImage, &libraryVersion};
 
 } // namespace
 
