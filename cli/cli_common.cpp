@@ -198,10 +198,11 @@ void addProgressOption(CLI::App& app) {
         ->type_name("MODE");
 }
 
-Progress::Progress(std::string label, int64_t total, bool quiet)
+Progress::Progress(std::string label, int64_t total, bool quiet, OffTerminal offTerminal)
     : label_(std::move(label)),
       total_(total > 0 ? total : 1),
-      quiet_(quiet || progressMode() == ProgressMode::None),
+      quiet_(quiet || progressMode() == ProgressMode::None ||
+             (progressMode() == ProgressMode::Auto && offTerminal == OffTerminal::Silent && isatty(2) == 0)),
       mode_(progressMode() == ProgressMode::Auto ? (isatty(2) != 0 ? ProgressMode::Bar : ProgressMode::Lines)
                                                  : progressMode()),
       start_(std::chrono::steady_clock::now()) {}
@@ -239,11 +240,14 @@ std::string clockText(double seconds) {
 
 } // namespace
 
-void Progress::draw(int64_t done, bool final) {
+void Progress::draw(int64_t counted, bool final) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (finished_) {
         return;
     }
+    // The count as it stands now, read under the lock: threads that counted in one order may
+    // draw in another, and the lines must still rise.
+    const int64_t done = std::max(counted, done_.load());
     const auto now = std::chrono::steady_clock::now();
     const double percent = 100.0 * static_cast<double>(done) / static_cast<double>(total_);
     const double elapsed = std::chrono::duration<double>(now - start_).count();
@@ -492,17 +496,27 @@ void addRegionOptions(CLI::App& app, RegionArgs& args, CLI::Option* part, const 
         ->needs("--region");
 }
 
-std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show) {
-    auto progress = std::make_shared<std::unique_ptr<Progress>>();
-    return [progress, program, show](int64_t done, int64_t total) {
-        if (!*progress) {
-            *progress = std::make_unique<Progress>(program + " (merging)", total, !show);
+std::function<void(int64_t, int64_t)> progressCallback(const std::string& label, bool quiet,
+                                                      Progress::OffTerminal offTerminal) {
+    struct State {
+        std::unique_ptr<Progress> progress;
+        int64_t shown = 0;
+    };
+    auto state = std::make_shared<State>();
+    return [state, label, quiet, offTerminal](int64_t done, int64_t total) {
+        if (!state->progress) {
+            state->progress = std::make_unique<Progress>(label, total, quiet, offTerminal);
         }
-        (*progress)->advance(1);
-        if (done == total) {
-            (*progress)->finish();
+        state->progress->advance(done - state->shown);
+        state->shown = done;
+        if (done >= total) {
+            state->progress->finish();
         }
     };
+}
+
+std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show) {
+    return progressCallback(program + " (merging)", !show);
 }
 
 void addResidualCodingOptions(CLI::App& app, ResidualCodingArgs& args) {

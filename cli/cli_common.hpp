@@ -94,9 +94,12 @@ void addProgressOption(CLI::App& app);
 //    {"progress":"LABEL","done":1234,"total":2938,"percent":42.0,"rate":310.2,"eta_seconds":5.5}
 //    (rate in items a second; rate and eta null for the first quarter of a second); the last has
 //    done == total.
+// Inspection commands (check, verify), whose stderr a script reads for the one failure line,
+// pass OffTerminal::Silent: in the auto mode they show progress on a terminal only.
 class Progress {
 public:
-    Progress(std::string label, int64_t total, bool quiet);
+    enum class OffTerminal { Lines, Silent };
+    Progress(std::string label, int64_t total, bool quiet, OffTerminal offTerminal = OffTerminal::Lines);
     ~Progress();
     void advance(int64_t n = 1);
     void finish();
@@ -199,6 +202,10 @@ struct ResidualCodingArgs {
 };
 void addResidualCodingOptions(CLI::App& app, ResidualCodingArgs& args);
 
+// A library's progress(done, total) shown as a Progress (made at the first call, finished when
+// done reaches total); calls must come one at a time.
+std::function<void(int64_t, int64_t)> progressCallback(const std::string& label, bool quiet,
+                                                      Progress::OffTerminal offTerminal = Progress::OffTerminal::Lines);
 // A merge's progress on stderr ("PROGRAM (merging): 42% ..."), when `show`.
 std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show);
 // Whether this process prints: not when quiet, nor on the ranks other than 0 of an MPI run.

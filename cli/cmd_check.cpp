@@ -64,8 +64,10 @@ void checkOverlaps(const TileTable& table, std::vector<std::string>& problems) {
 }
 
 template <class Reader>
-std::vector<std::string> decodeAll(const Reader& reader, const std::vector<TileRef>& tiles, int threads) {
+std::vector<std::string> decodeAll(const std::string& file, const Reader& reader, const std::vector<TileRef>& tiles,
+                                   int threads, bool quiet) {
     std::vector<std::string> errors(tiles.size());
+    Progress progress(file, static_cast<int64_t>(tiles.size()), quiet, Progress::OffTerminal::Silent);
     parallelFor(static_cast<int64_t>(tiles.size()), threads, [&](int64_t k) {
         const TileRef& t = tiles[static_cast<size_t>(k)];
         try {
@@ -73,7 +75,9 @@ std::vector<std::string> decodeAll(const Reader& reader, const std::vector<TileR
         } catch (const Error& e) {
             errors[static_cast<size_t>(k)] = e.what();
         }
+        progress.advance();
     });
+    progress.finish();
     std::vector<std::string> problems;
     for (std::string& e : errors) {
         if (!e.empty()) {
@@ -100,7 +104,8 @@ std::string reasonLine(const std::string& file, const std::vector<std::string>& 
 
 // One file checked: its structure validated and every tile decoded. Problems are appended;
 // returns the tiles decoded. Throws Error when the file cannot be opened as a pyramid.
-int64_t checkFile(const std::string& file, int threads, std::string& kind, std::vector<std::string>& problems) {
+int64_t checkFile(const std::string& file, int threads, bool quiet, std::string& kind,
+                  std::vector<std::string>& problems) {
     const OpenedPyramid opened = openPyramid(file);
     const PyramidKind k = opened.kind;
     kind = kindName(k);
@@ -111,7 +116,7 @@ int64_t checkFile(const std::string& file, int threads, std::string& kind, std::
         const auto& h = reader->header();
         const auto tiles = allTiles(h, [&](int l) { return h.tilesPerSide(l); });
         checkOverlaps(reader->table(), problems);
-        auto decoded = decodeAll(*reader, tiles, t);
+        auto decoded = decodeAll(file, *reader, tiles, t, quiet);
         problems.insert(problems.end(), decoded.begin(), decoded.end());
         return static_cast<int64_t>(tiles.size());
     }
@@ -119,13 +124,13 @@ int64_t checkFile(const std::string& file, int threads, std::string& kind, std::
     const auto& h = reader->header();
     const auto tiles = allTiles(h, [](int l) { return int64_t{1} << l; });
     checkOverlaps(reader->table(), problems);
-    auto decoded = decodeAll(*reader, tiles, t);
+    auto decoded = decodeAll(file, *reader, tiles, t, quiet);
     problems.insert(problems.end(), decoded.begin(), decoded.end());
     return static_cast<int64_t>(tiles.size());
 }
 
 // A region set: the set's rules (formats/pyramid_set.hpp), then every file as checkFile does.
-int checkSet(const std::string& path, const std::string& report, int threads, const std::string& program) {
+int checkSet(const std::string& path, const std::string& report, int threads, bool quiet, const std::string& program) {
     std::vector<std::string> problems;
     std::string kind = "unknown";
     std::string name = path;
@@ -149,7 +154,7 @@ int checkSet(const std::string& path, const std::string& report, int threads, co
             std::string fileKind = "unknown";
             int64_t tiles = 0;
             try {
-                tiles = checkFile(file, threads, fileKind, own);
+                tiles = checkFile(file, threads, quiet, fileKind, own);
             } catch (const Error& e) {
                 own.push_back(e.what());
             }
@@ -192,13 +197,16 @@ CommandRunner setupCheckCommand(CLI::App& app) {
     auto file = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
     auto threads = std::make_shared<int>(0);
+    auto quiet = std::make_shared<bool>(false);
     app.add_option("FILE", *file,
                    "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
         ->required();
     addReportOption(app, *report, "the result");
     app.add_option("--threads", *threads, "Worker threads (default: all cores)");
+    app.add_flag("-q,--quiet", *quiet, "No progress on stderr (a failure's line stays)");
+    addProgressOption(app);
     const std::string program = app.get_parent() ? app.get_parent()->get_name() : app.get_name();
-    return [file, report, threads, program]() {
+    return [file, report, threads, quiet, program]() {
         bool set = false;
         try {
             set = !findRegionIndex(*file).empty();
@@ -206,13 +214,13 @@ CommandRunner setupCheckCommand(CLI::App& app) {
             set = true; // a directory without one index: reported as the set's problem
         }
         if (set) {
-            return checkSet(*file, *report, *threads, program);
+            return checkSet(*file, *report, *threads, *quiet, program);
         }
         std::vector<std::string> problems;
         std::string kind = "unknown";
         int64_t checked = 0;
         try {
-            checked = checkFile(*file, *threads, kind, problems);
+            checked = checkFile(*file, *threads, *quiet, kind, problems);
         } catch (const Error& e) {
             problems.push_back(e.what());
         }

@@ -16,7 +16,8 @@ namespace pyramid::cli {
 namespace {
 
 struct PreviewArgs {
-    std::string target, output, style = "auto";
+    std::string target, output, style = "auto", projection = "auto";
+    double seaLevel = 0.0;
     PreviewOptions options;
     std::string report; // --report FILE|- (or --json)
     bool quiet = false;
@@ -27,10 +28,25 @@ struct PreviewArgs {
 CommandRunner setupPreviewCommand(CLI::App& app) {
     auto a = std::make_shared<PreviewArgs>();
     PreviewOptions& o = a->options;
-    app.add_option("TARGET", a->target, "A pyramid file or region set (its main file, index or directory)")->required();
+    app.add_option("TARGET", a->target,
+                   "A pyramid file or region set (its main file, index or directory), or a planet: a directory of "
+                   "six cube faces NAME1.dat .. NAME6.dat, or one of them with --projection")
+        ->required();
     app.add_option("-o,--output", a->output, "The PNG to write")->required();
-    app.add_option("--level", o.level, "The level to draw (default: the deepest at most --size samples a side)");
-    app.add_option("--size", o.size, "Pixels a side the default level may have")->capture_default_str();
+    app.add_option("--level", o.level,
+                   "The level to draw (default: the deepest at most --size samples a side; planets: a face at most "
+                   "--size / 4)");
+    app.add_option("--size", o.size, "Pixels a side the default level may have (planets: the image's width)")
+        ->capture_default_str();
+    app.add_option("--projection", a->projection,
+                   "auto (a directory of six faces: equirectangular, else face), face (one pyramid as its samples), "
+                   "equirectangular or world (a planet's world map, 4 face sides by 2), cube (a planet's six faces "
+                   "unfolded into a cross, 4 by 3)")
+        ->capture_default_str();
+    app.add_option("--body", o.body, "Planets: the body the faces were built on, as the spherical preprocessors take it")
+        ->capture_default_str();
+    app.add_flag("--legend", o.legend, "Elevations: a colour bar with the range it spans below the image");
+    auto* sea = app.add_option("--sea-level", a->seaLevel, "Elevations: heights at or below this drawn as water");
     app.add_option("--style", a->style,
                    "auto, hillshade (elevations: shaded hypsometric colours), shade (the hillshade alone, grey), heights (colours alone), residuals "
                    "(the stored residuals times the scale, blue to red), colours (orthos)")
@@ -43,7 +59,7 @@ CommandRunner setupPreviewCommand(CLI::App& app) {
     app.add_option("--altitude", o.altitude, "Hillshade: the sun, degrees above the horizon")->capture_default_str();
     addReportOption(app, a->report, "the report");
     app.add_flag("-q,--quiet", a->quiet, "No summary on stderr");
-    return [a]() {
+    return [a, sea]() {
         std::string ext = std::filesystem::path(a->output).extension().string();
         for (char& c : ext) {
             c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -53,10 +69,15 @@ CommandRunner setupPreviewCommand(CLI::App& app) {
         }
         PreviewOptions options = a->options;
         options.style = parsePreviewStyle(a->style);
+        options.projection = parsePreviewProjection(a->projection);
+        if (*sea) {
+            options.seaLevel = a->seaLevel;
+        }
         const PreviewReport r = writePreview(a->target, a->output, options);
         if (!a->quiet) {
-            std::fprintf(stderr, "%s: level %d of %s, %d x %d pixels, %s (%s %g to %g)\n", a->output.c_str(), r.level,
-                         r.input.c_str(), r.width, r.height, r.style.c_str(),
+            std::fprintf(stderr, "%s: level %d of %s%s, %d x %d pixels, %s (%s %g to %g)\n", a->output.c_str(), r.level,
+                         r.input.c_str(), r.projection == "face" ? "" : (" (" + r.projection + ")").c_str(), r.width,
+                         r.height, r.style.c_str(),
                          r.style == "residuals" ? "residuals" : r.kind == "elevation" ? "heights" : "values",
                          r.minimum, r.maximum);
         }

@@ -30,18 +30,7 @@ CommandRunner setupRecodeCommand(CLI::App& app) {
         ResidualRecodeOptions options;
         options.tiles = args->coding.resolve(args->quiet);
         options.threads = args->threads;
-        auto progress = std::make_shared<std::unique_ptr<Progress>>();
-        int64_t shown = 0;
-        options.progress = [progress, &shown, quiet = args->quiet](int64_t done, int64_t total) {
-            if (!*progress) {
-                *progress = std::make_unique<Progress>("pyramid recode", total, quiet);
-            }
-            (*progress)->advance(done - shown);
-            shown = done;
-            if (done == total) {
-                (*progress)->finish();
-            }
-        };
+        options.progress = progressCallback("pyramid recode", args->quiet);
         const ResidualRecodeReport r = recodeResidualFile(args->input, args->output, options);
         if (speaks(args->quiet)) {
             std::fprintf(stderr, "%s: %lld tiles (%lld shared), %s tiles, %llu bytes (%.3f of %s), %.1f s\n",

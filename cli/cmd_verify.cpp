@@ -30,6 +30,7 @@ struct VerifyArgs {
     bool colourResiduals = false;
     std::string colourSpace = "srgb";
     bool gl = false;
+    bool quiet = false;
     PlanarTargetArgs target;
 };
 
@@ -42,6 +43,7 @@ int verifyResidual(const VerifyArgs& a) {
     o.stretch = a.stretch;
     o.threads = a.threads;
     o.target = a.target.resolve();
+    o.progress = progressCallback(a.file, a.quiet, Progress::OffTerminal::Silent);
     const NodataChoice nodata = parseNodataChoice(a.nodata, "--nodata");
     o.nodata = nodata.value;
     o.ignoreDeclaredNodata = nodata.ignoreDeclared;
@@ -95,6 +97,7 @@ int verifyOrthoFile(const VerifyArgs& a) {
     o.threads = a.threads;
     o.colourResiduals = a.colourResiduals;
     o.target = a.target.resolve();
+    o.progress = progressCallback(a.file, a.quiet, Progress::OffTerminal::Silent);
     if (a.colourSpace == "linear" || a.colourSpace == "none") {
         o.colourSpace = ColourSpace::Linear;
     } else if (a.colourSpace != "srgb") {
@@ -131,6 +134,8 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     app.add_option("--nodata", args->nodata, "Missing-height value of the source, as preprocessDem");
     app.add_flag("--stretch", args->stretch, "The source was stretched (preprocessDem --stretch)");
     app.add_option("--threads", args->threads, "Worker threads (default: all cores)");
+    app.add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+    addProgressOption(app);
     addPlanarTargetOptions(app, args->target);
     app.add_flag("--colour-residuals", args->colourResiduals,
                  "Ortho files: FILE holds colour residuals (residuals/RGB.dat); compare the rebuilt colours");

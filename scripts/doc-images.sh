@@ -5,12 +5,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${PYRAMID_BUILD_DIR:-build}/cli
-[ -f out/DEM.dat ] && [ -f out/ortho/RGB.dat ] || bash scripts/demo.sh
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$bin/preprocessDem" ../shared/fixtures/inputs/mt_rainier_90m.tif -o "$work/rainier.dat" -q
-"$bin/pyramid" preview -q "$work/rainier.dat" --size 400 -o doc/img/rainier-hillshade.png
-"$bin/pyramid" preview -q "$work/rainier.dat" --level 3 --style residuals -o doc/img/rainier-residuals.png
+[ -f out/DEM.dat ] && [ -f out/ortho/RGB.dat ] && [ -f out/planet/DEM1.dat ] || bash scripts/demo.sh
+"$bin/preprocessDem" ../shared/fixtures/inputs/mt_rainier_90m.tif -o out/rainier.dat -q
+"$bin/pyramid" preview -q out/rainier.dat --size 400 -o doc/img/rainier-hillshade.png
+"$bin/pyramid" preview -q out/rainier.dat --level 3 --style residuals -o doc/img/rainier-residuals.png
 "$bin/pyramid" preview -q out/DEM.dat --size 400 -o doc/img/sample-dem-hillshade.png
 "$bin/pyramid" preview -q out/ortho/RGB.dat --size 400 -o doc/img/sample-ortho.png
+"$bin/pyramid" preview -q out/planet/DEM1.dat --projection world --size 800 --sea-level 590 --z-factor 20 --legend \
+  -o doc/img/planet-world.png
+"$bin/pyramid" preview -q out/planet/DEM1.dat --projection cube --size 800 --sea-level 590 --z-factor 20 \
+  -o doc/img/planet-cube.png
+"$bin/pyramid" preview -q out/planet/RGB1.dat --projection world --size 800 -o doc/img/planet-ortho.png
 ls -l doc/img

@@ -226,7 +226,7 @@ TEST_F(Failure, SigintDuringADemRunLeavesThePreviousFile) {
 TEST_F(Failure, SigintDuringAnOrthoRunLeavesThePreviousFiles) {
     const std::vector<std::string> base = {programPath("preprocessOrtho"), test::samplePath("bluemarble.png"), "-o",
                                            out, "--threads", "2"};
-    expectInterruptionsLeaveNothing(with(base, {"--max-level", "2"}), with(base, {"--max-level", "4"}), out);
+    expectInterruptionsLeaveNothing(with(base, {"--max-level", "2"}), with(base, {"--max-level", "5"}), out);
 }
 
 TEST_F(Failure, SigintDuringASphericalRunLeavesThePreviousFaces) {

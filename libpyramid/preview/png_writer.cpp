@@ -56,6 +56,9 @@ bool startPng(png_structp png, png_infop info, void* io, png_rw_ptr write, png_f
         return false;
     }
     png_set_write_fn(png, io, write, flush);
+    // Deflate level 2 with the adaptive filters: on hillshades a third faster than zlib's default (6)
+    // and no larger.
+    png_set_compression_level(png, 2);
     png_set_IHDR(png, info, width, height, depth, colour, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
     if (texts > 0) {

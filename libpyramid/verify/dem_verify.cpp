@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 
 #include "formats/error.hpp"
 #include "formats/pyramid_set.hpp"
@@ -57,7 +58,8 @@ WholePyramid wholePyramid(const std::string& file) {
 // Every level of `file` (of header `h`) rebuilt and compared with the finest-grid heights
 // `sampler` gives, subsampled to each level.
 DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole, const std::string& sourceName,
-                              const HeightSource& sampler, int threadOption) {
+                              const HeightSource& sampler, int threadOption,
+                              const std::function<void(int64_t, int64_t)>& progress) {
     const ResidualHeader& h = whole.header;
     const int M = h.maxLevel;
     const int64_t R = h.tileSize >> h.minLevel;
@@ -67,8 +69,17 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
     report.source = sourceName;
     report.scale = h.scale;
     report.bound = h.scale / 2.0;
+    std::vector<FileLevelProducer> producers;
+    int64_t total = 0;
     for (int l = 0; l <= M; ++l) {
-        const FileLevelProducer lp = makeSetLevelProducer(whole.set, l);
+        producers.push_back(makeSetLevelProducer(whole.set, l));
+        const int64_t side = int64_t{1} << (l - producers.back().delta);
+        total += side * side;
+    }
+    int64_t done = 0;
+    std::mutex progressMutex;
+    for (int l = 0; l <= M; ++l) {
+        const FileLevelProducer& lp = producers[static_cast<size_t>(l)];
         const int side = 1 << (l - lp.delta);
         const int64_t count = static_cast<int64_t>(side) * side;
         const int64_t Nl = R << l;
@@ -112,6 +123,10 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
                     r.beyond += e > allowed;
                 }
             }
+            if (progress) {
+                const std::lock_guard<std::mutex> lock(progressMutex);
+                progress(++done, total);
+            }
         });
         DemVerifyLevel level;
         level.level = l;
@@ -153,7 +168,7 @@ DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, c
     const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
     const DemGeometry geometry = makeDemGeometry(source.info().width, source.info().height, N, options.stretch, source.path());
     const DemSampler sampler(source, geometry, options.band, nodata);
-    return compareLevels(file, whole, source.path(), sampler, options.threads);
+    return compareLevels(file, whole, source.path(), sampler, options.threads, options.progress);
 }
 
 std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, const GeodeticMap& map,
@@ -168,7 +183,7 @@ std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, co
         const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
         const FaceSampler faceSampler(map, body, face, FaceGrid{N, FaceGridKind::Vertices}, options.heightScale);
         const FaceHeights heights(faceSampler);
-        reports.push_back(compareLevels(file, whole, options.source, heights, options.threads));
+        reports.push_back(compareLevels(file, whole, options.source, heights, options.threads, {}));
     }
     return reports;
 }

@@ -3,6 +3,7 @@
 // preprocessDem (libpyramid/encode/dem/dem_sampling.hpp).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +23,8 @@ struct DemVerifyOptions {
     bool stretch = false;
     int threads = 0;
     PlanarTarget target; // as the pyramid was built (--crs, --extent)
+    // (tiles compared, tiles in all), the latter the same on every call; one thread at a time.
+    std::function<void(int64_t, int64_t)> progress;
 };
 
 struct DemVerifyLevel {

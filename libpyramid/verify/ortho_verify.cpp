@@ -86,6 +86,10 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     report.mode = options.colourResiduals ? "colour-residuals" : h.dxt() ? "dxt" : "tiles";
     const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
     std::vector<TileResult> all;
+    int64_t total = 0; // every tile of levels 0..maxLevel
+    for (int l = 0; l <= h.maxLevel; ++l) {
+        total += int64_t{1} << (2 * l);
+    }
     levels.walk([&](std::vector<TileBatch>& group) {
         std::vector<const TrueTile*> tiles;
         for (const TileBatch& b : group) {
@@ -122,6 +126,9 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
             r.samples = static_cast<int64_t>(got.size());
         });
         all.insert(all.end(), results.begin(), results.end());
+        if (options.progress) {
+            options.progress(static_cast<int64_t>(all.size()), total);
+        }
     }, residuals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass);
     report.levels.resize(static_cast<size_t>(h.maxLevel) + 1);
     std::vector<double> squares(report.levels.size(), 0.0);

@@ -4,6 +4,7 @@
 // colour-residual producer rebuilds.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct OrthoVerifyOptions {
     bool colourResiduals = false; // the file holds colour residuals (residuals/RGB.dat)
     int threads = 0;
     PlanarTarget target; // as the pyramid was built (--crs, --extent)
+    // (tiles compared, tiles in all), the latter the same on every call; one thread at a time.
+    std::function<void(int64_t, int64_t)> progress;
 };
 
 struct OrthoVerifyLevel {
