@@ -19,6 +19,7 @@
 #include "formats/residual_file.hpp"
 #include "libpyramid/input/image_io_module.hpp"
 #include "libpyramid/preview/png_writer.hpp"
+#include "libpyramid/preview/preview.hpp"
 #include "libpyramid/support/text.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
@@ -213,6 +214,8 @@ CommandRunner setupTileCommand(CLI::App& app) {
         std::string file, output;
         int level = 0, tx = 0, ty = 0;
         bool residual = false;
+        bool hillshade = false;
+        PreviewOptions shading;
     };
     auto a = std::make_shared<Args>();
     app.add_option("FILE", a->file,
@@ -227,11 +230,29 @@ CommandRunner setupTileCommand(CLI::App& app) {
                    "images, north up")
         ->required();
     app.add_flag("--residual", a->residual, "Residual files: the stored int16 residuals instead of the elevations");
+    auto* hillshade = app.add_flag("--hillshade", a->hillshade,
+                                   "Elevations to .png: a hillshade over hypsometric colours (as pyramid preview draws a "
+                                   "level) instead of 16-bit grey");
+    app.add_option("--spacing", a->shading.spacing,
+                   "With --hillshade: ground distance between samples in height units (default: from "
+                   "FILE.georef.json in metres, else 1)")
+        ->needs(hillshade);
+    app.add_option("--z-factor", a->shading.zFactor, "With --hillshade: heights are multiplied by this")
+        ->capture_default_str()
+        ->needs(hillshade);
     app.footer("A residual file gives the reconstructed elevations of file tile (LEVEL, TX, TY), (size+5)^2 float32 "
                "samples with their borders, exactly as the CPU elevation producer rebuilds them; an ortho file gives "
                "the decoded tile, pixels^2 x channels bytes. A region set serves each tile from the deepest file "
                "that holds it.");
     return [a]() {
+        if (a->hillshade) {
+            if (a->residual) {
+                fail("--hillshade", "draws elevations, not the stored residuals (--residual)");
+            }
+            if (extensionOf(a->output) != ".png") {
+                fail(a->output, "--hillshade draws a PNG: name it OUT.png");
+            }
+        }
         TileData tile;
         if (!findRegionIndex(a->file).empty()) {
             const PyramidSet set = openPyramidSet(a->file);
@@ -246,6 +267,16 @@ CommandRunner setupTileCommand(CLI::App& app) {
                 fail("--residual", "applies to residual (DEM) files only");
             }
             tile = orthoTile(a->file, a->level, a->tx, a->ty);
+        }
+        if (a->hillshade) {
+            if (tile.type != SampleType::Float32) {
+                fail("--hillshade", "draws elevations; " + a->file + " holds orthos");
+            }
+            std::vector<float> heights(tile.bytes.size() / sizeof(float));
+            std::memcpy(heights.data(), tile.bytes.data(), tile.bytes.size());
+            const std::string main = findRegionIndex(a->file).empty() ? a->file : openPyramidSet(a->file).main;
+            writeTilePreview(heights, tile.side, main, a->level, a->output, a->shading);
+            return kExitOk;
         }
         writeTile(tile, a->output);
         return kExitOk;

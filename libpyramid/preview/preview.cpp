@@ -197,9 +197,8 @@ PreviewReport orthoPreview(const PyramidSet& set, const std::string& output, con
     return report;
 }
 
-} // namespace
-
-PreviewReport writePreview(const std::string& input, const std::string& output, const PreviewOptions& o) {
+// The options every preview checks.
+void checkOptions(const PreviewOptions& o) {
     if (o.size < 1) {
         failOption("size", std::to_string(o.size) + " is not a positive number of pixels");
     }
@@ -215,6 +214,73 @@ PreviewReport writePreview(const std::string& input, const std::string& output, 
     if (o.seaLevel && !std::isfinite(*o.seaLevel)) {
         failOption("sea-level", "must be a finite height");
     }
+}
+
+} // namespace
+
+PreviewReport writeTilePreview(const std::vector<float>& heights, int side, const std::string& file, int level,
+                               const std::string& output, const PreviewOptions& o) {
+    checkOptions(o);
+    const PreviewStyle style = elevationStyle(o, file);
+    if (style == PreviewStyle::Residuals) {
+        failOption("style", "a tile's residuals are drawn by pyramid tile --residual");
+    }
+    PreviewReport report;
+    report.kind = "elevation";
+    report.style = previewStyleName(style);
+    report.level = level;
+    report.width = side;
+    report.minimum = std::numeric_limits<double>::infinity();
+    report.maximum = -report.minimum;
+    for (const float v : heights) {
+        if (std::isfinite(v)) {
+            report.minimum = std::min(report.minimum, static_cast<double>(v));
+            report.maximum = std::max(report.maximum, static_cast<double>(v));
+        }
+    }
+    if (!(report.minimum <= report.maximum)) {
+        report.minimum = report.maximum = 0.0;
+    }
+    const ElevationPaint paint(style, report.minimum, report.maximum, o);
+    std::array<double, 2> spacing{o.spacing, o.spacing};
+    if (paint.shading() && o.spacing <= 0.0) {
+        spacing = sidecarSpacing(file, level);
+        if (spacing[0] <= 0.0 || spacing[1] <= 0.0) {
+            spacing = {1.0, 1.0};
+        }
+    }
+    report.spacing = paint.shading() ? spacing[0] : 0.0;
+    const auto legend = o.legend ? legendRows(side, paint) : std::vector<std::vector<uint8_t>>{};
+    report.legendHeight = static_cast<int>(legend.size());
+    report.height = side + report.legendHeight;
+    PngWriter png(output, report.width, report.height, 3, 8, previewText(file, report));
+    const auto at = [&](int i, int j) {
+        return static_cast<double>(heights[static_cast<size_t>(std::clamp(j, 0, side - 1)) * static_cast<size_t>(side) +
+                                           static_cast<size_t>(std::clamp(i, 0, side - 1))]);
+    };
+    std::vector<uint8_t> row(static_cast<size_t>(side) * 3);
+    for (int j = side - 1; j >= 0; --j) {
+        for (int i = 0; i < side; ++i) {
+            // Central differences inside, one-sided at the edges (over one sample, not two).
+            const double wide = (i > 0) + (i + 1 < side), tall = (j > 0) + (j + 1 < side);
+            const double dzdx = wide > 0 ? (at(i + 1, j) - at(i - 1, j)) / (wide * spacing[0]) : 0.0;
+            const double dzdy = tall > 0 ? (at(i, j + 1) - at(i, j - 1)) / (tall * spacing[1]) : 0.0;
+            const Rgb8 c = paint.colour(at(i, j), dzdx, dzdy);
+            std::copy(c.begin(), c.end(), row.begin() + static_cast<std::ptrdiff_t>(i) * 3);
+        }
+        png.writeRow(row.data());
+    }
+    for (const auto& r : legend) {
+        png.writeRow(r.data());
+    }
+    png.commit();
+    report.input = file;
+    report.output = output;
+    return report;
+}
+
+PreviewReport writePreview(const std::string& input, const std::string& output, const PreviewOptions& o) {
+    checkOptions(o);
     PreviewProjection projection = o.projection;
     std::optional<PlanetFaces> planet;
     std::error_code ec;

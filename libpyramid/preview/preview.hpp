@@ -64,6 +64,14 @@ struct PreviewReport {
 // Throws Error naming the file (or OptionError naming the option) and writes nothing on error.
 PreviewReport writePreview(const std::string& input, const std::string& png, const PreviewOptions& options);
 
+// One DEM tile's heights (`side` x `side` floats, row 0 the south, as ElevationTile::zf with its
+// borders) drawn as an RGB PNG, north up, in an elevation style (options.style: auto is the
+// hillshade; the sun, spacing, z factor, sea level and legend apply). Slopes are central
+// differences, one-sided at the tile's edges. A spacing of 0 is taken from the sidecar of `file`
+// (FILE.georef.json) at `level`, else 1. Throws as writePreview.
+PreviewReport writeTilePreview(const std::vector<float>& heights, int side, const std::string& file, int level,
+                               const std::string& png, const PreviewOptions& options);
+
 PreviewStyle parsePreviewStyle(const std::string& text); // throws OptionError("style", ...)
 std::string previewStyleName(PreviewStyle style);
 // "auto", "face", "equirectangular" (or "world"), "cube"; throws OptionError("projection", ...).
