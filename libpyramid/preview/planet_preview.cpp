@@ -7,7 +7,6 @@
 #include <map>
 #include <memory>
 #include <numbers>
-#include <regex>
 #include <set>
 #include <vector>
 
@@ -37,6 +36,19 @@ PlanetFaces family(const std::string& directory, const std::string& name) {
     return faces;
 }
 
+// "DEM3.dat" -> "DEM": the name of a face file NAMEk.dat, k = 1..6; nullopt for any other name.
+std::optional<std::string> faceFamily(const std::string& file) {
+    const std::string suffix = ".dat";
+    if (file.size() < suffix.size() + 1 || file.compare(file.size() - suffix.size(), suffix.size(), suffix) != 0) {
+        return std::nullopt;
+    }
+    const char k = file[file.size() - suffix.size() - 1];
+    if (k < '1' || k > '6') {
+        return std::nullopt;
+    }
+    return file.substr(0, file.size() - suffix.size() - 1);
+}
+
 bool complete(const PlanetFaces& faces) {
     std::error_code ec;
     return std::all_of(faces.files.begin(), faces.files.end(),
@@ -46,14 +58,12 @@ bool complete(const PlanetFaces& faces) {
 } // namespace
 
 std::optional<PlanetFaces> planetFacesIn(const std::string& directory) {
-    static const std::regex face(R"((.*)[1-6]\.dat)");
     std::set<std::string> names;
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(directory, ec)) {
-        std::smatch m;
-        const std::string file = entry.path().filename().string();
-        if (entry.is_regular_file(ec) && std::regex_match(file, m, face) && complete(family(directory, m[1].str()))) {
-            names.insert(m[1].str());
+        const auto name = faceFamily(entry.path().filename().string());
+        if (name && entry.is_regular_file(ec) && complete(family(directory, *name))) {
+            names.insert(*name);
         }
     }
     if (ec) {
@@ -82,14 +92,12 @@ PlanetFaces planetFacesOf(const std::string& target) {
         }
         return *faces;
     }
-    static const std::regex face(R"((.*)[1-6]\.dat)");
-    std::smatch m;
-    const std::string file = fs::path(target).filename().string();
-    if (!std::regex_match(file, m, face)) {
+    const auto name = faceFamily(fs::path(target).filename().string());
+    if (!name) {
         fail(target, "is not a cube face of a planet (NAME1.dat .. NAME6.dat)");
     }
     const std::string directory = fs::path(target).parent_path().empty() ? "." : fs::path(target).parent_path().string();
-    PlanetFaces faces = family(directory, m[1].str());
+    PlanetFaces faces = family(directory, *name);
     for (const std::string& f : faces.files) {
         if (!fs::is_regular_file(f, ec)) {
             fail(target, "is not one of six cube faces: " + f + " is missing");

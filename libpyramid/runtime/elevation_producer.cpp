@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "formats/error.hpp"
+#include "libpyramid/filters/coarse_mesh.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/runtime/tile_cache.hpp"
 
@@ -40,46 +41,19 @@ ElevationTiling elevationTiling(const ResidualProducer& residuals, const Elevati
 
 namespace {
 
-// zc, the coarse elevation (doc/format.md, 3.1 "Coarse elevations"): the parent tile's render mesh,
-// a grid of gridSize quads over the parent quad with north-west to south-east diagonals,
-// evaluated at the child sample. Over the child quad that mesh has cells of c = 2n / gridSize
-// child samples. For interior sample u = i - 2, v = j - 2 (0..n):
-//   cx = min(u / c, gridSize/2 - 1), fx = (u - cx*c) / c   (likewise cy, fy; exact fractions)
-//   corners zAB = parent zm at child position ((cx+A)*c, (cy+B)*c), i.e. parent sample
-//   ((cx+A)*c/2 + (tx%2)*n/2 + 2, (cy+B)*c/2 + (ty%2)*n/2 + 2)
-//   lower-left triangle (fx + fy <= 1): zc = ((1-fx-fy) * z00 + fx * z10) + fy * z01
-//   upper-right triangle (fx + fy > 1): zc = ((fx+fy-1) * z11 + (1-fy) * z10) + (1-fx) * z01
-// float32, this order; the weights are exact, so a sample on a parent mesh vertex copies it.
-// Border samples (outside 0..n) are not rendered: their zc is their zf.
+// zc, the coarse elevation: the parent's zm on its render mesh at every interior sample
+// (filters/coarse_mesh.hpp). Border samples (outside 0..n) are not rendered: their zc is their zf.
 void coarseElevations(const ElevationTile& parent, int n, int gridSize, int tx, int ty, const std::vector<float>& zf,
                       std::vector<float>& zc) {
     const int side = n + 5;
     zc = zf;
-    const int c = 2 * n / gridSize;
-    const int cells = gridSize / 2;
-    const int ox = (tx & 1) * (n / 2) + 2;
-    const int oy = (ty & 1) * (n / 2) + 2;
-    const float invC = 1.0f / static_cast<float>(c);
-    auto zm = [&](int cellX, int cellY) {
-        const int px = cellX * c / 2 + ox;
-        const int py = cellY * c / 2 + oy;
-        return parent.zm[static_cast<size_t>(px + py * side)];
-    };
+    const CoarseMesh mesh(n, gridSize, tx, ty);
+    const auto zm = [&](int x, int y) { return parent.zm[static_cast<size_t>(x + y * side)]; };
     for (int v = 0; v <= n; ++v) {
-        const int cy = std::min(v / c, cells - 1);
-        const float fy = static_cast<float>(v - cy * c) * invC;
         for (int u = 0; u <= n; ++u) {
-            const int cx = std::min(u / c, cells - 1);
-            const float fx = static_cast<float>(u - cx * c) * invC;
-            const float z00 = zm(cx, cy), z10 = zm(cx + 1, cy), z01 = zm(cx, cy + 1);
-            float z;
-            if (fx + fy <= 1.0f) {
-                z = ((1.0f - fx - fy) * z00 + fx * z10) + fy * z01;
-            } else {
-                const float z11 = zm(cx + 1, cy + 1);
-                z = ((fx + fy - 1.0f) * z11 + (1.0f - fy) * z10) + (1.0f - fx) * z01;
-            }
-            zc[static_cast<size_t>((u + 2) + (v + 2) * side)] = z;
+            const CoarseMesh::At a = mesh.at(u, v);
+            zc[static_cast<size_t>((u + 2) + (v + 2) * side)] =
+                coarseMix(a, zm(a.x0, a.y0), zm(a.x1, a.y0), zm(a.x0, a.y1), a.lower ? 0.0f : zm(a.x1, a.y1));
         }
     }
 }
@@ -163,7 +137,9 @@ FileLevelProducer makeFileLevelProducer(const std::string& file, int fileLevel, 
 }
 
 int ElevationProducer::tileSize() const { return impl_->n; }
+int ElevationProducer::gridSize() const { return impl_->gridSize; }
 int ElevationProducer::maxLevel() const { return impl_->residuals->maxLevel(); }
+const std::string& ElevationProducer::path() const { return impl_->residuals->path(); }
 
 std::shared_ptr<const ElevationTile> ElevationProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {

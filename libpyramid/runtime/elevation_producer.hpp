@@ -32,7 +32,9 @@ public:
     ~ElevationProducer();
 
     int tileSize() const; // n
+    int gridSize() const; // the render grid of zc
     int maxLevel() const; // deepest level with residuals
+    const std::string& path() const; // the residual file, for messages
     std::shared_ptr<const ElevationTile> tile(int level, int tx, int ty);
 
 private:
