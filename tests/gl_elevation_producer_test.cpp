@@ -9,6 +9,7 @@
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/residual/residual_recode.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/gl/gl_elevation_producer.hpp"
 #include "tests/support/gl_test_context.hpp"
 #include "tests/support/paths.hpp"
@@ -19,9 +20,7 @@ namespace {
 std::string demPath() { return test::dataPath("proland/DEM.dat"); }
 
 std::shared_ptr<const ResidualProducer> residualsFor(int n, const std::string& path = demPath()) {
-    ResidualProducerOptions ro;
-    ro.delta = elevationDelta(ResidualFileReader::open(path)->header(), n);
-    return std::make_shared<ResidualProducer>(path, std::vector<std::string>{}, ro);
+    return openResidualsForElevations(path, n);
 }
 
 // Samples whose bits differ.

@@ -4,6 +4,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
+#include "libpyramid/gl/gl_coarse_mesh.hpp"
 #include "libpyramid/gl/gl_elevation_upsample.hpp"
 #include "libpyramid/runtime/tile_cache.hpp"
 
@@ -14,8 +15,8 @@ namespace {
 constexpr int kLocalSize = 8;
 
 // zf as in gl_elevation_upsample, and zc exactly as coarseElevations() in
-// libpyramid/runtime/elevation_producer.cpp: the parent's render mesh (gridSize quads, north-west to
-// south-east diagonals) evaluated at the interior samples, in the same float32 order.
+// libpyramid/runtime/elevation_producer.cpp: the parent's render mesh (gl_coarse_mesh.hpp) evaluated at
+// the interior samples, in the same float32 order.
 const char* const kProducerKernel = R"(
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D residual; // R32F, the whole residual tile
@@ -24,13 +25,9 @@ uniform ivec2 parentOffset;   // quadrant offsets (px, py)
 uniform ivec2 residualOrigin; // the elevation tile's window in the residual tile
 uniform bool hasResidual;
 uniform int n;
-uniform int cellSamples; // c = 2n / gridSize child samples per parent mesh cell
-uniform int cells;       // gridSize / 2 cells across the child
-uniform float invCell;   // 1.0f / c, rounded on the CPU exactly as the CPU producer does
-uniform ivec2 zmOrigin;  // (tx%2, ty%2) * n/2 + 2
 
-float parentZm(int cellX, int cellY) {
-    return texelFetch(parentTile, ivec2(cellX * cellSamples / 2, cellY * cellSamples / 2) + zmOrigin, 0).b;
+float parentZm(ivec2 p) {
+    return texelFetch(parentTile, p, 0).b;
 }
 
 void main() {
@@ -44,20 +41,9 @@ void main() {
     int u = ij.x - 2;
     int v = ij.y - 2;
     if (u >= 0 && v >= 0 && u <= n && v <= n) {
-        int cx = min(u / cellSamples, cells - 1);
-        int cy = min(v / cellSamples, cells - 1);
-        precise float fx = float(u - cx * cellSamples) * invCell;
-        precise float fy = float(v - cy * cellSamples) * invCell;
-        float z00 = parentZm(cx, cy);
-        float z10 = parentZm(cx + 1, cy);
-        float z01 = parentZm(cx, cy + 1);
-        precise float s = fx + fy;
-        if (s <= 1.0) {
-            zc = ((1.0 - fx - fy) * z00 + fx * z10) + fy * z01;
-        } else {
-            float z11 = parentZm(cx + 1, cy + 1);
-            zc = ((fx + fy - 1.0) * z11 + (1.0 - fy) * z10) + (1.0 - fx) * z01;
-        }
+        CoarseAt a = coarseAt(u, v);
+        float z11 = a.lower ? 0.0 : parentZm(a.p1);
+        zc = coarseMixF(a, parentZm(a.p0), parentZm(ivec2(a.p1.x, a.p0.y)), parentZm(ivec2(a.p0.x, a.p1.y)), z11);
     }
     imageStore(result, ij, vec4(zf, zc, zf, 0.0));
 }
@@ -66,7 +52,7 @@ void main() {
 std::string producerSource() {
     return "#version 430 core\n#define PARENT_Z(x, y) texelFetch(parentTile, ivec2(x, y), 0).r\n"
            "layout(binding = 0) uniform sampler2D parentTile; // RGBA32F (zf, zc, zm, 0)\n" +
-           elevationPredictionGlsl() + kProducerKernel;
+           elevationPredictionGlsl() + coarseMeshGlsl() + kProducerKernel;
 }
 
 } // namespace
@@ -132,11 +118,7 @@ struct GlElevationProducer::Impl {
             glUniform2i(program.uniform("residualOrigin"), x0, y0);
             glUniform1i(program.uniform("hasResidual"), residual != nullptr ? 1 : 0);
             glUniform1i(program.uniform("n"), n);
-            const int c = 2 * n / gridSize;
-            glUniform1i(program.uniform("cellSamples"), c);
-            glUniform1i(program.uniform("cells"), gridSize / 2);
-            glUniform1f(program.uniform("invCell"), 1.0f / static_cast<float>(c));
-            glUniform2i(program.uniform("zmOrigin"), (tx & 1) * (n / 2) + 2, (ty & 1) * (n / 2) + 2);
+            setCoarseMeshUniforms(program, CoarseMesh(n, gridSize, tx, ty), n, tx, ty);
             parent->texture.bind(0);
             // The sampler needs a float texture even when unused: bind the parent again.
             (residual != nullptr ? *residual : parent->texture).bind(1);
@@ -160,7 +142,9 @@ GlElevationProducer::GlElevationProducer(std::shared_ptr<const ResidualProducer>
 GlElevationProducer::~GlElevationProducer() = default;
 
 int GlElevationProducer::tileSize() const { return impl_->n; }
+int GlElevationProducer::gridSize() const { return impl_->gridSize; }
 int GlElevationProducer::maxLevel() const { return impl_->residuals->maxLevel(); }
+const std::string& GlElevationProducer::path() const { return impl_->residuals->path(); }
 
 std::shared_ptr<const GlElevationTile> GlElevationProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {

@@ -27,7 +27,9 @@ public:
     ~GlElevationProducer();
 
     int tileSize() const; // n
+    int gridSize() const; // the render grid of zc
     int maxLevel() const;
+    const std::string& path() const; // the residual file, for messages
     std::shared_ptr<const GlElevationTile> tile(int level, int tx, int ty);
 
     // The tile read back in the CPU producer's form.

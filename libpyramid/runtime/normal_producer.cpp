@@ -16,14 +16,17 @@ struct NormalProducer::Impl {
         : elevations(std::move(e)), options(o), cache(o.cacheCapacity) {}
 };
 
+void checkNormalOptions(const NormalProducerOptions& options, const std::string& where) {
+    if (!(options.size > 0.0) || !std::isfinite(options.size)) {
+        fail(where, std::string("normals need the ") +
+                        (options.deformation == Deformation::Sphere ? "sphere's radius" : "root quad's size") +
+                        " in height units, a positive number");
+    }
+}
+
 NormalProducer::NormalProducer(std::shared_ptr<ElevationProducer> elevations, const NormalProducerOptions& options)
     : impl_(std::make_unique<Impl>(std::move(elevations), options)) {
-    if (!(options.size > 0.0) || !std::isfinite(options.size)) {
-        fail(impl_->elevations->path(), std::string("normals need the ") +
-                                            (options.deformation == Deformation::Sphere ? "sphere's radius"
-                                                                                        : "root quad's size") +
-                                            " in height units, a positive number");
-    }
+    checkNormalOptions(options, impl_->elevations->path());
 }
 
 NormalProducer::~NormalProducer() = default;

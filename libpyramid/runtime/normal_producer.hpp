@@ -4,6 +4,7 @@
 // cache of bounded capacity. Thread-safe.
 #pragma once
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "libpyramid/filters/terrain_normals.hpp"
@@ -24,6 +25,10 @@ struct NormalProducerOptions {
     double size = 0.0;
     size_t cacheCapacity = 256;
 };
+
+// Throws Error naming `where` (the elevations' file) when options.size is not a positive finite
+// number: the CPU and GL producers' one check.
+void checkNormalOptions(const NormalProducerOptions& options, const std::string& where);
 
 class NormalProducer {
 public:

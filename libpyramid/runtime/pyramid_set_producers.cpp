@@ -90,13 +90,17 @@ std::shared_ptr<OrthoProducer> openOrthoSet(const PyramidSet& set) {
 
 std::shared_ptr<OrthoProducer> openOrthoSet(const std::string& path) { return openOrthoSet(openPyramidSet(path)); }
 
-std::shared_ptr<ElevationProducer> openElevationSet(const std::string& path, const ElevationProducerOptions& options) {
+std::shared_ptr<ResidualProducer> openResidualsForElevations(const std::string& path, int n) {
     const PyramidSet set = openPyramidSet(path);
     requireKind(set, PyramidKind::Residual);
     const ResidualHeader main = ResidualFileReader::readHeader(set.main);
     ResidualProducerOptions ro;
-    ro.delta = elevationDelta(main, options.tileSize > 0 ? options.tileSize : main.tileSize, set.main);
-    return std::make_shared<ElevationProducer>(openResidualSet(set, ro), options);
+    ro.delta = elevationDelta(main, n > 0 ? n : main.tileSize, set.main);
+    return openResidualSet(set, ro);
+}
+
+std::shared_ptr<ElevationProducer> openElevationSet(const std::string& path, const ElevationProducerOptions& options) {
+    return std::make_shared<ElevationProducer>(openResidualsForElevations(path, options.tileSize), options);
 }
 
 FileLevelProducer makeSetLevelProducer(const PyramidSet& set, int level, size_t cacheCapacity) {

@@ -29,6 +29,9 @@ std::shared_ptr<OrthoProducer> openOrthoSet(const std::string& path);
 // Elevation tiles of options.tileSize samples (0: the residual tile size) over a residual set:
 // the residual producer's delta follows from the main file (elevationDelta).
 std::shared_ptr<ElevationProducer> openElevationSet(const std::string& path, const ElevationProducerOptions& options = {});
+// The residual producer such elevation tiles of n intervals (0: the residual tile size) need,
+// for the GL producers (which take their residuals from the CPU).
+std::shared_ptr<ResidualProducer> openResidualsForElevations(const std::string& path, int n);
 
 // makeFileLevelProducer over a set: `level` is an absolute level, 0 .. setMaxLevel(set).
 FileLevelProducer makeSetLevelProducer(const PyramidSet& set, int level, size_t cacheCapacity = 64);
