@@ -2,9 +2,9 @@
 // set (its main file, index or directory), served by the deepest file that holds it.
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -18,11 +18,13 @@
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/input/image_io_module.hpp"
+#include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/preview/png_writer.hpp"
 #include "libpyramid/preview/preview.hpp"
-#include "libpyramid/support/text.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/normal_producer.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid::cli {
 
@@ -207,6 +209,58 @@ TileData setTile(const PyramidSet& set, int level, int tx, int ty, bool raw) {
     return t;
 }
 
+// The normals of the elevation tile at file level LEVEL (a set's absolute level), by the CPU
+// normal producer over the file's (or set's) elevations: (n+1)^2 x 4 floats, row 0 = south.
+TileData normalTile(const std::string& path, int level, int tx, int ty, Deformation deformation, double size) {
+    const PyramidSet set = openPyramidSet(path);
+    if (set.kind != PyramidKind::Residual) {
+        fail("--normals", "apply to residual (DEM) files only");
+    }
+    const ResidualHeader h = ResidualFileReader::readHeader(set.main);
+    if (!residualSetHolds(set, level, tx, ty)) {
+        fail(set.name(), "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+    }
+    if (size <= 0.0 && deformation == Deformation::Plane) {
+        // The root quad's side on the ground, from the georeference sidecar.
+        size = groundSpacing(set.main, 0)[0] * static_cast<double>(h.tileSize >> h.minLevel);
+        if (!(size > 0.0)) {
+            fail("--normals", "the ground size of " + set.name() + " is unknown (no " +
+                                  georeferenceSidecarPath(set.main) + "): give --size, the root quad's side in height units");
+        }
+    }
+    const FileLevelProducer producer = makeSetLevelProducer(set, level, 16);
+    NormalProducerOptions o;
+    o.deformation = deformation;
+    o.size = size;
+    o.cacheCapacity = 4;
+    NormalProducer normals(producer.producer, o);
+    const auto tile = normals.tile(level - producer.delta, tx, ty);
+    TileData t;
+    t.side = tile->size;
+    t.channels = 4;
+    t.type = SampleType::Float32;
+    t.bytes.resize(tile->normals.size() * sizeof(float));
+    std::memcpy(t.bytes.data(), tile->normals.data(), t.bytes.size());
+    return t;
+}
+
+// Normals as an RGBA8 PNG, north up: (nx, ny, ncx, ncy) each mapped from -1..1 to 0..255 as
+// (v + 1) / 2 * 255, rounded (the seeds' integer normal tiles).
+void writeNormalPng(const TileData& tile, const std::string& path) {
+    PngWriter png(path, tile.side, tile.side, 4, 8,
+                  {{"Software", "libpyramid pyramid tile"}, {"Samples", "normals (nx, ny, ncx, ncy), (v + 1) / 2 * 255"}});
+    std::vector<uint8_t> row(static_cast<size_t>(tile.side) * 4);
+    for (int j = tile.side - 1; j >= 0; --j) {
+        for (size_t k = 0; k < row.size(); ++k) {
+            float v;
+            std::memcpy(&v, tile.bytes.data() + (static_cast<size_t>(j) * row.size() + k) * sizeof(float), sizeof(float));
+            row[k] = static_cast<uint8_t>(std::lround(std::clamp((static_cast<double>(v) + 1.0) / 2.0, 0.0, 1.0) * 255.0));
+        }
+        png.writeRow(row.data());
+    }
+    png.commit();
+}
+
 } // namespace
 
 CommandRunner setupTileCommand(CLI::App& app) {
@@ -216,6 +270,9 @@ CommandRunner setupTileCommand(CLI::App& app) {
         bool residual = false;
         bool hillshade = false;
         PreviewOptions shading;
+        bool normals = false;
+        std::string deform = "plane";
+        double size = 0.0;
     };
     auto a = std::make_shared<Args>();
     app.add_option("FILE", a->file,
@@ -240,6 +297,18 @@ CommandRunner setupTileCommand(CLI::App& app) {
     app.add_option("--z-factor", a->shading.zFactor, "With --hillshade: heights are multiplied by this")
         ->capture_default_str()
         ->needs(hillshade);
+    auto* normals = app.add_flag("--normals", a->normals,
+                                 "Residual files: the tile's normals, (n+1)^2 x (nx, ny, ncx, ncy) float32 (.png: RGBA8, "
+                                 "(v + 1) / 2 * 255), as the normal producer makes them")
+                        ->excludes(hillshade);
+    app.add_option("--deform", a->deform, "With --normals: plane, or sphere (a cube face of a planet)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"plane", "sphere"}))
+        ->needs(normals);
+    app.add_option("--size", a->size,
+                   "With --normals: the root quad's side (plane; default: from FILE.georef.json, in metres) or the "
+                   "sphere's radius (default 6378137), in height units")
+        ->needs(normals);
     app.footer("A residual file gives the reconstructed elevations of file tile (LEVEL, TX, TY), (size+5)^2 float32 "
                "samples with their borders, exactly as the CPU elevation producer rebuilds them; an ortho file gives "
                "the decoded tile, pixels^2 x channels bytes. A region set serves each tile from the deepest file "
@@ -252,6 +321,20 @@ CommandRunner setupTileCommand(CLI::App& app) {
             if (extensionOf(a->output) != ".png") {
                 fail(a->output, "--hillshade draws a PNG: name it OUT.png");
             }
+        }
+        if (a->normals) {
+            if (a->residual) {
+                fail("--normals", "come from the elevations, not the stored residuals (--residual)");
+            }
+            const Deformation deformation = a->deform == "sphere" ? Deformation::Sphere : Deformation::Plane;
+            const double size = a->size > 0.0 ? a->size : deformation == Deformation::Sphere ? 6378137.0 : 0.0;
+            const TileData shading = normalTile(a->file, a->level, a->tx, a->ty, deformation, size);
+            if (extensionOf(a->output) == ".png") {
+                writeNormalPng(shading, a->output);
+            } else {
+                writeTile(shading, a->output);
+            }
+            return kExitOk;
         }
         TileData tile;
         if (!findRegionIndex(a->file).empty()) {

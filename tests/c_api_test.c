@@ -97,6 +97,57 @@ static void test_elevation(const char* dir) {
     CHECK(producer == NULL);
 }
 
+/* The normal producer over an elevation producer: a root tile's normal by the documented
+ * float32 order from its own heights (doc/shading.md), coarse = fine at level 0, the elevation
+ * handle closed first, and the argument errors. */
+static void test_normals(const char* dir) {
+    char path[4096];
+    pyramid_elevation* elevations = NULL;
+    pyramid_normal* normals = NULL;
+    pyramid_normal_options o;
+    float zf[29 * 29];
+    float* n;
+    float two, gx, gy, l;
+    int side;
+    path_of(path, sizeof path, dir, "proland/DEM.dat");
+    CHECK(pyramid_elevation_open(path, 24, 0, 16, &elevations) == PYRAMID_OK);
+    if (!elevations) {
+        return;
+    }
+    memset(&o, 0, sizeof o);
+    o.struct_size = sizeof o;
+    CHECK(pyramid_normal_open(elevations, &o, &normals) == PYRAMID_ERROR_ARGUMENT); /* no size */
+    CHECK(strstr(pyramid_last_error(), "root quad's size") != NULL);
+    o.deformation = 7;
+    o.size = 24000.0;
+    CHECK(pyramid_normal_open(elevations, &o, &normals) == PYRAMID_ERROR_ARGUMENT);
+    o.deformation = PYRAMID_DEFORM_PLANE;
+    CHECK(pyramid_normal_open(elevations, &o, &normals) == PYRAMID_OK);
+    CHECK(pyramid_elevation_tile(elevations, 0, 0, 0, zf, NULL, NULL, 29 * 29) == PYRAMID_OK);
+    pyramid_elevation_close(elevations); /* the normal producer keeps what it needs */
+    if (!normals) {
+        return;
+    }
+    side = pyramid_normal_side(normals);
+    CHECK(side == 25);
+    n = (float*)malloc(sizeof(float) * 4 * 25 * 25);
+    CHECK(pyramid_normal_tile(normals, 0, 0, 0, n, 4 * 25 * 25) == PYRAMID_OK);
+    /* Vertex (12, 7) is tile sample (14, 9); the root's 24 intervals span 24000: 1000 apart. */
+    two = 2000.0f;
+    gx = (zf[15 + 9 * 29] - zf[13 + 9 * 29]) / two;
+    gy = (zf[14 + 10 * 29] - zf[14 + 8 * 29]) / two;
+    l = sqrtf((gx * gx + gy * gy) + 1.0f);
+    CHECK(n[4 * (12 + 7 * 25)] == -gx / l);
+    CHECK(n[4 * (12 + 7 * 25) + 1] == -gy / l);
+    CHECK(n[4 * (12 + 7 * 25) + 2] == n[4 * (12 + 7 * 25)]);
+    CHECK(gx != 0.0f && gy != 0.0f);
+    CHECK(pyramid_normal_tile(normals, 2, 3, 1, n, 4 * 25 * 25) == PYRAMID_OK);
+    CHECK(pyramid_normal_tile(normals, 1, 2, 0, n, 4 * 25 * 25) == PYRAMID_ERROR_NOT_FOUND);
+    CHECK(pyramid_normal_tile(normals, 0, 0, 0, n, 100) == PYRAMID_ERROR_ARGUMENT);
+    free(n);
+    pyramid_normal_close(normals);
+}
+
 static void test_ortho(const char* dir) {
     char path[4096];
     pyramid_ortho* producer = NULL;
@@ -763,6 +814,7 @@ int main(int argc, char** argv) {
     }
     test_residual_file(argv[1]);
     test_elevation(argv[1]);
+    test_normals(argv[1]);
     test_ortho(argv[1]);
     test_errors(argv[1]);
     test_sources(argv[1]);

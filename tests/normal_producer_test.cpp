@@ -4,8 +4,12 @@
 // meet (edges, corners) every face gives a seam vertex the same normal, whatever the heights.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -97,6 +101,55 @@ TEST(Normals, ATiltedPlanesNormalsAreThePlanesAtEveryLevel) {
     EXPECT_GT(checked, 16000);
     // Without a size the geometry is unknown.
     EXPECT_THROW(NormalProducer(openElevationSet(dir.file("plane.dat")), NormalProducerOptions{}), Error);
+}
+
+// `pyramid tile --normals`: the producer's tile, raw (.f32) or as RGBA8 (.png, (v + 1) / 2 * 255,
+// north up); a plane's size must be given when no georeference sidecar says it.
+TEST(Normals, ThePyramidTileCommandWritesTheProducersTile) {
+    TempDir dir;
+    std::vector<float> heights(65 * 65);
+    for (size_t k = 0; k < heights.size(); ++k) {
+        heights[k] = static_cast<float>(50.0 + 3.0 * std::sin(static_cast<double>(k % 65) * 0.3) + 0.2 * static_cast<double>(k / 65));
+    }
+    test::writeFloatRaster(dir.file("hills.tif"), 65, 65, heights);
+    DemEncodeOptions o;
+    o.tileSize = 32;
+    o.rootTileSize = 32;
+    o.autoScale = true;
+    encodeDem(dir.file("hills.tif"), dir.file("hills.dat"), o);
+    const std::string tile = test::programPath("pyramid") + " tile " + dir.file("hills.dat") + " 1 1 0 --normals ";
+    ASSERT_EQ(test::run(tile + "--size 640 -o " + dir.file("n.f32")).exitCode, 0);
+    NormalProducerOptions no;
+    no.size = 640.0;
+    NormalProducer normals(openElevationSet(dir.file("hills.dat")), no);
+    const auto expected = normals.tile(1, 1, 0);
+    const std::string raw = test::readFile(dir.file("n.f32"));
+    ASSERT_EQ(raw.size(), expected->normals.size() * sizeof(float));
+    EXPECT_EQ(std::memcmp(raw.data(), expected->normals.data(), raw.size()), 0);
+    const test::RunResult png = test::run(tile + "--size 640 -o " + dir.file("n.png"));
+    ASSERT_EQ(png.exitCode, 0) << png.err;
+    OIIO::ImageSpec config; // the channels as stored: no premultiplication by the 4th
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(dir.file("n.png"), &config);
+    ASSERT_TRUE(in);
+    ASSERT_EQ(in->spec().width, 33);
+    ASSERT_EQ(in->spec().nchannels, 4);
+    std::vector<uint8_t> pixels(33 * 33 * 4);
+    ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, pixels.data()));
+    for (int y = 0; y < 33; ++y) {
+        for (int x = 0; x < 33; ++x) {
+            for (int c = 0; c < 4; ++c) {
+                const double v = expected->normals[(static_cast<size_t>(x) + static_cast<size_t>(32 - y) * 33) * 4 + c];
+                ASSERT_EQ(pixels[(static_cast<size_t>(y) * 33 + x) * 4 + c], std::lround((v + 1.0) / 2.0 * 255.0))
+                    << x << "," << y << " channel " << c;
+            }
+        }
+    }
+    const test::RunResult unknown = test::run(tile + "-o " + dir.file("u.f32"));
+    EXPECT_EQ(unknown.exitCode, 1);
+    EXPECT_NE(unknown.err.find("give --size"), std::string::npos) << unknown.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("u.f32")));
+    EXPECT_EQ(test::run(tile + "--residual -o " + dir.file("r.f32")).exitCode, 1);
 }
 
 // The six faces of a planet of `height(latitude, longitude)` metres, 4 levels of 16-interval tiles.

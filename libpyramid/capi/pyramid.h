@@ -38,7 +38,7 @@ extern "C" {
 
 #define PYRAMID_VERSION_MAJOR 0
 #define PYRAMID_VERSION_MINOR 2
-#define PYRAMID_VERSION_PATCH 1
+#define PYRAMID_VERSION_PATCH 2
 /* MAJOR * 10000 + MINOR * 100 + PATCH */
 #define PYRAMID_VERSION_NUMBER (PYRAMID_VERSION_MAJOR * 10000 + PYRAMID_VERSION_MINOR * 100 + PYRAMID_VERSION_PATCH)
 
@@ -59,7 +59,7 @@ typedef enum pyramid_kind {
     PYRAMID_KIND_ORTHO = 2     /* ortho file: 8-bit TIFF or DXT tiles */
 } pyramid_kind;
 
-/* The library's version (as PYRAMID_VERSION_NUMBER) and version text ("0.2.1"). */
+/* The library's version (as PYRAMID_VERSION_NUMBER) and version text ("0.2.2"). */
 PYRAMID_API int pyramid_version_number(void);
 PYRAMID_API const char* pyramid_version_string(void);
 
@@ -237,6 +237,41 @@ PYRAMID_API pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, i
  * `level` (-1: the deepest with residuals): the bilinear interpolation, in double precision, of
  * the four zf samples around the point in the tile that holds it. */
 PYRAMID_API pyramid_status pyramid_elevation_height(pyramid_elevation* producer, int level, double u, double v, double* height);
+
+/* ---- Normal producer (0.2.2) ------------------------------------------------------------- */
+
+/* The normals of an elevation producer's tiles (doc/shading.md): per vertex of a tile of n
+ * intervals ((n+1)^2, no border, row 0 = south), four floats (nx, ny, ncx, ncy): the normal's
+ * horizontal components in the tile's tangent frame, and the coarse normal's (the parent's
+ * normals on its render mesh of the elevation producer's grid_size, for geomorphing). The
+ * vertical component is sqrt(1 - nx^2 - ny^2). */
+typedef struct pyramid_normal pyramid_normal;
+
+typedef enum pyramid_deformation {
+    PYRAMID_DEFORM_PLANE = 0, /* the plane z = 0; frame x east, y north */
+    PYRAMID_DEFORM_SPHERE = 1 /* the root quad is the cube face [-R, R]^2 blown up onto a sphere of radius R;
+                                 frame: the tile centre's tangent plane */
+} pyramid_deformation;
+
+/* Size-prefixed; `size` must be set (there is no default geometry). */
+typedef struct pyramid_normal_options {
+    size_t struct_size; /* sizeof(pyramid_normal_options) */
+    int deformation;    /* a pyramid_deformation */
+    double size;        /* plane: the root quad's side; sphere: the radius R; in height units, > 0 */
+    size_t cache_tiles; /* produced tiles kept; 0 is taken as 1 */
+} pyramid_normal_options;
+
+/* The normal producer over `elevations`, whose producer (and cache) it shares: the elevation
+ * handle may be closed before this one. */
+PYRAMID_API pyramid_status pyramid_normal_open(pyramid_elevation* elevations, const pyramid_normal_options* options,
+                                               pyramid_normal** producer);
+PYRAMID_API void pyramid_normal_close(pyramid_normal* producer);
+/* Vertices per side of the produced tiles (n + 1). */
+PYRAMID_API int pyramid_normal_side(const pyramid_normal* producer);
+/* Quadtree tile (level, tx, ty) into `normals`, `count` >= 4 side^2 floats: (nx, ny, ncx, ncy)
+ * per vertex. Tiles outside levels 0..30 are PYRAMID_ERROR_NOT_FOUND. */
+PYRAMID_API pyramid_status pyramid_normal_tile(pyramid_normal* producer, int level, int tx, int ty, float* normals,
+                                               size_t count);
 
 /* ---- Ortho producer ---------------------------------------------------------------------- */
 

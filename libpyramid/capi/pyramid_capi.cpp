@@ -21,6 +21,7 @@
 #include "libpyramid/capi/capi_status.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/normal_producer.hpp"
 #include "libpyramid/runtime/height_query.hpp"
 #include "libpyramid/runtime/ortho_producer.hpp"
 
@@ -31,7 +32,11 @@ struct pyramid_file {
 };
 
 struct pyramid_elevation {
-    std::unique_ptr<pyramid::ElevationProducer> producer;
+    std::shared_ptr<pyramid::ElevationProducer> producer; // shared with its normal producers
+};
+
+struct pyramid_normal {
+    std::unique_ptr<pyramid::NormalProducer> producer;
 };
 
 struct pyramid_ortho {
@@ -650,7 +655,7 @@ pyramid_status pyramid_elevation_open_sources(const pyramid_source* main_source,
         eo.cacheCapacity = o.cache_tiles == 0 ? 1 : o.cache_tiles;
         auto p = std::make_unique<pyramid_elevation>();
         try {
-            p->producer = std::make_unique<pyramid::ElevationProducer>(residuals, eo);
+            p->producer = std::make_shared<pyramid::ElevationProducer>(residuals, eo);
         } catch (const pyramid::Error& e) {
             return failWith(PYRAMID_ERROR_ARGUMENT, name + ": " + e.what());
         }
@@ -702,6 +707,59 @@ pyramid_status pyramid_elevation_height(pyramid_elevation* producer, int level, 
     }
     return guarded([&] {
         *height = pyramid::heightAt(*producer->producer, u, v, level).height;
+        return PYRAMID_OK;
+    });
+}
+
+pyramid_status pyramid_normal_open(pyramid_elevation* elevations, const pyramid_normal_options* options,
+                                   pyramid_normal** producer) {
+    if (!elevations || !options || !producer) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_normal_open: null argument");
+    }
+    *producer = nullptr;
+    pyramid_normal_options o;
+    if (!readSized(options, o, "pyramid_normal_open: options")) {
+        return PYRAMID_ERROR_ARGUMENT;
+    }
+    if (o.deformation != PYRAMID_DEFORM_PLANE && o.deformation != PYRAMID_DEFORM_SPHERE) {
+        return failWith(PYRAMID_ERROR_ARGUMENT,
+                        "pyramid_normal_open: deformation " + std::to_string(o.deformation) + " is not plane or sphere");
+    }
+    return guarded([&] {
+        pyramid::NormalProducerOptions no;
+        no.deformation = o.deformation == PYRAMID_DEFORM_SPHERE ? pyramid::Deformation::Sphere : pyramid::Deformation::Plane;
+        no.size = o.size;
+        no.cacheCapacity = o.cache_tiles == 0 ? 1 : o.cache_tiles;
+        auto p = std::make_unique<pyramid_normal>();
+        try {
+            p->producer = std::make_unique<pyramid::NormalProducer>(elevations->producer, no);
+        } catch (const pyramid::Error& e) {
+            return failWith(PYRAMID_ERROR_ARGUMENT, std::string("pyramid_normal_open: ") + e.what());
+        }
+        *producer = p.release();
+        return PYRAMID_OK;
+    });
+}
+
+void pyramid_normal_close(pyramid_normal* producer) { delete producer; }
+
+int pyramid_normal_side(const pyramid_normal* producer) { return producer ? producer->producer->tileSize() + 1 : 0; }
+
+pyramid_status pyramid_normal_tile(pyramid_normal* producer, int level, int tx, int ty, float* normals, size_t count) {
+    if (!producer || !normals) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_normal_tile: null argument");
+    }
+    const size_t side = static_cast<size_t>(producer->producer->tileSize()) + 1;
+    if (count < 4 * side * side) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, "an array of " + std::to_string(count) + " floats, " +
+                                                    std::to_string(4 * side * side) + " needed");
+    }
+    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+        return outside(level, tx, ty);
+    }
+    return guarded([&] {
+        const auto tile = producer->producer->tile(level, tx, ty);
+        std::memcpy(normals, tile->normals.data(), tile->normals.size() * sizeof(float));
         return PYRAMID_OK;
     });
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <numbers>
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
@@ -83,6 +85,39 @@ void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyr
     AtomicFile file(sidecar);
     file.writeAt(0, text.data(), text.size());
     file.commit();
+}
+
+std::array<double, 2> groundSpacing(const std::string& main, int level) {
+    const std::string sidecar = georeferenceSidecarPath(main);
+    std::ifstream in(sidecar);
+    if (!in) {
+        return {0.0, 0.0};
+    }
+    try {
+        const nlohmann::json g = nlohmann::json::parse(in);
+        for (const auto& entry : g.at("units_per_sample")) {
+            if (entry.at("level").get<int>() != level) {
+                continue;
+            }
+            double x = entry.at("x").get<double>(), y = entry.at("y").get<double>();
+            const auto& crs = g.at("crs");
+            if (crs.at("kind") == "geographic") {
+                const double a = crs.at("semi_major_axis_metres").get<double>();
+                const double degree = a * std::numbers::pi / 180.0 * crs.value("unit_degrees", 1.0);
+                const auto& root = g.at("root_extent");
+                const double middle = (root.at("min_y").get<double>() + root.at("max_y").get<double>()) / 2.0;
+                x *= degree * std::cos(middle * std::numbers::pi / 180.0);
+                y *= degree;
+            } else {
+                x *= crs.value("unit_metres", 1.0);
+                y *= crs.value("unit_metres", 1.0);
+            }
+            return {std::abs(x), std::abs(y)};
+        }
+    } catch (const nlohmann::json::exception&) {
+        fail(sidecar, "not a georeference sidecar");
+    }
+    return {0.0, 0.0};
 }
 
 } // namespace pyramid

@@ -45,4 +45,10 @@ void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyr
 // The sidecar's text for the pyramid file `pyramid` (its name is recorded).
 std::string georeferenceSidecarText(const std::string& pyramid, const PyramidGeoreference& g);
 
+// The ground distance between the samples of `level` of the pyramid `main` along x and y, in
+// metres, from its sidecar (georeferenceSidecarPath): CRS units times the unit's metres;
+// geographic degrees at the root quad's middle latitude, on the CRS's ellipsoid. {0, 0} without
+// a sidecar or without the level; throws Error naming the sidecar when it is not one.
+std::array<double, 2> groundSpacing(const std::string& main, int level);
+
 } // namespace pyramid

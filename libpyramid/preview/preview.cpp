@@ -13,6 +13,7 @@
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/preview/planet_preview.hpp"
 #include "libpyramid/preview/png_writer.hpp"
 #include "libpyramid/preview/preview_levels.hpp"
@@ -109,40 +110,6 @@ namespace {
 
 using namespace preview;
 
-// Ground distance between the samples of `level` along x and y, from the georeference sidecar
-// beside `main`, converted to metres; {0, 0} without one.
-std::array<double, 2> sidecarSpacing(const std::string& main, int level) {
-    std::ifstream in(main + ".georef.json");
-    if (!in) {
-        return {0.0, 0.0};
-    }
-    try {
-        const nlohmann::json g = nlohmann::json::parse(in);
-        for (const auto& entry : g.at("units_per_sample")) {
-            if (entry.at("level").get<int>() != level) {
-                continue;
-            }
-            double x = entry.at("x").get<double>(), y = entry.at("y").get<double>();
-            const auto& crs = g.at("crs");
-            if (crs.at("kind") == "geographic") {
-                const double a = crs.at("semi_major_axis_metres").get<double>();
-                const double degree = a * std::numbers::pi / 180.0 * crs.value("unit_degrees", 1.0);
-                const auto& root = g.at("root_extent");
-                const double middle = (root.at("min_y").get<double>() + root.at("max_y").get<double>()) / 2.0;
-                x *= degree * std::cos(middle * std::numbers::pi / 180.0);
-                y *= degree;
-            } else {
-                x *= crs.value("unit_metres", 1.0);
-                y *= crs.value("unit_metres", 1.0);
-            }
-            return {std::abs(x), std::abs(y)};
-        }
-    } catch (const nlohmann::json::exception&) {
-        fail(main + ".georef.json", "not a georeference sidecar; give --spacing");
-    }
-    return {0.0, 0.0};
-}
-
 PreviewReport elevationPreview(const PyramidSet& set, const std::string& output, const PreviewOptions& o) {
     const ResidualHeader h = ResidualFileReader::readHeader(set.main);
     const int level = chooseLevel(o, setMaxLevel(set), o.size, [&](int l) { return elevationLevelSide(h, l); },
@@ -158,7 +125,7 @@ PreviewReport elevationPreview(const PyramidSet& set, const std::string& output,
     const ElevationPaint paint(style, report.minimum, report.maximum, o);
     std::array<double, 2> spacing{o.spacing, o.spacing};
     if (paint.shading() && o.spacing <= 0.0) {
-        spacing = sidecarSpacing(set.main, level);
+        spacing = groundSpacing(set.main, level);
         if (spacing[0] <= 0.0 || spacing[1] <= 0.0) {
             spacing = {1.0, 1.0};
         }
@@ -244,7 +211,7 @@ PreviewReport writeTilePreview(const std::vector<float>& heights, int side, cons
     const ElevationPaint paint(style, report.minimum, report.maximum, o);
     std::array<double, 2> spacing{o.spacing, o.spacing};
     if (paint.shading() && o.spacing <= 0.0) {
-        spacing = sidecarSpacing(file, level);
+        spacing = groundSpacing(file, level);
         if (spacing[0] <= 0.0 || spacing[1] <= 0.0) {
             spacing = {1.0, 1.0};
         }
