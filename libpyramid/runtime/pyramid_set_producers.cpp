@@ -65,7 +65,7 @@ int setMaxLevel(const PyramidSet& set) {
             const ResidualHeader h = ResidualFileReader::readHeader(file);
             deepest = std::max(deepest, h.rootLevel + h.maxLevel);
         } else {
-            const OrthoHeader& h = OrthoFileReader::open(file)->header();
+            const OrthoHeader h = OrthoFileReader::open(file)->header(); // a copy: the reader is a temporary
             deepest = std::max(deepest, h.rootLevel + h.maxLevel);
         }
     };
