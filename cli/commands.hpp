@@ -24,5 +24,6 @@ CommandRunner setupMergeCommand(CLI::App& app);   // pyramid merge PART... [-o D
 CommandRunner setupHeightCommand(CLI::App& app);  // pyramid height FILE|DIR --grid/--pixel/--lonlat
 CommandRunner setupPreviewCommand(CLI::App& app); // pyramid preview FILE|SET -o OUT.png
 CommandRunner setupRecodeCommand(CLI::App& app);  // pyramid recode FILE -o OUT --compression C
+CommandRunner setupApertureCommand(CLI::App& app); // pyramid aperture / preprocessAperture
 
 } // namespace pyramid::cli

@@ -12,7 +12,7 @@ endif()
 install(TARGETS ${PYRAMID_INSTALL_LIBRARIES} EXPORT libpyramidTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-install(TARGETS pyramid preprocessDem preprocessOrtho preprocessSphericalDem preprocessSphericalOrtho
+install(TARGETS ${PYRAMID_PROGRAMS} # cli/CMakeLists.txt
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(PYRAMID_MAN_PAGES)
   install(FILES ${PYRAMID_MAN_PAGES} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1) # cli/CMakeLists.txt

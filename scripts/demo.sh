@@ -24,6 +24,11 @@ echo "== previews: out/DEM.png (hillshade), out/DEM-residuals.png, out/ortho.png
 "$bin/pyramid" preview out/DEM.dat --style residuals -o out/DEM-residuals.png
 "$bin/pyramid" preview out/ortho/RGB.dat -o out/ortho.png
 
+echo "== preprocessAperture: out/DEM.dat (its 384 intervals span about 10,000 km) -> out/APERTURE.dat, out/aperture.png"
+"$bin/preprocessAperture" out/DEM.dat --size 1e7 -o out/APERTURE.dat
+"$bin/pyramid" check out/APERTURE.dat
+"$bin/pyramid" preview out/APERTURE.dat -o out/aperture.png
+
 echo "== preprocessSphericalDem: samples/srtm.png (height = red x 10000/255 m) -> out/planet/DEM1..6.dat"
 "$bin/preprocessSphericalDem" samples/srtm.png -o out/planet --height-scale 10000/255 --report out/planet-dem.json
 echo "== preprocessSphericalOrtho: samples/bluemarble.png -> out/planet/{RGB1..6.dat,dxt/,residuals/}"

@@ -164,7 +164,8 @@ TEST(Version, EveryProgramNamesItsLibraries) {
     const std::string oiioVersion =
         std::to_string(oiio / 10000) + "." + std::to_string(oiio / 100 % 100) + "." + std::to_string(oiio % 100);
     for (const std::string program :
-         {"pyramid", "preprocessDem", "preprocessOrtho", "preprocessSphericalDem", "preprocessSphericalOrtho"}) {
+         {"pyramid", "preprocessDem", "preprocessOrtho", "preprocessSphericalDem", "preprocessSphericalOrtho",
+          "preprocessAperture"}) {
         const auto r = run(programPath(program) + " --version");
         ASSERT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(r.out.substr(0, r.out.find('\n')),

@@ -39,12 +39,17 @@ if [ -n "$others" ]; then
 fi
 # ---- Man pages: one per program, made from its --help and --version (when help2man is there). ----
 if command -v help2man >/dev/null 2>&1; then
-  for prog in pyramid preprocessDem preprocessOrtho preprocessSphericalDem preprocessSphericalOrtho; do
+  programs=0
+  for exe in "$prefix"/bin/*; do
+    [ -f "$exe" ] && [ -x "$exe" ] || continue
+    prog=$(basename "$exe")
+    programs=$((programs + 1))
     page=$prefix/share/man/man1/$prog.1
     test -s "$page" || { echo "no man page $page" >&2; exit 1; }
     grep -q '^\.SH DESCRIPTION' "$page" && grep -q '\\-\\-help' "$page" ||
       { echo "$page does not hold the program's --help" >&2; exit 1; }
   done
+  [ "$programs" -ge 6 ] || { echo "only $programs programs installed in $prefix/bin" >&2; exit 1; }
 fi
 
 with_gl=OFF

@@ -1,0 +1,253 @@
+#include "libpyramid/encode/aperture/aperture.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <vector>
+
+#include "formats/error.hpp"
+#include "formats/pyramid_set.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/input/pyramid_georeference.hpp"
+#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
+
+namespace pyramid {
+
+void ApertureSearch::validate() const {
+    if (directions < 4 || directions > 256) {
+        failOption("directions", std::to_string(directions) + " is not 4 to 256 azimuths");
+    }
+    if (radius < 2 || radius > 1024 || radius % 2 != 0) {
+        failOption("radius", std::to_string(radius) + " is not an even number of steps from 2 to 1024");
+    }
+    if (levels < 1 || levels > 16) {
+        failOption("levels", std::to_string(levels) + " is not 1 to 16 levels");
+    }
+}
+
+Aperture apertureOfHorizons(const double* horizons, int count) {
+    const double sector = 2.0 * std::numbers::pi / count;
+    double open = 0.0, bx = 0.0, by = 0.0, bz = 0.0;
+    for (int k = 0; k < count; ++k) {
+        const double h = horizons[k];
+        const double azimuth = sector * k;
+        open += sector * (1.0 - std::sin(h));
+        const double horizontal = sector * ((std::numbers::pi / 2.0 - h) / 2.0 - std::sin(2.0 * h) / 4.0);
+        bx += horizontal * std::cos(azimuth);
+        by += horizontal * std::sin(azimuth);
+        bz += sector * std::cos(h) * std::cos(h) / 2.0;
+    }
+    Aperture a;
+    a.visible = open / (2.0 * std::numbers::pi);
+    const double l = std::sqrt(bx * bx + by * by + bz * bz);
+    if (l > 0.0) {
+        a.direction = {bx / l, by / l, bz / l};
+    }
+    return a;
+}
+
+std::array<uint8_t, 3> encodeAperture(const Aperture& a) {
+    const auto component = [](double v) { return static_cast<uint8_t>(std::lround(128.0 + 127.0 * std::clamp(v, -1.0, 1.0))); };
+    return {static_cast<uint8_t>(std::lround(std::clamp(a.visible, 0.0, 1.0) * 255.0)), component(a.direction[0]),
+            component(a.direction[1])};
+}
+
+namespace {
+
+// The heights of an elevation producer's levels, read bilinearly between vertices, with the
+// tiles last used kept at hand (one per reading thread: no lock for most samples).
+class HeightReader {
+public:
+    explicit HeightReader(ElevationProducer& producer) : producer_(producer), n_(producer.tileSize()) {}
+
+    // Level `level` at vertex coordinates (x, y) of 0..n 2^level (clamped: beyond the map the
+    // edge continues).
+    double at(int level, double x, double y) {
+        const int64_t vertices = int64_t{n_} << level;
+        x = std::clamp(x, 0.0, static_cast<double>(vertices));
+        y = std::clamp(y, 0.0, static_cast<double>(vertices));
+        const auto cell = [&](double c, int& t, int& k, double& f) {
+            const int64_t whole = std::min<int64_t>(static_cast<int64_t>(std::floor(c)), vertices - 1);
+            t = static_cast<int>(whole / n_);
+            k = static_cast<int>(whole - int64_t{t} * n_);
+            f = c - static_cast<double>(whole);
+        };
+        int tx = 0, ty = 0, i = 0, j = 0;
+        double fx = 0.0, fy = 0.0;
+        cell(x, tx, i, fx);
+        cell(y, ty, j, fy);
+        const float* z = tile(level, tx, ty);
+        const size_t side = static_cast<size_t>(n_) + 5;
+        const auto h = [&](int a, int b) {
+            return static_cast<double>(z[static_cast<size_t>(a + 2) + static_cast<size_t>(b + 2) * side]);
+        };
+        return (h(i, j) * (1.0 - fx) + h(i + 1, j) * fx) * (1.0 - fy) + (h(i, j + 1) * (1.0 - fx) + h(i + 1, j + 1) * fx) * fy;
+    }
+
+private:
+    const float* tile(int level, int tx, int ty) {
+        for (Kept& k : kept_) {
+            if (k.tile && k.level == level && k.tx == tx && k.ty == ty) {
+                return k.tile->zf.data();
+            }
+        }
+        Kept& k = kept_[next_++ % kept_.size()];
+        k = {level, tx, ty, producer_.tile(level, tx, ty)};
+        return k.tile->zf.data();
+    }
+
+    struct Kept {
+        int level = 0, tx = 0, ty = 0;
+        std::shared_ptr<const ElevationTile> tile;
+    };
+    ElevationProducer& producer_;
+    int n_;
+    std::array<Kept, 16> kept_{};
+    size_t next_ = 0;
+};
+
+// The finest level's aperture as the raster the ortho encoder reads: pixel (i, j), row 0 the
+// north, centred at vertex coordinates (i + 0.5, W - j - 0.5) of producer level `finest`.
+class AperturePixels final : public RasterPixels {
+public:
+    AperturePixels(std::shared_ptr<ElevationProducer> producer, int finest, double spacing, const ApertureSearch& search)
+        : producer_(std::move(producer)), finest_(finest), spacing_(spacing), search_(search) {
+        for (int k = 0; k < search.directions; ++k) {
+            const double azimuth = 2.0 * std::numbers::pi * k / search.directions;
+            cos_.push_back(std::cos(azimuth));
+            sin_.push_back(std::sin(azimuth));
+        }
+        width_ = int64_t{producer_->tileSize()} << finest;
+    }
+
+    void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const override {
+        read(x0, y0, x1, y1, channel, channel + 1, [&out](uint8_t v) { *out++ = static_cast<float>(v); });
+    }
+    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
+        read(x0, y0, x1, y1, c0, c1, [&out](uint8_t v) { *out++ = v; });
+    }
+
+private:
+    template <class Put>
+    void read(int x0, int y0, int x1, int y1, int c0, int c1, Put put) const {
+        HeightReader heights(*producer_);
+        std::vector<double> horizons(static_cast<size_t>(search_.directions));
+        for (int j = y0; j < y1; ++j) {
+            for (int i = x0; i < x1; ++i) {
+                const double x = i + 0.5, y = static_cast<double>(width_ - j) - 0.5;
+                const double z0 = heights.at(finest_, x, y);
+                for (int d = 0; d < search_.directions; ++d) {
+                    double horizon = 0.0;
+                    for (int q = 0; q < search_.levels && finest_ - q >= 0; ++q) {
+                        const double scale = std::ldexp(1.0, q);
+                        for (int k = q == 0 ? 1 : search_.radius / 2 + 1; k <= search_.radius; ++k) {
+                            const double distance = k * scale; // finest-level samples
+                            const double z = heights.at(finest_ - q, (x + distance * cos_[static_cast<size_t>(d)]) / scale,
+                                                        (y + distance * sin_[static_cast<size_t>(d)]) / scale);
+                            horizon = std::max(horizon, std::atan2(z - z0, distance * spacing_));
+                        }
+                    }
+                    horizons[static_cast<size_t>(d)] = horizon;
+                }
+                const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
+                for (int c = c0; c < c1; ++c) {
+                    put(pixel[static_cast<size_t>(c)]);
+                }
+            }
+        }
+    }
+
+    std::shared_ptr<ElevationProducer> producer_;
+    int finest_;
+    double spacing_;
+    ApertureSearch search_;
+    int64_t width_ = 0;
+    std::vector<double> cos_, sin_;
+};
+
+} // namespace
+
+ApertureReport encodeApertureFile(const std::string& dem, const std::string& output, const ApertureEncodeOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    options.search.validate();
+    const std::filesystem::path out(output);
+    if (out.extension() != ".dat" || out.stem().empty()) {
+        fail(output, "an aperture pyramid is an ortho file: name it NAME.dat");
+    }
+    const PyramidSet set = openPyramidSet(dem);
+    if (set.kind != PyramidKind::Residual) {
+        fail(set.name(), "holds an ortho pyramid, not elevations");
+    }
+    const ResidualHeader h = ResidualFileReader::readHeader(set.main);
+    double size = options.size;
+    if (size <= 0.0) {
+        size = groundSpacing(set.main, 0)[0] * static_cast<double>(h.tileSize >> h.minLevel);
+        if (!(size > 0.0)) {
+            failOption("size", "the ground size of " + set.name() + " is unknown (no " +
+                                   georeferenceSidecarPath(set.main) + "): give the root quad's side in height units");
+        }
+    }
+    if (!std::isfinite(size)) {
+        failOption("size", "must be a finite ground size");
+    }
+    const int finest = setMaxLevel(set) - h.minLevel;
+    if (finest < 0) {
+        fail(set.name(), "has no level of full tiles (maxLevel below minLevel)");
+    }
+    ElevationProducerOptions eo;
+    eo.cacheCapacity = 1024;
+    auto producer = openElevationSet(dem, eo);
+    const int T = producer->tileSize();
+    const double spacing = size / static_cast<double>(int64_t{T} << finest);
+    RasterInfo info;
+    info.width = info.height = static_cast<int>(int64_t{T} << finest);
+    info.channels = 3;
+    info.type = SampleType::UInt8;
+    info.formatName = "aperture";
+    const auto raster = RasterSource::fromPixels(
+        set.name() + " (aperture)", info, std::make_shared<AperturePixels>(producer, finest, spacing, options.search));
+    OrthoEncodeOptions o;
+    o.name = out.stem().string();
+    o.writeDxt = false;
+    o.writeResiduals = false;
+    o.levels.tileSize = T;
+    o.levels.maxLevel = finest;
+    o.levels.colourSpace = ColourSpace::Linear;
+    o.levels.threads = options.threads;
+    o.deflateLevel = options.deflateLevel;
+    o.progress = options.progress;
+    const std::string directory = out.parent_path().empty() ? "." : out.parent_path().string();
+    const OrthoReport r = encodeOrtho(*raster, directory, o);
+    ApertureReport report;
+    report.input = dem;
+    report.output = output;
+    report.tileSize = T;
+    report.maxLevel = finest;
+    report.size = size;
+    report.spacing = spacing;
+    report.search = options.search;
+    report.tiles = r.tiles;
+    report.bytes = r.bytes.empty() ? 0 : r.bytes[0];
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+nlohmann::json toJson(const ApertureReport& r) {
+    return {{"input", r.input},
+            {"output", r.output},
+            {"tile_size", r.tileSize},
+            {"max_level", r.maxLevel},
+            {"size", r.size},
+            {"spacing", r.spacing},
+            {"directions", r.search.directions},
+            {"radius", r.search.radius},
+            {"levels", r.search.levels},
+            {"tiles", r.tiles},
+            {"bytes", r.bytes},
+            {"seconds", r.seconds}};
+}
+
+} // namespace pyramid

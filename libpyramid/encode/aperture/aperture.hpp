@@ -1,0 +1,79 @@
+// Ambient aperture (doc/shading.md, "Ambient aperture"; Oat and Sander, "Ambient Aperture
+// Lighting", I3D 2007): at every pixel of a terrain, the solid angle of sky above the local
+// horizontal plane that the terrain around does not hide, and the principal (mean) direction of
+// that visible sky, found by a horizon search over the reconstructed heights of several levels
+// of a residual pyramid (the runtime's elevation producer). preprocessAperture writes them as an
+// ortho pyramid (3 channels) that the ortho producers read.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/runtime/elevation_producer.hpp"
+
+namespace pyramid {
+
+struct ApertureSearch {
+    int directions = 16; // azimuths, evenly spaced from east, counter-clockwise
+    int radius = 16;     // steps per level along each azimuth
+    // Levels searched: the finest (steps 1..radius samples away), then each coarser one on its own
+    // samples, twice as far apart (steps radius/2 + 1 .. radius of it): the reach doubles a level.
+    int levels = 3;
+    // Throws OptionError("directions" | "radius" | "levels") for values out of 4..256, 2..1024
+    // (even), 1..16.
+    void validate() const;
+};
+
+// The visible sky at one point: `visible` its solid angle over the hemisphere's (2 pi), 0..1;
+// `direction` its mean direction (unit; x east, y north, z up).
+struct Aperture {
+    double visible = 1.0;
+    std::array<double, 3> direction{0.0, 0.0, 1.0};
+};
+
+// The aperture from the horizon angles (radians above the horizontal, >= 0) of `count` equal
+// sectors of azimuth, sector k centred on azimuth 2 pi k / count from east: each sector sees the
+// sky above its horizon, a solid angle of (2 pi / count)(1 - sin h); its mean direction is the
+// integral of the direction over it, (cos^2 over elevation: (pi/2 - h)/2 - sin(2h)/4 for the
+// horizontal part, cos^2(h)/2 for the vertical), summed over the sectors and normalised.
+Aperture apertureOfHorizons(const double* horizons, int count);
+
+// The three channels of an aperture pixel: visible x 255, and the direction's x and y as
+// 128 + 127 v (1..255, 0 exactly 128: v = (byte - 128) / 127), each rounded to the nearest.
+std::array<uint8_t, 3> encodeAperture(const Aperture& a);
+
+struct ApertureEncodeOptions {
+    ApertureSearch search;
+    // The root quad's side on the ground, in height units; 0: from the DEM's georeference
+    // sidecar (metres), else an error.
+    double size = 0.0;
+    int threads = 0;
+    int deflateLevel = 6;
+    std::function<void(int64_t, int64_t)> progress; // (tiles done, total)
+};
+
+struct ApertureReport {
+    std::string input, output;
+    int tileSize = 0, maxLevel = 0;
+    double size = 0.0, spacing = 0.0; // the root quad's side, the finest level's sample spacing
+    ApertureSearch search;
+    int64_t tiles = 0;
+    uint64_t bytes = 0;
+    double seconds = 0.0;
+};
+
+// preprocessAperture: the aperture pyramid of the residual pyramid (file or region set) `dem`,
+// into `output` (NAME.dat): ortho tiles of the DEM's tile size, one level per DEM level from
+// its minLevel on (ortho level L covers DEM tile level minLevel + L), 3 channels, Deflate TIFF.
+// The finest level's pixels are searched; coarser levels are their linear averages. Throws Error
+// or OptionError and leaves nothing behind.
+ApertureReport encodeApertureFile(const std::string& dem, const std::string& output, const ApertureEncodeOptions& options);
+
+nlohmann::json toJson(const ApertureReport& report);
+
+} // namespace pyramid

@@ -1,0 +1,143 @@
+// Ambient aperture (libpyramid/encode/aperture/aperture.hpp, doc/shading.md): the sky a horizon
+// profile leaves; a flat plain sees the whole hemisphere, the bottom of a conical pit the cap the
+// cone's walls leave (1 - sin of their slope angle); the file is the same for 1 and 2 threads;
+// the program refuses a plane without a ground size.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "formats/error.hpp"
+#include "libpyramid/api/encoders.hpp"
+#include "libpyramid/encode/aperture/aperture.hpp"
+#include "libpyramid/runtime/ortho_producer.hpp"
+#include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
+
+namespace pyramid {
+namespace {
+
+using test::TempDir;
+
+TEST(Aperture, TheSkyAHorizonLeaves) {
+    std::vector<double> open(16, 0.0);
+    Aperture a = apertureOfHorizons(open.data(), 16);
+    EXPECT_NEAR(a.visible, 1.0, 1e-12);
+    EXPECT_NEAR(a.direction[2], 1.0, 1e-12);
+    const double wall = std::atan(0.5);
+    std::vector<double> pit(16, wall);
+    a = apertureOfHorizons(pit.data(), 16);
+    EXPECT_NEAR(a.visible, 1.0 - std::sin(wall), 1e-12);
+    EXPECT_NEAR(a.direction[2], 1.0, 1e-12);
+    // A wall to the east only: the sky's mean direction leans west.
+    std::vector<double> east(16, 0.0);
+    east[0] = east[1] = east[15] = 1.2;
+    a = apertureOfHorizons(east.data(), 16);
+    EXPECT_LT(a.visible, 1.0);
+    EXPECT_LT(a.direction[0], -0.05);
+    EXPECT_NEAR(a.direction[1], 0.0, 1e-12);
+    EXPECT_EQ(encodeAperture(Aperture{}), (std::array<uint8_t, 3>{255, 128, 128}));
+}
+
+// A DEM of 129 x 129 samples, 1 height unit apart at its finest level (size 128), from f(x, y)
+// in vertex coordinates (x east, y north).
+std::string demOf(const TempDir& dir, const std::string& name, double (*f)(double, double)) {
+    constexpr int w = 129;
+    std::vector<float> v(static_cast<size_t>(w) * w);
+    for (int row = 0; row < w; ++row) {
+        for (int col = 0; col < w; ++col) {
+            v[static_cast<size_t>(row) * w + col] = static_cast<float>(f(col, w - 1 - row));
+        }
+    }
+    test::writeFloatRaster(dir.file(name + ".tif"), w, w, v);
+    DemEncodeOptions o;
+    o.tileSize = 32;
+    o.rootTileSize = 32;
+    o.scale = 0.01;
+    encodeDem(dir.file(name + ".tif"), dir.file(name + ".dat"), o);
+    return dir.file(name + ".dat");
+}
+
+// Pixel (x, y) of ortho level `level` (y counted from the south), channel c.
+int pixel(const std::string& file, int level, int x, int y, int c) {
+    const OrthoProducer p(file);
+    const int T = p.header().tileSize, b = p.header().border(), C = p.header().channels;
+    const std::vector<uint8_t> t = p.tile(level, x / T, y / T);
+    const size_t side = static_cast<size_t>(T + 2 * b);
+    return t[((static_cast<size_t>(y % T + b)) * side + static_cast<size_t>(x % T + b)) * static_cast<size_t>(C) +
+             static_cast<size_t>(c)];
+}
+
+TEST(Aperture, AFlatPlainSeesTheWholeHemisphere) {
+    TempDir dir;
+    const std::string dem = demOf(dir, "flat", [](double, double) { return 100.0; });
+    ApertureEncodeOptions o;
+    o.size = 128.0;
+    const ApertureReport r = encodeApertureFile(dem, dir.file("APERTURE.dat"), o);
+    EXPECT_EQ(r.maxLevel, 2);
+    EXPECT_EQ(r.tiles, 21);
+    const OrthoProducer p(dir.file("APERTURE.dat"));
+    ASSERT_EQ(p.header().channels, 3);
+    for (int level = 0; level <= 2; ++level) {
+        for (int ty = 0; ty < (1 << level); ++ty) {
+            for (int tx = 0; tx < (1 << level); ++tx) {
+                const std::vector<uint8_t> t = p.tile(level, tx, ty);
+                for (int y = 2; y < 34; ++y) {
+                    for (int x = 2; x < 34; ++x) {
+                        const size_t k = (static_cast<size_t>(y) * 36 + static_cast<size_t>(x)) * 3;
+                        ASSERT_EQ(t[k], 255);
+                        ASSERT_EQ(t[k + 1], 128);
+                        ASSERT_EQ(t[k + 2], 128);
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(Aperture, TheBottomOfAConicalPitSeesTheCapItsWallsLeave) {
+    TempDir dir;
+    // Walls of slope 1/2 around (64.5, 64.5), the centre of finest pixel (64, 64).
+    const std::string dem = demOf(dir, "pit", [](double x, double y) { return 0.5 * std::hypot(x - 64.5, y - 64.5); });
+    ApertureEncodeOptions o;
+    o.size = 128.0;
+    o.threads = 1;
+    encodeApertureFile(dem, dir.file("one/APERTURE.dat"), o);
+    const double expected = 1.0 - std::sin(std::atan(0.5)); // 0.553: a cap of half-angle 63.4 degrees
+    // 8-bit storage (1/255) and bilinear heights between the cone's vertices: within 2/255.
+    EXPECT_NEAR(pixel(dir.file("one/APERTURE.dat"), 2, 64, 64, 0) / 255.0, expected, 2.0 / 255.0);
+    EXPECT_NEAR(pixel(dir.file("one/APERTURE.dat"), 2, 64, 64, 1), 128, 1);
+    EXPECT_NEAR(pixel(dir.file("one/APERTURE.dat"), 2, 64, 64, 2), 128, 1);
+    // On the pit's west wall the ground rises westward: the sky leans east, over the pit.
+    EXPECT_GT(pixel(dir.file("one/APERTURE.dat"), 2, 40, 64, 1), 136);
+    EXPECT_NEAR(pixel(dir.file("one/APERTURE.dat"), 2, 40, 64, 2), 128, 2);
+    // The same bytes for 2 threads.
+    o.threads = 2;
+    encodeApertureFile(dem, dir.file("two/APERTURE.dat"), o);
+    EXPECT_EQ(test::readFile(dir.file("one/APERTURE.dat")), test::readFile(dir.file("two/APERTURE.dat")));
+}
+
+TEST(Aperture, TheProgramNeedsAGroundSize) {
+    TempDir dir;
+    const std::string dem = demOf(dir, "flat", [](double, double) { return 10.0; });
+    const std::string program = test::programPath("preprocessAperture") + " " + dem + " -q -o ";
+    const test::RunResult unknown = test::run(program + dir.file("a/APERTURE.dat"));
+    EXPECT_EQ(unknown.exitCode, 1);
+    EXPECT_NE(unknown.err.find("--size"), std::string::npos) << unknown.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("a")));
+    const test::RunResult ok =
+        test::run(program + dir.file("b/APERTURE.dat") + " --size 128 --directions 8 --radius 4 --report -");
+    ASSERT_EQ(ok.exitCode, 0) << ok.err;
+    const nlohmann::json report = nlohmann::json::parse(ok.out);
+    EXPECT_EQ(report.at("directions"), 8);
+    EXPECT_EQ(report.at("spacing"), 1.0);
+    EXPECT_EQ(test::run(program + dir.file("c/APERTURE.dat") + " --size 128 --radius 3").exitCode, 1);
+}
+
+} // namespace
+} // namespace pyramid
