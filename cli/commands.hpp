@@ -25,5 +25,6 @@ CommandRunner setupHeightCommand(CLI::App& app);  // pyramid height FILE|DIR --g
 CommandRunner setupPreviewCommand(CLI::App& app); // pyramid preview FILE|SET -o OUT.png
 CommandRunner setupRecodeCommand(CLI::App& app);  // pyramid recode FILE -o OUT --compression C
 CommandRunner setupApertureCommand(CLI::App& app); // pyramid aperture / preprocessAperture
+CommandRunner setupSphereApertureCommand(CLI::App& app); // pyramid sphere-aperture / preprocessSphericalAperture
 
 } // namespace pyramid::cli

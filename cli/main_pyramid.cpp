@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
          setupSphereOrthoCommand},
         {"aperture", "Build the ambient-aperture pyramid of a DEM pyramid (same as preprocessAperture)",
          setupApertureCommand},
+        {"sphere-aperture", "Build the ambient-aperture faces of a planet's six DEM faces (same as preprocessSphericalAperture)",
+         setupSphereApertureCommand},
         {"verify", "Rebuild every level and compare with the source (or CPU with GL)", setupVerifyCommand},
         {"merge", "Assemble the part files of a split build (--part I/N) into its pyramids", setupMergeCommand},
         {"preview", "Draw one level of a pyramid as a PNG: a hillshade, heights, residuals or the imagery",

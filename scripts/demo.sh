@@ -37,6 +37,9 @@ for f in 1 2 3 4 5 6; do
   "$bin/pyramid" check out/planet/DEM$f.dat
   "$bin/pyramid" check out/planet/residuals/RGB$f.dat
 done
+echo "== preprocessSphericalAperture: out/planet/DEM1..6.dat -> out/planet-aperture/APERTURE1..6.dat"
+"$bin/preprocessSphericalAperture" out/planet -o out/planet-aperture --directions 8 --radius 8
+
 echo "== previews: out/planet-dem.png (world map; the map's sea, red 14 or 15, is 590 m), out/planet-cube.png, out/planet.png"
 "$bin/pyramid" preview out/planet/DEM1.dat --projection world --sea-level 590 --z-factor 20 --legend -o out/planet-dem.png
 "$bin/pyramid" preview out/planet/DEM1.dat --projection cube --sea-level 590 --z-factor 20 -o out/planet-cube.png

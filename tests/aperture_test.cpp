@@ -6,7 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <filesystem>
 #include <numbers>
 #include <string>
@@ -15,7 +19,9 @@
 #include "formats/error.hpp"
 #include "libpyramid/api/encoders.hpp"
 #include "libpyramid/encode/aperture/aperture.hpp"
+#include "libpyramid/api/sources.hpp"
 #include "libpyramid/runtime/ortho_producer.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -137,6 +143,101 @@ TEST(Aperture, TheProgramNeedsAGroundSize) {
     EXPECT_EQ(report.at("directions"), 8);
     EXPECT_EQ(report.at("spacing"), 1.0);
     EXPECT_EQ(test::run(program + dir.file("c/APERTURE.dat") + " --size 128 --radius 3").exitCode, 1);
+}
+
+// The faces of a planet of `height(latitude, longitude)` metres: 16-interval tiles, levels 0..2.
+std::string planet(const TempDir& dir, std::function<double(double, double)> height) {
+    SphericalDemOptions o;
+    o.dem.tileSize = 16;
+    o.dem.rootTileSize = 16;
+    o.dem.maxLevel = 2;
+    o.dem.autoScale = true;
+    encodeSphericalDem(PlanetFunction(std::move(height), 256), dir.file("dem"), o);
+    return dir.file("dem");
+}
+
+TEST(SphericalAperture, ASphereOfConstantHeightSeesTheWholeSkyEverywhere) {
+    TempDir dir;
+    SphericalApertureOptions o;
+    o.search.directions = 8;
+    o.search.radius = 4;
+    const SphericalApertureReport r = encodeSphericalApertureFiles(planet(dir, [](double, double) { return 500.0; }),
+                                                                   dir.file("out"), o);
+    ASSERT_EQ(r.outputs.size(), 6u);
+    EXPECT_EQ(r.maxLevel, 2);
+    for (const std::string& face : r.outputs) {
+        const OrthoProducer p(face);
+        ASSERT_EQ(p.header().channels, 3);
+        for (int level = 0; level <= 2; ++level) {
+            for (int ty = 0; ty < (1 << level); ++ty) {
+                for (int tx = 0; tx < (1 << level); ++tx) {
+                    const std::vector<uint8_t> t = p.tile(level, tx, ty);
+                    for (size_t k = 0; k < t.size(); k += 3) {
+                        ASSERT_EQ(t[k], 255) << face;
+                        ASSERT_EQ(t[k + 1], 128) << face;
+                        ASSERT_EQ(t[k + 2], 128) << face;
+                    }
+                }
+            }
+        }
+    }
+}
+
+// Pixel X, Y (from the south-west, borders beyond the face included) of a face's finest level.
+std::array<uint8_t, 3> facePixel(const OrthoProducer& p, int level, int64_t X, int64_t Y) {
+    const int T = p.header().tileSize, b = p.header().border();
+    const int64_t tiles = int64_t{1} << level;
+    const int64_t tx = std::clamp<int64_t>(X < 0 ? 0 : X / T, 0, tiles - 1), ty = std::clamp<int64_t>(Y < 0 ? 0 : Y / T, 0, tiles - 1);
+    const std::vector<uint8_t> t = p.tile(level, static_cast<int>(tx), static_cast<int>(ty));
+    const auto x = static_cast<size_t>(X - tx * T + b), y = static_cast<size_t>(Y - ty * T + b);
+    const size_t k = (y * static_cast<size_t>(T + 2 * b) + x) * 3;
+    return {t[k], t[k + 1], t[k + 2]};
+}
+
+// Over varied terrain, the faces join without seams: every border pixel beyond a face's edge is
+// the neighbouring face's pixel at the same point (sphere/cube_faces.hpp), byte for byte, and the
+// aperture does vary; 1 and 2 threads write the same files.
+TEST(SphericalAperture, FacesJoinWithoutSeams) {
+    TempDir dir;
+    const std::string faces = planet(dir, [](double latitude, double longitude) {
+        return 50000.0 + 40000.0 * std::sin(latitude * 1.0) * std::cos(longitude * 0.8); // slopes up to 0.36
+    });
+    SphericalApertureOptions o;
+    o.search.directions = 8;
+    o.search.radius = 4;
+    o.threads = 2;
+    const SphericalApertureReport r = encodeSphericalApertureFiles(faces, dir.file("out"), o);
+    std::vector<std::unique_ptr<OrthoProducer>> p;
+    for (const std::string& face : r.outputs) {
+        p.push_back(std::make_unique<OrthoProducer>(face));
+    }
+    const int level = 2, N = 16 << level;
+    const FaceGrid grid{N, FaceGridKind::PixelCentres};
+    int compared = 0, varied = 0;
+    for (int f = 1; f <= 6; ++f) {
+        for (int along = 0; along < N; ++along) {
+            for (int beyond = 1; beyond <= 2; ++beyond) {
+                for (const auto& [X, Y] : {std::pair<int64_t, int64_t>{N - 1 + beyond, along}, {-beyond, along},
+                                           {along, N - 1 + beyond}, {along, -beyond}}) {
+                    const FaceSample other = canonicalSample(grid, FaceSample{f, X, Y});
+                    ASSERT_NE(other.face, f);
+                    const auto border = facePixel(*p[static_cast<size_t>(f - 1)], level, X, Y);
+                    const auto inside = facePixel(*p[static_cast<size_t>(other.face - 1)], level, other.x, other.y);
+                    ASSERT_EQ(border, inside) << "face " << f << " pixel " << X << "," << Y;
+                    ++compared;
+                    varied += border[0] < 245;
+                }
+            }
+        }
+    }
+    EXPECT_EQ(compared, 6 * 4 * 2 * N);
+    EXPECT_GT(varied, compared / 10) << "the terrain hides some of the sky";
+    o.threads = 1;
+    encodeSphericalApertureFiles(faces, dir.file("one"), o);
+    for (int f = 1; f <= 6; ++f) {
+        const std::string name = "/APERTURE" + std::to_string(f) + ".dat";
+        EXPECT_EQ(test::readFile(dir.file("one") + name), test::readFile(dir.file("out") + name)) << name;
+    }
 }
 
 } // namespace

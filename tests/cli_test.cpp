@@ -165,7 +165,7 @@ TEST(Version, EveryProgramNamesItsLibraries) {
         std::to_string(oiio / 10000) + "." + std::to_string(oiio / 100 % 100) + "." + std::to_string(oiio % 100);
     for (const std::string program :
          {"pyramid", "preprocessDem", "preprocessOrtho", "preprocessSphericalDem", "preprocessSphericalOrtho",
-          "preprocessAperture"}) {
+          "preprocessAperture", "preprocessSphericalAperture"}) {
         const auto r = run(programPath(program) + " --version");
         ASSERT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(r.out.substr(0, r.out.find('\n')),

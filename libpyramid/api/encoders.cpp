@@ -100,37 +100,10 @@ private:
     GeoExtent extent_; // the globe
 };
 
-// Never read: the description of a planet's "map" (its size, channels and sample type).
-class NoPixels final : public RasterPixels {
-public:
-    explicit NoPixels(std::string name) : name_(std::move(name)) {}
-    void readFloat(int, int, int, int, int, float*) const override { fail(name_, "a planet is read at points"); }
-    void readUInt16(int, int, int, int, int, int, uint16_t*) const override { fail(name_, "a planet is read at points"); }
-
-private:
-    std::string name_;
-};
-
 // The map sources of a planet: `type` Float32 for heights, UInt8 for colours.
 MapSources planetSources(const PlanetSource& planet, SampleType type) {
-    const int channels = planet.channels();
-    if (channels < 1 || channels > 4) {
-        fail(planet.name(), std::to_string(channels) + " channels, not 1 to 4");
-    }
-    if (planet.resolution() < 4) {
-        fail(planet.name(), "a resolution of " + std::to_string(planet.resolution()) + " samples around the equator, below 4");
-    }
-    MapSources sources;
-    sources.name = planet.name();
-    sources.info.width = planet.resolution();
-    sources.info.height = std::max(1, planet.resolution() / 2);
-    sources.info.channels = channels;
-    sources.info.type = type;
-    sources.info.formatName = "source";
-    sources.placement = MapPlacement(GeoExtent{});
-    sources.placement.columnsAround = planet.resolution();
-    sources.map = std::make_unique<PlanetMap>(planet);
-    return sources;
+    return globalMapSources(planet.name(), std::make_unique<PlanetMap>(planet), planet.channels(), planet.resolution(),
+                            type);
 }
 
 } // namespace
@@ -160,9 +133,7 @@ SphericalOrthoReport encodeSphericalOrtho(const PlanetSource& planet, const std:
     if (options.extent) {
         failOption("extent", "a planet source covers the globe");
     }
-    MapSources sources = planetSources(planet, SampleType::UInt8);
-    sources.source = RasterSource::fromPixels(sources.name, sources.info, std::make_shared<NoPixels>(sources.name));
-    return encodeSphericalOrtho(sources, directory, options);
+    return encodeSphericalOrtho(planetSources(planet, SampleType::UInt8), directory, options);
 }
 
 DemVerifyReport verifyDem(const std::string& file, const ElevationSource& source, const DemVerifyOptions& options) {

@@ -53,4 +53,43 @@ MapSources openMapSources(const std::vector<std::string>& inputs, const std::opt
     return m;
 }
 
+namespace {
+
+// Never read: the description of a computed map (its size, channels and sample type).
+class NoPixels final : public RasterPixels {
+public:
+    explicit NoPixels(std::string name) : name_(std::move(name)) {}
+    void readFloat(int, int, int, int, int, float*) const override { fail(name_, "a computed map is read at points"); }
+    void readUInt16(int, int, int, int, int, int, uint16_t*) const override {
+        fail(name_, "a computed map is read at points");
+    }
+
+private:
+    std::string name_;
+};
+
+} // namespace
+
+MapSources globalMapSources(const std::string& name, std::unique_ptr<GeodeticMap> map, int channels, int resolution,
+                            SampleType type) {
+    if (channels < 1 || channels > 4) {
+        fail(name, std::to_string(channels) + " channels, not 1 to 4");
+    }
+    if (resolution < 4) {
+        fail(name, "a resolution of " + std::to_string(resolution) + " samples around the equator, below 4");
+    }
+    MapSources sources;
+    sources.name = name;
+    sources.info.width = resolution;
+    sources.info.height = std::max(1, resolution / 2);
+    sources.info.channels = channels;
+    sources.info.type = type;
+    sources.info.formatName = "source";
+    sources.placement = MapPlacement(GeoExtent{});
+    sources.placement.columnsAround = resolution;
+    sources.map = std::move(map);
+    sources.source = RasterSource::fromPixels(name, sources.info, std::make_shared<NoPixels>(name));
+    return sources;
+}
+
 } // namespace pyramid

@@ -33,4 +33,11 @@ MapSources openMapSources(const std::vector<std::string>& inputs, const std::opt
                           const PlanetBody& body, int cacheMegabytes, SampleRead read, int c0, int c1,
                           const std::function<std::optional<double>(const RasterInfo&, const std::string&)>& nodataOf);
 
+// A map computed at points over the whole globe (a caller's planet, a derived quantity such as
+// terrain aperture): `map`, described as a raster of `resolution` x resolution/2 samples of
+// `channels` (1..4) of `type` (`source`), which the spherical encoders size their faces by and
+// never read. Throws Error naming `name` for channels out of 1..4 or a resolution below 4.
+MapSources globalMapSources(const std::string& name, std::unique_ptr<GeodeticMap> map, int channels, int resolution,
+                            SampleType type);
+
 } // namespace pyramid

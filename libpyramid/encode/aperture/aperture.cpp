@@ -12,7 +12,11 @@
 #include "formats/residual_file.hpp"
 #include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/face_locate.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 
 namespace pyramid {
 
@@ -56,6 +60,21 @@ std::array<uint8_t, 3> encodeAperture(const Aperture& a) {
 }
 
 namespace {
+
+// A sector's horizon: the largest of 0 and angle(level, distance) over the search's steps, the
+// distance in finest-level samples (1..radius on the finest level, then radius/2 + 1 .. radius
+// samples of each coarser one, twice as far apart), while levels remain.
+template <class Angle>
+double horizonOf(const ApertureSearch& search, int finest, const Angle& angle) {
+    double horizon = 0.0;
+    for (int q = 0; q < search.levels && finest - q >= 0; ++q) {
+        const double scale = std::ldexp(1.0, q);
+        for (int k = q == 0 ? 1 : search.radius / 2 + 1; k <= search.radius; ++k) {
+            horizon = std::max(horizon, angle(finest - q, k * scale));
+        }
+    }
+    return horizon;
+}
 
 // The heights of an elevation producer's levels, read bilinearly between vertices, with the
 // tiles last used kept at hand (one per reading thread: no lock for most samples).
@@ -140,17 +159,12 @@ private:
                 const double x = i + 0.5, y = static_cast<double>(width_ - j) - 0.5;
                 const double z0 = heights.at(finest_, x, y);
                 for (int d = 0; d < search_.directions; ++d) {
-                    double horizon = 0.0;
-                    for (int q = 0; q < search_.levels && finest_ - q >= 0; ++q) {
-                        const double scale = std::ldexp(1.0, q);
-                        for (int k = q == 0 ? 1 : search_.radius / 2 + 1; k <= search_.radius; ++k) {
-                            const double distance = k * scale; // finest-level samples
-                            const double z = heights.at(finest_ - q, (x + distance * cos_[static_cast<size_t>(d)]) / scale,
-                                                        (y + distance * sin_[static_cast<size_t>(d)]) / scale);
-                            horizon = std::max(horizon, std::atan2(z - z0, distance * spacing_));
-                        }
-                    }
-                    horizons[static_cast<size_t>(d)] = horizon;
+                    const double dx = cos_[static_cast<size_t>(d)], dy = sin_[static_cast<size_t>(d)];
+                    horizons[static_cast<size_t>(d)] = horizonOf(search_, finest_, [&](int level, double distance) {
+                        const double scale = std::ldexp(1.0, finest_ - level);
+                        const double z = heights.at(level, (x + distance * dx) / scale, (y + distance * dy) / scale);
+                        return std::atan2(z - z0, distance * spacing_);
+                    });
                 }
                 const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
                 for (int c = c0; c < c1; ++c) {
@@ -166,6 +180,87 @@ private:
     ApertureSearch search_;
     int64_t width_ = 0;
     std::vector<double> cos_, sin_;
+};
+
+// The aperture at points of a planet whose heights are six faces' elevation producers, on a
+// sphere of radius R: a point's observer stands at (R + z0) along its direction; the search
+// walks great circles from it (s along the ground is the angle s / R), reading each point's
+// height on the face that holds it (face_locate.hpp), at the finest face level and the coarser
+// ones as the planar search does.
+class PlanetAperture final : public GeodeticMap {
+public:
+    PlanetAperture(std::vector<std::shared_ptr<ElevationProducer>> faces, int finest, double radius,
+                   const PlanetBody& body, const ApertureSearch& search)
+        : faces_(std::move(faces)), finest_(finest), radius_(radius), body_(body), search_(search) {
+        vertices_ = static_cast<double>(int64_t{faces_[0]->tileSize()} << finest);
+        // The mean ground distance between a face's samples: a quarter of a great circle over N.
+        spacing_ = std::numbers::pi / 2.0 * radius / vertices_;
+        for (int k = 0; k < search.directions; ++k) {
+            const double azimuth = 2.0 * std::numbers::pi * k / search.directions;
+            cos_.push_back(std::cos(azimuth));
+            sin_.push_back(std::sin(azimuth));
+        }
+    }
+    int channels() const override { return 3; }
+    const GeoExtent& extent() const override { return extent_; }
+    double spacing() const { return spacing_; }
+
+    void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const override {
+        std::vector<HeightReader> readers;
+        for (const auto& f : faces_) {
+            readers.emplace_back(*f);
+        }
+        const auto heightAt = [&](const std::array<double, 3>& d, int level) {
+            const FacePoint p = facePointOf(d);
+            const double side = std::ldexp(vertices_, level - finest_);
+            return readers[static_cast<size_t>(p.face - 1)].at(level, (p.u + 1.0) / 2.0 * side, (p.v + 1.0) / 2.0 * side);
+        };
+        std::vector<double> horizons(static_cast<size_t>(search_.directions));
+        for (size_t n = 0; n < count; ++n) {
+            const std::array<double, 3> d0 = unit(directionOf(body_, points[n]));
+            const double r0 = radius_ + heightAt(d0, finest_);
+            // The point's frame: east (z x up; at a pole, the x axis' choice), north = up x east.
+            std::array<double, 3> east{-d0[1], d0[0], 0.0};
+            if (std::hypot(east[0], east[1]) < 1e-12) {
+                east = {0.0, 1.0, 0.0};
+            }
+            east = unit(east);
+            const std::array<double, 3> north{d0[1] * east[2] - d0[2] * east[1], d0[2] * east[0] - d0[0] * east[2],
+                                              d0[0] * east[1] - d0[1] * east[0]};
+            for (int k = 0; k < search_.directions; ++k) {
+                const auto K = static_cast<size_t>(k);
+                const std::array<double, 3> t{cos_[K] * east[0] + sin_[K] * north[0], cos_[K] * east[1] + sin_[K] * north[1],
+                                              cos_[K] * east[2] + sin_[K] * north[2]};
+                horizons[K] = horizonOf(search_, finest_, [&](int level, double distance) {
+                    const double angle = distance * spacing_ / radius_;
+                    const double c = std::cos(angle), s = std::sin(angle);
+                    const std::array<double, 3> d{c * d0[0] + s * t[0], c * d0[1] + s * t[1], c * d0[2] + s * t[2]};
+                    const double r = radius_ + heightAt(d, level);
+                    return std::atan2(r * c - r0, r * s);
+                });
+            }
+            const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
+            for (size_t c = 0; c < 3; ++c) {
+                out[n * 3 + c] = pixel[c];
+            }
+            valid[n] = 1;
+        }
+    }
+
+private:
+    static std::array<double, 3> unit(const std::array<double, 3>& v) {
+        const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        return {v[0] / l, v[1] / l, v[2] / l};
+    }
+
+    std::vector<std::shared_ptr<ElevationProducer>> faces_;
+    int finest_;
+    double radius_;
+    PlanetBody body_;
+    ApertureSearch search_;
+    double vertices_ = 0.0, spacing_ = 0.0;
+    std::vector<double> cos_, sin_;
+    GeoExtent extent_; // the globe
 };
 
 } // namespace
@@ -244,6 +339,87 @@ nlohmann::json toJson(const ApertureReport& r) {
             {"spacing", r.spacing},
             {"directions", r.search.directions},
             {"radius", r.search.radius},
+            {"levels", r.search.levels},
+            {"tiles", r.tiles},
+            {"bytes", r.bytes},
+            {"seconds", r.seconds}};
+}
+
+SphericalApertureReport encodeSphericalApertureFiles(const std::string& directory, const std::string& output,
+                                                     const SphericalApertureOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    options.search.validate();
+    const PlanetBody body = PlanetBody::parse(options.body);
+    const double radius = options.radius > 0.0 ? options.radius : body.equatorialRadius();
+    if (!std::isfinite(radius)) {
+        failOption("radius", "must be a finite radius");
+    }
+    std::vector<std::shared_ptr<ElevationProducer>> faces;
+    int finest = -1, tileSize = 0;
+    for (int f = 1; f <= kCubeFaceCount; ++f) {
+        const std::string file = (std::filesystem::path(directory) / (options.name + std::to_string(f) + ".dat")).string();
+        const PyramidSet set = openPyramidSet(file);
+        if (set.kind != PyramidKind::Residual) {
+            fail(set.name(), "holds an ortho pyramid, not elevations");
+        }
+        const ResidualHeader h = ResidualFileReader::readHeader(set.main);
+        const int deepest = setMaxLevel(set) - h.minLevel;
+        if (f == 1) {
+            finest = deepest;
+            tileSize = h.tileSize;
+        } else if (deepest != finest || h.tileSize != tileSize) {
+            fail(set.name(), "does not have face 1's tile size and levels");
+        }
+        ElevationProducerOptions eo;
+        eo.cacheCapacity = 512;
+        faces.push_back(openElevationSet(file, eo));
+    }
+    if (finest < 0) {
+        fail(directory, "the faces have no level of full tiles (maxLevel below minLevel)");
+    }
+    auto map = std::make_unique<PlanetAperture>(faces, finest, radius, body, options.search);
+    const double spacing = map->spacing();
+    SphericalOrthoOptions so;
+    so.ortho.name = options.output;
+    so.ortho.writeDxt = false;
+    so.ortho.writeResiduals = false;
+    so.ortho.levels.tileSize = tileSize;
+    so.ortho.levels.maxLevel = finest;
+    so.ortho.levels.colourSpace = ColourSpace::Linear;
+    so.ortho.levels.threads = options.threads;
+    so.ortho.deflateLevel = options.deflateLevel;
+    so.ortho.progress = options.progress;
+    so.body = options.body;
+    const int resolution = static_cast<int>(std::min<int64_t>(int64_t{4} * (int64_t{tileSize} << finest), 1 << 30));
+    const SphericalOrthoReport r = encodeSphericalOrtho(
+        globalMapSources(directory + " (aperture)", std::move(map), 3, resolution, SampleType::UInt8), output, so);
+    SphericalApertureReport report;
+    report.input = directory;
+    report.directory = output;
+    report.tileSize = tileSize;
+    report.maxLevel = finest;
+    report.radius = radius;
+    report.spacing = spacing;
+    report.search = options.search;
+    for (const SphericalOrthoFaceReport& f : r.faces) {
+        report.outputs.push_back((std::filesystem::path(output) / (options.output + std::to_string(f.face) + ".dat")).string());
+        report.tiles += f.ortho.tiles;
+        report.bytes += f.ortho.bytes.empty() ? 0 : f.ortho.bytes[0];
+    }
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+nlohmann::json toJson(const SphericalApertureReport& r) {
+    return {{"input", r.input},
+            {"directory", r.directory},
+            {"outputs", r.outputs},
+            {"tile_size", r.tileSize},
+            {"max_level", r.maxLevel},
+            {"radius", r.radius},
+            {"spacing", r.spacing},
+            {"directions", r.search.directions},
+            {"radius_steps", r.search.radius},
             {"levels", r.search.levels},
             {"tiles", r.tiles},
             {"bytes", r.bytes},

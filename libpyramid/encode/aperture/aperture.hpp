@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -75,5 +76,41 @@ struct ApertureReport {
 ApertureReport encodeApertureFile(const std::string& dem, const std::string& output, const ApertureEncodeOptions& options);
 
 nlohmann::json toJson(const ApertureReport& report);
+
+struct SphericalApertureOptions {
+    ApertureSearch search;
+    std::string name = "DEM";       // the faces read: DIR/NAME1.dat .. NAME6.dat (files or region sets)
+    std::string output = "APERTURE"; // the faces written: OUT/OUTPUT1.dat .. OUTPUT6.dat
+    std::string body = "wgs84";     // as the faces were built (PlanetBody::parse)
+    // The sphere the heights stand on, as the renderer deforms the faces (doc/shading.md,
+    // "Geometry"); 0: the body's equatorial radius.
+    double radius = 0.0;
+    int threads = 0;
+    int deflateLevel = 6;
+    std::function<void(int64_t, int64_t)> progress; // (tiles done, total), all faces together
+};
+
+struct SphericalApertureReport {
+    std::string input, directory;
+    std::vector<std::string> outputs;
+    int tileSize = 0, maxLevel = 0;
+    double radius = 0.0, spacing = 0.0; // the finest level's mean sample spacing on the ground
+    ApertureSearch search;
+    int64_t tiles = 0;
+    uint64_t bytes = 0;
+    double seconds = 0.0;
+};
+
+// preprocessSphericalAperture: the aperture of the six cube faces of a planet (DIR/NAME1..6.dat,
+// as preprocessSphericalDem writes them) as six ortho pyramids OUT/OUTPUT1..6.dat of the faces'
+// tile size and levels (from their minLevel on). Each face pixel's point is searched on the
+// sphere: along great circles from it, crossing faces as the ground does, so that the faces
+// join without seams (their tile borders are their neighbours' pixels). The mean direction is
+// stored in the point's own east and north. Throws Error or OptionError and leaves nothing
+// behind.
+SphericalApertureReport encodeSphericalApertureFiles(const std::string& directory, const std::string& output,
+                                                     const SphericalApertureOptions& options);
+
+nlohmann::json toJson(const SphericalApertureReport& report);
 
 } // namespace pyramid
