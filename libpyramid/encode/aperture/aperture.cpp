@@ -293,7 +293,7 @@ ApertureReport encodeApertureFile(const std::string& dem, const std::string& out
         fail(set.name(), "has no level of full tiles (maxLevel below minLevel)");
     }
     ElevationProducerOptions eo;
-    eo.cacheCapacity = 1024;
+    eo.cacheCapacity = 256; // elevation tiles of (n + 5)^2 x 3 floats: about 120 MB at n = 192
     auto producer = openElevationSet(dem, eo);
     const int T = producer->tileSize();
     const double spacing = size / static_cast<double>(int64_t{T} << finest);
@@ -371,7 +371,7 @@ SphericalApertureReport encodeSphericalApertureFiles(const std::string& director
             fail(set.name(), "does not have face 1's tile size and levels");
         }
         ElevationProducerOptions eo;
-        eo.cacheCapacity = 512;
+        eo.cacheCapacity = 64; // per face: about 30 MB at n = 192
         faces.push_back(openElevationSet(file, eo));
     }
     if (finest < 0) {
