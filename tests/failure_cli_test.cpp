@@ -193,7 +193,7 @@ protected:
     test::TempDir dir;
     std::string out = dir.file("out");
 
-    // Builds with `previous`, then stops runs with `next` at about 10, 50 and 90 %: each leaves
+    // Builds with `previous`, then stops runs with `next` at about 10, 50 and 75 %: each leaves
     // the previous outputs as they were, and nothing else. `next` builds a finer pyramid than
     // `previous` (another maxLevel in every header), so a replaced output cannot go unseen; it
     // takes a few seconds with 2 threads, and the previous one less.
@@ -203,7 +203,9 @@ protected:
         ASSERT_EQ(runToEnd(previous, &err), 0) << err;
         const auto before = snapshot(outputDir);
         ASSERT_FALSE(before.empty());
-        for (const int percent : {10, 50, 90}) {
+        // (75 %, not later: the test reads the child's progress through a pipe, and on a loaded
+        // machine it may read a line late; a quarter of the run is the margin.)
+        for (const int percent : {10, 50, 75}) {
             const Stopped s = stopAt(next, percent, SIGINT, outputDir);
             EXPECT_EQ(s.exitCode, 130) << percent << "%\n" << s.err;
             // Stopped where it was: no tile after the signal took it to the end.
