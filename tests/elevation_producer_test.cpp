@@ -11,6 +11,7 @@
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/level_heights.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "tests/support/paths.hpp"
 
@@ -143,6 +144,55 @@ TEST(ElevationProducer, CoarseElevationsInterpolateTheParentMesh) {
     EXPECT_EQ(child->zc[3 + 2 * side], 0.5f * a + 0.5f * b);
     // zm is zf without layers.
     EXPECT_EQ(child->zm, child->zf);
+}
+
+// The rule every height reader shares (level_heights.hpp): cells, clamping and the order of the
+// bilinear arithmetic, on a level of 3 x 3 tiles of 4 intervals whose heights are a bilinear
+// function of the level's vertex coordinates (exact in double, so every point is exact).
+TEST(LevelHeights, CellsClampingAndExactBilinear) {
+    const int n = 4, side = n + 5;
+    const int64_t across = 3;
+    const auto f = [](double x, double y) { return 5.0 + 3.0 * x - 2.0 * y + 0.5 * x * y; };
+    std::vector<std::vector<float>> tiles(static_cast<size_t>(across * across));
+    for (int ty = 0; ty < across; ++ty) {
+        for (int tx = 0; tx < across; ++tx) {
+            auto& z = tiles[static_cast<size_t>(ty * across + tx)];
+            z.resize(static_cast<size_t>(side * side));
+            for (int j = -2; j <= n + 2; ++j) {
+                for (int i = -2; i <= n + 2; ++i) {
+                    z[static_cast<size_t>((j + 2) * side + i + 2)] = static_cast<float>(f(tx * n + i, ty * n + j));
+                }
+            }
+        }
+    }
+    const auto height = [&](double x, double y) {
+        const LevelCell c = levelCell(n, across, x, y);
+        return cellHeight(tiles[static_cast<size_t>(c.ty * across + c.tx)].data(), n, c);
+    };
+    for (double y = 0.0; y <= 12.0; y += 0.375) {
+        for (double x = 0.0; x <= 12.0; x += 0.625) {
+            ASSERT_EQ(height(x, y), f(x, y)) << x << "," << y;
+        }
+    }
+    // A vertex on a tile edge belongs to the tile east (north) of it; the east and north edges
+    // of the level to the last cells.
+    LevelCell c = levelCell(n, across, 4.0, 11.5);
+    EXPECT_EQ(c.tx, 1);
+    EXPECT_EQ(c.i, 0);
+    EXPECT_EQ(c.wx, 0.0);
+    EXPECT_EQ(c.ty, 2);
+    EXPECT_EQ(c.j, 3);
+    EXPECT_EQ(c.wy, 0.5);
+    c = levelCell(n, across, 12.0, 12.0);
+    EXPECT_EQ(c.tx, 2);
+    EXPECT_EQ(c.i, n - 1);
+    EXPECT_EQ(c.wx, 1.0);
+    EXPECT_EQ(c.ty, 2);
+    EXPECT_EQ(c.wy, 1.0);
+    // Beyond the level, its edge continues.
+    EXPECT_EQ(height(-3.0, 5.25), f(0.0, 5.25));
+    EXPECT_EQ(height(13.5, -0.5), f(12.0, 0.0));
+    EXPECT_EQ(height(40.0, 40.0), f(12.0, 12.0));
 }
 
 } // namespace

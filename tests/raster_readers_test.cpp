@@ -314,3 +314,52 @@ TEST(RasterReaders, PngRowsAreReadWhileTheyAreDecoded) {
 
 } // namespace
 } // namespace pyramid
+
+// Computed bytes (BytePixels) read through a RasterSource: every read gives the same samples,
+// for any channel range, and readUInt8 honours its row stride (rows stored bottom up here).
+TEST(RasterReaders, ComputedBytesReadAlike) {
+    class Gradient final : public pyramid::BytePixels {
+    public:
+        void readBytes(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out) const override {
+            for (int y = y0; y < y1; ++y) {
+                for (int x = x0; x < x1; ++x) {
+                    for (int c = c0; c < c1; ++c) {
+                        *out++ = value(x, y, c);
+                    }
+                }
+            }
+        }
+        static uint8_t value(int x, int y, int c) { return static_cast<uint8_t>(x * 7 + y * 13 + c * 85); }
+    };
+    pyramid::RasterInfo info;
+    info.width = 20;
+    info.height = 10;
+    info.channels = 3;
+    info.type = pyramid::SampleType::UInt8;
+    const auto source = pyramid::RasterSource::fromPixels("gradient", info, std::make_shared<Gradient>());
+    const int x0 = 3, y0 = 2, x1 = 17, y1 = 9, w = x1 - x0, h = y1 - y0;
+    for (int c0 = 0; c0 < 3; ++c0) {
+        for (int c1 = c0 + 1; c1 <= 3; ++c1) {
+            const int k = c1 - c0;
+            std::vector<uint16_t> words(static_cast<size_t>(w * h * k));
+            source->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
+            std::vector<uint8_t> bytes(static_cast<size_t>(w * h * k));
+            // Bottom up: row y0 is the last row of the buffer.
+            source->readUInt8(x0, y0, x1, y1, c0, c1, bytes.data() + static_cast<size_t>((h - 1) * w * k), -w * k);
+            std::vector<float> floats(static_cast<size_t>(w * h));
+            source->readFloat(x0, y0, x1, y1, c0, floats.data());
+            for (int y = y0; y < y1; ++y) {
+                for (int x = x0; x < x1; ++x) {
+                    for (int c = c0; c < c1; ++c) {
+                        const uint8_t want = Gradient::value(x, y, c);
+                        const size_t at = static_cast<size_t>(((y - y0) * w + (x - x0)) * k + (c - c0));
+                        const size_t up = static_cast<size_t>(((h - 1 - (y - y0)) * w + (x - x0)) * k + (c - c0));
+                        ASSERT_EQ(words[at], want) << x << "," << y << "," << c;
+                        ASSERT_EQ(bytes[up], want) << x << "," << y << "," << c;
+                    }
+                    ASSERT_EQ(floats[static_cast<size_t>((y - y0) * w + (x - x0))], Gradient::value(x, y, c0));
+                }
+            }
+        }
+    }
+}

@@ -37,28 +37,24 @@ std::unique_ptr<RasterSource> rasterOf(const ElevationSource& source) {
 }
 
 // A caller's colours as the raster the ortho encoder reads.
-class ColourPixels final : public RasterPixels {
+class ColourPixels final : public BytePixels {
 public:
     explicit ColourPixels(const ColourSource& source) : source_(source) {}
-    void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const override {
-        read(x0, y0, x1, y1, channel, channel + 1, [&out](uint8_t v) { *out++ = static_cast<float>(v); });
-    }
-    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
-        read(x0, y0, x1, y1, c0, c1, [&out](uint8_t v) { *out++ = v; });
+    void readBytes(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out) const override {
+        const auto channels = static_cast<size_t>(source_.channels());
+        std::vector<uint8_t> window(static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * channels);
+        source_.read(x0, y0, x1, y1, window.data());
+        if (c0 == 0 && static_cast<size_t>(c1) == channels) {
+            std::copy(window.begin(), window.end(), out);
+            return;
+        }
+        for (size_t p = 0; p < window.size(); p += channels) {
+            out = std::copy(window.begin() + static_cast<std::ptrdiff_t>(p) + c0,
+                            window.begin() + static_cast<std::ptrdiff_t>(p) + c1, out);
+        }
     }
 
 private:
-    template <class Put>
-    void read(int x0, int y0, int x1, int y1, int c0, int c1, Put put) const {
-        const int channels = source_.channels();
-        std::vector<uint8_t> window(static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(channels));
-        source_.read(x0, y0, x1, y1, window.data());
-        for (size_t p = 0; p < window.size(); p += static_cast<size_t>(channels)) {
-            for (int c = c0; c < c1; ++c) {
-                put(window[p + static_cast<size_t>(c)]);
-            }
-        }
-    }
     const ColourSource& source_;
 };
 

@@ -248,6 +248,26 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
     }
 }
 
+namespace {
+
+std::vector<uint8_t> readWindowBytes(const BytePixels& pixels, int x0, int y0, int x1, int y1, int c0, int c1) {
+    std::vector<uint8_t> bytes(static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0));
+    pixels.readBytes(x0, y0, x1, y1, c0, c1, bytes.data());
+    return bytes;
+}
+
+} // namespace
+
+void BytePixels::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    const std::vector<uint8_t> bytes = readWindowBytes(*this, x0, y0, x1, y1, channel, channel + 1);
+    std::copy(bytes.begin(), bytes.end(), out);
+}
+
+void BytePixels::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    const std::vector<uint8_t> bytes = readWindowBytes(*this, x0, y0, x1, y1, c0, c1);
+    std::copy(bytes.begin(), bytes.end(), out);
+}
+
 void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
     checkWindow(path_, info_, x0, y0, x1, y1);
     checkChannels(path_, info_, c0, c1);
@@ -296,8 +316,16 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
         fail(path_, "readUInt8 on samples that are not 8-bit unsigned");
     }
     const Impl& impl = *impl_;
+    const size_t rowValues = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
+    if (const auto* bytePixels = dynamic_cast<const BytePixels*>(impl.computed.get())) {
+        const std::vector<uint8_t> bytes = readWindowBytes(*bytePixels, x0, y0, x1, y1, c0, c1);
+        for (int y = y0; y < y1; ++y) {
+            std::copy_n(&bytes[static_cast<size_t>(y - y0) * rowValues], rowValues,
+                        out + static_cast<std::ptrdiff_t>(y - y0) * rowStride);
+        }
+        return;
+    }
     if (impl.mosaic || impl.computed) {
-        const size_t rowValues = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
         std::vector<uint16_t> words(rowValues * static_cast<size_t>(y1 - y0));
         if (impl.mosaic) {
             impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
@@ -320,21 +348,20 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
     if (impl.png && impl.png->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
         return;
     }
-    const size_t rowBytes = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
     if (impl.blocks) { // 8-bit values, exact in float32
-        std::vector<float> values(rowBytes * static_cast<size_t>(y1 - y0));
+        std::vector<float> values(rowValues * static_cast<size_t>(y1 - y0));
         impl.blocks->read(x0, y0, x1, y1, c0, c1, values.data());
         for (int y = y0; y < y1; ++y) {
-            const float* from = &values[static_cast<size_t>(y - y0) * rowBytes];
-            std::transform(from, from + rowBytes, out + static_cast<std::ptrdiff_t>(y - y0) * rowStride,
+            const float* from = &values[static_cast<size_t>(y - y0) * rowValues];
+            std::transform(from, from + rowValues, out + static_cast<std::ptrdiff_t>(y - y0) * rowStride,
                            [](float v) { return static_cast<uint8_t>(v); });
         }
         return;
     }
-    std::vector<uint8_t> bytes(rowBytes * static_cast<size_t>(y1 - y0));
+    std::vector<uint8_t> bytes(rowValues * static_cast<size_t>(y1 - y0));
     impl.readModule(x0, y0, x1, y1, c0, c1, SampleType::UInt8, bytes.data());
     for (int y = y0; y < y1; ++y) {
-        std::copy_n(&bytes[static_cast<size_t>(y - y0) * rowBytes], rowBytes,
+        std::copy_n(&bytes[static_cast<size_t>(y - y0) * rowValues], rowValues,
                     out + static_cast<std::ptrdiff_t>(y - y0) * rowStride);
     }
 }

@@ -27,6 +27,16 @@ public:
     virtual void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const = 0;
 };
 
+// Computed 8-bit pixels (a caller's colours, an aperture): the owner gives channels [c0, c1) of a
+// window as bytes, interleaved, north first; the float and 16-bit reads are those bytes widened
+// exactly, and a RasterSource's readUInt8 takes them as they are.
+class BytePixels : public RasterPixels {
+public:
+    virtual void readBytes(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out) const = 0;
+    void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const final;
+    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const final;
+};
+
 class RasterSource {
 public:
     // Throws Error("PATH: ...") when the file is missing, unreadable or not an image.

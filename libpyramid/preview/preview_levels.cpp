@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "formats/error.hpp"
+#include "libpyramid/runtime/level_heights.hpp"
 #include "libpyramid/support/text.hpp"
 
 namespace pyramid::preview {
@@ -129,19 +130,9 @@ float ElevationGrid::at(int tx, int ty, int i, int j) {
 }
 
 double ElevationGrid::bilinear(double x, double y) {
-    const auto cell = [&](double c, int& t, int& k, double& f) {
-        const int64_t whole = std::clamp<int64_t>(static_cast<int64_t>(std::floor(c)), 0, int64_t{across_} * n_ - 1);
-        t = static_cast<int>(std::min<int64_t>(whole / n_, across_ - 1));
-        k = static_cast<int>(whole - int64_t{t} * n_);
-        f = c - static_cast<double>(whole);
-    };
-    int tx = 0, ty = 0, i = 0, j = 0;
-    double fx = 0.0, fy = 0.0;
-    cell(x, tx, i, fx);
-    cell(y, ty, j, fy);
-    const double a = at(tx, ty, i, j), b = at(tx, ty, i + 1, j);
-    const double c = at(tx, ty, i, j + 1), d = at(tx, ty, i + 1, j + 1);
-    return (a * (1.0 - fx) + b * fx) * (1.0 - fy) + (c * (1.0 - fx) + d * fx) * fy;
+    const LevelCell cell = levelCell(n_, across_, x, y);
+    load(cell.tx, cell.ty);
+    return cellHeight(heights_, n_, cell);
 }
 
 std::pair<double, double> ElevationGrid::range() {

@@ -45,7 +45,7 @@ public:
     int64_t side() const { return int64_t{across_} * n_ + 1; }
     // Vertex (i, j) of tile (tx, ty), i and j in -2 .. n + 2 (its borders), row 0 the south.
     float at(int tx, int ty, int i, int j);
-    // The level between its vertices, x and y in 0 .. side - 1 (bilinear).
+    // The level between its vertices, x and y in 0 .. side - 1 (runtime/level_heights.hpp).
     double bilinear(double x, double y);
     // The lowest and highest finite sample of the level's tiles (0, 0 when there is none).
     std::pair<double, double> range();

@@ -1,11 +1,9 @@
 #include "libpyramid/runtime/height_query.hpp"
 
-#include <algorithm>
-#include <cmath>
-
 #include "formats/error.hpp"
 #include "formats/georeference_sidecar.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/runtime/level_heights.hpp"
 
 namespace pyramid {
 
@@ -26,22 +24,10 @@ PointHeight heightAt(ElevationProducer& producer, double u, double v, int level)
     p.level = level;
     p.x = u * intervals;
     p.y = v * intervals;
-    // The tile holding the point; the quad's east and north edges belong to the last tiles.
-    p.tx = static_cast<int>(std::min<int64_t>(tiles - 1, static_cast<int64_t>(p.x) / n));
-    p.ty = static_cast<int>(std::min<int64_t>(tiles - 1, static_cast<int64_t>(p.y) / n));
-    const auto tile = producer.tile(level, p.tx, p.ty);
-    // Sample i of the tile (without its 2-sample border) sits at interval tx * n + i.
-    const double fx = p.x - static_cast<double>(static_cast<int64_t>(p.tx) * n);
-    const double fy = p.y - static_cast<double>(static_cast<int64_t>(p.ty) * n);
-    const int i = std::min(n - 1, static_cast<int>(fx)), j = std::min(n - 1, static_cast<int>(fy));
-    const double wx = fx - i, wy = fy - j;
-    const auto z = [&](int a, int b) {
-        return static_cast<double>(tile->zf[static_cast<size_t>(b + 2) * static_cast<size_t>(tile->size) +
-                                            static_cast<size_t>(a + 2)]);
-    };
-    const double south = z(i, j) + (z(i + 1, j) - z(i, j)) * wx;
-    const double north = z(i, j + 1) + (z(i + 1, j + 1) - z(i, j + 1)) * wx;
-    p.height = south + (north - south) * wy;
+    const LevelCell cell = levelCell(n, tiles, p.x, p.y);
+    p.tx = cell.tx;
+    p.ty = cell.ty;
+    p.height = cellHeight(producer.tile(level, p.tx, p.ty)->zf.data(), n, cell);
     return p;
 }
 

@@ -1,8 +1,8 @@
 // Heights at points, as the runtime rebuilds them: a pipeline's check that a build landed
 // where it should (`pyramid height`, pyramid_elevation_height). The height at a point is the
 // bilinear interpolation, in double precision, of the four samples around it in the tile of
-// the chosen level that holds it: the tile's own float32 elevations (zf), exactly as the
-// producer rebuilds them from the file.
+// the chosen level that holds it (level_heights.hpp: the order of the arithmetic): the tile's
+// own float32 elevations (zf), exactly as the producer rebuilds them from the file.
 #pragma once
 #include <array>
 #include <string>

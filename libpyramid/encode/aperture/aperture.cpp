@@ -13,6 +13,7 @@
 #include "libpyramid/input/pyramid_georeference.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
+#include "libpyramid/runtime/level_heights.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/face_locate.hpp"
@@ -82,28 +83,11 @@ class HeightReader {
 public:
     explicit HeightReader(ElevationProducer& producer) : producer_(producer), n_(producer.tileSize()) {}
 
-    // Level `level` at vertex coordinates (x, y) of 0..n 2^level (clamped: beyond the map the
-    // edge continues).
+    // Level `level` at vertex coordinates (x, y) of 0..n 2^level (runtime/level_heights.hpp:
+    // beyond the map the edge continues).
     double at(int level, double x, double y) {
-        const int64_t vertices = int64_t{n_} << level;
-        x = std::clamp(x, 0.0, static_cast<double>(vertices));
-        y = std::clamp(y, 0.0, static_cast<double>(vertices));
-        const auto cell = [&](double c, int& t, int& k, double& f) {
-            const int64_t whole = std::min<int64_t>(static_cast<int64_t>(std::floor(c)), vertices - 1);
-            t = static_cast<int>(whole / n_);
-            k = static_cast<int>(whole - int64_t{t} * n_);
-            f = c - static_cast<double>(whole);
-        };
-        int tx = 0, ty = 0, i = 0, j = 0;
-        double fx = 0.0, fy = 0.0;
-        cell(x, tx, i, fx);
-        cell(y, ty, j, fy);
-        const float* z = tile(level, tx, ty);
-        const size_t side = static_cast<size_t>(n_) + 5;
-        const auto h = [&](int a, int b) {
-            return static_cast<double>(z[static_cast<size_t>(a + 2) + static_cast<size_t>(b + 2) * side]);
-        };
-        return (h(i, j) * (1.0 - fx) + h(i + 1, j) * fx) * (1.0 - fy) + (h(i, j + 1) * (1.0 - fx) + h(i + 1, j + 1) * fx) * fy;
+        const LevelCell cell = levelCell(n_, int64_t{1} << level, x, y);
+        return cellHeight(tile(level, cell.tx, cell.ty), n_, cell);
     }
 
 private:
@@ -130,7 +114,7 @@ private:
 
 // The finest level's aperture as the raster the ortho encoder reads: pixel (i, j), row 0 the
 // north, centred at vertex coordinates (i + 0.5, W - j - 0.5) of producer level `finest`.
-class AperturePixels final : public RasterPixels {
+class AperturePixels final : public BytePixels {
 public:
     AperturePixels(std::shared_ptr<ElevationProducer> producer, int finest, double spacing, const ApertureSearch& search)
         : producer_(std::move(producer)), finest_(finest), spacing_(spacing), search_(search) {
@@ -142,16 +126,7 @@ public:
         width_ = int64_t{producer_->tileSize()} << finest;
     }
 
-    void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const override {
-        read(x0, y0, x1, y1, channel, channel + 1, [&out](uint8_t v) { *out++ = static_cast<float>(v); });
-    }
-    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
-        read(x0, y0, x1, y1, c0, c1, [&out](uint8_t v) { *out++ = v; });
-    }
-
-private:
-    template <class Put>
-    void read(int x0, int y0, int x1, int y1, int c0, int c1, Put put) const {
+    void readBytes(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out) const override {
         HeightReader heights(*producer_);
         std::vector<double> horizons(static_cast<size_t>(search_.directions));
         for (int j = y0; j < y1; ++j) {
@@ -167,13 +142,12 @@ private:
                     });
                 }
                 const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
-                for (int c = c0; c < c1; ++c) {
-                    put(pixel[static_cast<size_t>(c)]);
-                }
+                out = std::copy(pixel.begin() + c0, pixel.begin() + c1, out);
             }
         }
     }
 
+private:
     std::shared_ptr<ElevationProducer> producer_;
     int finest_;
     double spacing_;
