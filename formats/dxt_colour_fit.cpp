@@ -160,9 +160,9 @@ PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, i8 allowed) {
     return true;
 }
 
-PYRAMID_VECTOR_CLONES // the same bytes in wider vectors where the CPU has them
+PYRAMID_WIDE_VECTOR_CLONES // the same bytes in wider vectors where the CPU has them
 void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
-    alignas(32) float planes[3][16][kLanes];
+    alignas(64) float planes[3][16][kLanes];
     int rounded[3][kLanes];
     for (int l = 0; l < kLanes; ++l) {
         const uint8_t* block = blocks[l < count ? l : 0];

@@ -1,5 +1,5 @@
 // libpyramid's DXT colour-block encoder (the default of --dxt-quality 0 and 1; doc/ortho-encoding.md,
-// "DXT"): eight 4 x 4 blocks at a time, one per vector lane, so that the per-block work (the
+// "DXT"): sixteen 4 x 4 blocks at a time, one per vector lane, so that the per-block work (the
 // principal axis, the endpoint fits) runs side by side instead of one dependency chain per
 // block. For each block:
 //
@@ -25,7 +25,7 @@
 
 namespace pyramid {
 
-constexpr int kDxtColourLanes = 8;
+constexpr int kDxtColourLanes = 16;
 
 // Encodes `count` (1..kDxtColourLanes) blocks: blocks[i] is 16 RGBA pixels, row by row (alpha
 // ignored), out[i] receives the 8-byte colour block. With `squaredErrors`, squaredErrors[i]

@@ -110,41 +110,45 @@ int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* bl
     for (int l = 0; l < kDxtColourLanes; ++l) {
         lanes[l] = block[l];
     }
-    for (int by = 0; by < height; by += 4) {
-        for (int bx = 0; bx < width; bx += 4 * kDxtColourLanes) {
-            const int count = std::min(kDxtColourLanes, (width - bx + 3) / 4);
+    // The blocks in the stream's order (row by row), kDxtColourLanes at a time: groups run on
+    // across the rows of blocks, so that only the tile's last group has idle lanes.
+    const int blocksAcross = (width + 3) / 4;
+    const int64_t blockCount = int64_t{blocksAcross} * ((height + 3) / 4);
+    for (int64_t first = 0; first < blockCount; first += kDxtColourLanes) {
+        const int count = static_cast<int>(std::min<int64_t>(kDxtColourLanes, blockCount - first));
+        for (int l = 0; l < count; ++l) {
+            const int64_t k = first + l;
+            const int bx = static_cast<int>(k % blocksAcross) * 4, by = static_cast<int>(k / blocksAcross) * 4;
+            masks[l] = gatherBlock<C>(pixels, width, height, bx, by, block[l]);
+            outputs[l] = blocks + static_cast<size_t>(l) * blockBytes;
+        }
+        if (usesColourFit(quality)) {
             for (int l = 0; l < count; ++l) {
-                masks[l] = gatherBlock<C>(pixels, width, height, bx + 4 * l, by, block[l]);
-                outputs[l] = blocks + static_cast<size_t>(l) * blockBytes;
+                outputs[l] += colourOffset;
             }
-            if (usesColourFit(quality)) {
+            encodeDxtColourBlocks(lanes, outputs, count, refinements, measure ? fitErrors : nullptr);
+            if (format == DxtFormat::Dxt5) {
                 for (int l = 0; l < count; ++l) {
-                    outputs[l] += colourOffset;
-                }
-                encodeDxtColourBlocks(lanes, outputs, count, refinements, measure ? fitErrors : nullptr);
-                if (format == DxtFormat::Dxt5) {
-                    for (int l = 0; l < count; ++l) {
-                        uint8_t alpha[16];
-                        for (int k = 0; k < 16; ++k) {
-                            alpha[k] = block[l][4 * k + 3];
-                        }
-                        stb_compress_bc4_block(outputs[l] - colourOffset, alpha);
+                    uint8_t alpha[16];
+                    for (int k = 0; k < 16; ++k) {
+                        alpha[k] = block[l][4 * k + 3];
                     }
-                }
-            } else {
-                for (int l = 0; l < count; ++l) {
-                    squish::CompressMasked(block[l], masks[l], outputs[l], flags);
+                    stb_compress_bc4_block(outputs[l] - colourOffset, alpha);
                 }
             }
+        } else {
             for (int l = 0; l < count; ++l) {
-                if (measure) {
-                    // A whole DXT1 block's error is the fit's own (the same sum); partial blocks
-                    // count their pixels inside only, DXT5 blocks their alpha too.
-                    const bool fitError = usesColourFit(quality) && format == DxtFormat::Dxt1 && masks[l] == 0xffff;
-                    squares += fitError ? fitErrors[l] : blockSquaredError(block[l], masks[l], blocks, format);
-                }
-                blocks += blockBytes;
+                squish::CompressMasked(block[l], masks[l], outputs[l], flags);
             }
+        }
+        for (int l = 0; l < count; ++l) {
+            if (measure) {
+                // A whole DXT1 block's error is the fit's own (the same sum); partial blocks
+                // count their pixels inside only, DXT5 blocks their alpha too.
+                const bool fitError = usesColourFit(quality) && format == DxtFormat::Dxt1 && masks[l] == 0xffff;
+                squares += fitError ? fitErrors[l] : blockSquaredError(block[l], masks[l], blocks, format);
+            }
+            blocks += blockBytes;
         }
     }
     return squares;
