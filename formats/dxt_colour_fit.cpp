@@ -15,9 +15,10 @@ namespace pyramid {
 namespace {
 
 constexpr int kLanes = kDxtColourLanes;
-using f8 = float __attribute__((vector_size(4 * kLanes)));
-using i8 = int __attribute__((vector_size(4 * kLanes)));
-using u8 = unsigned __attribute__((vector_size(4 * kLanes)));
+// One value per block of a call, one block per lane.
+using floats = float __attribute__((vector_size(4 * kLanes)));
+using ints = int __attribute__((vector_size(4 * kLanes)));
+using uints = unsigned __attribute__((vector_size(4 * kLanes)));
 
 constexpr int expand5(int q) { return (q << 3) | (q >> 2); }
 constexpr int expand6(int q) { return (q << 2) | (q >> 4); }
@@ -54,28 +55,28 @@ const std::array<SolidPair, 256> kSolid6 = solidPairs<6>();
 
 #define PYRAMID_INLINE [[gnu::always_inline]] inline
 
-PYRAMID_INLINE f8 splat(float v) { return f8{} + v; }
-PYRAMID_INLINE i8 splat(int v) { return i8{} + v; }
-PYRAMID_INLINE f8 vmin(f8 a, f8 b) { return a < b ? a : b; }
-PYRAMID_INLINE f8 vmax(f8 a, f8 b) { return a > b ? a : b; }
-PYRAMID_INLINE f8 magnitude(f8 v) { return v < 0.0f ? -v : v; }
-PYRAMID_INLINE f8 truncated(f8 v) { return __builtin_convertvector(__builtin_convertvector(v, i8), f8); }
+PYRAMID_INLINE floats splat(float v) { return floats{} + v; }
+PYRAMID_INLINE ints splat(int v) { return ints{} + v; }
+PYRAMID_INLINE floats vmin(floats a, floats b) { return a < b ? a : b; }
+PYRAMID_INLINE floats vmax(floats a, floats b) { return a > b ? a : b; }
+PYRAMID_INLINE floats magnitude(floats v) { return v < 0.0f ? -v : v; }
+PYRAMID_INLINE floats truncated(floats v) { return __builtin_convertvector(__builtin_convertvector(v, ints), floats); }
 
 // The 16 pixels of the lanes' blocks: r[k] holds pixel k of every block.
 struct Pixels {
-    f8 r[16], g[16], b[16];
+    floats r[16], g[16], b[16];
 };
 
 // A candidate's endpoint codes (c0 >= c1), indices and squared error, per lane.
 struct Fit {
-    i8 c0, c1;
-    i8 index[16];
-    f8 error;
+    ints c0, c1;
+    ints index[16];
+    floats error;
 };
 
 // The sum of 16 vectors, in a fixed order (a balanced tree).
-PYRAMID_INLINE f8 sum16(const f8* v) {
-    f8 s[8];
+PYRAMID_INLINE floats sum16(const floats* v) {
+    floats s[8];
     for (int k = 0; k < 8; ++k) {
         s[k] = v[2 * k] + v[2 * k + 1];
     }
@@ -85,31 +86,31 @@ PYRAMID_INLINE f8 sum16(const f8* v) {
 // Quantisation of an endpoint channel (0..255, any real) to 5 or 6 bits: round to nearest,
 // clamped before the conversion (so that a far or NaN endpoint of a near-singular fit converts
 // to an integer too, the same on every CPU).
-PYRAMID_INLINE i8 quantise(f8 v, int bits) {
+PYRAMID_INLINE ints quantise(floats v, int bits) {
     const float top = static_cast<float>((1 << bits) - 1);
-    f8 x = v * (top / 255.0f) + 0.5f;
+    floats x = v * (top / 255.0f) + 0.5f;
     x = x > 0.0f ? x : splat(0.0f); // NaN too
     x = x < top ? x : splat(top);
-    return __builtin_convertvector(x, i8);
+    return __builtin_convertvector(x, ints);
 }
 
-PYRAMID_INLINE i8 packCode(i8 r, i8 g, i8 b) { return (r << 11) | (g << 5) | b; }
+PYRAMID_INLINE ints packCode(ints r, ints g, ints b) { return (r << 11) | (g << 5) | b; }
 
 // A 5:6:5 code's colour, each channel widened to 8 bits by bit replication.
-PYRAMID_INLINE void widen(i8 code, f8& r, f8& g, f8& b) {
-    const i8 r5 = (code >> 11) & 31, g6 = (code >> 5) & 63, b5 = code & 31;
-    r = __builtin_convertvector((r5 << 3) | (r5 >> 2), f8);
-    g = __builtin_convertvector((g6 << 2) | (g6 >> 4), f8);
-    b = __builtin_convertvector((b5 << 3) | (b5 >> 2), f8);
+PYRAMID_INLINE void widen(ints code, floats& r, floats& g, floats& b) {
+    const ints r5 = (code >> 11) & 31, g6 = (code >> 5) & 63, b5 = code & 31;
+    r = __builtin_convertvector((r5 << 3) | (r5 >> 2), floats);
+    g = __builtin_convertvector((g6 << 2) | (g6 >> 4), floats);
+    b = __builtin_convertvector((b5 << 3) | (b5 >> 2), floats);
 }
 
 // A candidate as the decoder sees it: codes ordered, colours widened, nearest colour per pixel.
-PYRAMID_INLINE Fit evaluate(const Pixels& p, i8 a, i8 b) {
+PYRAMID_INLINE Fit evaluate(const Pixels& p, ints a, ints b) {
     Fit f;
-    const i8 larger = a > b;
+    const ints larger = a > b;
     f.c0 = larger ? a : b;
     f.c1 = larger ? b : a;
-    f8 pr[4], pg[4], pb[4];
+    floats pr[4], pg[4], pb[4];
     widen(f.c0, pr[0], pg[0], pb[0]);
     widen(f.c1, pr[1], pg[1], pb[1]);
     // The thirds by truncating division (exact: the quotients of integers below 2^24 by 3
@@ -117,21 +118,21 @@ PYRAMID_INLINE Fit evaluate(const Pixels& p, i8 a, i8 b) {
     pr[2] = truncated((2.0f * pr[0] + pr[1]) / 3.0f);
     pg[2] = truncated((2.0f * pg[0] + pg[1]) / 3.0f);
     pb[2] = truncated((2.0f * pb[0] + pb[1]) / 3.0f);
-    const i8 four = f.c0 > f.c1; // equal codes: index 3 is never taken (its colour is made index 0's)
+    const ints four = f.c0 > f.c1; // equal codes: index 3 is never taken (its colour is made index 0's)
     pr[3] = four ? truncated((pr[0] + 2.0f * pr[1]) / 3.0f) : pr[0];
     pg[3] = four ? truncated((pg[0] + 2.0f * pg[1]) / 3.0f) : pg[0];
     pb[3] = four ? truncated((pb[0] + 2.0f * pb[1]) / 3.0f) : pb[0];
-    f8 best[16];
+    floats best[16];
     for (int k = 0; k < 16; ++k) {
-        const f8 dr = p.r[k] - pr[0], dg = p.g[k] - pg[0], db = p.b[k] - pb[0];
+        const floats dr = p.r[k] - pr[0], dg = p.g[k] - pg[0], db = p.b[k] - pb[0];
         best[k] = dr * dr + dg * dg + db * db;
         f.index[k] = splat(0);
     }
     for (int c = 1; c < 4; ++c) {
         for (int k = 0; k < 16; ++k) {
-            const f8 dr = p.r[k] - pr[c], dg = p.g[k] - pg[c], db = p.b[k] - pb[c];
-            const f8 d = dr * dr + dg * dg + db * db;
-            const i8 closer = d < best[k];
+            const floats dr = p.r[k] - pr[c], dg = p.g[k] - pg[c], db = p.b[k] - pb[c];
+            const floats d = dr * dr + dg * dg + db * db;
+            const ints closer = d < best[k];
             best[k] = closer ? d : best[k];
             f.index[k] = closer ? splat(c) : f.index[k];
         }
@@ -142,8 +143,8 @@ PYRAMID_INLINE Fit evaluate(const Pixels& p, i8 a, i8 b) {
 
 // Keeps, lane by lane, the candidate of lower error (`allowed` lanes only). False when no lane
 // took it.
-PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, i8 allowed) {
-    const i8 take = (candidate.error < best.error) & allowed;
+PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, ints allowed) {
+    const ints take = (candidate.error < best.error) & allowed;
     bool any = false;
     for (int l = 0; l < kLanes; ++l) {
         any |= take[l] != 0;
@@ -178,9 +179,9 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
     std::memcpy(p.b, planes[2], sizeof(p.b));
 
     // The mean (exact: a sum of integers over 16) and the covariance, in a fixed order.
-    const f8 mr = sum16(p.r) * (1.0f / 16.0f), mg = sum16(p.g) * (1.0f / 16.0f), mb = sum16(p.b) * (1.0f / 16.0f);
-    f8 dr[16], dg[16], db[16], t[16];
-    f8 prr[16], pgg[16], pbb[16], prg[16], prb[16], pgb[16];
+    const floats mr = sum16(p.r) * (1.0f / 16.0f), mg = sum16(p.g) * (1.0f / 16.0f), mb = sum16(p.b) * (1.0f / 16.0f);
+    floats dr[16], dg[16], db[16], t[16];
+    floats prr[16], pgg[16], pbb[16], prg[16], prb[16], pgb[16];
     for (int k = 0; k < 16; ++k) {
         dr[k] = p.r[k] - mr;
         dg[k] = p.g[k] - mg;
@@ -192,49 +193,49 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
         prb[k] = dr[k] * db[k];
         pgb[k] = dg[k] * db[k];
     }
-    const f8 crr = sum16(prr), cgg = sum16(pgg), cbb = sum16(pbb), crg = sum16(prg), crb = sum16(prb), cgb = sum16(pgb);
+    const floats crr = sum16(prr), cgg = sum16(pgg), cbb = sum16(pbb), crg = sum16(prg), crb = sum16(prb), cgb = sum16(pgb);
 
     // The principal axis: power iteration from the covariance's largest column.
-    const i8 fromR = (crr >= cgg) & (crr >= cbb), fromG = ~fromR & (cgg >= cbb);
-    f8 vr = fromR ? crr : fromG ? crg : crb;
-    f8 vg = fromR ? crg : fromG ? cgg : cgb;
-    f8 vb = fromR ? crb : fromG ? cgb : cbb;
+    const ints fromR = (crr >= cgg) & (crr >= cbb), fromG = ~fromR & (cgg >= cbb);
+    floats vr = fromR ? crr : fromG ? crg : crb;
+    floats vg = fromR ? crg : fromG ? cgg : cgb;
+    floats vb = fromR ? crb : fromG ? cgb : cbb;
     for (int it = 0; it < 4; ++it) {
-        const f8 nr = crr * vr + crg * vg + crb * vb;
-        const f8 ng = crg * vr + cgg * vg + cgb * vb;
-        const f8 nb = crb * vr + cgb * vg + cbb * vb;
-        const f8 m = vmax(magnitude(nr), vmax(magnitude(ng), magnitude(nb)));
-        const i8 moved = m > 0.0f;
-        const f8 inverse = 1.0f / (moved ? m : splat(1.0f));
+        const floats nr = crr * vr + crg * vg + crb * vb;
+        const floats ng = crg * vr + cgg * vg + cgb * vb;
+        const floats nb = crb * vr + cgb * vg + cbb * vb;
+        const floats m = vmax(magnitude(nr), vmax(magnitude(ng), magnitude(nb)));
+        const ints moved = m > 0.0f;
+        const floats inverse = 1.0f / (moved ? m : splat(1.0f));
         vr = moved ? nr * inverse : vr;
         vg = moved ? ng * inverse : vg;
         vb = moved ? nb * inverse : vb;
     }
-    const f8 length2 = vr * vr + vg * vg + vb * vb;
+    const floats length2 = vr * vr + vg * vg + vb * vb;
     for (int k = 0; k < 16; ++k) {
         t[k] = dr[k] * vr + dg[k] * vg + db[k] * vb;
     }
-    f8 lo = t[0], hi = t[0];
+    floats lo = t[0], hi = t[0];
     for (int k = 1; k < 16; ++k) {
         lo = vmin(lo, t[k]);
         hi = vmax(hi, t[k]);
     }
-    const i8 axis = length2 > 0.0f;
-    const f8 safeLength2 = axis ? length2 : splat(1.0f);
+    const ints axis = length2 > 0.0f;
+    const floats safeLength2 = axis ? length2 : splat(1.0f);
     lo = axis ? lo / safeLength2 : splat(0.0f);
     hi = axis ? hi / safeLength2 : splat(0.0f);
     Fit best = evaluate(p, packCode(quantise(mr + hi * vr, 5), quantise(mg + hi * vg, 6), quantise(mb + hi * vb, 5)),
                         packCode(quantise(mr + lo * vr, 5), quantise(mg + lo * vg, 6), quantise(mb + lo * vb, 5)));
 
     // The mean colour's best pair per channel.
-    const i8 meanR = __builtin_convertvector(mr + 0.5f, i8), meanG = __builtin_convertvector(mg + 0.5f, i8),
-             meanB = __builtin_convertvector(mb + 0.5f, i8);
+    const ints meanR = __builtin_convertvector(mr + 0.5f, ints), meanG = __builtin_convertvector(mg + 0.5f, ints),
+             meanB = __builtin_convertvector(mb + 0.5f, ints);
     for (int l = 0; l < kLanes; ++l) {
         rounded[0][l] = meanR[l];
         rounded[1][l] = meanG[l];
         rounded[2][l] = meanB[l];
     }
-    i8 solidA, solidB;
+    ints solidA, solidB;
     for (int l = 0; l < kLanes; ++l) {
         const SolidPair r = kSolid5[static_cast<size_t>(rounded[0][l])];
         const SolidPair g = kSolid6[static_cast<size_t>(rounded[1][l])];
@@ -247,11 +248,11 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
     // Least-squares endpoints for the best indices (until no lane improves). Weights in thirds: index 0 is all c0 (3),
     // 1 all c1 (0), 2 two thirds of c0 (2), 3 one third (1).
     for (int it = 0; it < refinements; ++it) {
-        f8 waa[16], wab[16], wbb[16], war[16], wag[16], wab2[16], wbr[16], wbg[16], wbb2[16];
+        floats waa[16], wab[16], wbb[16], war[16], wag[16], wab2[16], wbr[16], wbg[16], wbb2[16];
         for (int k = 0; k < 16; ++k) {
-            const i8 i = best.index[k];
-            const f8 a = __builtin_convertvector(i == 0 ? splat(3) : i == 1 ? splat(0) : 4 - i, f8);
-            const f8 b = 3.0f - a;
+            const ints i = best.index[k];
+            const floats a = __builtin_convertvector(i == 0 ? splat(3) : i == 1 ? splat(0) : 4 - i, floats);
+            const floats b = 3.0f - a;
             waa[k] = a * a;
             wab[k] = a * b;
             wbb[k] = b * b;
@@ -262,11 +263,11 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
             wbg[k] = b * p.g[k];
             wbb2[k] = b * p.b[k];
         }
-        const f8 aa = sum16(waa), ab = sum16(wab), bb = sum16(wbb);
-        const f8 ar = sum16(war), ag = sum16(wag), abl = sum16(wab2), br = sum16(wbr), bg = sum16(wbg), bbl = sum16(wbb2);
-        const f8 det = aa * bb - ab * ab;
-        const i8 solvable = det != 0.0f;
-        const f8 f = 3.0f / (solvable ? det : splat(1.0f));
+        const floats aa = sum16(waa), ab = sum16(wab), bb = sum16(wbb);
+        const floats ar = sum16(war), ag = sum16(wag), abl = sum16(wab2), br = sum16(wbr), bg = sum16(wbg), bbl = sum16(wbb2);
+        const floats det = aa * bb - ab * ab;
+        const ints solvable = det != 0.0f;
+        const floats f = 3.0f / (solvable ? det : splat(1.0f));
         const Fit refined = evaluate(p,
                                      packCode(quantise((ar * bb - br * ab) * f, 5), quantise((ag * bb - bg * ab) * f, 6),
                                               quantise((abl * bb - bbl * ab) * f, 5)),
@@ -277,9 +278,9 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
         }
     }
 
-    u8 indices{};
+    uints indices{};
     for (int k = 0; k < 16; ++k) {
-        indices |= __builtin_convertvector(best.index[k], u8) << (2 * k);
+        indices |= __builtin_convertvector(best.index[k], uints) << (2 * k);
     }
     for (int l = 0; l < count; ++l) {
         uint8_t* o = out[l];
