@@ -4,6 +4,7 @@
 // Errors name the output and say the system's words: "DEM.dat: cannot write: no space left on
 // device".
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -26,10 +27,15 @@ public:
     void commit(); // flush() unless done, rename, fsync of the directory
 
 private:
+    // Every kWritebackBytes written, the file's data starts on its way to disk (writeAt): the
+    // fsync of flush() then waits for the last few megabytes only, instead of the whole file
+    // at the end of a run.
+    static constexpr size_t kWritebackBytes = size_t{2} << 20;
     std::string path_;
     std::string tmp_;
     int fd_ = -1;
     bool committed_ = false;
+    size_t unflushed_ = 0; // bytes written since the last start of writeback
 };
 
 } // namespace pyramid
