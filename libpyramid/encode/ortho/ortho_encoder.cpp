@@ -1,6 +1,7 @@
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -145,8 +146,8 @@ private:
     std::vector<std::string> names_; // each output's path relative to the directory and the staging directory
 };
 
-// A walk group's encoded tiles, item by item in the walk's order.
-using EncodedGroup = std::vector<std::vector<EncodedOrthoTile>>;
+// One item of a walk (a subtree, or a level of levels 0..C) encoded, its tiles in the walk's order.
+using EncodedItem = std::vector<EncodedOrthoTile>;
 
 // Encodes the walk's groups (OrthoLevels::walk) in parallel, each tile after its parent's
 // colour-residual reconstruction, which the parent's group leaves behind.
@@ -158,47 +159,49 @@ public:
     // The colour reconstruction of a tile this walk does not encode (a region's parent).
     void seed(int level, int tx, int ty, std::vector<uint8_t> recon) { shallowRecon_[{level, tx, ty}] = std::move(recon); }
 
-    EncodedGroup encode(std::vector<TileBatch>& group) {
-        EncodedGroup results(group.size());
+    // Encodes `group`, handing each item to `done` (its index in the group, its tiles) as soon
+    // as it is complete, from the thread that encoded it: items finish in any order.
+    void encode(std::vector<TileBatch>& group, const std::function<void(size_t, EncodedItem&)>& done) {
         const bool oneLevel = group.size() == 1 && !group[0].empty() &&
                               std::all_of(group[0].begin(), group[0].end(),
                                           [&](const TrueTile& t) { return t.level == group[0][0].level; });
         if (oneLevel) {
             // A whole level: its tiles are independent given the previous level's reconstruction.
             TileBatch& batch = group[0];
-            results[0].resize(batch.size());
+            EncodedItem level(batch.size());
             parallelFor(static_cast<int64_t>(batch.size()), threads_, [&](int64_t i) {
                 const TrueTile& t = batch[static_cast<size_t>(i)];
                 const std::vector<uint8_t>* parent =
                     t.level && o_.writeResiduals ? &shallowRecon_.at(parentOf(t)) : nullptr;
-                results[0][static_cast<size_t>(i)] = encoder_.encode(t, parent);
+                level[static_cast<size_t>(i)] = encoder_.encode(t, parent);
             });
-        } else {
-            // Subtrees: each in pre-order, its parents before its children.
-            parallelFor(static_cast<int64_t>(group.size()), threads_, [&](int64_t i) {
-                std::map<TileKey, const std::vector<uint8_t>*> local;
-                auto& out = results[static_cast<size_t>(i)];
-                out.reserve(group[static_cast<size_t>(i)].size());
-                for (const TrueTile& t : group[static_cast<size_t>(i)]) {
-                    if (!o_.writeResiduals) {
-                        out.push_back(encoder_.encode(t, nullptr)); // no tile depends on its parent
-                        continue;
-                    }
-                    const auto key = parentOf(t);
-                    const auto it = local.find(key);
-                    const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon_.at(key);
-                    out.push_back(encoder_.encode(t, parent));
-                    local[{t.level, t.tx, t.ty}] = &out.back().recon;
+            if (o_.writeResiduals) {
+                // The next groups predict from these rebuilt tiles while this one is written.
+                for (const EncodedOrthoTile& e : level) {
+                    shallowRecon_[{e.level, e.tx, e.ty}] = e.recon;
                 }
-            });
-        }
-        if (oneLevel && o_.writeResiduals) {
-            // The next groups predict from these rebuilt tiles while this one is written.
-            for (const EncodedOrthoTile& e : results[0]) {
-                shallowRecon_[{e.level, e.tx, e.ty}] = e.recon;
             }
+            done(0, level);
+            return;
         }
-        return results;
+        // Subtrees: each in pre-order, its parents before its children.
+        parallelFor(static_cast<int64_t>(group.size()), threads_, [&](int64_t i) {
+            std::map<TileKey, const std::vector<uint8_t>*> local;
+            EncodedItem out;
+            out.reserve(group[static_cast<size_t>(i)].size());
+            for (const TrueTile& t : group[static_cast<size_t>(i)]) {
+                if (!o_.writeResiduals) {
+                    out.push_back(encoder_.encode(t, nullptr)); // no tile depends on its parent
+                    continue;
+                }
+                const auto key = parentOf(t);
+                const auto it = local.find(key);
+                const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon_.at(key);
+                out.push_back(encoder_.encode(t, parent));
+                local[{t.level, t.tx, t.ty}] = &out.back().recon;
+            }
+            done(static_cast<size_t>(i), out);
+        });
     }
 
 private:
@@ -318,39 +321,38 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             first = false;
         }
     };
-    // A group is written (content hashes, file writes: serial, in the walk's order) by the
-    // writer's thread while the walk samples and encodes the next group, instead of both cores
-    // waiting for it. Window 1, admitted once encoded: a group waits for the previous one to be
-    // written, so memory grows by one group's encoded tiles at most. Declared after everything
-    // its writes use (its destructor stops it).
-    OrderedWriter<EncodedGroup> writer(1, [&](int64_t, EncodedGroup& group) {
-        for (auto& item : group) {
-            for (const EncodedOrthoTile& e : item) {
-                if (region && !region->holds(e.level, e.tx, e.ty)) {
-                    continue; // an ancestor of the root, encoded for its reconstruction
+    // The walk's items are written (content hashes, file writes: serial, in the walk's order) by
+    // the writer's thread, each as soon as it and the items before it are encoded, while the
+    // walk samples and encodes the next ones, instead of both cores waiting for the writes.
+    // Window: one group of items (OrthoLevels::groupItems), admitted once encoded, so that
+    // memory grows by one group's encoded tiles at most. Declared after everything its writes
+    // use (its destructor stops it).
+    OrderedWriter<EncodedItem> writer(levels.groupItems(), [&](int64_t, EncodedItem& item) {
+        for (const EncodedOrthoTile& e : item) {
+            if (region && !region->holds(e.level, e.tx, e.ty)) {
+                continue; // an ancestor of the root, encoded for its reconstruction
+            }
+            if (share) {
+                if (!range.top && e.level <= topLevel) {
+                    continue; // another share's
                 }
-                if (share) {
-                    if (!range.top && e.level <= topLevel) {
-                        continue; // another share's
-                    }
-                    record(e);
-                } else {
-                    outputs->write(e);
-                }
-                totals[static_cast<size_t>(e.level)].add(e.stats);
-                if (o.colourReconstruction && o.writeResiduals) {
-                    o.colourReconstruction(e.level, e.tx, e.ty, e.recon);
-                }
-                if (o.progress) {
-                    o.progress(++done, total);
-                }
-                if (o.cancelled && o.cancelled()) {
-                    throw Cancelled(report.input + ": cancelled");
-                }
+                record(e);
+            } else {
+                outputs->write(e);
+            }
+            totals[static_cast<size_t>(e.level)].add(e.stats);
+            if (o.colourReconstruction && o.writeResiduals) {
+                o.colourReconstruction(e.level, e.tx, e.ty, e.recon);
+            }
+            if (o.progress) {
+                o.progress(++done, total);
+            }
+            if (o.cancelled && o.cancelled()) {
+                throw Cancelled(report.input + ": cancelled");
             }
         }
     });
-    int64_t groups = 0;
+    int64_t walked = 0; // the walk's items so far
     const OrthoLevels::Range walkRange = region ? region->range : OrthoLevels::Range{range.begin, range.end, range.top};
     levels.walk(
         [&](std::vector<TileBatch>& group) {
@@ -360,15 +362,23 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                     std::erase_if(batch, [&](const TrueTile& t) { return !region->needed(t.level, t.tx, t.ty); });
                 }
             }
-            EncodedGroup encoded = encoder.encode(group);
-            const int64_t index = groups++;
-            if (!writer.admit(index)) {
-                writer.finish(index); // a write failed: rethrows its error
+            const int64_t first = walked;
+            walked += static_cast<int64_t>(group.size());
+            std::atomic<bool> stopped{false};
+            encoder.encode(group, [&](size_t i, EncodedItem& item) {
+                const int64_t index = first + static_cast<int64_t>(i);
+                if (writer.admit(index)) {
+                    writer.deliver(index, std::move(item));
+                } else {
+                    stopped = true;
+                }
+            });
+            if (stopped) {
+                writer.finish(first); // a write failed: rethrows its error
             }
-            writer.deliver(index, std::move(encoded));
         },
         order, share || region ? &walkRange : nullptr);
-    writer.finish(groups);
+    writer.finish(walked);
 
     if (share) {
         nlohmann::json companionJson = nlohmann::json::object();

@@ -358,12 +358,16 @@ int64_t OrthoLevels::subtreeItems(WalkOrder order) const {
     return m.C == m.M ? 0 : int64_t{1} << (2 * (m.C + 1));
 }
 
+int64_t OrthoLevels::groupItems() const {
+    return std::max<int64_t>(4, 2 * impl_->threads);
+}
+
 void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume, WalkOrder order,
                        const Range* range) const {
     const Impl& m = *impl_;
     const int64_t items = subtreeItems(order);
     const int64_t begin = range ? range->begin : 0, end = range ? range->end : items;
-    const int64_t groupSize = std::max<int64_t>(4, 2 * m.threads);
+    const int64_t groupSize = groupItems();
     if (order == WalkOrder::SinglePass && m.M > 0) {
         // The subtrees first, row by row from the north edge, west to east, so that an input
         // still being decoded from its first row is worked on as it arrives; each leaves its

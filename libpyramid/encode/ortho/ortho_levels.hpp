@@ -133,6 +133,8 @@ public:
     int topLevels(WalkOrder order) const;
     // The subtree items of a walk in `order` (0 when levels 0..C are the whole pyramid).
     int64_t subtreeItems(WalkOrder order) const;
+    // The most items a group of walk() holds.
+    int64_t groupItems() const;
     void walk(const std::function<void(std::vector<TileBatch>&)>& consume,
               WalkOrder order = WalkOrder::CoarseFirst, const Range* range = nullptr) const;
 
