@@ -203,6 +203,74 @@ TEST(OrthoEncoder, IdenticalFilesForAnyThreadCount) {
     }
 }
 
+// The default outputs take two walks (TIFF and DXT tiles first, then the subtrees' residuals):
+// each file is the one its output alone gives (the residual tiles, in another order), and so
+// are each level's statistics; every tile's rebuilt colours are those a reader rebuilds.
+TEST(OrthoEncoder, AllThreeOutputsAreEachOutputsOwnRun) {
+    test::TempDir dir;
+    test::writeImage(dir.file("in.png"), 100, 80, 3, image(100, 80, 3, 250), false);
+    OrthoEncodeOptions o = small();
+    o.levels.tileSize = 8; // M = 4: levels 0..1 whole, and subtrees of levels 2..4 (0 and 1..4 alone)
+    o.levels.threads = 2;
+    std::map<std::tuple<int, int, int>, std::vector<uint8_t>> recon;
+    int64_t calls = 0;
+    o.colourReconstruction = [&](int l, int tx, int ty, const std::vector<uint8_t>& r) {
+        ++calls;
+        recon[{l, tx, ty}] = r;
+    };
+    std::vector<std::pair<int64_t, int64_t>> progress;
+    o.progress = [&](int64_t done, int64_t total) { progress.emplace_back(done, total); };
+    const OrthoReport all = encodeOrtho(dir.file("in.png"), dir.file("all"), o);
+    ASSERT_EQ(all.maxLevel, 4);
+    EXPECT_EQ(calls, all.tiles);
+    EXPECT_EQ(static_cast<int64_t>(recon.size()), all.tiles);
+    ColourProducer producer(std::make_shared<OrthoProducer>(dir.file("all/residuals/RGB.dat")));
+    for (const auto& [key, tile] : recon) {
+        const auto [l, tx, ty] = key;
+        ASSERT_EQ(*producer.tile(l, tx, ty), tile) << "tile (" << l << "," << tx << "," << ty << ")";
+    }
+    ASSERT_FALSE(progress.empty());
+    for (size_t i = 1; i < progress.size(); ++i) {
+        ASSERT_EQ(progress[i].first, progress[i - 1].first + 1);
+        ASSERT_EQ(progress[i].second, progress[0].second);
+    }
+    EXPECT_EQ(progress.back().first, progress.back().second);
+
+    o.colourReconstruction = nullptr;
+    o.progress = nullptr;
+    OrthoEncodeOptions pictures = o;
+    pictures.writeResiduals = false;
+    const OrthoReport p = encodeOrtho(dir.file("in.png"), dir.file("pictures"), pictures);
+    for (const char* f : {"/RGB.dat", "/dxt/RGB.dat"}) {
+        const std::string a = test::readFile(dir.file("all") + f);
+        EXPECT_GT(a.size(), 500u) << f;
+        EXPECT_EQ(a, test::readFile(dir.file("pictures") + f)) << f;
+    }
+    OrthoEncodeOptions residuals = o;
+    residuals.writeTiff = residuals.writeDxt = false;
+    const OrthoReport r = encodeOrtho(dir.file("in.png"), dir.file("residuals"), residuals);
+    const auto mine = OrthoFileReader::open(dir.file("all/residuals/RGB.dat"));
+    const auto alone = OrthoFileReader::open(dir.file("residuals/residuals/RGB.dat"));
+    for (int l = 0; l <= 4; ++l) {
+        for (int ty = 0; ty < (1 << l); ++ty) {
+            for (int tx = 0; tx < (1 << l); ++tx) {
+                ASSERT_EQ(mine->readTile(l, tx, ty), alone->readTile(l, tx, ty)) << l << "," << tx << "," << ty;
+            }
+        }
+    }
+    EXPECT_EQ(all.bytes.at(2), r.bytes.at(0)); // the same tiles, shared alike
+    ASSERT_EQ(all.levels.size(), 5u);
+    for (size_t l = 0; l < all.levels.size(); ++l) {
+        const OrthoLevelReport& a = all.levels[l];
+        EXPECT_EQ(a.tiles, int64_t{1} << (2 * l));
+        EXPECT_EQ(a.tiles, r.levels[l].tiles);
+        EXPECT_EQ(a.dxtPsnr, p.levels[l].dxtPsnr) << l;
+        EXPECT_EQ(a.residualMaxError, r.levels[l].residualMaxError) << l;
+        EXPECT_EQ(a.residualRmsError, r.levels[l].residualRmsError) << l;
+        EXPECT_EQ(a.clampedResiduals, r.levels[l].clampedResiduals) << l;
+    }
+}
+
 TEST(OrthoEncoder, DxtWithinItsErrorAndNoBorderFiles) {
     test::TempDir dir;
     test::writeImage(dir.file("in.png"), 64, 64, 3, image(64, 64, 3, 230), false);

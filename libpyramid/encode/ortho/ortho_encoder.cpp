@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -42,6 +43,13 @@ void checkAgainstInput(const OrthoEncodeOptions& o, const OrthoLevels& levels) {
         failOption("tileSize", "DXT tiles need tile size + 2 x border to be a multiple of 4");
     }
 }
+
+// Which outputs of a tile an encoded tile carries.
+struct OutputSet {
+    bool tiff = false, dxt = false, residual = false;
+
+    static OutputSet of(const OrthoEncodeOptions& o) { return {o.writeTiff, o.writeDxt, o.writeResiduals}; }
+};
 
 // The files being written, in the staging directory (the caller commits it).
 class OrthoOutputs {
@@ -86,18 +94,19 @@ public:
         }
     }
 
-    void write(const EncodedOrthoTile& e) {
+    // Writes the outputs of `e` in `made` (which it carries).
+    void write(const EncodedOrthoTile& e, OutputSet made) {
         RegionRoot t{e.level, e.tx, e.ty};
         if (region_) {
             t = regionRelativeTile(*region_, e.level, e.tx, e.ty);
         }
-        if (tiff_) {
+        if (tiff_ && made.tiff) {
             tiff_->writeTileBytes(t.level, t.tx, t.ty, e.tiff);
         }
-        if (dxt_) {
+        if (dxt_ && made.dxt) {
             dxt_->writeTileBytes(t.level, t.tx, t.ty, e.dxt);
         }
-        if (residual_) {
+        if (residual_ && made.residual) {
             residual_->writeTileBytes(t.level, t.tx, t.ty, e.residual);
         }
     }
@@ -150,12 +159,20 @@ private:
 using EncodedItem = std::vector<EncodedOrthoTile>;
 
 // Encodes the walk's groups (OrthoLevels::walk) in parallel, each tile after its parent's
-// colour-residual reconstruction, which the parent's group leaves behind.
+// colour-residual reconstruction, which the parent's group leaves behind. The items of levels
+// 0..C and the subtree items may be given different outputs (`top` and `subtrees`: a
+// build in two walks, encodeLevels), which a later walk may change (setSubtreeOutputs).
 class GroupEncoder {
 public:
-    GroupEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& o)
-        : encoder_(levels, o), o_(o), threads_(levels.threads()) {}
-
+    GroupEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& top, const OrthoEncodeOptions& subtrees)
+        : levels_(levels), top_(levels, top), topResiduals_(top.writeResiduals), threads_(levels.threads()) {
+        setSubtreeOutputs(subtrees);
+    }
+    // The outputs of the subtree items from now on (the options must outlive this object).
+    void setSubtreeOutputs(const OrthoEncodeOptions& subtrees) {
+        subtree_ = std::make_unique<OrthoTileEncoder>(levels_, subtrees);
+        subtreeResiduals_ = subtrees.writeResiduals;
+    }
     // The colour reconstruction of a tile this walk does not encode (a region's parent).
     void seed(int level, int tx, int ty, std::vector<uint8_t> recon) { shallowRecon_[{level, tx, ty}] = std::move(recon); }
 
@@ -171,11 +188,10 @@ public:
             EncodedItem level(batch.size());
             parallelFor(static_cast<int64_t>(batch.size()), threads_, [&](int64_t i) {
                 const TrueTile& t = batch[static_cast<size_t>(i)];
-                const std::vector<uint8_t>* parent =
-                    t.level && o_.writeResiduals ? &shallowRecon_.at(parentOf(t)) : nullptr;
-                level[static_cast<size_t>(i)] = encoder_.encode(t, parent);
+                const std::vector<uint8_t>* parent = t.level && topResiduals_ ? &shallowRecon_.at(parentOf(t)) : nullptr;
+                level[static_cast<size_t>(i)] = top_.encode(t, parent);
             });
-            if (o_.writeResiduals) {
+            if (topResiduals_) {
                 // The next groups predict from these rebuilt tiles while this one is written.
                 for (const EncodedOrthoTile& e : level) {
                     shallowRecon_[{e.level, e.tx, e.ty}] = e.recon;
@@ -190,14 +206,14 @@ public:
             EncodedItem out;
             out.reserve(group[static_cast<size_t>(i)].size());
             for (const TrueTile& t : group[static_cast<size_t>(i)]) {
-                if (!o_.writeResiduals) {
-                    out.push_back(encoder_.encode(t, nullptr)); // no tile depends on its parent
+                if (!subtreeResiduals_) {
+                    out.push_back(subtree_->encode(t, nullptr)); // no tile depends on its parent
                     continue;
                 }
                 const auto key = parentOf(t);
                 const auto it = local.find(key);
                 const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon_.at(key);
-                out.push_back(encoder_.encode(t, parent));
+                out.push_back(subtree_->encode(t, parent));
                 local[{t.level, t.tx, t.ty}] = &out.back().recon;
             }
             done(static_cast<size_t>(i), out);
@@ -208,8 +224,11 @@ private:
     using TileKey = std::tuple<int, int, int>; // level, tx, ty
     static TileKey parentOf(const TrueTile& t) { return {t.level - 1, t.tx / 2, t.ty / 2}; }
 
-    const OrthoTileEncoder encoder_;
-    const OrthoEncodeOptions& o_;
+    const OrthoLevels& levels_;
+    const OrthoTileEncoder top_;
+    const bool topResiduals_;
+    std::unique_ptr<OrthoTileEncoder> subtree_;
+    bool subtreeResiduals_ = false;
     const int threads_;
     std::map<TileKey, std::vector<uint8_t>> shallowRecon_; // levels 0..C
 };
@@ -264,11 +283,20 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
         report.region = region->root;
         report.maxLevel = levels.maxLevel() - region->root.level;
     }
-    // Colour residuals predict each tile from its parent's rebuilt colours: parents first.
-    // Without them, tiles are independent, and the input is read once (OrthoLevels::walk).
-    const auto order = region                ? region->order
-                       : o.writeResiduals ? OrthoLevels::WalkOrder::CoarseFirst
-                                          : OrthoLevels::WalkOrder::SinglePass;
+    // Colour residuals predict each tile from its parent's rebuilt colours: parents first
+    // (WalkOrder::CoarseFirst). Without them, tiles are independent, and the input is read once
+    // (WalkOrder::SinglePass). With them and TIFF or DXT tiles, the build takes two walks of
+    // the SinglePass order (doc/ortho-encoding.md): the first encodes every tile's TIFF and DXT
+    // tiles, and levels 0..C whole; the second, the subtrees' residuals, against the
+    // reconstruction of level C the first left. The subtrees of the first walk need no parent,
+    // so they start on an input still being decoded; the TIFF and DXT files are those of a
+    // build without residuals. Either way the input is sampled twice, as a CoarseFirst walk
+    // does (once for levels 0..C, once for the subtrees).
+    const bool twoWalks = !region && o.writeResiduals && (o.writeTiff || o.writeDxt) &&
+                          levels.subtreeItems(OrthoLevels::WalkOrder::SinglePass) > 0;
+    const auto order = region                            ? region->order
+                       : o.writeResiduals && !twoWalks ? OrthoLevels::WalkOrder::CoarseFirst
+                                                       : OrthoLevels::WalkOrder::SinglePass;
     const OrthoShare* share = o.share;
     const int64_t items = levels.subtreeItems(order);
     // A SinglePass walk gives the top levels after its subtrees: the share of the last one records them.
@@ -293,6 +321,11 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     if (share && !range.active()) {
         return report; // nothing of this pyramid is this share's
     }
+    // Progress is given in tiles, of the work: two walks encode the subtrees' tiles twice, so
+    // each of the `steps` tiles encoded moves it by total / steps of a tile (an error
+    // diffusion in integers: one tile at a time, `total` after the last step).
+    const int64_t steps = total + (twoWalks ? (range.end - range.begin) * subtreeTiles : 0);
+    int64_t stepCarry = 0;
     std::unique_ptr<OrthoOutputs> outputs;
     if (!share) {
         outputs = std::make_unique<OrthoOutputs>(levels, directory, *staging, o, report,
@@ -300,7 +333,12 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     }
     const uint64_t recordsStart = share ? share->out->file().position() : 0;
     const nlohmann::json slots = orthoOutputsJson(levels, o);
-    GroupEncoder encoder(levels, o);
+    // The outputs of each walk's subtrees (levels 0..C always get every output).
+    OrthoEncodeOptions pictures = o;
+    pictures.writeResiduals = false;
+    OrthoEncodeOptions residualsOnly = o;
+    residualsOnly.writeTiff = residualsOnly.writeDxt = false;
+    GroupEncoder encoder(levels, o, twoWalks ? pictures : o);
     if (region && !region->parentRecon.empty()) {
         const RegionRoot& r = region->root;
         encoder.seed(r.level - 1, r.tx >> 1, r.ty >> 1, region->parentRecon);
@@ -308,44 +346,74 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     std::vector<OrthoLevelTotals> totals(static_cast<size_t>(levels.maxLevel()) + 1);
     int64_t done = 0;
 
-    // A share records its tiles in each output's stream (pyramid x 3 + slot), the tile's
-    // statistics with its first output's.
-    const auto record = [&](const EncodedOrthoTile& e) {
+    // A share records the outputs `made` of a tile in each output's stream (pyramid x 3 +
+    // slot), the tile's statistics with the first of them.
+    const auto record = [&](const EncodedOrthoTile& e, OutputSet made, bool stats) {
         PartFileWriter& file = share->out->file();
-        bool first = true;
+        bool first = stats;
         for (const nlohmann::json& slot : slots) {
             const int k = slot["slot"].get<int>();
+            if (!(k == 0 ? made.tiff : k == 1 ? made.dxt : made.residual)) {
+                continue;
+            }
             const std::vector<uint8_t>& blob = k == 0 ? e.tiff : k == 1 ? e.dxt : e.residual;
             file.add(static_cast<uint32_t>(o.pyramid * 3 + k), e.level, e.tx, e.ty,
                      first ? packOrthoTileStats(e.stats) : std::vector<uint8_t>{}, blob);
             first = false;
         }
     };
+    const auto put = [&](const EncodedOrthoTile& e, OutputSet made, bool stats = true) {
+        if (share) {
+            record(e, made, stats);
+        } else {
+            outputs->write(e, made);
+        }
+    };
+    // Two walks: the residual tiles of levels 0..C, held from the first walk until the
+    // second's are written, so that the residual file (and a split build's streams) has the
+    // top levels last, as the TIFF and DXT files: at most the compressed residuals of levels
+    // 0..C, which the SinglePass walk bounds (OrthoLevels).
+    std::vector<EncodedOrthoTile> heldTop;
     // The walk's items are written (content hashes, file writes: serial, in the walk's order) by
     // the writer's thread, each as soon as it and the items before it are encoded, while the
     // walk samples and encodes the next ones, instead of both cores waiting for the writes.
     // Window: one group of items (OrthoLevels::groupItems), admitted once encoded, so that
-    // memory grows by one group's encoded tiles at most. Declared after everything its writes
-    // use (its destructor stops it).
-    OrderedWriter<EncodedItem> writer(levels.groupItems(), [&](int64_t, EncodedItem& item) {
-        for (const EncodedOrthoTile& e : item) {
+    // memory grows by one group's encoded tiles at most. Items from `secondWalk` on are the
+    // second walk's. Declared after everything its writes use (its destructor stops it).
+    std::atomic<int64_t> secondWalk{std::numeric_limits<int64_t>::max()};
+    OrderedWriter<EncodedItem> writer(levels.groupItems(), [&](int64_t index, EncodedItem& item) {
+        const bool second = index >= secondWalk.load(std::memory_order_acquire);
+        for (EncodedOrthoTile& e : item) {
             if (region && !region->holds(e.level, e.tx, e.ty)) {
                 continue; // an ancestor of the root, encoded for its reconstruction
             }
-            if (share) {
-                if (!range.top && e.level <= topLevel) {
-                    continue; // another share's
-                }
-                record(e);
-            } else {
-                outputs->write(e);
+            if (share && !range.top && e.level <= topLevel) {
+                continue; // another share's
             }
-            totals[static_cast<size_t>(e.level)].add(e.stats);
-            if (o.colourReconstruction && o.writeResiduals) {
+            const bool topTile = e.level <= topLevel;
+            if (o.colourReconstruction && !e.recon.empty()) {
                 o.colourReconstruction(e.level, e.tx, e.ty, e.recon);
             }
-            if (o.progress) {
-                o.progress(++done, total);
+            if (second) {
+                e.stats.tiles = 0; // counted with its TIFF or DXT tile
+                put(e, {false, false, true});
+            } else if (twoWalks && topTile) {
+                put(e, {o.writeTiff, o.writeDxt, false});
+                EncodedOrthoTile& held = heldTop.emplace_back();
+                held.level = e.level;
+                held.tx = e.tx;
+                held.ty = e.ty;
+                held.residual = std::move(e.residual); // its statistics go with its other outputs
+            } else {
+                put(e, twoWalks ? OutputSet{o.writeTiff, o.writeDxt, false} : OutputSet::of(o));
+            }
+            totals[static_cast<size_t>(e.level)].add(e.stats);
+            stepCarry += total;
+            if (stepCarry >= steps) {
+                stepCarry -= steps;
+                if (o.progress) {
+                    o.progress(++done, total);
+                }
             }
             if (o.cancelled && o.cancelled()) {
                 throw Cancelled(report.input + ": cancelled");
@@ -353,32 +421,50 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
         }
     });
     int64_t walked = 0; // the walk's items so far
-    const OrthoLevels::Range walkRange = region ? region->range : OrthoLevels::Range{range.begin, range.end, range.top};
-    levels.walk(
-        [&](std::vector<TileBatch>& group) {
-            if (region) {
-                // Only the tiles the region needs are encoded.
-                for (TileBatch& batch : group) {
-                    std::erase_if(batch, [&](const TrueTile& t) { return !region->needed(t.level, t.tx, t.ty); });
+    const auto encodeWalk = [&](const OrthoLevels::Range* walkRange) {
+        levels.walk(
+            [&](std::vector<TileBatch>& group) {
+                if (region) {
+                    // Only the tiles the region needs are encoded.
+                    for (TileBatch& batch : group) {
+                        std::erase_if(batch, [&](const TrueTile& t) { return !region->needed(t.level, t.tx, t.ty); });
+                    }
                 }
-            }
-            const int64_t first = walked;
-            walked += static_cast<int64_t>(group.size());
-            std::atomic<bool> stopped{false};
-            encoder.encode(group, [&](size_t i, EncodedItem& item) {
-                const int64_t index = first + static_cast<int64_t>(i);
-                if (writer.admit(index)) {
-                    writer.deliver(index, std::move(item));
-                } else {
-                    stopped = true;
+                const int64_t first = walked;
+                walked += static_cast<int64_t>(group.size());
+                std::atomic<bool> stopped{false};
+                encoder.encode(group, [&](size_t i, EncodedItem& item) {
+                    const int64_t index = first + static_cast<int64_t>(i);
+                    if (writer.admit(index)) {
+                        writer.deliver(index, std::move(item));
+                    } else {
+                        stopped = true;
+                    }
+                });
+                if (stopped) {
+                    writer.finish(first); // a write failed: rethrows its error
                 }
-            });
-            if (stopped) {
-                writer.finish(first); // a write failed: rethrows its error
-            }
-        },
-        order, share || region ? &walkRange : nullptr);
+            },
+            order, walkRange);
+    };
+    if (region) {
+        encodeWalk(&region->range);
+    } else if (twoWalks) {
+        // Levels 0..C in every share: the second walk's subtrees need their reconstruction.
+        const OrthoLevels::Range first{range.begin, range.end, true};
+        encodeWalk(share ? &first : nullptr);
+        encoder.setSubtreeOutputs(residualsOnly);
+        secondWalk.store(walked, std::memory_order_release);
+        const OrthoLevels::Range second{range.begin, range.end, false};
+        encodeWalk(&second);
+    } else {
+        const OrthoLevels::Range walkRange{range.begin, range.end, range.top};
+        encodeWalk(share ? &walkRange : nullptr);
+    }
     writer.finish(walked);
+    for (const EncodedOrthoTile& e : heldTop) {
+        put(e, {false, false, true}, false);
+    }
 
     if (share) {
         nlohmann::json companionJson = nlohmann::json::object();

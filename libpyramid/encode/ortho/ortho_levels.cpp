@@ -377,8 +377,9 @@ void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consu
         const int top = c + 1;
         const int side = 1 << top;
         const int64_t count = int64_t{side} * side;
-        // A share without every subtree takes levels 0..C from bands instead.
-        const bool whole = begin == 0 && end == count;
+        // A share without every subtree takes levels 0..C from bands instead; a walk without
+        // them does not assemble level C.
+        const bool whole = begin == 0 && end == count && (!range || range->top);
         std::vector<Image8> levels(static_cast<size_t>(c) + 1);
         Image8& levelC = levels[static_cast<size_t>(c)];
         const auto sideC = static_cast<int>(m.levelWidth(c) + 2 * m.margin(c));

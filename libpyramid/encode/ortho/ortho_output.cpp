@@ -49,7 +49,7 @@ void placeOrthoOutput(std::unique_ptr<OrthoFileWriter> writer, const std::string
 }
 
 void OrthoLevelTotals::add(const OrthoTileStats& t) {
-    tiles += 1;
+    tiles += t.tiles;
     s.tiffMaxError = std::max(s.tiffMaxError, t.tiffMaxError);
     s.jpegTiles += t.jpegTiles;
     s.dxtSquares += t.dxtSquares;
@@ -78,7 +78,7 @@ OrthoLevelReport OrthoLevelTotals::report(int level) const {
 
 namespace {
 
-constexpr size_t kStatsBytes = 4 + 8 + 8 + 8 + 4 + 8 + 8 + 8;
+constexpr size_t kStatsBytes = 8 + 4 + 8 + 8 + 8 + 4 + 8 + 8 + 8;
 
 template <class T>
 void put(std::vector<uint8_t>& out, size_t& at, const T& v) {
@@ -97,6 +97,7 @@ void take(const std::vector<uint8_t>& in, size_t& at, T& v) {
 std::vector<uint8_t> packOrthoTileStats(const OrthoTileStats& s) {
     std::vector<uint8_t> out(kStatsBytes);
     size_t at = 0;
+    put(out, at, s.tiles);
     put(out, at, static_cast<int32_t>(s.tiffMaxError));
     put(out, at, s.jpegTiles);
     put(out, at, s.dxtSquares);
@@ -116,6 +117,7 @@ OrthoTileStats unpackOrthoTileStats(const std::vector<uint8_t>& bytes, const std
     OrthoTileStats s;
     size_t at = 0;
     int32_t tiff = 0, residual = 0;
+    take(bytes, at, s.tiles);
     take(bytes, at, tiff);
     take(bytes, at, s.jpegTiles);
     take(bytes, at, s.dxtSquares);

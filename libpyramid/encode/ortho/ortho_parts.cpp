@@ -68,9 +68,13 @@ OrthoMergeReport mergeOrthoParts(const std::vector<std::string>& paths, const st
                 }
                 writers[slot]->writeTileBytes(r.level, r.tx, r.ty, r.blob);
                 if (!r.extra.empty()) {
-                    totals[static_cast<size_t>(r.level)].add(unpackOrthoTileStats(r.extra, reader.path()));
-                    ++done;
-                    if (progress) {
+                    const OrthoTileStats stats = unpackOrthoTileStats(r.extra, reader.path());
+                    if (stats.tiles != 0 && stats.tiles != 1) {
+                        fail(reader.path(), "corrupt part file (a tile's statistics count " + std::to_string(stats.tiles) + " tiles)");
+                    }
+                    totals[static_cast<size_t>(r.level)].add(stats);
+                    done += stats.tiles;
+                    if (progress && stats.tiles) {
                         progress(done, set.tiles);
                     }
                 }

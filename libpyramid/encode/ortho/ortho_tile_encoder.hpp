@@ -16,6 +16,7 @@ namespace pyramid {
 
 // What a tile adds to its level's statistics (OrthoLevelReport).
 struct OrthoTileStats {
+    int64_t tiles = 1; // 0 for the statistics of a tile's later outputs (a second walk's)
     int tiffMaxError = 0;
     int64_t jpegTiles = 0;
     double dxtSquares = 0.0;
