@@ -84,9 +84,17 @@ TEST(Aperture, AFlatPlainSeesTheWholeHemisphere) {
     const std::string dem = demOf(dir, "flat", [](double, double) { return 100.0; });
     ApertureEncodeOptions o;
     o.size = 128.0;
+    o.search.directions = 12;
+    o.search.radius = 6;
+    o.search.levels = 2;
     const ApertureReport r = encodeApertureFile(dem, dir.file("APERTURE.dat"), o);
     EXPECT_EQ(r.maxLevel, 2);
     EXPECT_EQ(r.tiles, 21);
+    const nlohmann::json j = toJson(r); // the search under the keys the spherical report uses
+    EXPECT_EQ(j.at("directions"), 12);
+    EXPECT_EQ(j.at("radius_steps"), 6);
+    EXPECT_EQ(j.at("levels"), 2);
+    EXPECT_FALSE(j.contains("radius"));
     const OrthoProducer p(dir.file("APERTURE.dat"));
     ASSERT_EQ(p.header().channels, 3);
     for (int level = 0; level <= 2; ++level) {
@@ -165,6 +173,11 @@ TEST(SphericalAperture, ASphereOfConstantHeightSeesTheWholeSkyEverywhere) {
                                                                    dir.file("out"), o);
     ASSERT_EQ(r.outputs.size(), 6u);
     EXPECT_EQ(r.maxLevel, 2);
+    const nlohmann::json j = toJson(r);
+    EXPECT_EQ(j.at("directions"), 8);
+    EXPECT_EQ(j.at("radius_steps"), 4);
+    EXPECT_EQ(j.at("levels"), 3);
+    EXPECT_EQ(j.at("radius"), r.radius); // the sphere's, in metres
     for (const std::string& face : r.outputs) {
         const OrthoProducer p(face);
         ASSERT_EQ(p.header().channels, 3);

@@ -1,12 +1,15 @@
-// OrthoLevels::walk: its two orders give the same tiles, each in the order it promises.
+// OrthoLevels::walk: its two orders give the same tiles, each in the order it promises; the
+// conversion of resampled values to 8 bits.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 #include <tuple>
 
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/encode/ortho/planar_pixels.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
@@ -104,6 +107,59 @@ void expectTheSameTilesInTheirOrders(const OrthoLevels& levels) {
 // The geometries of each branch: pixel exact; resampled with the lower part of the square
 // beyond a wide input (whole subtrees black); 16-bit; 1 to 4 channels; few and many levels
 // (the single pass's deeper level C from 3 levels on).
+// The documented conversion of a resampled value to 8 bits, as a reader of doc/ortho-encoding.md
+// computes it.
+uint8_t documented(double top, double bottom, double fy, double full) {
+    const double v = top + (bottom - top) * fy;
+    return static_cast<uint8_t>(std::lround(v * 255.0 / full));
+}
+
+// combineRows takes 8-bit input without the formula's * 255 / 255: every value within eight
+// units in the last place of a half, where the two could round apart, and random rows, give
+// the formula's bytes; so do 16-bit rows.
+TEST(PlanarPixels, EightBitsAsTheDocumentedRounding) {
+    std::vector<double> values;
+    for (int k = 0; k < 255; ++k) {
+        double v = k + 0.5;
+        for (int j = 0; j < 8; ++j) {
+            v = std::nextafter(v, 0.0);
+        }
+        for (int j = -8; j <= 8; ++j, v = std::nextafter(v, 256.0)) {
+            values.push_back(v);
+        }
+    }
+    values.push_back(0.0);
+    values.push_back(255.0);
+    std::vector<double> zeros(values.size(), 0.0);
+    std::vector<uint8_t> row(values.size());
+    combineRows(values.data(), zeros.data(), 0.0, 255.0, values.size(), row.data()); // v = top
+    for (size_t k = 0; k < values.size(); ++k) {
+        ASSERT_EQ(row[k], documented(values[k], 0.0, 0.0, 255.0)) << std::hexfloat << values[k];
+    }
+    int differ = 0; // random values whose two forms differ before rounding (about 1 in 250)
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> sample(0.0, 255.0), weight(0.0, 1.0);
+    for (const double full : {255.0, 65535.0}) {
+        const size_t n = 4099; // not a multiple of any vector's width
+        std::vector<double> top(n), bottom(n);
+        for (size_t k = 0; k < n; ++k) {
+            top[k] = sample(random) * full / 255.0;
+            bottom[k] = sample(random) * full / 255.0;
+        }
+        for (int r = 0; r < 20; ++r) {
+            const double fy = weight(random);
+            std::vector<uint8_t> out(n);
+            combineRows(top.data(), bottom.data(), fy, full, n, out.data());
+            for (size_t k = 0; k < n; ++k) {
+                ASSERT_EQ(out[k], documented(top[k], bottom[k], fy, full)) << full << " " << k;
+                const double v = top[k] + (bottom[k] - top[k]) * fy;
+                differ += full == 255.0 && v * 255.0 / 255.0 != v;
+            }
+        }
+    }
+    EXPECT_GT(differ, 50);
+}
+
 TEST(OrthoLevels, BothOrdersGiveTheSameTiles) {
     struct Case {
         int w, h, channels, tileSize;

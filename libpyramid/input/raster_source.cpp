@@ -28,6 +28,7 @@ struct RasterSource::Impl {
     std::unique_ptr<PngRasterReader> png;    // 8/16-bit PNG, decoded whole
     std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
     std::shared_ptr<const RasterPixels> computed; // or pixels a caller computes
+    const BytePixels* computedBytes = nullptr;    // `computed`, when it computes bytes
     // Everything else goes through OpenImageIO's ImageCache in the image I/O module, opened
     // the first time a read needs it (or at once when no direct reader knows the file).
     mutable std::once_flag moduleOnce;
@@ -143,6 +144,7 @@ std::unique_ptr<RasterSource> RasterSource::fromPixels(const std::string& name, 
     source->impl_ = std::make_unique<Impl>();
     source->impl_->path = name;
     source->impl_->computed = std::move(pixels);
+    source->impl_->computedBytes = dynamic_cast<const BytePixels*>(source->impl_->computed.get());
     source->path_ = name;
     source->info_ = info;
     return source;
@@ -317,8 +319,8 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
     }
     const Impl& impl = *impl_;
     const size_t rowValues = static_cast<size_t>(x1 - x0) * static_cast<size_t>(c1 - c0);
-    if (const auto* bytePixels = dynamic_cast<const BytePixels*>(impl.computed.get())) {
-        const std::vector<uint8_t> bytes = readWindowBytes(*bytePixels, x0, y0, x1, y1, c0, c1);
+    if (impl.computedBytes) {
+        const std::vector<uint8_t> bytes = readWindowBytes(*impl.computedBytes, x0, y0, x1, y1, c0, c1);
         for (int y = y0; y < y1; ++y) {
             std::copy_n(&bytes[static_cast<size_t>(y - y0) * rowValues], rowValues,
                         out + static_cast<std::ptrdiff_t>(y - y0) * rowStride);

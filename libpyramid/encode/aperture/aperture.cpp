@@ -304,19 +304,22 @@ ApertureReport encodeApertureFile(const std::string& dem, const std::string& out
     return report;
 }
 
+nlohmann::json toJson(const ApertureSearch& s) {
+    return {{"directions", s.directions}, {"radius_steps", s.radius}, {"levels", s.levels}};
+}
+
 nlohmann::json toJson(const ApertureReport& r) {
-    return {{"input", r.input},
-            {"output", r.output},
-            {"tile_size", r.tileSize},
-            {"max_level", r.maxLevel},
-            {"size", r.size},
-            {"spacing", r.spacing},
-            {"directions", r.search.directions},
-            {"radius", r.search.radius},
-            {"levels", r.search.levels},
-            {"tiles", r.tiles},
-            {"bytes", r.bytes},
-            {"seconds", r.seconds}};
+    nlohmann::json j = {{"input", r.input},
+                        {"output", r.output},
+                        {"tile_size", r.tileSize},
+                        {"max_level", r.maxLevel},
+                        {"size", r.size},
+                        {"spacing", r.spacing},
+                        {"tiles", r.tiles},
+                        {"bytes", r.bytes},
+                        {"seconds", r.seconds}};
+    j.update(toJson(r.search));
+    return j;
 }
 
 SphericalApertureReport encodeSphericalApertureFiles(const std::string& directory, const std::string& output,
@@ -385,19 +388,18 @@ SphericalApertureReport encodeSphericalApertureFiles(const std::string& director
 }
 
 nlohmann::json toJson(const SphericalApertureReport& r) {
-    return {{"input", r.input},
-            {"directory", r.directory},
-            {"outputs", r.outputs},
-            {"tile_size", r.tileSize},
-            {"max_level", r.maxLevel},
-            {"radius", r.radius},
-            {"spacing", r.spacing},
-            {"directions", r.search.directions},
-            {"radius_steps", r.search.radius},
-            {"levels", r.search.levels},
-            {"tiles", r.tiles},
-            {"bytes", r.bytes},
-            {"seconds", r.seconds}};
+    nlohmann::json j = {{"input", r.input},
+                        {"directory", r.directory},
+                        {"outputs", r.outputs},
+                        {"tile_size", r.tileSize},
+                        {"max_level", r.maxLevel},
+                        {"radius", r.radius},
+                        {"spacing", r.spacing},
+                        {"tiles", r.tiles},
+                        {"bytes", r.bytes},
+                        {"seconds", r.seconds}};
+    j.update(toJson(r.search));
+    return j;
 }
 
 } // namespace pyramid

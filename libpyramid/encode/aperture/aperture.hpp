@@ -75,6 +75,9 @@ struct ApertureReport {
 // or OptionError and leaves nothing behind.
 ApertureReport encodeApertureFile(const std::string& dem, const std::string& output, const ApertureEncodeOptions& options);
 
+// The search, as both reports give it: "directions", "radius_steps" (ApertureSearch::radius)
+// and "levels".
+nlohmann::json toJson(const ApertureSearch& search);
 nlohmann::json toJson(const ApertureReport& report);
 
 struct SphericalApertureOptions {

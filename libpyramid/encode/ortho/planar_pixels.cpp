@@ -41,13 +41,12 @@ void interpolateRow(const uint16_t* in, const size_t* first, const size_t* secon
     }
 }
 
-// An output row from its two interpolated input rows, `fy` of the way from `top` to `bottom`,
-// converted to 8 bits: v * 255 / full (full = 255, or 65535 for 16-bit input), rounded half
-// up. The values lie within [0, full], where the conversion to an integer truncates (floor)
-// and x - floor(x) is exact: std::lround's result without a branch or a library call.
+// The documented conversion, v8 = lround(v * 255 / full), of values v in [0, full]: there the
+// conversion to an integer truncates (floor) and x - floor(x) is exact, so it is std::lround's
+// result without a branch or a library call.
 PYRAMID_VECTOR_CLONES
-void combineRows(const double* __restrict top, const double* __restrict bottom, double fy, double full, size_t count,
-                 uint8_t* __restrict row) {
+void combineRowsExact(const double* __restrict top, const double* __restrict bottom, double fy, double full,
+                      size_t count, uint8_t* __restrict row) {
     for (size_t k = 0; k < count; ++k) {
         const double x = (top[k] + (bottom[k] - top[k]) * fy) * 255.0 / full;
         const auto i = static_cast<int32_t>(x);
@@ -55,7 +54,30 @@ void combineRows(const double* __restrict top, const double* __restrict bottom, 
     }
 }
 
+// 8-bit input (full = 255) without the multiplication and division: x = v * 255 / 255 lies
+// within two units in the last place of v (two roundings of half a unit each), so x and v
+// round to different integers only if a half lies between them, and no value within eight
+// units in the last place of any half from 0.5 to 254.5 rounds differently (checked value by
+// value in tests/ortho_levels_test.cpp): the same bytes as the formula.
+PYRAMID_VECTOR_CLONES
+void combineRows8(const double* __restrict top, const double* __restrict bottom, double fy, size_t count,
+                  uint8_t* __restrict row) {
+    for (size_t k = 0; k < count; ++k) {
+        const double v = top[k] + (bottom[k] - top[k]) * fy;
+        const auto i = static_cast<int32_t>(v);
+        row[k] = static_cast<uint8_t>(i + static_cast<int32_t>(v - static_cast<double>(i) >= 0.5));
+    }
+}
+
 } // namespace
+
+void combineRows(const double* top, const double* bottom, double fy, double full, size_t count, uint8_t* row) {
+    if (full == 255.0) {
+        combineRows8(top, bottom, fy, count, row);
+    } else {
+        combineRowsExact(top, bottom, fy, full, count, row);
+    }
+}
 
 PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t width, bool stretch)
     : source_(source), channels_(channels) {

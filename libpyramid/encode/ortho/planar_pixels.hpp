@@ -3,6 +3,7 @@
 // bilinear at pixel centres, aspect kept (the image at the north-west corner, black and
 // transparent beyond it) or stretched; 16-bit input brought to 8 bits.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -10,6 +11,11 @@
 #include "libpyramid/input/raster_source.hpp"
 
 namespace pyramid {
+
+// An output row of 8-bit samples from its two interpolated input rows, `fy` of the way from
+// `top` to `bottom` (values within [0, full]): v = top + (bottom - top) * fy, then
+// v8 = lround(v * 255 / full) with full = 255 (8-bit input) or 65535 (16-bit).
+void combineRows(const double* top, const double* bottom, double fy, double full, size_t count, uint8_t* row);
 
 class PlanarPixels final : public PixelSource {
 public:
