@@ -304,21 +304,23 @@ ApertureReport encodeApertureFile(const std::string& dem, const std::string& out
     return report;
 }
 
-nlohmann::json toJson(const ApertureSearch& s) {
-    return {{"directions", s.directions}, {"radius_steps", s.radius}, {"levels", s.levels}};
+nlohmann::json toJson(const ApertureRun& r) {
+    return {{"input", r.input},
+            {"tile_size", r.tileSize},
+            {"max_level", r.maxLevel},
+            {"spacing", r.spacing},
+            {"directions", r.search.directions},
+            {"radius_steps", r.search.radius},
+            {"levels", r.search.levels},
+            {"tiles", r.tiles},
+            {"bytes", r.bytes},
+            {"seconds", r.seconds}};
 }
 
 nlohmann::json toJson(const ApertureReport& r) {
-    nlohmann::json j = {{"input", r.input},
-                        {"output", r.output},
-                        {"tile_size", r.tileSize},
-                        {"max_level", r.maxLevel},
-                        {"size", r.size},
-                        {"spacing", r.spacing},
-                        {"tiles", r.tiles},
-                        {"bytes", r.bytes},
-                        {"seconds", r.seconds}};
-    j.update(toJson(r.search));
+    nlohmann::json j = toJson(static_cast<const ApertureRun&>(r));
+    j["output"] = r.output;
+    j["size"] = r.size;
     return j;
 }
 
@@ -388,17 +390,10 @@ SphericalApertureReport encodeSphericalApertureFiles(const std::string& director
 }
 
 nlohmann::json toJson(const SphericalApertureReport& r) {
-    nlohmann::json j = {{"input", r.input},
-                        {"directory", r.directory},
-                        {"outputs", r.outputs},
-                        {"tile_size", r.tileSize},
-                        {"max_level", r.maxLevel},
-                        {"radius", r.radius},
-                        {"spacing", r.spacing},
-                        {"tiles", r.tiles},
-                        {"bytes", r.bytes},
-                        {"seconds", r.seconds}};
-    j.update(toJson(r.search));
+    nlohmann::json j = toJson(static_cast<const ApertureRun&>(r));
+    j["directory"] = r.directory;
+    j["outputs"] = r.outputs;
+    j["radius"] = r.radius;
     return j;
 }
 

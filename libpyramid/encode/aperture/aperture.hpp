@@ -58,14 +58,20 @@ struct ApertureEncodeOptions {
     std::function<void(int64_t, int64_t)> progress; // (tiles done, total)
 };
 
-struct ApertureReport {
-    std::string input, output;
+// What both aperture reports give.
+struct ApertureRun {
+    std::string input;
     int tileSize = 0, maxLevel = 0;
-    double size = 0.0, spacing = 0.0; // the root quad's side, the finest level's sample spacing
+    double spacing = 0.0; // the finest level's sample spacing (a planet's: its mean, on the ground)
     ApertureSearch search;
     int64_t tiles = 0;
     uint64_t bytes = 0;
     double seconds = 0.0;
+};
+
+struct ApertureReport : ApertureRun {
+    std::string output;
+    double size = 0.0; // the root quad's side
 };
 
 // preprocessAperture: the aperture pyramid of the residual pyramid (file or region set) `dem`,
@@ -75,9 +81,9 @@ struct ApertureReport {
 // or OptionError and leaves nothing behind.
 ApertureReport encodeApertureFile(const std::string& dem, const std::string& output, const ApertureEncodeOptions& options);
 
-// The search, as both reports give it: "directions", "radius_steps" (ApertureSearch::radius)
-// and "levels".
-nlohmann::json toJson(const ApertureSearch& search);
+// The fields both reports give, the search as "directions", "radius_steps"
+// (ApertureSearch::radius) and "levels".
+nlohmann::json toJson(const ApertureRun& run);
 nlohmann::json toJson(const ApertureReport& report);
 
 struct SphericalApertureOptions {
@@ -93,15 +99,10 @@ struct SphericalApertureOptions {
     std::function<void(int64_t, int64_t)> progress; // (tiles done, total), all faces together
 };
 
-struct SphericalApertureReport {
-    std::string input, directory;
+struct SphericalApertureReport : ApertureRun {
+    std::string directory;
     std::vector<std::string> outputs;
-    int tileSize = 0, maxLevel = 0;
-    double radius = 0.0, spacing = 0.0; // the finest level's mean sample spacing on the ground
-    ApertureSearch search;
-    int64_t tiles = 0;
-    uint64_t bytes = 0;
-    double seconds = 0.0;
+    double radius = 0.0; // the sphere's the search runs on
 };
 
 // preprocessSphericalAperture: the aperture of the six cube faces of a planet (DIR/NAME1..6.dat,
