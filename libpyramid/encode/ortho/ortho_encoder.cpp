@@ -111,8 +111,6 @@ public:
         }
     }
 
-    bool residuals() const { return residual_ != nullptr; }
-
     // Completes the files (each a region set with its index when maxFileBytes is set); their
     // sizes and shared tiles go to the report.
     void commit(OrthoReport& report) {
@@ -374,6 +372,9 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     // top levels last, as the TIFF and DXT files: at most the compressed residuals of levels
     // 0..C, which the SinglePass walk bounds (OrthoLevels).
     std::vector<EncodedOrthoTile> heldTop;
+    // What the writer writes of each tile of the first walk (or the only one), and of the second.
+    const OutputSet residualsOut{false, false, true};
+    const OutputSet firstOut = twoWalks ? OutputSet{o.writeTiff, o.writeDxt, false} : OutputSet::of(o);
     // The walk's items are written (content hashes, file writes: serial, in the walk's order) by
     // the writer's thread, each as soon as it and the items before it are encoded, while the
     // walk samples and encodes the next ones, instead of both cores waiting for the writes.
@@ -390,22 +391,21 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             if (share && !range.top && e.level <= topLevel) {
                 continue; // another share's
             }
-            const bool topTile = e.level <= topLevel;
             if (o.colourReconstruction && !e.recon.empty()) {
                 o.colourReconstruction(e.level, e.tx, e.ty, e.recon);
             }
             if (second) {
                 e.stats.tiles = 0; // counted with its TIFF or DXT tile
-                put(e, {false, false, true});
-            } else if (twoWalks && topTile) {
-                put(e, {o.writeTiff, o.writeDxt, false});
-                EncodedOrthoTile& held = heldTop.emplace_back();
-                held.level = e.level;
-                held.tx = e.tx;
-                held.ty = e.ty;
-                held.residual = std::move(e.residual); // its statistics go with its other outputs
+                put(e, residualsOut);
             } else {
-                put(e, twoWalks ? OutputSet{o.writeTiff, o.writeDxt, false} : OutputSet::of(o));
+                put(e, firstOut);
+                if (twoWalks && e.level <= topLevel) {
+                    EncodedOrthoTile& held = heldTop.emplace_back();
+                    held.level = e.level;
+                    held.tx = e.tx;
+                    held.ty = e.ty;
+                    held.residual = std::move(e.residual); // its statistics go with its other outputs
+                }
             }
             totals[static_cast<size_t>(e.level)].add(e.stats);
             stepCarry += total;
@@ -463,7 +463,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     }
     writer.finish(walked);
     for (const EncodedOrthoTile& e : heldTop) {
-        put(e, {false, false, true}, false);
+        put(e, residualsOut, false);
     }
 
     if (share) {
