@@ -242,8 +242,8 @@ TEST(RasterReaders, SampleImagesReadAsOpenImageIOReadsThem) {
 
 // A PNG is decoded by a thread of its own while it is read: windows read from several threads
 // at once, in any order (last rows first too), are the file's samples; a file cut short gives
-// its first rows and then the error, to every read that needs the rows it lacks; a reader
-// closed at once stops its decoding.
+// its first rows and then the error, to every read that needs the rows it lacks, and so does a
+// file with a damaged byte; a reader closed at once stops its decoding.
 TEST(RasterReaders, PngRowsAreReadWhileTheyAreDecoded) {
     test::TempDir dir;
     const int w = 97, h = 1500;
@@ -304,6 +304,31 @@ TEST(RasterReaders, PngRowsAreReadWhileTheyAreDecoded) {
         } catch (const std::exception& e) {
             EXPECT_EQ(std::string(e.what()), cut + ": cannot read: damaged or truncated PNG (Read Error)");
         }
+    }
+    // One byte changed in the first image data chunk's CRC: the pixels decode, but the chunk is
+    // damaged (the decoder leaves the zlib stream's own checksum unchecked, not the CRCs).
+    std::string flipped = whole;
+    const size_t data = flipped.find("IDAT");
+    ASSERT_NE(data, std::string::npos);
+    ASSERT_GE(data, size_t{4});
+    size_t length = 0; // the chunk's length, big-endian, before its type
+    for (size_t k = data - 4; k < data; ++k) {
+        length = length << 8 | static_cast<uint8_t>(whole[k]);
+    }
+    ASSERT_LT(data + 4 + length + 4, whole.size());
+    flipped[data + 4 + length] ^= 0x10;
+    const std::string damagedPath = dir.file("damaged.png");
+    {
+        std::FILE* f = std::fopen(damagedPath.c_str(), "wb");
+        std::fwrite(flipped.data(), 1, flipped.size(), f);
+        std::fclose(f);
+    }
+    const auto damagedSource = RasterSource::open(damagedPath);
+    try {
+        damagedSource->readUInt16(0, h - 1, w, h, 0, 3, row.data());
+        ADD_FAILURE() << "the last row of a damaged file was read";
+    } catch (const std::exception& e) {
+        EXPECT_EQ(std::string(e.what()), damagedPath + ": cannot read: damaged or truncated PNG (IDAT: CRC error)");
     }
     // Opened and closed at once: the decoding thread stops (a leak or a late write would show
     // under the sanitizers).
