@@ -163,7 +163,8 @@ using EncodedItem = std::vector<EncodedOrthoTile>;
 class GroupEncoder {
 public:
     GroupEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& top, const OrthoEncodeOptions& subtrees)
-        : levels_(levels), top_(levels, top), topResiduals_(top.writeResiduals), threads_(levels.threads()) {
+        : levels_(levels), top_(levels, top), topResiduals_(top.writeResiduals),
+          handOutRecon_(static_cast<bool>(top.colourReconstruction)), threads_(levels.threads()) {
         setSubtreeOutputs(subtrees);
     }
     // The outputs of the subtree items from now on (the options must outlive this object).
@@ -191,8 +192,11 @@ public:
             });
             if (topResiduals_) {
                 // The next groups predict from these rebuilt tiles while this one is written.
-                for (const EncodedOrthoTile& e : level) {
-                    shallowRecon_[{e.level, e.tx, e.ty}] = e.recon;
+                // Moved rather than copied unless they are handed out too: a level's rebuilt
+                // colours are held once (at planet scale, level C's are most of a gigabyte).
+                for (EncodedOrthoTile& e : level) {
+                    std::vector<uint8_t>& kept = shallowRecon_[{e.level, e.tx, e.ty}];
+                    kept = handOutRecon_ ? e.recon : std::move(e.recon);
                 }
             }
             done(0, level);
@@ -214,6 +218,11 @@ public:
                 out.push_back(subtree_->encode(t, parent));
                 local[{t.level, t.tx, t.ty}] = &out.back().recon;
             }
+            if (!handOutRecon_) {
+                for (EncodedOrthoTile& e : out) {
+                    std::vector<uint8_t>().swap(e.recon); // not held while the item waits to be written
+                }
+            }
             done(static_cast<size_t>(i), out);
         });
     }
@@ -225,6 +234,7 @@ private:
     const OrthoLevels& levels_;
     const OrthoTileEncoder top_;
     const bool topResiduals_;
+    const bool handOutRecon_; // OrthoEncodeOptions::colourReconstruction is set: the writer needs every tile's
     std::unique_ptr<OrthoTileEncoder> subtree_;
     bool subtreeResiduals_ = false;
     const int threads_;
