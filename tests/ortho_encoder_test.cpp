@@ -189,8 +189,8 @@ TEST(OrthoEncoder, IdenticalFilesForAnyThreadCount) {
         EXPECT_GT(a.size(), 500u) << f;
         EXPECT_EQ(a, test::readFile(dir.file("two") + f)) << f;
     }
-    // Without colour residuals the input is walked in one pass, in groups whose size follows
-    // the thread count: the files do not.
+    // Without colour residuals the input is walked in one pass, its subtrees taken by whichever
+    // thread is free: the files do not follow the thread count.
     o.writeResiduals = false;
     for (const int threads : {1, 2, 3}) {
         o.levels.threads = threads;
@@ -210,7 +210,7 @@ TEST(OrthoEncoder, AllThreeOutputsAreEachOutputsOwnRun) {
     test::TempDir dir;
     test::writeImage(dir.file("in.png"), 100, 80, 3, image(100, 80, 3, 250), false);
     OrthoEncodeOptions o = small();
-    o.levels.tileSize = 8; // M = 4: levels 0..1 whole, and subtrees of levels 2..4 (0 and 1..4 alone)
+    o.levels.tileSize = 8; // M = 4: levels 0..2 whole, and subtrees of levels 3..4 (0 and 1..4 alone)
     o.levels.threads = 2;
     std::map<std::tuple<int, int, int>, std::vector<uint8_t>> recon;
     int64_t calls = 0;
@@ -481,6 +481,27 @@ TEST(OrthoEncoder, AFailureMidRunLeavesThePreviousOutputs) {
     // Into a new directory: nothing at all.
     EXPECT_THROW(encodeOrtho(dir.file("cut.png"), dir.file("fresh/out"), small()), Error);
     EXPECT_FALSE(std::filesystem::exists(dir.file("fresh")));
+    // With more threads than cores, and in both walk orders (residuals alone: levels first): the
+    // subtree that meets the damage stops the others, which do not wait for it, and the error
+    // names the file.
+    for (const int threads : {1, 3}) {
+        for (const bool residualsOnly : {false, true}) {
+            OrthoEncodeOptions o = small();
+            o.levels.threads = threads;
+            if (residualsOnly) {
+                o.writeTiff = o.writeDxt = false;
+            }
+            const std::string where = dir.file("t" + std::to_string(threads) + (residualsOnly ? "r" : "a"));
+            try {
+                encodeOrtho(dir.file("cut.png"), where, o);
+                ADD_FAILURE() << "no error with " << threads << " threads";
+            } catch (const Error& e) {
+                EXPECT_EQ(std::string(e.what()).rfind(dir.file("cut.png") + ": cannot read: damaged or truncated PNG", 0), 0u)
+                    << e.what();
+            }
+            EXPECT_FALSE(std::filesystem::exists(where));
+        }
+    }
 }
 
 } // namespace

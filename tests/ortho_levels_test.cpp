@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <random>
 #include <tuple>
 
@@ -41,18 +42,27 @@ struct Walked {
 };
 
 Walked walk(const OrthoLevels& levels, OrthoLevels::WalkOrder order) {
+    // Subtrees arrive from several threads at once: kept by item number, then read in order.
+    std::map<int64_t, TileBatch> items;
+    std::mutex mutex;
+    OrthoLevels::Sink sink;
+    sink.subtree = sink.level = [&](int64_t index, TileBatch& item) {
+        std::lock_guard<std::mutex> lock(mutex);
+        EXPECT_TRUE(items.emplace(index, std::move(item)).second) << "item " << index << " given twice";
+        return true;
+    };
+    const int64_t count = levels.walk(sink, order);
+    EXPECT_EQ(count, static_cast<int64_t>(items.size()));
     Walked w;
-    levels.walk(
-        [&](std::vector<TileBatch>& group) {
-            for (const TileBatch& item : group) {
-                for (const TrueTile& t : item) {
-                    const Key k{t.level, t.tx, t.ty};
-                    EXPECT_TRUE(w.tiles.emplace(k, std::vector<uint8_t>(t.image().pixels.begin(), t.image().pixels.end())).second) << "tile given twice";
-                    w.order.push_back(k);
-                }
-            }
-        },
-        order);
+    int64_t expected = 0;
+    for (const auto& [index, item] : items) {
+        EXPECT_EQ(index, expected++) << "the items are numbered 0, 1, 2...";
+        for (const TrueTile& t : item) {
+            const Key k{t.level, t.tx, t.ty};
+            EXPECT_TRUE(w.tiles.emplace(k, std::vector<uint8_t>(t.image().pixels.begin(), t.image().pixels.end())).second) << "tile given twice";
+            w.order.push_back(k);
+        }
+    }
     return w;
 }
 

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
@@ -85,66 +87,90 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     report.source = source;
     report.mode = options.colourResiduals ? "colour-residuals" : h.dxt() ? "dxt" : "tiles";
     const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-    std::vector<TileResult> all;
     int64_t total = 0; // every tile of levels 0..maxLevel
     for (int l = 0; l <= h.maxLevel; ++l) {
         total += int64_t{1} << (2 * l);
     }
-    levels.walk([&](std::vector<TileBatch>& group) {
-        std::vector<const TrueTile*> tiles;
-        for (const TileBatch& b : group) {
-            for (const TrueTile& t : b) {
-                tiles.push_back(&t);
-            }
+    const auto check = [&](const TrueTile& t) {
+        TileResult r;
+        r.level = t.level;
+        std::vector<uint8_t> got, want;
+        if (residuals) {
+            got = *residuals->tile(t.level, t.tx, t.ty);
+            want.assign(t.image().pixels.begin(), t.image().pixels.end());
+            r.lossy = describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
+        } else {
+            got = reader->tile(t.level, t.tx, t.ty);
+            want = expected(t, h, levels.channels());
+            r.lossy = h.dxt() || describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
         }
-        std::vector<TileResult> results(tiles.size());
-        // The colour-residual producer rebuilds parents first: keep them in order per level.
-        const int workers = residuals ? 1 : threads;
-        parallelFor(static_cast<int64_t>(tiles.size()), workers, [&](int64_t i) {
-            const TrueTile& t = *tiles[static_cast<size_t>(i)];
-            TileResult& r = results[static_cast<size_t>(i)];
-            r.level = t.level;
-            std::vector<uint8_t> got, want;
-            if (residuals) {
-                got = *residuals->tile(t.level, t.tx, t.ty);
-                want.assign(t.image().pixels.begin(), t.image().pixels.end());
-                r.lossy = describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
-            } else {
-                got = reader->tile(t.level, t.tx, t.ty);
-                want = expected(t, h, levels.channels());
-                r.lossy = h.dxt() || describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
-            }
-            if (got.size() != want.size()) {
-                fail(file, "tile (" + std::to_string(t.level) + "," + std::to_string(t.tx) + "," + std::to_string(t.ty) +
-                               ") does not match the source's channels");
-            }
-            for (size_t k = 0; k < got.size(); ++k) {
-                const int e = std::abs(static_cast<int>(got[k]) - static_cast<int>(want[k]));
-                r.maxError = std::max(r.maxError, e);
-                r.squares += static_cast<double>(e) * e;
-            }
-            r.samples = static_cast<int64_t>(got.size());
-        });
-        all.insert(all.end(), results.begin(), results.end());
+        if (got.size() != want.size()) {
+            fail(file, "tile (" + std::to_string(t.level) + "," + std::to_string(t.tx) + "," + std::to_string(t.ty) +
+                           ") does not match the source's channels");
+        }
+        for (size_t k = 0; k < got.size(); ++k) {
+            const int e = std::abs(static_cast<int>(got[k]) - static_cast<int>(want[k]));
+            r.maxError = std::max(r.maxError, e);
+            r.squares += static_cast<double>(e) * e;
+        }
+        r.samples = static_cast<int64_t>(got.size());
+        return r;
+    };
+    // Each item's results, summed up in the walk's order at the end (the same sums whatever
+    // the thread count).
+    std::map<int64_t, std::vector<TileResult>> byItem;
+    int64_t checked = 0;
+    std::mutex mutex;
+    const auto store = [&](int64_t index, std::vector<TileResult> results) {
+        std::lock_guard<std::mutex> lock(mutex);
+        checked += static_cast<int64_t>(results.size());
+        byItem.emplace(index, std::move(results));
         if (options.progress) {
-            options.progress(static_cast<int64_t>(all.size()), total);
+            options.progress(checked, total);
         }
-    }, residuals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass);
+    };
+    // The colour-residual producer is used by one thread at a time.
+    std::mutex producer;
+    OrthoLevels::Sink sink;
+    sink.level = [&](int64_t index, TileBatch& batch) {
+        std::vector<TileResult> results(batch.size());
+        parallelFor(static_cast<int64_t>(batch.size()), residuals ? 1 : threads,
+                    [&](int64_t i) { results[static_cast<size_t>(i)] = check(batch[static_cast<size_t>(i)]); });
+        store(index, std::move(results));
+        return true;
+    };
+    sink.subtree = [&](int64_t index, TileBatch& item) {
+        std::vector<TileResult> results;
+        results.reserve(item.size());
+        for (const TrueTile& t : item) {
+            if (residuals) {
+                std::lock_guard<std::mutex> lock(producer);
+                results.push_back(check(t));
+            } else {
+                results.push_back(check(t));
+            }
+        }
+        store(index, std::move(results));
+        return true;
+    };
+    levels.walk(sink, residuals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass);
     report.levels.resize(static_cast<size_t>(h.maxLevel) + 1);
     std::vector<double> squares(report.levels.size(), 0.0);
     std::vector<int64_t> samples(report.levels.size(), 0);
-    for (const TileResult& r : all) {
-        OrthoVerifyLevel& l = report.levels[static_cast<size_t>(r.level)];
-        l.level = r.level;
-        l.tiles += 1;
-        l.maxError = std::max(l.maxError, r.maxError);
-        l.lossyTiles += r.lossy;
-        squares[static_cast<size_t>(r.level)] += r.squares;
-        samples[static_cast<size_t>(r.level)] += r.samples;
-        // Lossless tiles must match exactly; colour residuals are quantized in steps of 2.
-        const int allowed = residuals ? 1 : 0;
-        if (!r.lossy && r.maxError > allowed) {
-            report.ok = false;
+    for (const auto& [index, results] : byItem) {
+        for (const TileResult& r : results) {
+            OrthoVerifyLevel& l = report.levels[static_cast<size_t>(r.level)];
+            l.level = r.level;
+            l.tiles += 1;
+            l.maxError = std::max(l.maxError, r.maxError);
+            l.lossyTiles += r.lossy;
+            squares[static_cast<size_t>(r.level)] += r.squares;
+            samples[static_cast<size_t>(r.level)] += r.samples;
+            // Lossless tiles must match exactly; colour residuals are quantized in steps of 2.
+            const int allowed = residuals ? 1 : 0;
+            if (!r.lossy && r.maxError > allowed) {
+                report.ok = false;
+            }
         }
     }
     for (size_t l = 0; l < report.levels.size(); ++l) {

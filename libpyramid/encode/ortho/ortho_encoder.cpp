@@ -156,13 +156,15 @@ private:
 // One item of a walk (a subtree, or a level of levels 0..C) encoded, its tiles in the walk's order.
 using EncodedItem = std::vector<EncodedOrthoTile>;
 
-// Encodes the walk's groups (OrthoLevels::walk) in parallel, each tile after its parent's
-// colour-residual reconstruction, which the parent's group leaves behind. The items of levels
-// 0..C and the subtree items may be given different outputs (`top` and `subtrees`: a
-// build in two walks, encodeLevels), which a later walk may change (setSubtreeOutputs).
-class GroupEncoder {
+// Encodes the walk's items (OrthoLevels::walk). A tile's colour residual is predicted from its
+// parent's rebuilt colours: within a subtree, its own tiles'; above a subtree, and within levels
+// 0..C, those of levels 0..C, kept here as the walk hands those levels out (before the subtrees
+// that need them). The items of levels 0..C and the subtree items may be given different
+// outputs (`top` and `subtrees`: a build in two walks, encodeLevels), which a later walk may
+// change (setSubtreeOutputs).
+class ItemEncoder {
 public:
-    GroupEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& top, const OrthoEncodeOptions& subtrees)
+    ItemEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& top, const OrthoEncodeOptions& subtrees)
         : levels_(levels), top_(levels, top), topResiduals_(top.writeResiduals),
           handOutRecon_(static_cast<bool>(top.colourReconstruction)), threads_(levels.threads()) {
         setSubtreeOutputs(subtrees);
@@ -175,56 +177,50 @@ public:
     // The colour reconstruction of a tile this walk does not encode (a region's parent).
     void seed(int level, int tx, int ty, std::vector<uint8_t> recon) { shallowRecon_[{level, tx, ty}] = std::move(recon); }
 
-    // Encodes `group`, handing each item to `done` (its index in the group, its tiles) as soon
-    // as it is complete, from the thread that encoded it: items finish in any order.
-    void encode(std::vector<TileBatch>& group, const std::function<void(size_t, EncodedItem&)>& done) {
-        const bool oneLevel = group.size() == 1 && !group[0].empty() &&
-                              std::all_of(group[0].begin(), group[0].end(),
-                                          [&](const TrueTile& t) { return t.level == group[0][0].level; });
-        if (oneLevel) {
-            // A whole level: its tiles are independent given the previous level's reconstruction.
-            TileBatch& batch = group[0];
-            EncodedItem level(batch.size());
-            parallelFor(static_cast<int64_t>(batch.size()), threads_, [&](int64_t i) {
-                const TrueTile& t = batch[static_cast<size_t>(i)];
-                const std::vector<uint8_t>* parent = t.level && topResiduals_ ? &shallowRecon_.at(parentOf(t)) : nullptr;
-                level[static_cast<size_t>(i)] = top_.encode(t, parent);
-            });
-            if (topResiduals_) {
-                // The next groups predict from these rebuilt tiles while this one is written.
-                // Moved rather than copied unless they are handed out too: a level's rebuilt
-                // colours are held once (at planet scale, level C's are most of a gigabyte).
-                for (EncodedOrthoTile& e : level) {
-                    std::vector<uint8_t>& kept = shallowRecon_[{e.level, e.tx, e.ty}];
-                    kept = handOutRecon_ ? e.recon : std::move(e.recon);
-                }
-            }
-            done(0, level);
-            return;
-        }
-        // Subtrees: each in pre-order, its parents before its children.
-        parallelFor(static_cast<int64_t>(group.size()), threads_, [&](int64_t i) {
-            std::map<TileKey, const std::vector<uint8_t>*> local;
-            EncodedItem out;
-            out.reserve(group[static_cast<size_t>(i)].size());
-            for (const TrueTile& t : group[static_cast<size_t>(i)]) {
-                if (!subtreeResiduals_) {
-                    out.push_back(subtree_->encode(t, nullptr)); // no tile depends on its parent
-                    continue;
-                }
-                const auto key = parentOf(t);
-                const auto it = local.find(key);
-                const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon_.at(key);
-                out.push_back(subtree_->encode(t, parent));
-                local[{t.level, t.tx, t.ty}] = &out.back().recon;
-            }
-            if (!handOutRecon_) {
-                for (EncodedOrthoTile& e : out) {
-                    std::vector<uint8_t>().swap(e.recon); // not held while the item waits to be written
-                }
-            }
-            done(static_cast<size_t>(i), out);
+    // A whole level of 0..C, from the walk's calling thread: its tiles in parallel, independent
+    // given the previous level's reconstruction.
+    EncodedItem encodeLevel(const TileBatch& batch) {
+        EncodedItem level(batch.size());
+        parallelFor(static_cast<int64_t>(batch.size()), threads_, [&](int64_t i) {
+            const TrueTile& t = batch[static_cast<size_t>(i)];
+            const std::vector<uint8_t>* parent = t.level && topResiduals_ ? &shallowRecon_.at(parentOf(t)) : nullptr;
+            level[static_cast<size_t>(i)] = top_.encode(t, parent);
         });
+        if (topResiduals_) {
+            // The next levels and the subtrees predict from these rebuilt tiles while this one is
+            // written. Moved rather than copied unless they are handed out too: a level's rebuilt
+            // colours are held once (at planet scale, level C's are most of a gigabyte).
+            for (EncodedOrthoTile& e : level) {
+                std::vector<uint8_t>& kept = shallowRecon_[{e.level, e.tx, e.ty}];
+                kept = handOutRecon_ ? e.recon : std::move(e.recon);
+            }
+        }
+        return level;
+    }
+
+    // A subtree, in pre-order (its parents before its children), on the calling thread; called
+    // by several threads at once, never while a level is encoded.
+    EncodedItem encodeSubtree(const TileBatch& item) const {
+        std::map<TileKey, const std::vector<uint8_t>*> local;
+        EncodedItem out;
+        out.reserve(item.size());
+        for (const TrueTile& t : item) {
+            if (!subtreeResiduals_) {
+                out.push_back(subtree_->encode(t, nullptr)); // no tile depends on its parent
+                continue;
+            }
+            const auto key = parentOf(t);
+            const auto it = local.find(key);
+            const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon_.at(key);
+            out.push_back(subtree_->encode(t, parent));
+            local[{t.level, t.tx, t.ty}] = &out.back().recon;
+        }
+        if (!handOutRecon_) {
+            for (EncodedOrthoTile& e : out) {
+                std::vector<uint8_t>().swap(e.recon); // not held while the item waits to be written
+            }
+        }
+        return out;
     }
 
 private:
@@ -346,7 +342,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     pictures.writeResiduals = false;
     OrthoEncodeOptions residualsOnly = o;
     residualsOnly.writeTiff = residualsOnly.writeDxt = false;
-    GroupEncoder encoder(levels, o, twoWalks ? pictures : o);
+    ItemEncoder encoder(levels, o, twoWalks ? pictures : o);
     if (region && !region->parentRecon.empty()) {
         const RegionRoot& r = region->root;
         encoder.seed(r.level - 1, r.tx >> 1, r.ty >> 1, region->parentRecon);
@@ -387,12 +383,13 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     const OutputSet firstOut = twoWalks ? OutputSet{o.writeTiff, o.writeDxt, false} : OutputSet::of(o);
     // The walk's items are written (content hashes, file writes: serial, in the walk's order) by
     // the writer's thread, each as soon as it and the items before it are encoded, while the
-    // walk samples and encodes the next ones, instead of both cores waiting for the writes.
-    // Window: one group of items (OrthoLevels::groupItems), admitted once encoded, so that
-    // memory grows by one group's encoded tiles at most. Items from `secondWalk` on are the
-    // second walk's. Declared after everything its writes use (its destructor stops it).
+    // walk's threads sample and encode the next ones, instead of stopping for the writes.
+    // Window: OrthoLevels::itemWindow items, admitted once encoded, so that memory grows by that
+    // many encoded items at most, besides the one each thread works on. Items from `secondWalk`
+    // on are the second walk's. Declared after everything its writes use (its destructor stops
+    // it).
     std::atomic<int64_t> secondWalk{std::numeric_limits<int64_t>::max()};
-    OrderedWriter<EncodedItem> writer(levels.groupItems(), [&](int64_t index, EncodedItem& item) {
+    OrderedWriter<EncodedItem> writer(levels.itemWindow(), [&](int64_t index, EncodedItem& item) {
         const bool second = index >= secondWalk.load(std::memory_order_acquire);
         for (EncodedOrthoTile& e : item) {
             if (region && !region->holds(e.level, e.tx, e.ty)) {
@@ -430,32 +427,40 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             }
         }
     });
-    int64_t walked = 0; // the walk's items so far
+    int64_t walked = 0; // the walks' items so far
     const auto encodeWalk = [&](const OrthoLevels::Range* walkRange) {
-        levels.walk(
-            [&](std::vector<TileBatch>& group) {
-                if (region) {
-                    // Only the tiles the region needs are encoded.
-                    for (TileBatch& batch : group) {
-                        std::erase_if(batch, [&](const TrueTile& t) { return !region->needed(t.level, t.tx, t.ty); });
-                    }
-                }
-                const int64_t first = walked;
-                walked += static_cast<int64_t>(group.size());
-                std::atomic<bool> stopped{false};
-                encoder.encode(group, [&](size_t i, EncodedItem& item) {
-                    const int64_t index = first + static_cast<int64_t>(i);
-                    if (writer.admit(index)) {
-                        writer.deliver(index, std::move(item));
-                    } else {
-                        stopped = true;
-                    }
-                });
-                if (stopped) {
-                    writer.finish(first); // a write failed: rethrows its error
-                }
-            },
-            order, walkRange);
+        const int64_t first = walked;
+        std::atomic<bool> stopped{false};
+        // Hands an item over to the writer: false when the run has stopped (a write failed).
+        const auto hand = [&](int64_t i, EncodedItem&& item) {
+            const int64_t index = first + i;
+            if (!writer.admit(index)) {
+                stopped = true;
+                return false;
+            }
+            writer.deliver(index, std::move(item));
+            return true;
+        };
+        // Only the tiles the region needs are encoded.
+        const auto keep = [&](TileBatch& item) {
+            if (region) {
+                std::erase_if(item, [&](const TrueTile& t) { return !region->needed(t.level, t.tx, t.ty); });
+            }
+        };
+        OrthoLevels::Sink sink;
+        sink.subtree = [&](int64_t i, TileBatch& item) {
+            keep(item);
+            return hand(i, encoder.encodeSubtree(item));
+        };
+        sink.level = [&](int64_t i, TileBatch& item) {
+            keep(item);
+            return hand(i, encoder.encodeLevel(item));
+        };
+        sink.failed = [&](int64_t i) { writer.stopAt(first + i); }; // items after it are not awaited
+        walked += levels.walk(sink, order, walkRange);
+        if (stopped) {
+            writer.finish(first); // a write failed: rethrows its error
+        }
     };
     if (region) {
         encodeWalk(&region->range);

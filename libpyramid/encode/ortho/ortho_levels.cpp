@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "formats/error.hpp"
@@ -16,7 +17,8 @@ namespace pyramid {
 
 namespace {
 
-constexpr int kSubtreeDepth = 4;
+constexpr int kSubtreeDepth = 4;           // the coarse-first order's subtrees: levels C + 1..M, C = M - 4
+constexpr int kSinglePassSubtreeDepth = 2; // the single pass's smallest subtrees (levels)
 constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
 } // namespace
@@ -98,8 +100,9 @@ struct OrthoLevels::Impl {
 
     std::vector<Image8> coarseLevelsFromBands(int c) const;
     void reduceCoarserLevels(std::vector<Image8>& levels) const;
-    void consumeCoarseLevels(const std::vector<Image8>& levels,
-                             const std::function<void(std::vector<TileBatch>&)>& consume) const;
+    bool handLevels(const std::vector<Image8>& levels, const Sink& sink, int64_t index0) const;
+    bool handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0, bool zOrder,
+                      Image8* levelC) const;
     void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, Image8* levelC) const;
     void marginFromBands(int c, Image8& levelC) const;
     void blankSubtree(int l, int tx, int ty, TileBatch& out) const;
@@ -143,15 +146,18 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
         failOption("maxLevel", std::to_string(M) + " is beyond 20");
     }
     C = std::max(0, M - kSubtreeDepth);
-    // One pass assembles level C from the subtrees: subtrees of 3 levels rather than 4 start
-    // sooner on an input still being decoded and take a quarter of the memory each, for a level
-    // C four times larger, chosen while it stays within kSinglePassLevelBytes (a face's level C
-    // has 2 << C pixels beyond each side: counted for a plane too, which errs on the safe side).
+    // One pass assembles level C from the subtrees: subtrees of 2 or 3 levels rather than 4
+    // start sooner on an input still being decoded (the first needs 2 (T + 4) or 4 (T + 4) of
+    // its rows) and take a sixteenth or a quarter of the memory each, for a level C sixteen or
+    // four times larger: the smallest whose level C stays within kSinglePassLevelBytes (a face's
+    // level C has 2 << C pixels beyond each side: counted for a plane too, which errs on the
+    // safe side).
     singlePassC = C;
-    if (M >= kSubtreeDepth - 1) {
-        const int64_t side = static_cast<int64_t>(T + 4) << (M - kSubtreeDepth + 1);
+    for (int depth = kSinglePassSubtreeDepth; depth < kSubtreeDepth && depth <= M; ++depth) {
+        const int64_t side = static_cast<int64_t>(T + 4) << (M - depth);
         if (side * side * channels <= kSinglePassLevelBytes) {
-            singlePassC = M - kSubtreeDepth + 1;
+            singlePassC = M - depth;
+            break;
         }
     }
     averager = ColourAverager(o.colourSpace, channels);
@@ -237,21 +243,57 @@ void OrthoLevels::Impl::reduceCoarserLevels(std::vector<Image8>& levels) const {
     }
 }
 
-// One item per level 0..C, each level's tiles in Z order.
-void OrthoLevels::Impl::consumeCoarseLevels(const std::vector<Image8>& levels,
-                                            const std::function<void(std::vector<TileBatch>&)>& consume) const {
+// One item per level 0..C, each level's tiles in Z order, numbered from `index0`. False when
+// the sink stops the walk.
+bool OrthoLevels::Impl::handLevels(const std::vector<Image8>& levels, const Sink& sink, int64_t index0) const {
     for (int l = 0; l < static_cast<int>(levels.size()); ++l) {
         const int side = 1 << l;
-        std::vector<TileBatch> group(1);
-        TileBatch& batch = group[0];
-        batch.resize(static_cast<size_t>(side) * side);
+        TileBatch batch(static_cast<size_t>(side) * side);
         parallelFor(static_cast<int64_t>(batch.size()), threads, [&](int64_t i) {
             const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(i));
             batch[static_cast<size_t>(i)] =
                 extract(levels[static_cast<size_t>(l)], -margin(l), -margin(l), l, static_cast<int>(tx), static_cast<int>(ty));
         });
-        consume(group);
+        if (!sink.level(index0 + l, batch)) {
+            return false;
+        }
     }
+    return true;
+}
+
+// The subtrees [begin, end) of level `top` (row by row from the north edge, west to east, or in
+// Z order), numbered from `index0`, each sampled and handed to the sink by a free thread, in
+// order. False when the sink stops the walk.
+bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0,
+                                     bool zOrder, Image8* levelC) const {
+    const int side = 1 << top;
+    std::atomic<bool> stop{false};
+    parallelFor(end - begin, threads, [&](int64_t i) {
+        if (stop.load(std::memory_order_relaxed)) {
+            return;
+        }
+        const int64_t n = begin + i;
+        int tx = static_cast<int>(n % side), ty = side - 1 - static_cast<int>(n / side);
+        if (zOrder) {
+            const auto [zx, zy] = mortonDecode(static_cast<uint64_t>(n));
+            tx = static_cast<int>(zx);
+            ty = static_cast<int>(zy);
+        }
+        try {
+            TileBatch item;
+            subtreeFromFootprint(top, tx, ty, item, levelC);
+            if (!sink.subtree(index0 + i, item)) {
+                stop = true;
+            }
+        } catch (...) {
+            stop = true;
+            if (sink.failed) {
+                sink.failed(index0 + i);
+            }
+            throw;
+        }
+    });
+    return !stop;
 }
 
 // The subtree of level-(C+1) tile (tx, ty), from its own footprint of the input. With `levelC`,
@@ -358,45 +400,33 @@ int64_t OrthoLevels::subtreeItems(WalkOrder order) const {
     return m.C == m.M ? 0 : int64_t{1} << (2 * (m.C + 1));
 }
 
-int64_t OrthoLevels::groupItems() const {
+int64_t OrthoLevels::itemWindow() const {
     return std::max<int64_t>(4, 2 * impl_->threads);
 }
 
-void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consume, WalkOrder order,
-                       const Range* range) const {
+int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range) const {
     const Impl& m = *impl_;
     const int64_t items = subtreeItems(order);
     const int64_t begin = range ? range->begin : 0, end = range ? range->end : items;
-    const int64_t groupSize = groupItems();
+    const int64_t subtrees = end - begin;
     if (order == WalkOrder::SinglePass && m.M > 0) {
         // The subtrees first, row by row from the north edge, west to east, so that an input
         // still being decoded from its first row is worked on as it arrives; each leaves its
         // share of level C (a face's margin beyond it comes from bands of its own), and levels
         // 0..C come last.
         const int c = m.singlePassC;
-        const int top = c + 1;
-        const int side = 1 << top;
-        const int64_t count = int64_t{side} * side;
         // A share without every subtree takes levels 0..C from bands instead; a walk without
         // them does not assemble level C.
+        const int64_t count = int64_t{1} << (2 * (c + 1));
         const bool whole = begin == 0 && end == count && (!range || range->top);
         std::vector<Image8> levels(static_cast<size_t>(c) + 1);
         Image8& levelC = levels[static_cast<size_t>(c)];
-        const auto sideC = static_cast<int>(m.levelWidth(c) + 2 * m.margin(c));
         if (whole) {
+            const auto sideC = static_cast<int>(m.levelWidth(c) + 2 * m.margin(c));
             levelC = Image8(sideC, sideC, m.channels);
         }
-        for (int64_t first = begin; first < end; first += groupSize) {
-            std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, end - first)));
-            parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
-                const int64_t n = first + i;
-                const int tx = static_cast<int>(n % side), ty = side - 1 - static_cast<int>(n / side);
-                m.subtreeFromFootprint(top, tx, ty, group[static_cast<size_t>(i)], whole ? &levelC : nullptr);
-            });
-            consume(group);
-        }
-        if (range && !range->top) {
-            return;
+        if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, whole ? &levelC : nullptr) || (range && !range->top)) {
+            return subtrees;
         }
         if (whole) {
             if (m.margin(c) > 0) {
@@ -406,24 +436,15 @@ void OrthoLevels::walk(const std::function<void(std::vector<TileBatch>&)>& consu
         } else {
             levels = m.coarseLevelsFromBands(c);
         }
-        m.consumeCoarseLevels(levels, consume);
-        return;
+        m.handLevels(levels, sink, subtrees);
+        return subtrees + c + 1;
     }
     // Levels 0..C from one pass over the input, then the subtrees of level C + 1 in Z order,
     // each from its own footprint: every tile comes after its parent.
-    m.consumeCoarseLevels(m.coarseLevelsFromBands(m.C), consume);
-    if (m.C == m.M) {
-        return;
+    if (m.handLevels(m.coarseLevelsFromBands(m.C), sink, 0) && m.C < m.M) {
+        m.handSubtrees(sink, m.C + 1, begin, end, m.C + 1, true, nullptr);
     }
-    const int top = m.C + 1;
-    for (int64_t first = begin; first < end; first += groupSize) {
-        std::vector<TileBatch> group(static_cast<size_t>(std::min(groupSize, end - first)));
-        parallelFor(static_cast<int64_t>(group.size()), m.threads, [&](int64_t i) {
-            const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(first + i));
-            m.subtreeFromFootprint(top, static_cast<int>(tx), static_cast<int>(ty), group[static_cast<size_t>(i)], nullptr);
-        });
-        consume(group);
-    }
+    return m.C + 1 + subtrees;
 }
 
 } // namespace pyramid

@@ -111,16 +111,30 @@ public:
     int64_t tileCount() const;
     int threads() const;                 // options.threads, or every available thread
 
-    // Calls `consume` with the whole pyramid, item by item. Items are computed in parallel in
-    // groups; `consume` receives each group (a vector of items in order) from the calling thread
-    // and may process them in parallel. The order is deterministic (it does not depend on the
-    // thread count):
-    //  * CoarseFirst: one item per level 0..C (all of that level's tiles in Z order), then one
-    //    item per level-(C+1) subtree (pre-order), in Z order: every tile after its parent.
-    //  * SinglePass: one item per level-(C+1) subtree (pre-order), row by row from the north
-    //    edge (the face's +y edge), west to east, then one item per level 0..C; the finest
-    //    level is sampled once instead of twice (a face's margin beyond it excepted).
+    // Hands the whole pyramid to `sink`, item by item, and returns the number of items handed
+    // out. An item is either a subtree (its tiles in pre-order: a tile, then its children's
+    // subtrees) or a whole level of 0..C (its tiles in Z order). The items' order, which numbers
+    // them from 0, is deterministic (it does not depend on the thread count):
+    //  * CoarseFirst: one item per level 0..C, then one item per level-(C+1) subtree, in Z
+    //    order: every tile after its parent.
+    //  * SinglePass: one item per level-(C+1) subtree, row by row from the north edge (the
+    //    face's +y edge), west to east, then one item per level 0..C; the finest level is
+    //    sampled once instead of twice (a face's margin beyond it excepted).
     enum class WalkOrder { CoarseFirst, SinglePass };
+    struct Sink {
+        // A subtree: each is sampled and handed over by one of the walk's threads (OpenMP), in
+        // parallel with the others, as soon as its pixels are read; the subtrees are taken in
+        // order (a thread takes the next one when it is free). False stops the walk: no
+        // further item is handed out.
+        std::function<bool(int64_t index, TileBatch& item)> subtree;
+        // A level of 0..C, from the calling thread, which may work on it in parallel: the levels
+        // are handed out one after the other, never while a subtree is.
+        std::function<bool(int64_t index, TileBatch& item)> level;
+        // Item `index` failed (walk() rethrows its exception, of the lowest failed index, once
+        // the items in progress are done): told before any other thread learns it, so that a
+        // sink holding later items back until this one is done can release them.
+        std::function<void(int64_t index)> failed;
+    };
     // A share of a walk (a build split across processes: support/work_share.hpp): the subtree
     // items [begin, end) of the order, and the items of levels 0..C when `top`. A CoarseFirst
     // walk gives levels 0..C whatever `top` (they are its subtrees' parents); a SinglePass walk
@@ -133,10 +147,10 @@ public:
     int topLevels(WalkOrder order) const;
     // The subtree items of a walk in `order` (0 when levels 0..C are the whole pyramid).
     int64_t subtreeItems(WalkOrder order) const;
-    // The most items a group of walk() holds.
-    int64_t groupItems() const;
-    void walk(const std::function<void(std::vector<TileBatch>&)>& consume,
-              WalkOrder order = WalkOrder::CoarseFirst, const Range* range = nullptr) const;
+    // How many items a sink may hold between handing them on and consuming them, such as
+    // encoded items waiting to be written in order: max(4, 2 x threads).
+    int64_t itemWindow() const;
+    int64_t walk(const Sink& sink, WalkOrder order = WalkOrder::CoarseFirst, const Range* range = nullptr) const;
 
 private:
     struct Impl;
