@@ -111,8 +111,8 @@ public:
     int64_t tileCount() const;
     int threads() const;                 // options.threads, or every available thread
 
-    // Hands the whole pyramid to `sink`, item by item, and returns the number of items handed
-    // out. An item is either a subtree (its tiles in pre-order: a tile, then its children's
+    // Hands the whole pyramid to `sink`, item by item, and returns the number of the walk's
+    // items (each handed out, unless the sink stops the walk or an item fails). An item is either a subtree (its tiles in pre-order: a tile, then its children's
     // subtrees) or a whole level of 0..C (its tiles in Z order). The items' order, which numbers
     // them from 0, is deterministic (it does not depend on the thread count):
     //  * CoarseFirst: one item per level 0..C, then one item per level-(C+1) subtree, in Z
@@ -130,9 +130,10 @@ public:
         // A level of 0..C, from the calling thread, which may work on it in parallel: the levels
         // are handed out one after the other, never while a subtree is.
         std::function<bool(int64_t index, TileBatch& item)> level;
-        // Item `index` failed (walk() rethrows its exception, of the lowest failed index, once
-        // the items in progress are done): told before any other thread learns it, so that a
-        // sink holding later items back until this one is done can release them.
+        // Item `index` failed: called on its thread, before the walk stops handing out items,
+        // so that a sink holding later items back until this one is delivered can release them.
+        // walk() then rethrows the exception of the lowest failed index, once the items in
+        // progress are done.
         std::function<void(int64_t index)> failed;
     };
     // A share of a walk (a build split across processes: support/work_share.hpp): the subtree
