@@ -91,12 +91,17 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     for (int l = 0; l <= h.maxLevel; ++l) {
         total += int64_t{1} << (2 * l);
     }
+    // The colour-residual producer is used by one thread at a time.
+    std::mutex producer;
     const auto check = [&](const TrueTile& t) {
         TileResult r;
         r.level = t.level;
         std::vector<uint8_t> got, want;
         if (residuals) {
-            got = *residuals->tile(t.level, t.tx, t.ty);
+            {
+                std::lock_guard<std::mutex> lock(producer);
+                got = *residuals->tile(t.level, t.tx, t.ty);
+            }
             want.assign(t.image().pixels.begin(), t.image().pixels.end());
             r.lossy = describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
         } else {
@@ -129,12 +134,10 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
             options.progress(checked, total);
         }
     };
-    // The colour-residual producer is used by one thread at a time.
-    std::mutex producer;
     OrthoLevels::Sink sink;
     sink.level = [&](int64_t index, TileBatch& batch) {
         std::vector<TileResult> results(batch.size());
-        parallelFor(static_cast<int64_t>(batch.size()), residuals ? 1 : threads,
+        parallelFor(static_cast<int64_t>(batch.size()), threads,
                     [&](int64_t i) { results[static_cast<size_t>(i)] = check(batch[static_cast<size_t>(i)]); });
         store(index, std::move(results));
         return true;
@@ -143,12 +146,7 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
         std::vector<TileResult> results;
         results.reserve(item.size());
         for (const TrueTile& t : item) {
-            if (residuals) {
-                std::lock_guard<std::mutex> lock(producer);
-                results.push_back(check(t));
-            } else {
-                results.push_back(check(t));
-            }
+            results.push_back(check(t));
         }
         store(index, std::move(results));
         return true;
