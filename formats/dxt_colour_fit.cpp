@@ -183,20 +183,25 @@ PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, ints allowed) {
 
 PYRAMID_WIDE_VECTOR_CLONES // the same bytes in wider vectors where the CPU has them
 void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
-    alignas(64) float planes[3][16][kLanes];
+    // Pixel k of every lane's block as one word (R, G, B in its low three bytes): a transposition
+    // of words, then the channels split and converted a vector at a time (not byte by byte).
+    alignas(64) uint32_t words[16][kLanes];
     int rounded[3][kLanes];
     for (int l = 0; l < kLanes; ++l) {
         const uint8_t* block = blocks[l < count ? l : 0];
         for (int k = 0; k < 16; ++k) {
-            for (int c = 0; c < 3; ++c) {
-                planes[c][k][l] = block[4 * k + c];
-            }
+            const uint8_t* px = block + 4 * k;
+            words[k][l] = px[0] | static_cast<uint32_t>(px[1]) << 8 | static_cast<uint32_t>(px[2]) << 16;
         }
     }
     Pixels p;
-    std::memcpy(p.r, planes[0], sizeof(p.r));
-    std::memcpy(p.g, planes[1], sizeof(p.g));
-    std::memcpy(p.b, planes[2], sizeof(p.b));
+    for (int k = 0; k < 16; ++k) {
+        ints w;
+        std::memcpy(&w, words[k], sizeof(w));
+        p.r[k] = __builtin_convertvector(w & 255, floats);
+        p.g[k] = __builtin_convertvector((w >> 8) & 255, floats);
+        p.b[k] = __builtin_convertvector(w >> 16, floats);
+    }
 
     // The mean (exact: a sum of integers over 16) and the covariance, in a fixed order.
     const floats mr = sum16(p.r) * (1.0f / 16.0f), mg = sum16(p.g) * (1.0f / 16.0f), mb = sum16(p.b) * (1.0f / 16.0f);
