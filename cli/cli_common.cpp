@@ -85,6 +85,11 @@ void stopOnSignals(const std::string& program) {
 } // namespace
 
 std::string flagName(const std::string& option) {
+    // Options whose flag is not their name spelled out.
+    static const std::map<std::string, std::string> shortened = {{"cacheMegabytes", "--cache-mb"}};
+    if (const auto it = shortened.find(option); it != shortened.end()) {
+        return it->second;
+    }
     std::string flag = "--";
     for (const char c : option) {
         if (c >= 'A' && c <= 'Z') {

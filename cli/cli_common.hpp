@@ -56,7 +56,8 @@ std::string versionText(const std::string& program);
 // The command line runProgram was given (after MPI took its own arguments).
 const std::vector<std::string>& commandArguments();
 
-// The flag of a library option name: "tileSize" -> "--tile-size".
+// The flag of a library option name: "tileSize" -> "--tile-size" ("cacheMegabytes" ->
+// "--cache-mb").
 std::string flagName(const std::string& option);
 
 // The inputs of a preprocessor: INPUT... (files, directories, globs, GDAL VRTs),

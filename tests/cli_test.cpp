@@ -358,6 +358,43 @@ TEST(PreprocessOrthoCli, BuildsVerifiesAndFailsCleanly) {
     }
 }
 
+// An input whose tiles a cache of --cache-mb cannot hold: the error names that flag and what
+// the tiles need, in one line, and nothing is written; with the cache they need, the run works.
+TEST(PreprocessOrthoCli, TilesBeyondTheCacheNameItsFlag) {
+    test::TempDir dir;
+    const std::string input = dir.file("big-tiles.tif");
+    {
+        // 64 x 48 RGB pixels in one tile of 1024 x 1024: 3 MB decoded.
+        TIFF* t = TIFFOpen(input.c_str(), "w");
+        ASSERT_TRUE(t);
+        TIFFSetField(t, TIFFTAG_IMAGEWIDTH, 64);
+        TIFFSetField(t, TIFFTAG_IMAGELENGTH, 48);
+        TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 8);
+        TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 3);
+        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_RGB);
+        TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+        TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
+        TIFFSetField(t, TIFFTAG_TILEWIDTH, 1024);
+        TIFFSetField(t, TIFFTAG_TILELENGTH, 1024);
+        std::vector<uint8_t> tile(1024 * 1024 * 3);
+        for (size_t k = 0; k < tile.size(); ++k) {
+            tile[k] = static_cast<uint8_t>(k % 251);
+        }
+        ASSERT_GE(TIFFWriteEncodedTile(t, 0, tile.data(), static_cast<tmsize_t>(tile.size())), 0);
+        TIFFClose(t);
+    }
+    const std::string command = test::programPath("preprocessOrtho") + " " + shellQuoted(input) + " -o " +
+                                shellQuoted(dir.file("out")) + " --tile-size 16 --quiet --cache-mb ";
+    auto r = test::run(command + "4");
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.err, "preprocessOrtho: --cache-mb: " + input +
+                         ": tiles of 1024 x 1024 samples (3 MB decoded) need a cache of at least 12 MB, not 4\n");
+    EXPECT_FALSE(test::fileExists(dir.file("out")));
+    r = test::run(command + "12");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(test::fileExists(dir.file("out/RGB.dat")));
+}
+
 // The report's JPEG error, when asked for, is what `pyramid verify` measures on the file, level
 // by level; not asked for, it is null where a level holds JPEG tiles (never a 0 that would
 // read as lossless), and 0 where it holds Deflate tiles only.

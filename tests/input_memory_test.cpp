@@ -277,6 +277,21 @@ TEST(InputMemory, BlocksNoImageHasAndTilesBeyondTheCacheAreRefused) {
               std::string::npos)
         << bigError;
     expectSamples(dir.file(big.name), big, 600, 520, 4);
+    // The cache counts blocks as decoded, in the file's own sample type: 512 x 512 RGB tiles of
+    // 8 bits are 768 KB, which a 4 MB cache holds four of (as float32 they would need 12 MB);
+    // of 16 bits, 1.5 MB, which need 8 MB.
+    const TiffLayout rgb{"rgb8-big-tiles.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL,
+                         512, 0, "w", 3};
+    writeTiff(dir.file(rgb.name), rgb, 600, 520);
+    expectSamples(dir.file(rgb.name), rgb, 600, 520, 4);
+    const TiffLayout rgb16{"rgb16-big-tiles.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE,
+                           512, 0, "w", 3};
+    writeTiff(dir.file(rgb16.name), rgb16, 600, 520);
+    const std::string rgb16Error = errorOf(dir.file(rgb16.name), 4);
+    EXPECT_NE(rgb16Error.find("tiles of 512 x 512 samples (2 MB decoded) need a cache of at least 8 MB, not 4"),
+              std::string::npos)
+        << rgb16Error;
+    expectSamples(dir.file(rgb16.name), rgb16, 600, 520, 8);
     // Tiles larger than a small image, as COG writers make them, are fine.
     const TiffLayout small{"small.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 512};
     writeTiff(dir.file(small.name), small, 300, 200);
@@ -351,26 +366,26 @@ TEST(InputMemory, FuzzSeedsAreValidInputs) {
 }
 
 TEST(InputMemory, BlockCacheDecodesOnceAndRecyclesWithinTheBudget) {
-    // Room for 4 blocks of 1000 floats.
-    BlockCache cache(4 * 1000 * sizeof(float), 1000);
+    // Room for 4 blocks of 1000 bytes.
+    BlockCache cache(4 * 1000, 1000);
     std::atomic<int> decodes{0};
     const auto decodeAs = [&](uint32_t index) {
         return [&, index](BlockCache::Block& b) {
             ++decodes;
             std::this_thread::sleep_for(std::chrono::milliseconds(20)); // others arrive meanwhile
-            std::fill(b.begin(), b.end(), static_cast<float>(index));
+            std::fill(b.begin(), b.end(), static_cast<uint8_t>(index));
         };
     };
     std::vector<std::thread> threads;
     for (int t = 0; t < 6; ++t) {
-        threads.emplace_back([&] { EXPECT_EQ((*cache.get(7, decodeAs(7)))[999], 7.0f); });
+        threads.emplace_back([&] { EXPECT_EQ((*cache.get(7, decodeAs(7)))[999], 7); });
     }
     for (std::thread& t : threads) {
         t.join();
     }
     EXPECT_EQ(decodes.load(), 1); // six threads, one decode
     for (uint32_t i = 0; i < 50; ++i) {
-        EXPECT_EQ((*cache.get(i, decodeAs(i)))[0], static_cast<float>(i));
+        EXPECT_EQ((*cache.get(i, decodeAs(i)))[0], i);
     }
     EXPECT_EQ(cache.buffers(), 4u); // recycled, never more than the budget holds
     // Held blocks are not recycled: a fifth buffer when all four are held.
@@ -380,11 +395,11 @@ TEST(InputMemory, BlockCacheDecodesOnceAndRecyclesWithinTheBudget) {
     }
     EXPECT_EQ(cache.buffers(), 5u);
     for (uint32_t i = 100; i < 105; ++i) {
-        EXPECT_EQ((*held[i - 100])[500], static_cast<float>(i));
+        EXPECT_EQ((*held[i - 100])[500], i);
     }
     // A failed decode leaves nothing behind: the next request decodes again.
     EXPECT_THROW(cache.get(200, [](BlockCache::Block&) { throw std::runtime_error("damaged"); }), std::runtime_error);
-    EXPECT_EQ((*cache.get(200, decodeAs(200)))[1], 200.0f);
+    EXPECT_EQ((*cache.get(200, decodeAs(200)))[1], 200);
 }
 
 } // namespace

@@ -4,9 +4,8 @@
 
 namespace pyramid {
 
-BlockCache::BlockCache(size_t budgetBytes, size_t blockSamples)
-    : blockSamples_(blockSamples),
-      capacity_(std::max<size_t>(1, budgetBytes / std::max<size_t>(1, blockSamples * sizeof(float)))) {}
+BlockCache::BlockCache(size_t budgetBytes, size_t blockBytes)
+    : blockBytes_(blockBytes), capacity_(std::max<size_t>(1, budgetBytes / std::max<size_t>(1, blockBytes))) {}
 
 size_t BlockCache::buffers() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -24,7 +23,7 @@ std::shared_ptr<BlockCache::Block> BlockCache::takeBuffer(std::unique_lock<std::
     }
     if (buffers_ < capacity_) {
         ++buffers_;
-        return std::make_shared<Block>(blockSamples_);
+        return std::make_shared<Block>(blockBytes_);
     }
     for (auto it = recent_.end(); it != recent_.begin();) {
         --it;
@@ -39,7 +38,7 @@ std::shared_ptr<BlockCache::Block> BlockCache::takeBuffer(std::unique_lock<std::
         }
     }
     ++buffers_;
-    return std::make_shared<Block>(blockSamples_);
+    return std::make_shared<Block>(blockBytes_);
 }
 
 std::shared_ptr<const BlockCache::Block> BlockCache::get(uint32_t index, const std::function<void(Block&)>& decode) {
@@ -59,7 +58,7 @@ std::shared_ptr<const BlockCache::Block> BlockCache::get(uint32_t index, const s
     std::shared_ptr<Block> buffer = takeBuffer(lock);
     lock.unlock();
     try {
-        buffer->resize(blockSamples_);
+        buffer->resize(blockBytes_);
         decode(*buffer);
     } catch (...) {
         lock.lock();

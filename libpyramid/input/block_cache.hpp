@@ -24,12 +24,12 @@ namespace pyramid {
 
 class BlockCache {
 public:
-    using Block = std::vector<float>;
+    using Block = std::vector<uint8_t>; // a block's decoded bytes, laid out as its reader wants
 
-    BlockCache(size_t budgetBytes, size_t blockSamples);
+    BlockCache(size_t budgetBytes, size_t blockBytes);
 
     // Block `index`: from the cache, from a decoding in progress (waits for it), or decoded now
-    // by `decode`, which fills the buffer it is given (sized blockSamples). A decode that throws
+    // by `decode`, which fills the buffer it is given (sized blockBytes). A decode that throws
     // leaves no entry (the next request decodes again) and its error goes to this caller.
     // Thread-safe.
     std::shared_ptr<const Block> get(uint32_t index, const std::function<void(Block&)>& decode);
@@ -44,7 +44,7 @@ private:
     };
     std::shared_ptr<Block> takeBuffer(std::unique_lock<std::mutex>& lock);
 
-    const size_t blockSamples_;
+    const size_t blockBytes_;
     const size_t capacity_; // buffers within the budget
     mutable std::mutex mutex_;
     std::condition_variable decoded_;

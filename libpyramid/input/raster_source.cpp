@@ -294,9 +294,7 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
     }
     const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0);
     if (impl.blocks && (info_.type == SampleType::UInt8 || info_.type == SampleType::UInt16)) {
-        std::vector<float> values(count); // 8 or 16-bit values, exact in float32
-        impl.blocks->read(x0, y0, x1, y1, c0, c1, values.data());
-        std::transform(values.begin(), values.end(), out, [](float v) { return static_cast<uint16_t>(v); });
+        impl.blocks->readUInt16(x0, y0, x1, y1, c0, c1, out);
         return;
     }
     // OIIO converts integer types to UINT16 by normalisation (v8 * 257); 8-bit input is
@@ -350,14 +348,8 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
     if (impl.png && impl.png->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
         return;
     }
-    if (impl.blocks) { // 8-bit values, exact in float32
-        std::vector<float> values(rowValues * static_cast<size_t>(y1 - y0));
-        impl.blocks->read(x0, y0, x1, y1, c0, c1, values.data());
-        for (int y = y0; y < y1; ++y) {
-            const float* from = &values[static_cast<size_t>(y - y0) * rowValues];
-            std::transform(from, from + rowValues, out + static_cast<std::ptrdiff_t>(y - y0) * rowStride,
-                           [](float v) { return static_cast<uint8_t>(v); });
-        }
+    if (impl.blocks) {
+        impl.blocks->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride);
         return;
     }
     std::vector<uint8_t> bytes(rowValues * static_cast<size_t>(y1 - y0));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 
 #include "formats/error.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
@@ -65,7 +66,6 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     }
     uint16_t predictor = PREDICTOR_NONE;
     TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &predictor);
-    b->channels_ = channels;
     b->floatPredictorDeflate_ = real && channels == 1 && predictor == PREDICTOR_FLOATINGPOINT &&
                                 (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE);
     // A tile may reach past the image (to a multiple of 16, or a writer's usual size such as
@@ -82,14 +82,15 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     }
     b->blocksAcross_ = (width + b->blockWidth_ - 1) / b->blockWidth_;
     const size_t budget = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
-    const size_t blockSamples = static_cast<size_t>(b->blockWidth_) * b->blockHeight_ * channels;
+    b->channels_ = channels;
+    const size_t blockBytes = static_cast<size_t>(b->blockWidth_) * b->blockHeight_ * b->pixelBytes();
     // Blocks up to a quarter of the budget: the cache keeps at least four, which the reads of
     // a window across block boundaries need.
-    if (blockSamples * sizeof(float) <= budget / 4) {
-        b->cache_ = std::make_unique<BlockCache>(budget, blockSamples);
+    if (blockBytes <= budget / 4) {
+        b->cache_ = std::make_unique<BlockCache>(budget, blockBytes);
     } else if (b->tiled_) {
         TIFFClose(tif);
-        const size_t megabytes = (blockSamples * sizeof(float) + (size_t{1} << 20) - 1) >> 20;
+        const size_t megabytes = (blockBytes + (size_t{1} << 20) - 1) >> 20;
         failOption("cacheMegabytes", path + ": tiles of " + std::to_string(b->blockWidth_) + " x " +
                                          std::to_string(b->blockHeight_) + " samples (" + std::to_string(megabytes) +
                                          " MB decoded) need a cache of at least " + std::to_string(4 * megabytes) +
@@ -105,9 +106,59 @@ TiffBlockReader::~TiffBlockReader() {
     }
 }
 
+namespace {
+
+// Decoded samples (the file's own type, host order) as T: float32 by value, 16-bit values (8 or
+// 16-bit unsigned samples), or bytes as they are (8-bit samples).
+template <typename T>
+void convertSamples(const uint8_t* raw, size_t count, int bits, int format, T* out) {
+    if constexpr (std::is_same_v<T, float>) {
+        samplesToFloat(raw, count, bits, format, out);
+    } else if constexpr (std::is_same_v<T, uint16_t>) {
+        samplesToUInt16(raw, count, bits, out);
+    } else {
+        static_assert(std::is_same_v<T, uint8_t>);
+        std::memcpy(out, raw, count);
+    }
+}
+
+} // namespace
+
 void TiffBlockReader::read(int x0, int y0, int x1, int y1, int c0, int c1, float* out) {
+    readAs(x0, y0, x1, y1, c0, c1, out, static_cast<std::ptrdiff_t>(x1 - x0) * (c1 - c0));
+}
+
+void TiffBlockReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) {
+    if (format_ != SAMPLEFORMAT_UINT || (bits_ != 8 && bits_ != 16)) {
+        fail(path_, "16-bit read of samples that are not 8 or 16-bit unsigned");
+    }
+    readAs(x0, y0, x1, y1, c0, c1, out, static_cast<std::ptrdiff_t>(x1 - x0) * (c1 - c0));
+}
+
+void TiffBlockReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
+                                std::ptrdiff_t rowStride) {
+    if (format_ != SAMPLEFORMAT_UINT || bits_ != 8) {
+        fail(path_, "8-bit read of samples that are not 8-bit unsigned");
+    }
+    readAs(x0, y0, x1, y1, c0, c1, out, rowStride);
+}
+
+template <typename T>
+void TiffBlockReader::convertPixels(const uint8_t* from, size_t pixels, size_t c0, size_t wanted, T* to) const {
+    if (wanted == channels_) {
+        convertSamples(from, pixels * wanted, bits_, format_, to);
+        return;
+    }
+    const size_t sampleBytes = bits_ / 8u;
+    for (size_t i = 0; i < pixels; ++i) {
+        convertSamples(from + i * pixelBytes() + c0 * sampleBytes, wanted, bits_, format_, to + i * wanted);
+    }
+}
+
+template <typename T>
+void TiffBlockReader::readAs(int x0, int y0, int x1, int y1, int c0, int c1, T* out, std::ptrdiff_t rowStride) {
     if (cache_) {
-        readBlocks(x0, y0, x1, y1, c0, c1, out);
+        readBlocks(x0, y0, x1, y1, c0, c1, out, rowStride);
         return;
     }
     // Strips beyond the cache: the whole image decoded once, at the first read, into the
@@ -122,38 +173,28 @@ void TiffBlockReader::read(int x0, int y0, int x1, int y1, int c0, int c1, float
             ~Close() { TIFFClose(tif); }
         } close{tif};
         auto rows = std::make_unique<ScratchFile>(path_);
-        const size_t rowBytes = static_cast<size_t>(width_) * channels_ * sizeof(float);
-        streamTiffRows(tif, path_, [&](uint32_t y, const float* values) {
-            rows->write(static_cast<uint64_t>(y) * rowBytes, values, rowBytes);
+        const size_t rowBytes = static_cast<size_t>(width_) * pixelBytes();
+        streamTiffRows(tif, path_, [&](uint32_t y, const uint8_t* bytes) {
+            rows->write(static_cast<uint64_t>(y) * rowBytes, bytes, rowBytes);
         });
         rows_ = std::move(rows);
     });
     const size_t outWidth = static_cast<size_t>(x1 - x0);
-    const size_t pixelValues = channels_;
-    if (c0 == 0 && c1 == static_cast<int>(channels_)) {
-        for (int y = y0; y < y1; ++y) {
-            rows_->read((static_cast<uint64_t>(y) * width_ + static_cast<uint64_t>(x0)) * pixelValues * sizeof(float),
-                        out + static_cast<size_t>(y - y0) * outWidth * pixelValues, outWidth * pixelValues * sizeof(float));
-        }
-        return;
-    }
-    std::vector<float> row(outWidth * pixelValues);
-    const size_t wanted = static_cast<size_t>(c1 - c0);
+    thread_local std::vector<uint8_t> row;
+    row.resize(outWidth * pixelBytes());
     for (int y = y0; y < y1; ++y) {
-        rows_->read((static_cast<uint64_t>(y) * width_ + static_cast<uint64_t>(x0)) * pixelValues * sizeof(float),
-                    row.data(), row.size() * sizeof(float));
-        float* to = out + static_cast<size_t>(y - y0) * outWidth * wanted;
-        for (size_t i = 0; i < outWidth; ++i) {
-            std::copy_n(&row[i * pixelValues + static_cast<size_t>(c0)], wanted, to + i * wanted);
-        }
+        rows_->read((static_cast<uint64_t>(y) * width_ + static_cast<uint64_t>(x0)) * pixelBytes(), row.data(),
+                    row.size());
+        convertPixels(row.data(), outWidth, static_cast<size_t>(c0), static_cast<size_t>(c1 - c0),
+                      out + static_cast<std::ptrdiff_t>(y - y0) * rowStride);
     }
 }
 
-void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, int c0, int c1, float* out) {
-    const size_t outWidth = static_cast<size_t>(x1 - x0);
-    const size_t pixelValues = channels_, wanted = static_cast<size_t>(c1 - c0);
+template <typename T>
+void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, int c0, int c1, T* out, std::ptrdiff_t rowStride) {
+    const size_t wanted = static_cast<size_t>(c1 - c0);
     const auto decodeWith = [this](uint32_t index) {
-        return [this, index](std::vector<float>& values) {
+        return [this, index](std::vector<uint8_t>& bytes) {
             TIFF* tif = nullptr;
             {
                 std::lock_guard<std::mutex> lock(mutex_);
@@ -173,30 +214,23 @@ void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, int c0, int c1,
                     r.idle_.push_back(tif);
                 }
             } back{*this, tif};
-            decode(tif, index, values);
+            decode(tif, index, bytes);
         };
     };
     for (uint32_t by = static_cast<uint32_t>(y0) / blockHeight_; by * blockHeight_ < static_cast<uint32_t>(y1); ++by) {
         for (uint32_t bx = static_cast<uint32_t>(x0) / blockWidth_; bx * blockWidth_ < static_cast<uint32_t>(x1);
              ++bx) {
             const uint32_t index = by * blocksAcross_ + bx;
-            const std::shared_ptr<const std::vector<float>> block = cache_->get(index, decodeWith(index));
+            const std::shared_ptr<const BlockCache::Block> block = cache_->get(index, decodeWith(index));
             const int bx0 = static_cast<int>(bx * blockWidth_), by0 = static_cast<int>(by * blockHeight_);
             const int cx0 = std::max(x0, bx0), cx1 = std::min(x1, bx0 + static_cast<int>(blockWidth_));
             const int cy0 = std::max(y0, by0), cy1 = std::min(y1, by0 + static_cast<int>(blockHeight_));
             for (int y = cy0; y < cy1; ++y) {
-                const float* from =
-                    block->data() + (static_cast<size_t>(y - by0) * blockWidth_ + static_cast<size_t>(cx0 - bx0)) * pixelValues;
-                float* to = out + (static_cast<size_t>(y - y0) * outWidth + static_cast<size_t>(cx0 - x0)) * wanted;
-                if (wanted == pixelValues) {
-                    std::copy(from, from + static_cast<size_t>(cx1 - cx0) * pixelValues, to);
-                    continue;
-                }
-                for (int x = cx0; x < cx1; ++x) {
-                    std::copy_n(from + static_cast<size_t>(c0), wanted, to);
-                    from += pixelValues;
-                    to += wanted;
-                }
+                const uint8_t* from =
+                    block->data() + (static_cast<size_t>(y - by0) * blockWidth_ + static_cast<size_t>(cx0 - bx0)) * pixelBytes();
+                T* to = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride +
+                        static_cast<std::ptrdiff_t>(static_cast<size_t>(cx0 - x0) * wanted);
+                convertPixels(from, static_cast<size_t>(cx1 - cx0), static_cast<size_t>(c0), wanted, to);
             }
         }
     }
@@ -222,7 +256,7 @@ struct DecompressorDeleter {
 // block is inflated by libdeflate (TIFF's Deflate is a zlib stream) and the predictor undone
 // row by row. False when the block is not what this expects; libtiff then decodes it.
 bool TiffBlockReader::decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows,
-                                                  std::vector<float>& values) const {
+                                                  std::vector<uint8_t>& bytes) const {
     const uint64_t rawBytes = TIFFGetStrileByteCount(tif, index);
     // Deflate never grows data by more than a few bytes per 16 KB: a larger count is damage,
     // which libtiff's own path then reports, without this allocating it.
@@ -246,37 +280,28 @@ bool TiffBlockReader::decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uin
         produced != plain.size()) {
         return false;
     }
-    values.resize(static_cast<size_t>(blockWidth_) * blockHeight_);
+    bytes.resize(rowBytes * blockHeight_);
     for (uint32_t r = 0; r < rows; ++r) {
-        undoFloatPredictor(plain.data() + r * rowBytes, blockWidth_, values.data() + static_cast<size_t>(r) * blockWidth_);
+        undoFloatPredictor(plain.data() + r * rowBytes, blockWidth_, bytes.data() + r * rowBytes);
     }
     return true;
 }
 
-void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<float>& values) const {
+void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& bytes) const {
     if (floatPredictorDeflate_) {
         // Every row of a tile is stored; a strip holds the rows left at the image's bottom.
         const uint32_t rows = tiled_ ? blockHeight_ : std::min(blockHeight_, height_ - (index * blockHeight_));
-        if (decodeFloatPredictorDeflate(tif, index, rows, values)) {
+        if (decodeFloatPredictorDeflate(tif, index, rows, bytes)) {
             return;
         }
     }
-    const size_t count = static_cast<size_t>(blockWidth_) * blockHeight_ * channels_;
-    // float32 samples are decoded in place; integers through a buffer kept per thread.
-    const bool floats = format_ == SAMPLEFORMAT_IEEEFP;
-    thread_local std::vector<uint8_t> raw;
-    if (!floats) {
-        raw.resize(count * (bits_ / 8));
-    }
-    void* into = floats ? static_cast<void*>(values.data()) : raw.data();
-    const auto bytes = static_cast<tmsize_t>(count * (bits_ / 8));
-    const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, into, bytes) : TIFFReadEncodedStrip(tif, index, into, bytes);
+    // Decoded in place, as libtiff gives the samples: host order, predictors undone.
+    const auto size = static_cast<tmsize_t>(bytes.size());
+    const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, bytes.data(), size)
+                                : TIFFReadEncodedStrip(tif, index, bytes.data(), size);
     // The last strip may hold fewer rows; missing rows are never read (outside the image).
     if (got < 0) {
         fail(path_, std::string("read failed: cannot decode ") + (tiled_ ? "tile " : "strip ") + std::to_string(index));
-    }
-    if (!floats) {
-        samplesToFloat(raw.data(), count, bits_, format_, values.data());
     }
 }
 

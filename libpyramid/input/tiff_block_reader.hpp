@@ -11,10 +11,14 @@
 // * larger tiles cannot be decoded piecewise: the file is refused, naming the cache they need.
 // Blocks are checked against the image before anything is allocated: a file declaring tiles
 // far larger than its image is refused as damaged.
+// Blocks and scratch rows hold the samples as decoded, in the file's own type (an 8-bit image
+// takes a quarter of the memory float32 would, so a budget holds four times its pixels); reads
+// convert them: to float32 by value (integers are never normalised), to 16-bit values, or, for
+// 8-bit samples, not at all.
 // OpenImageIO's ImageCache decodes such files one scanline at a time under one lock per file,
-// through zlib rather than libdeflate: several times slower, and serial. Integer values are
-// converted to float32 by value (never normalised).
+// through zlib rather than libdeflate: several times slower, and serial.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -41,13 +45,27 @@ public:
     // Channels [c0, c1) of columns [x0, x1) of rows [y0, y1) into out, interleaved, row-major,
     // as float32 by value. Throws Error on a decoding error. Thread-safe.
     void read(int x0, int y0, int x1, int y1, int c0, int c1, float* out);
+    // The same as 16-bit values, of a file of 8 or 16-bit unsigned samples (8-bit ones widened
+    // exactly).
+    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out);
+    // The same as stored, of a file of 8-bit unsigned samples; row y goes to
+    // out + (y - y0) * rowStride (bytes; negative to store the rows bottom up).
+    void readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride);
 
 private:
     TiffBlockReader() = default;
     TIFF* openHandle() const;
-    void readBlocks(int x0, int y0, int x1, int y1, int c0, int c1, float* out);
-    void decode(TIFF* tif, uint32_t index, std::vector<float>& values) const;
-    bool decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows, std::vector<float>& values) const;
+    // The reads above: row y of the window goes to out + (y - y0) * rowStride (elements of T).
+    template <typename T>
+    void readAs(int x0, int y0, int x1, int y1, int c0, int c1, T* out, std::ptrdiff_t rowStride);
+    template <typename T>
+    void readBlocks(int x0, int y0, int x1, int y1, int c0, int c1, T* out, std::ptrdiff_t rowStride);
+    // `pixels` decoded pixels at `from`, channels [c0, c0 + wanted) of each, converted to T.
+    template <typename T>
+    void convertPixels(const uint8_t* from, size_t pixels, size_t c0, size_t wanted, T* to) const;
+    void decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& bytes) const;
+    bool decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows, std::vector<uint8_t>& bytes) const;
+    size_t pixelBytes() const { return static_cast<size_t>(channels_) * (bits_ / 8u); }
 
     std::string path_;
     uint32_t width_ = 0, height_ = 0;
@@ -57,7 +75,7 @@ private:
     bool tiled_ = false;
     bool floatPredictorDeflate_ = false; // float32, Deflate, Predictor = 3: decoded here
     std::unique_ptr<BlockCache> cache_;   // blocks within the budget
-    std::unique_ptr<ScratchFile> rows_;   // or the whole image, float32 rows, for huge strips
+    std::unique_ptr<ScratchFile> rows_;   // or the whole image's decoded rows, for huge strips
     std::once_flag spilled_;              // rows_ filled
     std::mutex mutex_;
     std::vector<TIFF*> idle_;             // open handles not in use

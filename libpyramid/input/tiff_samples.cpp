@@ -1,12 +1,11 @@
 #include "libpyramid/input/tiff_samples.hpp"
 
-#include <bit>
 #include <algorithm>
 #include <cstring>
 
 namespace pyramid {
 
-void undoFloatPredictor(uint8_t* bytes, size_t count, float* out) {
+void undoFloatPredictor(uint8_t* bytes, size_t count, uint8_t* out) {
     uint8_t sum = 0;
     for (size_t k = 0; k < 4 * count; ++k) {
         sum = static_cast<uint8_t>(sum + bytes[k]);
@@ -19,7 +18,7 @@ void undoFloatPredictor(uint8_t* bytes, size_t count, float* out) {
     for (size_t i = 0; i < count; ++i) {
         const uint32_t word = static_cast<uint32_t>(b0[i]) | static_cast<uint32_t>(b1[i]) << 8 |
                               static_cast<uint32_t>(b2[i]) << 16 | static_cast<uint32_t>(b3[i]) << 24;
-        out[i] = std::bit_cast<float>(word);
+        std::memcpy(out + 4 * i, &word, 4); // float32's bits, host order
     }
 }
 
@@ -91,6 +90,14 @@ void samplesToFloat(const uint8_t* raw, size_t count, int bits, int sampleFormat
         isSigned ? convert<int16_t>(raw, count, out) : convert<uint16_t>(raw, count, out);
     } else {
         isSigned ? convert<int32_t>(raw, count, out) : convert<uint32_t>(raw, count, out);
+    }
+}
+
+void samplesToUInt16(const uint8_t* raw, size_t count, int bits, uint16_t* out) {
+    if (bits == 8) {
+        std::copy_n(raw, count, out);
+    } else {
+        std::memcpy(out, raw, count * sizeof(uint16_t));
     }
 }
 

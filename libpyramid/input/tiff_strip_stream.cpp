@@ -26,11 +26,13 @@ struct Layout {
     size_t rowBytes() const { return rowValues() * (bits / 8); }
 };
 
-// Turns one row of stored bytes (the file's order, predictors applied) into float32 values.
-void finishRow(const Layout& l, uint8_t* bytes, float* out) {
+// Turns one row of stored bytes (the file's order, predictors applied) into its samples in the
+// host's order: in place, or into `floats` (a row's bytes) for the floating-point predictor.
+// Returns where the row is.
+const uint8_t* finishRow(const Layout& l, uint8_t* bytes, uint8_t* floats) {
     if (l.predictor == PREDICTOR_FLOATINGPOINT) {
-        undoFloatPredictor(bytes, l.width, out);
-        return;
+        undoFloatPredictor(bytes, l.width, floats);
+        return floats;
     }
     if (l.swapped) {
         swapSampleBytes(bytes, l.rowValues(), l.bits);
@@ -38,7 +40,7 @@ void finishRow(const Layout& l, uint8_t* bytes, float* out) {
     if (l.predictor == PREDICTOR_HORIZONTAL) {
         undoHorizontalPredictor(bytes, l.width, l.bits, l.channels);
     }
-    samplesToFloat(bytes, l.rowValues(), l.bits, l.format, out);
+    return bytes;
 }
 
 class StripReader {
@@ -67,7 +69,7 @@ private:
 
 } // namespace
 
-void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void(uint32_t, const float*)>& row) {
+void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void(uint32_t, const uint8_t*)>& row) {
     Layout l;
     TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &l.width);
     TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &l.height);
@@ -80,7 +82,10 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
     l.swapped = TIFFIsByteSwapped(tif) != 0;
     l.rowsPerStrip = std::clamp<uint32_t>(l.rowsPerStrip, 1, l.height);
     std::vector<uint8_t> bytes(l.rowBytes());
-    std::vector<float> values(l.rowValues());
+    std::vector<uint8_t> floats; // rows with the floating-point predictor, undone
+    if (l.predictor == PREDICTOR_FLOATINGPOINT) {
+        floats.resize(l.rowBytes());
+    }
     // The floating-point predictor of interleaved samples is left to libtiff.
     const bool streamed = (l.compression == COMPRESSION_NONE || l.compression == COMPRESSION_ADOBE_DEFLATE ||
                            l.compression == COMPRESSION_DEFLATE) &&
@@ -91,8 +96,7 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
             if (TIFFReadScanline(tif, bytes.data(), y, 0) < 0) {
                 fail(path, "read failed: cannot decode row " + std::to_string(y));
             }
-            samplesToFloat(bytes.data(), l.rowValues(), l.bits, l.format, values.data());
-            row(y, values.data());
+            row(y, bytes.data());
         }
         return;
     }
@@ -114,8 +118,7 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
         size_t filled = 0; // bytes of the current row
         uint32_t done = 0; // rows of this strip
         const auto deliver = [&] {
-            finishRow(l, bytes.data(), values.data());
-            row(y++, values.data());
+            row(y++, finishRow(l, bytes.data(), floats.data()));
             filled = 0;
             ++done;
         };

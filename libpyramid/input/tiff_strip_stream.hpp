@@ -13,9 +13,11 @@ typedef struct tiff TIFF;
 
 namespace pyramid {
 
-// Calls `row(y, values)` for y = 0, 1, ... height - 1 with the row's `width` x channels
-// samples (interleaved) as float32 by value. `tif` is an open handle of `path` (named in
-// errors), striped, of 8/16/32-bit integers or float32. Throws Error on a damaged strip.
-void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void(uint32_t, const float*)>& row);
+// Calls `row(y, bytes)` for y = 0, 1, ... height - 1 with the row's `width` x channels
+// samples (interleaved) as decoded: the file's own sample type (BitsPerSample, SampleFormat),
+// in the host's byte order, predictors undone (tiff_samples.hpp converts them). `tif` is an
+// open handle of `path` (named in errors), striped, of 8/16/32-bit integers or float32. Throws
+// Error on a damaged strip.
+void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void(uint32_t, const uint8_t*)>& row);
 
 } // namespace pyramid
