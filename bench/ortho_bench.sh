@@ -7,7 +7,9 @@
 # Environment: BUILD (a Release build directory, configured here if missing; default
 # build-release), WORK, SIZE (synthetic image side, default 6144), THREADS (default: all cores),
 # REPEAT (runs of each case compared with GDAL, default 3: the median wall time is reported;
-# the cases without a GDAL counterpart run once), INPUTS (the inputs to run, default all four).
+# the cases without a GDAL counterpart run once), INPUTS (the inputs to run, default all four),
+# LAYOUTS (the synthetic image's compressed copies whose default run is paired with GDAL too,
+# default "tiled-deflate lzw-strips bigtiff-tiled"; empty for none).
 #
 # Inputs: a deterministic synthetic SIZE x SIZE RGB image (bench/ortho_synthetic_image.cpp),
 # samples/bluemarble.png, a 5400x2700 upsampled copy of it, and a square 3072x3072 one (its
@@ -54,6 +56,21 @@ cp -f "$ROOT/samples/bluemarble.png" bluemarble.png
 [ -f bluemarble-3072.png ] || oiiotool bluemarble.png --cut 675x675+0+0 --resize 3072x3072 -o bluemarble-3072.png
 
 INPUTS=${INPUTS:-synthetic-$SIZE.tif bluemarble.png bluemarble-5400.png bluemarble-3072.png}
+# The synthetic image in the layouts real imagery ships in, written by GDAL (the peer): 256 x 256
+# Deflate tiles with the horizontal predictor, LZW strips of 64 rows with it, and the tiles as a
+# BigTIFF. Both tools decode them; ours through its block cache (--cache-mb, 256 MB).
+LAYOUTS=${LAYOUTS-tiled-deflate lzw-strips bigtiff-tiled}
+for layout in $LAYOUTS; do
+    [ -f "synthetic-$SIZE-$layout.tif" ] && continue
+    case $layout in
+    tiled-deflate) options=(-co TILED=YES -co COMPRESS=DEFLATE -co PREDICTOR=2) ;;
+    lzw-strips) options=(-co COMPRESS=LZW -co PREDICTOR=2 -co BLOCKYSIZE=64) ;;
+    bigtiff-tiled) options=(-co BIGTIFF=YES -co TILED=YES -co COMPRESS=DEFLATE -co PREDICTOR=2) ;;
+    *) echo "LAYOUTS: unknown layout '$layout' (tiled-deflate, lzw-strips, bigtiff-tiled)" >&2; exit 2 ;;
+    esac
+    gdal_translate -q "${options[@]}" "synthetic-$SIZE.tif" "synthetic-$SIZE-$layout.part.tif"
+    mv "synthetic-$SIZE-$layout.part.tif" "synthetic-$SIZE-$layout.tif"
+done
 # The synthetic image's tile size: its side halved until at most 256 (a multiple of 4, for DXT).
 SYNTHETIC_TILE=$SIZE
 while [ "$SYNTHETIC_TILE" -gt 256 ] && [ $((SYNTHETIC_TILE % 2)) = 0 ]; do SYNTHETIC_TILE=$((SYNTHETIC_TILE / 2)); done
@@ -127,6 +144,9 @@ for input in $INPUTS; do
     paired "$input" dxt --outputs dxt "${tile[@]}"
     paired "$input" residuals --outputs residuals "${tile[@]}"
     paired "$input" all-three "${tile[@]}"
+done
+for layout in $LAYOUTS; do
+    paired "synthetic-$SIZE-$layout.tif" all-three --tile-size "$SYNTHETIC_TILE"
 done
 rm -rf out-ours out-cog.tif
 
