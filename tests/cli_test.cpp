@@ -365,23 +365,17 @@ TEST(PreprocessOrthoCli, TilesBeyondTheCacheNameItsFlag) {
     const std::string input = dir.file("big-tiles.tif");
     {
         // 64 x 48 RGB pixels in one tile of 1024 x 1024: 3 MB decoded.
-        TIFF* t = TIFFOpen(input.c_str(), "w");
-        ASSERT_TRUE(t);
-        TIFFSetField(t, TIFFTAG_IMAGEWIDTH, 64);
-        TIFFSetField(t, TIFFTAG_IMAGELENGTH, 48);
-        TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 8);
-        TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 3);
-        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_RGB);
-        TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
-        TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
-        TIFFSetField(t, TIFFTAG_TILEWIDTH, 1024);
-        TIFFSetField(t, TIFFTAG_TILELENGTH, 1024);
-        std::vector<uint8_t> tile(1024 * 1024 * 3);
-        for (size_t k = 0; k < tile.size(); ++k) {
-            tile[k] = static_cast<uint8_t>(k % 251);
+        auto out = OIIO::ImageOutput::create(input);
+        ASSERT_TRUE(out);
+        OIIO::ImageSpec spec(64, 48, 3, OIIO::TypeDesc::UINT8);
+        spec.tile_width = spec.tile_height = 1024;
+        spec.attribute("compression", "zip");
+        std::vector<uint8_t> pixels(64 * 48 * 3);
+        for (size_t k = 0; k < pixels.size(); ++k) {
+            pixels[k] = static_cast<uint8_t>(k % 251);
         }
-        ASSERT_GE(TIFFWriteEncodedTile(t, 0, tile.data(), static_cast<tmsize_t>(tile.size())), 0);
-        TIFFClose(t);
+        ASSERT_TRUE(out->open(input, spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close())
+            << out->geterror();
     }
     const std::string command = test::programPath("preprocessOrtho") + " " + shellQuoted(input) + " -o " +
                                 shellQuoted(dir.file("out")) + " --tile-size 16 --quiet --cache-mb ";
