@@ -27,5 +27,10 @@ run ortho_file_fuzz "$src/tests/data/proland/RGB.dat" "$corpus"/ortho/*.dat
 run tiff_tile_fuzz "$corpus"/tiff/*.tif "$corpus"/context/*.pyrc "$corpus"/valid/context-3.pyrc
 run dxt_tile_fuzz "$corpus"/dxt/*.bin
 run raster_input_fuzz "$corpus"/input/* "$corpus"/tiff/*.tif
-ls "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* 2>/dev/null && exit 1
+# Any finding fails the run (named, one per line).
+found=$(ls "$work" | grep -E '^(crash|leak|timeout|oom)-' || true)
+if [ -n "$found" ]; then
+    echo "$found" | sed "s|^|$work/|"
+    exit 1
+fi
 echo "no crash, leak, timeout or out-of-memory"

@@ -11,8 +11,10 @@
 #include <tiffio.h>
 
 #include <atomic>
+#include <bit>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -296,6 +298,87 @@ TEST(InputMemory, BlocksNoImageHasAndTilesBeyondTheCacheAreRefused) {
     const TiffLayout small{"small.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 512};
     writeTiff(dir.file(small.name), small, 300, 200);
     expectSamples(dir.file(small.name), small, 300, 200, 256);
+}
+
+// Points entry `index` of the offsets of `tag` (StripOffsets 273, TileOffsets 324) in the first
+// directory of a little-endian BigTIFF at `offset`.
+void setBigTiffOffset(const std::string& path, uint16_t tag, uint32_t index, uint64_t offset) {
+    std::string bytes = test::readFile(path);
+    const auto u16 = [&](uint64_t at) {
+        uint16_t v = 0;
+        std::memcpy(&v, &bytes.at(static_cast<size_t>(at)), 2);
+        return v;
+    };
+    const auto u64 = [&](uint64_t at) {
+        uint64_t v = 0;
+        std::memcpy(&v, &bytes.at(static_cast<size_t>(at)), 8);
+        return v;
+    };
+    ASSERT_EQ(bytes.substr(0, 4), std::string("II+\0", 4)) << path;
+    const uint64_t ifd = u64(8);
+    for (uint64_t e = 0; e < u64(ifd); ++e) {
+        const uint64_t at = ifd + 8 + e * 20; // tag, type, count (8 bytes), value or its offset (8 bytes)
+        if (u16(at) != tag) {
+            continue;
+        }
+        ASSERT_EQ(u16(at + 2), TIFF_LONG8) << path;
+        const uint64_t values = u64(at + 4) == 1 ? at + 12 : u64(at + 12);
+        std::memcpy(&bytes.at(static_cast<size_t>(values + uint64_t{index} * 8)), &offset, 8);
+        std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+        return;
+    }
+    FAIL() << path << ": no tag " << tag;
+}
+
+// A block whose offset lies far beyond the end of the file (2^63 - 15, which read() refuses
+// outright): an error naming the file and the block, for tiles in the cache and for a strip
+// beyond the cache, streamed through libtiff (LZW).
+TEST(InputMemory, ABlockBeyondTheEndOfTheFileIsAnError) {
+    if constexpr (std::endian::native != std::endian::little) {
+        GTEST_SKIP() << "the test patches a little-endian file in place";
+    }
+    test::TempDir dir;
+    const uint64_t far = (uint64_t{1} << 63) - 15;
+    const TiffLayout tiles{"far-tile.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 16,
+                           0, "w8"};
+    writeTiff(dir.file(tiles.name), tiles, 40, 24);
+    setBigTiffOffset(dir.file(tiles.name), TIFFTAG_TILEOFFSETS, 0, far);
+    const std::string tileError = errorOf(dir.file(tiles.name), 1);
+    EXPECT_NE(tileError.find(dir.file(tiles.name) + ": damaged TIFF: tile 0 lies beyond the end of the file"),
+              std::string::npos)
+        << tileError;
+    // 700 x 530 int16 samples in one strip: beyond a quarter of a 1 MB cache.
+    const TiffLayout strip{"far-strip.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_LZW, PREDICTOR_NONE, 0, 100000, "w8"};
+    writeTiff(dir.file(strip.name), strip, 700, 530);
+    setBigTiffOffset(dir.file(strip.name), TIFFTAG_STRIPOFFSETS, 0, far);
+    const std::string stripError = errorOf(dir.file(strip.name), 1);
+    EXPECT_NE(stripError.find(dir.file(strip.name) + ": damaged TIFF: strip 0 lies beyond the end of the file"),
+              std::string::npos)
+        << stripError;
+    // RGB in separate planes, a layout left to OpenImageIO (which reads through libtiff too):
+    // refused before it reads.
+    const std::string planes = dir.file("far-planes.tif");
+    {
+        TIFF* t = TIFFOpen(planes.c_str(), "w8");
+        ASSERT_TRUE(t);
+        TIFFSetField(t, TIFFTAG_IMAGEWIDTH, 40);
+        TIFFSetField(t, TIFFTAG_IMAGELENGTH, 24);
+        TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 8);
+        TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 3);
+        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_RGB);
+        TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_SEPARATE);
+        TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, 24);
+        std::vector<uint8_t> plane(40 * 24, 100);
+        for (uint32_t p = 0; p < 3; ++p) {
+            ASSERT_GE(TIFFWriteEncodedStrip(t, p, plane.data(), static_cast<tmsize_t>(plane.size())), 0);
+        }
+        TIFFClose(t);
+    }
+    setBigTiffOffset(planes, TIFFTAG_STRIPOFFSETS, 2, far);
+    const std::string planesError = errorOf(planes, 256);
+    EXPECT_NE(planesError.find(planes + ": cannot read: damaged TIFF: strip 2 lies beyond the end of the file"),
+              std::string::npos)
+        << planesError;
 }
 
 // A PNG larger than the cache is decoded into its scratch file and reads the same samples; an

@@ -37,7 +37,12 @@ struct RasterSource::Impl {
 
     const ModuleImage& viaModule() const {
         std::call_once(moduleOnce, [this] {
-            moduleImage = imageIoModule(path).open(path, cacheMegabytes, moduleError);
+            // OpenImageIO reads TIFFs through libtiff, which must not be asked for a block that
+            // lies beyond the end of the file (tiff_pixel_reader.hpp).
+            moduleError = tiffBlockBeyondTheFile(path);
+            if (moduleError.empty()) {
+                moduleImage = imageIoModule(path).open(path, cacheMegabytes, moduleError);
+            }
         });
         if (!moduleImage) {
             fail(path, "cannot read: " + moduleError);

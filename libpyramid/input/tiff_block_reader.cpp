@@ -288,6 +288,10 @@ bool TiffBlockReader::decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uin
 }
 
 void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& bytes) const {
+    if (!strileInFile(tif, index)) {
+        fail(path_, std::string("damaged TIFF: ") + (tiled_ ? "tile " : "strip ") + std::to_string(index) +
+                        " lies beyond the end of the file");
+    }
     if (floatPredictorDeflate_) {
         // Every row of a tile is stored; a strip holds the rows left at the image's bottom.
         const uint32_t rows = tiled_ ? blockHeight_ : std::min(blockHeight_, height_ - (index * blockHeight_));

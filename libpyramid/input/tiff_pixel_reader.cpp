@@ -1,6 +1,7 @@
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <tiffio.h>
 #include <unistd.h>
 
@@ -18,8 +19,43 @@ namespace {
 
 int ignoreTiffMessage(TIFF*, void*, const char*, const char*, va_list) { return 1; }
 
+} // namespace
+
+namespace {
+
+// The size of the file behind `tif` (0 when fstat fails: then every block lies beyond it).
+uint64_t fileBytesOf(TIFF* tif) {
+    struct stat st {};
+    return ::fstat(TIFFFileno(tif), &st) == 0 && st.st_size > 0 ? static_cast<uint64_t>(st.st_size) : 0;
+}
+
+bool strileWithin(TIFF* tif, uint32_t index, uint64_t fileBytes) {
+    const uint64_t offset = TIFFGetStrileOffset(tif, index), bytes = TIFFGetStrileByteCount(tif, index);
+    return offset <= fileBytes && bytes <= fileBytes - offset;
+}
 
 } // namespace
+
+bool strileInFile(TIFF* tif, uint32_t index) { return strileWithin(tif, index, fileBytesOf(tif)); }
+
+std::string tiffBlockBeyondTheFile(const std::string& path) {
+    TIFF* tif = openTiffQuietly(path, "rm");
+    if (!tif) {
+        return "";
+    }
+    const bool tiled = TIFFIsTiled(tif) != 0;
+    const uint32_t blocks = tiled ? TIFFNumberOfTiles(tif) : TIFFNumberOfStrips(tif);
+    const uint64_t fileBytes = fileBytesOf(tif);
+    std::string problem;
+    for (uint32_t i = 0; i < blocks && problem.empty(); ++i) {
+        if (!strileWithin(tif, i, fileBytes)) {
+            problem = std::string("damaged TIFF: ") + (tiled ? "tile " : "strip ") + std::to_string(i) +
+                      " lies beyond the end of the file";
+        }
+    }
+    TIFFClose(tif);
+    return problem;
+}
 
 TIFF* openTiffQuietly(const std::string& path, const char* mode) {
     TIFFOpenOptions* options = TIFFOpenOptionsAlloc();

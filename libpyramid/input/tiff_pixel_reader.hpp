@@ -21,6 +21,17 @@ namespace pyramid {
 // the problem, and GeoTIFF tags libtiff does not know are no concern. Null when it fails.
 TIFF* openTiffQuietly(const std::string& path, const char* mode);
 
+// Whether strip or tile `index` of `tif` (its offset and byte count) lies within the file, whose
+// size fstat gives. libtiff's own reading of a block that does not (an offset near 2^63 in a
+// damaged BigTIFF, which the read refuses outright) writes before its buffer: readers check each
+// block before libtiff reads it.
+bool strileInFile(TIFF* tif, uint32_t index);
+
+// For a file that other code will read through libtiff (OpenImageIO): "" when it is not a TIFF
+// or every block of its first image lies within the file, else the problem ("damaged TIFF: tile
+// 3 lies beyond the end of the file").
+std::string tiffBlockBeyondTheFile(const std::string& path);
+
 class TiffPixelReader {
 public:
     // nullptr when the file is not such a TIFF (any other layout is left to the cache), or

@@ -8,6 +8,7 @@
 
 #include "formats/error.hpp"
 #include "formats/file_io.hpp"
+#include "libpyramid/input/tiff_pixel_reader.hpp"
 #include "libpyramid/input/tiff_samples.hpp"
 
 namespace pyramid {
@@ -91,6 +92,11 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
                            l.compression == COMPRESSION_DEFLATE) &&
                           (l.channels == 1 || l.predictor != PREDICTOR_FLOATINGPOINT);
     if (!streamed) {
+        for (uint32_t s = 0; s < TIFFNumberOfStrips(tif); ++s) {
+            if (!strileInFile(tif, s)) {
+                fail(path, "damaged TIFF: strip " + std::to_string(s) + " lies beyond the end of the file");
+            }
+        }
         for (uint32_t y = 0; y < l.height; ++y) {
             // libtiff undoes the predictor and the byte order itself here.
             if (TIFFReadScanline(tif, bytes.data(), y, 0) < 0) {
