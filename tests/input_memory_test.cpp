@@ -38,6 +38,7 @@ struct TiffLayout {
     uint32_t rowsPerStrip = 16; // strips only
     const char* mode = "w";     // "w8": BigTIFF; "wb": big-endian
     uint16_t channels = 1;      // interleaved; RGB from 3
+    uint16_t planar = PLANARCONFIG_CONTIG; // or PLANARCONFIG_SEPARATE (strips only)
 };
 
 // Sample (x, y) of the test images, exact in every sample type (within the type's range).
@@ -83,7 +84,7 @@ void writeTiff(const std::string& path, const TiffLayout& l, uint32_t w, uint32_
         const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
         TIFFSetField(t, TIFFTAG_EXTRASAMPLES, uint16_t{1}, &alpha);
     }
-    TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(t, TIFFTAG_PLANARCONFIG, l.planar);
     TIFFSetField(t, TIFFTAG_COMPRESSION, l.compression);
     if (l.predictor != PREDICTOR_NONE) {
         TIFFSetField(t, TIFFTAG_PREDICTOR, l.predictor);
@@ -114,16 +115,26 @@ void writeTiff(const std::string& path, const TiffLayout& l, uint32_t w, uint32_
     } else {
         const uint32_t rows = std::min(l.rowsPerStrip, h);
         TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, rows);
-        for (uint32_t y0 = 0; y0 < h; y0 += rows) {
-            const uint32_t n = std::min(rows, h - y0);
-            std::vector<uint8_t> strip(static_cast<size_t>(w) * n * bytes);
-            for (uint32_t y = y0; y < y0 + n; ++y) {
-                for (uint32_t x = 0; x < w; ++x) {
-                    putPixel(x, y, strip.data() + ((y - y0) * w + x) * bytes);
+        // Separate planes: each channel's strips in turn, a sample per pixel.
+        const bool separate = l.planar == PLANARCONFIG_SEPARATE;
+        const size_t stored = separate ? sampleBytes : bytes; // of a pixel in a strip
+        for (uint16_t plane = 0; plane < (separate ? l.channels : 1); ++plane) {
+            for (uint32_t y0 = 0; y0 < h; y0 += rows) {
+                const uint32_t n = std::min(rows, h - y0);
+                std::vector<uint8_t> strip(static_cast<size_t>(w) * n * stored);
+                for (uint32_t y = y0; y < y0 + n; ++y) {
+                    for (uint32_t x = 0; x < w; ++x) {
+                        uint8_t* to = strip.data() + ((y - y0) * w + x) * stored;
+                        if (separate) {
+                            putSample(l, sampleOf(l, x, y, plane), to);
+                        } else {
+                            putPixel(x, y, to);
+                        }
+                    }
                 }
+                ASSERT_GE(TIFFWriteEncodedStrip(t, TIFFComputeStrip(t, y0, plane), strip.data(),
+                                                static_cast<tmsize_t>(strip.size())), 0);
             }
-            ASSERT_GE(TIFFWriteEncodedStrip(t, TIFFComputeStrip(t, y0, 0), strip.data(),
-                                            static_cast<tmsize_t>(strip.size())), 0);
         }
     }
     TIFFClose(t);
@@ -338,47 +349,28 @@ TEST(InputMemory, ABlockBeyondTheEndOfTheFileIsAnError) {
         GTEST_SKIP() << "the test patches a little-endian file in place";
     }
     test::TempDir dir;
-    const uint64_t far = (uint64_t{1} << 63) - 15;
+    // Writes `l` (w x h), points entry `index` of `tag` far away, and reads a pixel.
+    const auto expectRefused = [&](const TiffLayout& l, uint32_t w, uint32_t h, uint16_t tag, uint32_t index,
+                                   int cacheMegabytes, const std::string& message) {
+        const std::string path = dir.file(l.name);
+        writeTiff(path, l, w, h);
+        setBigTiffOffset(path, tag, index, (uint64_t{1} << 63) - 15);
+        const std::string error = errorOf(path, cacheMegabytes);
+        EXPECT_NE(error.find(path + ": " + message), std::string::npos) << error;
+    };
     const TiffLayout tiles{"far-tile.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 16,
                            0, "w8"};
-    writeTiff(dir.file(tiles.name), tiles, 40, 24);
-    setBigTiffOffset(dir.file(tiles.name), TIFFTAG_TILEOFFSETS, 0, far);
-    const std::string tileError = errorOf(dir.file(tiles.name), 1);
-    EXPECT_NE(tileError.find(dir.file(tiles.name) + ": damaged TIFF: tile 0 lies beyond the end of the file"),
-              std::string::npos)
-        << tileError;
+    expectRefused(tiles, 40, 24, TIFFTAG_TILEOFFSETS, 0, 1, "damaged TIFF: tile 0 lies beyond the end of the file");
     // 700 x 530 int16 samples in one strip: beyond a quarter of a 1 MB cache.
     const TiffLayout strip{"far-strip.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_LZW, PREDICTOR_NONE, 0, 100000, "w8"};
-    writeTiff(dir.file(strip.name), strip, 700, 530);
-    setBigTiffOffset(dir.file(strip.name), TIFFTAG_STRIPOFFSETS, 0, far);
-    const std::string stripError = errorOf(dir.file(strip.name), 1);
-    EXPECT_NE(stripError.find(dir.file(strip.name) + ": damaged TIFF: strip 0 lies beyond the end of the file"),
-              std::string::npos)
-        << stripError;
+    expectRefused(strip, 700, 530, TIFFTAG_STRIPOFFSETS, 0, 1,
+                  "damaged TIFF: strip 0 lies beyond the end of the file");
     // RGB in separate planes, a layout left to OpenImageIO (which reads through libtiff too):
     // refused before it reads.
-    const std::string planes = dir.file("far-planes.tif");
-    {
-        TIFF* t = TIFFOpen(planes.c_str(), "w8");
-        ASSERT_TRUE(t);
-        TIFFSetField(t, TIFFTAG_IMAGEWIDTH, 40);
-        TIFFSetField(t, TIFFTAG_IMAGELENGTH, 24);
-        TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 8);
-        TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 3);
-        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_RGB);
-        TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_SEPARATE);
-        TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, 24);
-        std::vector<uint8_t> plane(40 * 24, 100);
-        for (uint32_t p = 0; p < 3; ++p) {
-            ASSERT_GE(TIFFWriteEncodedStrip(t, p, plane.data(), static_cast<tmsize_t>(plane.size())), 0);
-        }
-        TIFFClose(t);
-    }
-    setBigTiffOffset(planes, TIFFTAG_STRIPOFFSETS, 2, far);
-    const std::string planesError = errorOf(planes, 256);
-    EXPECT_NE(planesError.find(planes + ": cannot read: damaged TIFF: strip 2 lies beyond the end of the file"),
-              std::string::npos)
-        << planesError;
+    const TiffLayout planes{"far-planes.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_NONE, PREDICTOR_NONE, 0, 24, "w8", 3,
+                            PLANARCONFIG_SEPARATE};
+    expectRefused(planes, 40, 24, TIFFTAG_STRIPOFFSETS, 2, 256,
+                  "cannot read: damaged TIFF: strip 2 lies beyond the end of the file");
 }
 
 // A PNG larger than the cache is decoded into its scratch file and reads the same samples; an
