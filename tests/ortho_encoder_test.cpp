@@ -496,8 +496,9 @@ TEST(OrthoEncoder, AFailureMidRunLeavesThePreviousOutputs) {
                 encodeOrtho(dir.file("cut.png"), where, o);
                 ADD_FAILURE() << "no error with " << threads << " threads";
             } catch (const Error& e) {
-                EXPECT_EQ(std::string(e.what()).rfind(dir.file("cut.png") + ": cannot read: damaged or truncated PNG", 0), 0u)
-                    << e.what();
+                const std::string message = e.what();
+                EXPECT_EQ(message.rfind(dir.file("cut.png") + ": cannot read: damaged or truncated PNG", 0), 0u)
+                    << message;
             }
             EXPECT_FALSE(std::filesystem::exists(where));
         }

@@ -59,7 +59,8 @@ Walked walk(const OrthoLevels& levels, OrthoLevels::WalkOrder order) {
         EXPECT_EQ(index, expected++) << "the items are numbered 0, 1, 2...";
         for (const TrueTile& t : item) {
             const Key k{t.level, t.tx, t.ty};
-            EXPECT_TRUE(w.tiles.emplace(k, std::vector<uint8_t>(t.image().pixels.begin(), t.image().pixels.end())).second) << "tile given twice";
+            std::vector<uint8_t> pixels(t.image().pixels.begin(), t.image().pixels.end());
+            EXPECT_TRUE(w.tiles.emplace(k, std::move(pixels)).second) << "tile given twice";
             w.order.push_back(k);
         }
     }

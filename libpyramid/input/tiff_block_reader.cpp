@@ -226,8 +226,8 @@ void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, int c0, int c1,
             const int cx0 = std::max(x0, bx0), cx1 = std::min(x1, bx0 + static_cast<int>(blockWidth_));
             const int cy0 = std::max(y0, by0), cy1 = std::min(y1, by0 + static_cast<int>(blockHeight_));
             for (int y = cy0; y < cy1; ++y) {
-                const uint8_t* from =
-                    block->data() + (static_cast<size_t>(y - by0) * blockWidth_ + static_cast<size_t>(cx0 - bx0)) * pixelBytes();
+                const size_t pixel = static_cast<size_t>(y - by0) * blockWidth_ + static_cast<size_t>(cx0 - bx0);
+                const uint8_t* from = block->data() + pixel * pixelBytes();
                 T* to = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride +
                         static_cast<std::ptrdiff_t>(static_cast<size_t>(cx0 - x0) * wanted);
                 convertPixels(from, static_cast<size_t>(cx1 - cx0), static_cast<size_t>(c0), wanted, to);

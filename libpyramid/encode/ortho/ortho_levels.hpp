@@ -112,9 +112,10 @@ public:
     int threads() const;                 // options.threads, or every available thread
 
     // Hands the whole pyramid to `sink`, item by item, and returns the number of the walk's
-    // items (each handed out, unless the sink stops the walk or an item fails). An item is either a subtree (its tiles in pre-order: a tile, then its children's
-    // subtrees) or a whole level of 0..C (its tiles in Z order). The items' order, which numbers
-    // them from 0, is deterministic (it does not depend on the thread count):
+    // items (each handed out, unless the sink stops the walk or an item fails). An item is
+    // either a subtree (its tiles in pre-order: a tile, then its children's subtrees) or a whole
+    // level of 0..C (its tiles in Z order). The items' order, which numbers them from 0, is
+    // deterministic (it does not depend on the thread count):
     //  * CoarseFirst: one item per level 0..C, then one item per level-(C+1) subtree, in Z
     //    order: every tile after its parent.
     //  * SinglePass: one item per level-(C+1) subtree, row by row from the north edge (the
