@@ -148,7 +148,7 @@ void writeTile(const TileData& tile, const std::string& path) {
 TileData residualTile(const std::string& file, int level, int tx, int ty, bool raw) {
     const auto reader = ResidualFileReader::open(file);
     if (!reader->header().contains(level, tx, ty)) {
-        fail(file, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+        fail(file, "no tile " + tileCoordinates(level, tx, ty));
     }
     TileData t;
     t.side = reader->header().tileSamples(level);
@@ -197,8 +197,7 @@ TileData setTile(const PyramidSet& set, int level, int tx, int ty, bool raw) {
         return t;
     }
     if (!residualSetHolds(set, level, tx, ty)) {
-        fail(set.name(), "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                             ") in any file of the set");
+        fail(set.name(), "no tile " + tileCoordinates(level, tx, ty) + " in any file of the set");
     }
     const FileLevelProducer producer = makeSetLevelProducer(set, level, 16);
     const auto tile = producer.fileTile(level, tx, ty);
@@ -218,7 +217,7 @@ TileData normalTile(const std::string& path, int level, int tx, int ty, Deformat
     }
     const ResidualHeader h = ResidualFileReader::readHeader(set.main);
     if (!residualSetHolds(set, level, tx, ty)) {
-        fail(set.name(), "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+        fail(set.name(), "no tile " + tileCoordinates(level, tx, ty));
     }
     if (size <= 0.0 && deformation == Deformation::Plane) {
         // The root quad's side on the ground, from the georeference sidecar.

@@ -76,6 +76,15 @@ std::shared_ptr<const ByteSource> openFileSource(const std::string& path) {
     return std::make_shared<FileSource>(path);
 }
 
+std::vector<std::shared_ptr<const ByteSource>> openFileSources(const std::vector<std::string>& paths) {
+    std::vector<std::shared_ptr<const ByteSource>> sources;
+    sources.reserve(paths.size());
+    for (const std::string& path : paths) {
+        sources.push_back(openFileSource(path));
+    }
+    return sources;
+}
+
 std::shared_ptr<const ByteSource> memorySource(std::string name, const void* data, size_t size) {
     if (!data && size > 0) {
         fail(name, "no data for a memory source of " + std::to_string(size) + " bytes");

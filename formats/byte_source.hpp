@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace pyramid {
 
@@ -31,6 +32,8 @@ private:
 
 // Opens the regular file `path` (named by its path). Throws Error("PATH: cannot open: ...").
 std::shared_ptr<const ByteSource> openFileSource(const std::string& path);
+// openFileSource of each path, in order.
+std::vector<std::shared_ptr<const ByteSource>> openFileSources(const std::vector<std::string>& paths);
 
 // The `size` bytes at `data`, borrowed: they must stay unchanged while the source lives.
 std::shared_ptr<const ByteSource> memorySource(std::string name, const void* data, size_t size);

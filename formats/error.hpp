@@ -41,6 +41,11 @@ public:
     using Error::Error;
 };
 
+// "(level,tx,ty)": how every message names a tile.
+inline std::string tileCoordinates(int level, int tx, int ty) {
+    return "(" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")";
+}
+
 // "WHERE: WHAT", the shape of every error message.
 [[noreturn]] inline void fail(const std::string& where, const std::string& what) {
     throw Error(where.empty() ? what : where + ": " + what);

@@ -5,21 +5,15 @@
 #include "formats/dxt_codec.hpp"
 #include "formats/error.hpp"
 #include "formats/header_bytes.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "formats/tiff_tile.hpp"
 
 namespace pyramid {
 
+using detail::kMaxLevel;
+using detail::kMaxTileSize;
 using detail::quadtreeTiles;
-
-namespace {
-constexpr int kMaxLevel = 30;
-constexpr int kMaxTileSize = 8192;
-
-std::string tileName(const std::string& path, int level, int tx, int ty) {
-    return path + ": tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")";
-}
-
-} // namespace
+using detail::tileName;
 
 int64_t OrthoHeader::tileCount() const { return quadtreeTiles(maxLevel); }
 
@@ -27,9 +21,11 @@ int64_t OrthoHeader::tileIndex(int level, int tx, int ty) const {
     return tx + static_cast<int64_t>(ty) * (int64_t{1} << level) + ((int64_t{1} << (2 * level)) - 1) / 3;
 }
 
+int64_t OrthoHeader::tilesPerSide(int level) const { return int64_t{1} << level; }
+
 bool OrthoHeader::contains(int level, int tx, int ty) const {
-    return level >= 0 && level <= maxLevel && tx >= 0 && ty >= 0 && tx < (int64_t{1} << level) &&
-           ty < (int64_t{1} << level);
+    const int64_t side = level >= 0 && level <= maxLevel ? tilesPerSide(level) : 0;
+    return tx >= 0 && ty >= 0 && tx < side && ty < side;
 }
 
 void OrthoHeader::validate(const std::string& where) const {
@@ -89,8 +85,7 @@ OrthoFileReader::~OrthoFileReader() = default;
 
 TileTable::Range OrthoFileReader::tileRange(int level, int tx, int ty) const {
     if (!header_.contains(level, tx, ty)) {
-        throw MissingTileError(path_ + ": no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                               std::to_string(ty) + ") in this file");
+        detail::throwMissingTile(path_, level, tx, ty);
     }
     return table_->range(header_.tileIndex(level, tx, ty));
 }
@@ -132,8 +127,7 @@ OrthoFileWriter::~OrthoFileWriter() = default;
 
 void OrthoFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob) {
     if (!header_.contains(level, tx, ty)) {
-        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                        ") in this pyramid");
+        fail(path_, "no tile " + tileCoordinates(level, tx, ty) + " in this pyramid");
     }
     table_->write(header_.tileIndex(level, tx, ty), blob);
 }
@@ -144,18 +138,7 @@ void OrthoFileWriter::commit() {
 }
 
 void OrthoFileWriter::finish() {
-    // The table would name a missing tile by its index only: name it by its coordinates.
-    for (int level = 0; level <= header_.maxLevel; ++level) {
-        const int side = static_cast<int>(int64_t{1} << level);
-        for (int ty = 0; ty < side; ++ty) {
-            for (int tx = 0; tx < side; ++tx) {
-                if (!table_->written(header_.tileIndex(level, tx, ty))) {
-                    fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                    std::to_string(ty) + ") was never written");
-                }
-            }
-        }
-    }
+    detail::requireEveryTileWritten(header_, *table_, path_);
     table_->finish();
 }
 

@@ -38,6 +38,7 @@ struct OrthoHeader {
     int tilePixels() const { return tileSize + 2 * border(); } // pixels per side as stored
     int64_t tileCount() const;
     int64_t tileIndex(int level, int tx, int ty) const;
+    int64_t tilesPerSide(int level) const; // 2^level
     bool contains(int level, int tx, int ty) const;
     // Throws Error (prefixed with `where`) unless sane: 0 <= maxLevel <= 30,
     // 1 <= tileSize <= 8192, 1 <= channels <= 4 (3 or 4 with DXT), tilePixels a multiple

@@ -19,15 +19,13 @@ void OrthoFileWriter::writeTile(int level, int tx, int ty, std::span<const uint8
         const int channels = area ? static_cast<int>(pixels.size() / area) : 0;
         if (channels < 1 || channels > 4 || pixels.size() != area * static_cast<size_t>(channels) ||
             (channels == 4) != (header_.channels == 4)) {
-            fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                            "): pixel buffer does not match the file's tiles");
+            fail(path_, "tile " + tileCoordinates(level, tx, ty) + ": pixel buffer does not match the file's tiles");
         }
         writeTileBytes(level, tx, ty, encodeDxt(pixels, size, size, channels, dxtFormatOf(header_), encoding.dxtQuality));
         return;
     }
     if (pixels.size() != static_cast<size_t>(size) * static_cast<size_t>(size) * static_cast<size_t>(header_.channels)) {
-        fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                        "): pixel buffer does not match the file's tiles");
+        fail(path_, "tile " + tileCoordinates(level, tx, ty) + ": pixel buffer does not match the file's tiles");
     }
     writeTileBytes(level, tx, ty,
                    encodeTiff8(pixels, size, size, header_.channels, encoding.compression, encoding.jpegQuality));

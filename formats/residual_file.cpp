@@ -6,21 +6,16 @@
 
 #include "formats/error.hpp"
 #include "formats/header_bytes.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "formats/residual_codec.hpp"
 #include "formats/tiff_tile.hpp"
 
 namespace pyramid {
 
+using detail::kMaxLevel;
+using detail::kMaxTileSize;
 using detail::quadtreeTiles;
-
-namespace {
-constexpr int kMaxLevel = 30;
-constexpr int kMaxTileSize = 8192;
-
-std::string tileName(const std::string& path, int level, int tx, int ty) {
-    return path + ": tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")";
-}
-} // namespace
+using detail::tileName;
 
 int64_t ResidualHeader::tileCount() const { return minLevel + quadtreeTiles(maxLevel - minLevel); }
 
@@ -110,8 +105,7 @@ ResidualFileReader::~ResidualFileReader() = default;
 
 TileTable::Range ResidualFileReader::tileRange(int level, int tx, int ty) const {
     if (!header_.contains(level, tx, ty)) {
-        throw MissingTileError(path_ + ": no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                               std::to_string(ty) + ") in this file");
+        detail::throwMissingTile(path_, level, tx, ty);
     }
     return table_->range(header_.tileIndex(level, tx, ty));
 }
@@ -150,8 +144,8 @@ ResidualFileWriter::~ResidualFileWriter() = default;
 void ResidualFileWriter::writeTile(int level, int tx, int ty, std::span<const int16_t> residuals) {
     const int size = header_.tileSamples(level);
     if (residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
-        fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                        ") needs " + std::to_string(size) + "x" + std::to_string(size) + " residuals");
+        fail(path_, "tile " + tileCoordinates(level, tx, ty) + " needs " + std::to_string(size) + "x" +
+                        std::to_string(size) + " residuals");
     }
     const std::vector<uint8_t> blob = encodeResidualTiff(residuals, size);
     writeTileBytes(level, tx, ty, blob);
@@ -159,8 +153,7 @@ void ResidualFileWriter::writeTile(int level, int tx, int ty, std::span<const in
 
 void ResidualFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob) {
     if (!header_.contains(level, tx, ty)) {
-        fail(path_, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) +
-                        ") in this pyramid");
+        fail(path_, "no tile " + tileCoordinates(level, tx, ty) + " in this pyramid");
     }
     table_->write(header_.tileIndex(level, tx, ty), blob);
 }
@@ -171,18 +164,7 @@ void ResidualFileWriter::commit() {
 }
 
 void ResidualFileWriter::finish() {
-    // The table would name a missing tile by its index only: name it by its coordinates.
-    for (int level = 0; level <= header_.maxLevel; ++level) {
-        const int side = static_cast<int>(header_.tilesPerSide(level));
-        for (int ty = 0; ty < side; ++ty) {
-            for (int tx = 0; tx < side; ++tx) {
-                if (!table_->written(header_.tileIndex(level, tx, ty))) {
-                    fail(path_, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                    std::to_string(ty) + ") was never written");
-                }
-            }
-        }
-    }
+    detail::requireEveryTileWritten(header_, *table_, path_);
     table_->finish();
 }
 

@@ -73,8 +73,7 @@ bool inside(const pyramid_file* f, int level, int tx, int ty) {
 }
 
 pyramid_status outside(int level, int tx, int ty) {
-    return failWith(PYRAMID_ERROR_NOT_FOUND, "no tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                                 std::to_string(ty) + ") in this pyramid");
+    return failWith(PYRAMID_ERROR_NOT_FOUND, "no tile " + pyramid::tileCoordinates(level, tx, ty) + " in this pyramid");
 }
 
 // ---- Size-prefixed structs ----------------------------------------------------------------
@@ -282,8 +281,8 @@ pyramid_status absent(int level, int tx, int ty, size_t* written) {
     if (written) {
         *written = 0;
     }
-    return failWith(PYRAMID_ERROR_NOT_FOUND, "tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                                 std::to_string(ty) + ") is not stored (empty byte range)");
+    return failWith(PYRAMID_ERROR_NOT_FOUND,
+                    "tile " + pyramid::tileCoordinates(level, tx, ty) + " is not stored (empty byte range)");
 }
 
 pyramid_status tooSmall(size_t size, size_t bytes) {

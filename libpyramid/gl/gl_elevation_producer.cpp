@@ -148,8 +148,7 @@ const std::string& GlElevationProducer::path() const { return impl_->residuals->
 
 std::shared_ptr<const GlElevationTile> GlElevationProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
-        fail(impl_->residuals->path(), "no elevation tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                           std::to_string(ty) + ")");
+        fail(impl_->residuals->path(), "no elevation tile " + tileCoordinates(level, tx, ty));
     }
     return impl_->produce(level, tx, ty);
 }

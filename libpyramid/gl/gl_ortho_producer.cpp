@@ -61,8 +61,8 @@ std::shared_ptr<const GlOrthoTile> GlOrthoProducer::tile(int level, int tx, int 
             GlTexture(dxt5 ? GL_COMPRESSED_RGBA_S3TC_DXT5_EXT : GL_COMPRESSED_RGB_S3TC_DXT1_EXT, side, side)});
         const std::vector<uint8_t> blocks = impl_->tiles->rawTile(level, tx, ty);
         if (blocks.size() != dxtBytes(side, side, dxt5 ? DxtFormat::Dxt5 : DxtFormat::Dxt1)) {
-            fail("GL ortho", "DXT tile (" + std::to_string(level) + "," + std::to_string(tx) + "," +
-                                            std::to_string(ty) + ") has " + std::to_string(blocks.size()) + " bytes");
+            fail("GL ortho",
+                 "DXT tile " + tileCoordinates(level, tx, ty) + " has " + std::to_string(blocks.size()) + " bytes");
         }
         tile->texture.uploadCompressed(blocks.data(), blocks.size());
     } else {

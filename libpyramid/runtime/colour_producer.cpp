@@ -54,7 +54,7 @@ int ColourProducer::channels() const { return impl_->residuals->header().channel
 std::shared_ptr<const std::vector<uint8_t>> ColourProducer::tile(int level, int tx, int ty) {
     if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
         fail(impl_->residuals->path(),
-             "no ortho tile (" + std::to_string(level) + "," + std::to_string(tx) + "," + std::to_string(ty) + ")");
+             "no ortho tile " + tileCoordinates(level, tx, ty));
     }
     return impl_->produce(level, tx, ty);
 }

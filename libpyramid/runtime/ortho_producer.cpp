@@ -15,25 +15,15 @@ struct OrthoProducer::Impl {
     const OrthoFileReader& holder(int level, int tx, int ty, RelativeTile& rel) const {
         const int k = deepestHolder(files, level, tx, ty, rel);
         if (k < 0) {
-            throw MissingTileError(files.front()->path() + ": no tile (" + std::to_string(level) + "," +
-                                   std::to_string(tx) + "," + std::to_string(ty) + ") in any file");
+            throw MissingTileError(files.front()->path() + ": no tile " + tileCoordinates(level, tx, ty) +
+                                   " in any file");
         }
         return *files[static_cast<size_t>(k)];
     }
 };
 
-namespace {
-std::vector<std::shared_ptr<const ByteSource>> fileSources(const std::vector<std::string>& paths) {
-    std::vector<std::shared_ptr<const ByteSource>> sources;
-    for (const std::string& path : paths) {
-        sources.push_back(openFileSource(path));
-    }
-    return sources;
-}
-} // namespace
-
 OrthoProducer::OrthoProducer(const std::string& mainFile, const std::vector<std::string>& regions)
-    : OrthoProducer(openFileSource(mainFile), fileSources(regions)) {}
+    : OrthoProducer(openFileSource(mainFile), openFileSources(regions)) {}
 
 OrthoProducer::OrthoProducer(std::shared_ptr<const ByteSource> mainFile,
                              const std::vector<std::shared_ptr<const ByteSource>>& regions)

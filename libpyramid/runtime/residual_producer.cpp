@@ -29,8 +29,8 @@ struct ResidualProducer::Impl {
         RelativeTile rel;
         const int k = deepestHolder(files, level, tx, ty, rel);
         if (k < 0) {
-            throw MissingTileError(files.front()->path() + ": no residual tile (" + std::to_string(level) + "," +
-                                   std::to_string(tx) + "," + std::to_string(ty) + ") in any file");
+            throw MissingTileError(files.front()->path() + ": no residual tile " + tileCoordinates(level, tx, ty) +
+                                   " in any file");
         }
         const ResidualFileReader& f = *files[static_cast<size_t>(k)];
         const float scale = scales[static_cast<size_t>(k)];
@@ -46,19 +46,9 @@ struct ResidualProducer::Impl {
     }
 };
 
-namespace {
-std::vector<std::shared_ptr<const ByteSource>> fileSources(const std::vector<std::string>& paths) {
-    std::vector<std::shared_ptr<const ByteSource>> sources;
-    for (const std::string& path : paths) {
-        sources.push_back(openFileSource(path));
-    }
-    return sources;
-}
-} // namespace
-
 ResidualProducer::ResidualProducer(const std::string& mainFile, const std::vector<std::string>& regions,
                                    const ResidualProducerOptions& options)
-    : ResidualProducer(openFileSource(mainFile), fileSources(regions), options) {}
+    : ResidualProducer(openFileSource(mainFile), openFileSources(regions), options) {}
 
 ResidualProducer::ResidualProducer(std::shared_ptr<const ByteSource> mainFile,
                                    const std::vector<std::shared_ptr<const ByteSource>>& regions,
