@@ -10,8 +10,6 @@
 
 namespace pyramid {
 
-using detail::kMaxLevel;
-using detail::kMaxTileSize;
 using detail::quadtreeTiles;
 using detail::tileName;
 

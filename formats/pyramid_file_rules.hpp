@@ -8,10 +8,16 @@
 #include "formats/error.hpp"
 #include "formats/tile_table.hpp"
 
-namespace pyramid::detail {
+namespace pyramid {
 
-constexpr int kMaxLevel = 30;      // of maxLevel and rootLevel
-constexpr int kMaxTileSize = 8192; // tile size without borders
+// The largest level (maxLevel, rootLevel) and tile size (without borders) either file's header
+// may declare; the encoders take no larger.
+constexpr int kMaxLevel = 30;
+constexpr int kMaxTileSize = 8192;
+
+} // namespace pyramid
+
+namespace pyramid::detail {
 
 // "PATH: tile (level,tx,ty)".
 std::string tileName(const std::string& path, int level, int tx, int ty);

@@ -12,8 +12,6 @@
 
 namespace pyramid {
 
-using detail::kMaxLevel;
-using detail::kMaxTileSize;
 using detail::quadtreeTiles;
 using detail::tileName;
 

@@ -7,6 +7,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/encode/residual/residual_parts.hpp"
 #include "libpyramid/input/height_samples.hpp"
@@ -44,8 +45,9 @@ void DemEncodeOptions::validate() const {
     if (fitTiles) {
         return; // tileSize and rootTileSize are the fit's (always valid)
     }
-    if (tileSize < 2 || tileSize > 8192 || tileSize % 2 != 0) {
-        failOption("tileSize", std::to_string(tileSize) + " is not an even number from 2 to 8192");
+    if (tileSize < 2 || tileSize > kMaxTileSize || tileSize % 2 != 0) {
+        failOption("tileSize",
+                   std::to_string(tileSize) + " is not an even number from 2 to " + std::to_string(kMaxTileSize));
     }
     if (rootTileSize < 1 || rootTileSize > tileSize || tileSize % rootTileSize != 0 ||
         log2Exact(tileSize / rootTileSize) < 0) {

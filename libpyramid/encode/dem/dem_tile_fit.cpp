@@ -4,15 +4,15 @@
 #include <cstdio>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 
 namespace pyramid {
 
 namespace {
 
-// The largest tile size whose tiles the original runtime reads (T + 5 < 256), and the largest
-// the format's encoder takes (DemEncodeOptions::validate).
+// The largest tile size whose tiles the original runtime reads (T + 5 < 256); the largest the
+// format takes is kMaxTileSize.
 constexpr int64_t kReadableTile = 250;
-constexpr int64_t kLargestTile = 8192;
 // The default root tile's intervals: the fit's root is the smallest at least this large.
 constexpr int kDefaultRoot = 24;
 
@@ -42,7 +42,7 @@ DemTileFit fitDemTiles(int width, int height, bool stretch, const std::string& w
             k = j;
             break;
         }
-        if (t <= kLargestTile) {
+        if (t <= kMaxTileSize) {
             unreadable = t;
             unreadableK = j;
         }
@@ -96,7 +96,8 @@ std::string DemTileFit::describe() const {
         char ratio[32];
         std::snprintf(ratio, sizeof ratio, "%.4g", resampling());
         s += "no grid of the format is the input's (" + std::to_string(inputIntervals) +
-             " intervals are no even tile size up to 8192 times a power of two); the least resampling: " +
+             " intervals are no even tile size up to " + std::to_string(kMaxTileSize) +
+             " times a power of two); the least resampling: " +
              input + " input samples onto a " + grid(intervals + 1) + " finest grid, " + ratio +
              " finest intervals per input interval";
     }
