@@ -7,9 +7,9 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
-#include "formats/pyramid_file_rules.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/encode/residual/residual_parts.hpp"
+#include "libpyramid/encode/tile_size_rule.hpp"
 #include "libpyramid/input/height_samples.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/text.hpp"
@@ -45,10 +45,7 @@ void DemEncodeOptions::validate() const {
     if (fitTiles) {
         return; // tileSize and rootTileSize are the fit's (always valid)
     }
-    if (tileSize < 2 || tileSize > kMaxTileSize || tileSize % 2 != 0) {
-        failOption("tileSize",
-                   std::to_string(tileSize) + " is not an even number from 2 to " + std::to_string(kMaxTileSize));
-    }
+    requireEncodableTileSize(tileSize);
     if (rootTileSize < 1 || rootTileSize > tileSize || tileSize % rootTileSize != 0 ||
         log2Exact(tileSize / rootTileSize) < 0) {
         failOption("rootTileSize", std::to_string(rootTileSize) + " must be the tile size (" +

@@ -7,9 +7,9 @@
 #include <cmath>
 
 #include "formats/error.hpp"
-#include "formats/pyramid_file_rules.hpp"
 #include "libpyramid/encode/ortho/face_pixels.hpp"
 #include "libpyramid/encode/ortho/planar_pixels.hpp"
+#include "libpyramid/encode/tile_size_rule.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/morton.hpp"
 #include "libpyramid/support/parallel.hpp"
@@ -25,10 +25,7 @@ constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 } // namespace
 
 void OrthoLevelsOptions::validate() const {
-    if (tileSize < 2 || tileSize > kMaxTileSize || tileSize % 2 != 0) {
-        failOption("tileSize",
-                   std::to_string(tileSize) + " is not an even number from 2 to " + std::to_string(kMaxTileSize));
-    }
+    requireEncodableTileSize(tileSize);
     if (threads < 0) {
         failOption("threads", "must be 0 (all cores) or more");
     }
