@@ -9,6 +9,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "formats/header_bytes.hpp"
 
 namespace pyramid {
@@ -204,7 +205,7 @@ bool PartFileReader::Cursor::next(Record& r) {
     r.stream = loadU32(head);
     const uint32_t level = loadU32(head + 4), tx = loadU32(head + 8), ty = loadU32(head + 12);
     // tx and ty are checked against the pyramid by whoever writes the tile; here only the level.
-    if (level > 30) {
+    if (level > static_cast<uint32_t>(kMaxLevel)) {
         corrupt("level " + std::to_string(level));
     }
     r.level = static_cast<int>(level);

@@ -15,6 +15,12 @@ namespace pyramid {
 constexpr int kMaxLevel = 30;
 constexpr int kMaxTileSize = 8192;
 
+// Whether (level, tx, ty) names a tile of a quadtree of levels 0 to kMaxLevel (2^level tiles a
+// side): what the runtime's producers and the C API take before looking for it in a file.
+constexpr bool isQuadtreeTile(int level, int tx, int ty) {
+    return level >= 0 && level <= kMaxLevel && tx >= 0 && ty >= 0 && tx < (1 << level) && ty < (1 << level);
+}
+
 } // namespace pyramid
 
 namespace pyramid::detail {

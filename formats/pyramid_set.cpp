@@ -12,6 +12,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/residual_file.hpp"
 
@@ -54,8 +55,8 @@ std::string besideIndex(const std::string& index, const std::string& file) {
 }
 
 void checkRoot(const RegionRoot& r, const std::string& path) {
-    if (r.level < 1 || r.level > 30) {
-        fail(path, "region root " + tileText(r) + ": the level must be 1 to 30");
+    if (r.level < 1 || r.level > kMaxLevel) {
+        fail(path, "region root " + tileText(r) + ": the level must be 1 to " + std::to_string(kMaxLevel));
     }
     const int64_t side = int64_t{1} << r.level;
     if (r.tx < 0 || r.ty < 0 || r.tx >= side || r.ty >= side) {

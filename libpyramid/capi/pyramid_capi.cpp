@@ -14,6 +14,7 @@
 
 #include "formats/byte_source.hpp"
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/pyramid_set.hpp"
@@ -680,7 +681,7 @@ pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, int level, in
         return failWith(PYRAMID_ERROR_ARGUMENT, "arrays of " + std::to_string(count) + " floats, " +
                                                     std::to_string(side * side) + " needed");
     }
-    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+    if (!pyramid::isQuadtreeTile(level, tx, ty)) {
         return outside(level, tx, ty);
     }
     return guarded([&] {
@@ -753,7 +754,7 @@ pyramid_status pyramid_normal_tile(pyramid_normal* producer, int level, int tx, 
         return failWith(PYRAMID_ERROR_ARGUMENT, "an array of " + std::to_string(count) + " floats, " +
                                                     std::to_string(4 * side * side) + " needed");
     }
-    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+    if (!pyramid::isQuadtreeTile(level, tx, ty)) {
         return outside(level, tx, ty);
     }
     return guarded([&] {
@@ -841,7 +842,7 @@ pyramid_status pyramid_ortho_tile(pyramid_ortho* producer, int level, int tx, in
     if (!producer || !pixels) {
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_ortho_tile: null argument");
     }
-    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+    if (!pyramid::isQuadtreeTile(level, tx, ty)) {
         return outside(level, tx, ty);
     }
     return guarded([&] {

@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "libpyramid/gl/gl_colour_upsample.hpp"
 #include "libpyramid/runtime/tile_cache.hpp"
 
@@ -61,7 +62,7 @@ GlColourProducer::~GlColourProducer() = default;
 const OrthoHeader& GlColourProducer::header() const { return impl_->residuals->header(); }
 
 std::shared_ptr<const GlOrthoTile> GlColourProducer::tile(int level, int tx, int ty) {
-    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+    if (!isQuadtreeTile(level, tx, ty)) {
         fail(impl_->residuals->path(),
              "no ortho tile " + tileCoordinates(level, tx, ty));
     }

@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/gl/gl_coarse_mesh.hpp"
 #include "libpyramid/gl/gl_elevation_upsample.hpp"
@@ -147,7 +148,7 @@ int GlElevationProducer::maxLevel() const { return impl_->residuals->maxLevel();
 const std::string& GlElevationProducer::path() const { return impl_->residuals->path(); }
 
 std::shared_ptr<const GlElevationTile> GlElevationProducer::tile(int level, int tx, int ty) {
-    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+    if (!isQuadtreeTile(level, tx, ty)) {
         fail(impl_->residuals->path(), "no elevation tile " + tileCoordinates(level, tx, ty));
     }
     return impl_->produce(level, tx, ty);

@@ -1,6 +1,7 @@
 #include "libpyramid/runtime/colour_producer.hpp"
 
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "libpyramid/filters/colour_upsample.hpp"
 #include "libpyramid/runtime/tile_cache.hpp"
 
@@ -52,7 +53,7 @@ int ColourProducer::tilePixels() const { return impl_->residuals->header().tileP
 int ColourProducer::channels() const { return impl_->residuals->header().channels; }
 
 std::shared_ptr<const std::vector<uint8_t>> ColourProducer::tile(int level, int tx, int ty) {
-    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+    if (!isQuadtreeTile(level, tx, ty)) {
         fail(impl_->residuals->path(),
              "no ortho tile " + tileCoordinates(level, tx, ty));
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_file_rules.hpp"
 #include "libpyramid/filters/coarse_mesh.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/runtime/tile_cache.hpp"
@@ -142,7 +143,7 @@ int ElevationProducer::maxLevel() const { return impl_->residuals->maxLevel(); }
 const std::string& ElevationProducer::path() const { return impl_->residuals->path(); }
 
 std::shared_ptr<const ElevationTile> ElevationProducer::tile(int level, int tx, int ty) {
-    if (level < 0 || level > 30 || tx < 0 || ty < 0 || tx >= (1 << level) || ty >= (1 << level)) {
+    if (!isQuadtreeTile(level, tx, ty)) {
         fail(impl_->residuals->path(), "no elevation tile " + tileCoordinates(level, tx, ty));
     }
     return impl_->produce(level, tx, ty);
