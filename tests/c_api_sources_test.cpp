@@ -372,6 +372,89 @@ TEST(CApiSources, CallbackOwnershipAndFailures) {
     EXPECT_EQ(main.released.load(), 1);
 }
 
+// The three opens of each producer (a path or set, paths, sources) keep one protocol: a bad
+// argument is refused with a message naming the call, a bad file with one naming the file, and
+// the handle is null after every failed open, whatever it held before.
+TEST(CApiSources, EveryOpenClearsTheHandleAndNamesTheCallOrFileWhenItFails) {
+    test::TempDir dir;
+    writeResidualSet(dir);
+    OrthoHeader h;
+    h.maxLevel = 0;
+    h.tileSize = 8;
+    h.channels = 3;
+    {
+        OrthoFileWriter w(dir.file("rgb.dat"), h);
+        w.writeTile(0, 0, 0, std::vector<uint8_t>(12 * 12 * 3, 9));
+        w.commit();
+    }
+    const std::string dem = dir.file("main.dat"), rgb = dir.file("rgb.dat"), none = dir.file("none.dat");
+    const pyramid_source demSource = pathSource(dem), rgbSource = pathSource(rgb);
+    const char* nullRegion[] = {nullptr};
+    // `handle` by reference: read after the call, which the arguments' evaluation may precede.
+    const auto refused = [](pyramid_status status, pyramid_status expected, const auto& handle,
+                            const std::string& text) {
+        EXPECT_EQ(status, expected) << pyramid_last_error();
+        EXPECT_TRUE(handle == nullptr);
+        EXPECT_NE(std::string(pyramid_last_error()).find(text), std::string::npos) << pyramid_last_error();
+    };
+    // A handle that held something before the call (never dereferenced).
+    int before = 0;
+    auto* const staleElevation = reinterpret_cast<pyramid_elevation*>(&before);
+    auto* const staleOrtho = reinterpret_cast<pyramid_ortho*>(&before);
+
+    pyramid_elevation* e = staleElevation;
+    refused(pyramid_elevation_open(nullptr, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
+            "pyramid_elevation_open: null argument");
+    refused(pyramid_elevation_open(dem.c_str(), 4, 0, 2, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
+            "pyramid_elevation_open: null argument");
+    e = staleElevation;
+    refused(pyramid_elevation_open(none.c_str(), 4, 0, 2, &e), PYRAMID_ERROR_FILE, e, "none.dat");
+    e = staleElevation;
+    refused(pyramid_elevation_open_regions(dem.c_str(), nullRegion, 1, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
+            "pyramid_elevation_open: null argument");
+    e = staleElevation;
+    refused(pyramid_elevation_open_regions(dem.c_str(), nullptr, 1, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
+            "pyramid_elevation_open: null argument");
+    pyramid_elevation_options eo{};
+    eo.struct_size = 1;
+    e = staleElevation;
+    refused(pyramid_elevation_open_sources(&demSource, nullptr, 0, &eo, &e), PYRAMID_ERROR_ARGUMENT, e,
+            "pyramid_elevation_open_sources: options: struct_size 1 is too small");
+    refused(pyramid_elevation_open_sources(&demSource, nullptr, 0, nullptr, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
+            "pyramid_elevation_open_sources: null argument");
+    e = staleElevation;
+    refused(pyramid_elevation_open_sources(nullptr, nullptr, 0, nullptr, &e), PYRAMID_ERROR_ARGUMENT, e,
+            "pyramid_elevation_open_sources: null source");
+    ASSERT_EQ(pyramid_elevation_open(dem.c_str(), 4, 0, 2, &e), PYRAMID_OK) << pyramid_last_error();
+    EXPECT_EQ(pyramid_elevation_side(e), 9);
+    pyramid_elevation_close(e);
+
+    pyramid_ortho* o = staleOrtho;
+    refused(pyramid_ortho_open(nullptr, 0, 2, &o), PYRAMID_ERROR_ARGUMENT, o, "pyramid_ortho_open: null argument");
+    refused(pyramid_ortho_open(rgb.c_str(), 0, 2, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
+            "pyramid_ortho_open: null argument");
+    o = staleOrtho;
+    refused(pyramid_ortho_open(none.c_str(), 0, 2, &o), PYRAMID_ERROR_FILE, o, "none.dat");
+    o = staleOrtho;
+    refused(pyramid_ortho_open_regions(rgb.c_str(), nullRegion, 1, 0, 2, &o), PYRAMID_ERROR_ARGUMENT, o,
+            "pyramid_ortho_open: null argument");
+    pyramid_ortho_options oo{};
+    oo.struct_size = 1;
+    o = staleOrtho;
+    refused(pyramid_ortho_open_sources(&rgbSource, nullptr, 0, &oo, &o), PYRAMID_ERROR_ARGUMENT, o,
+            "pyramid_ortho_open_sources: options: struct_size 1 is too small");
+    refused(pyramid_ortho_open_sources(&rgbSource, nullptr, 0, nullptr, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
+            "pyramid_ortho_open_sources: null argument");
+    o = staleOrtho;
+    refused(pyramid_ortho_open_sources(&demSource, nullptr, 0, nullptr, &o), PYRAMID_ERROR_FILE, o, "main.dat");
+    ASSERT_EQ(pyramid_ortho_open(rgb.c_str(), 1, 2, &o), PYRAMID_OK) << pyramid_last_error();
+    int side = 0, channels = 0;
+    EXPECT_EQ(pyramid_ortho_layout(o, &side, &channels), PYRAMID_OK);
+    EXPECT_EQ(side, 12);
+    EXPECT_EQ(channels, 3);
+    pyramid_ortho_close(o);
+}
+
 // The scale option: each file's residuals times (its scale x the option's), the product in
 // float32, against a reference built from the residuals the files hold.
 TEST(CApiSources, ScaleMultipliesEveryFilesResiduals) {

@@ -333,6 +333,73 @@ pyramid_status setFiles(const char* path, const char* function, std::vector<std:
     });
 }
 
+using ByteSourcePtr = std::shared_ptr<const pyramid::ByteSource>;
+
+// The three ways a producer opens, one protocol for every kind of producer; `*producer` is null
+// whenever the open fails.
+//
+// *_open(path): the files the path names (setFiles), opened as *_open_regions opens them.
+template <class Producer, class OpenRegions>
+pyramid_status openPath(const char* path, const char* function, Producer** producer, OpenRegions openRegions) {
+    std::vector<std::string> files;
+    std::vector<const char*> regions;
+    if (const pyramid_status s = setFiles(path, function, files, regions); s != PYRAMID_OK) {
+        if (producer) {
+            *producer = nullptr;
+        }
+        return s;
+    }
+    return openRegions(files[0].c_str(), regions.data(), regions.size());
+}
+
+// *_open_regions(path, region paths): the paths as path sources, opened as *_open_sources opens
+// them (`function` names the call in the message of a null argument).
+template <class Producer, class OpenSources>
+pyramid_status openRegionPaths(const char* path, const char* const* regionPaths, size_t regionCount,
+                               const char* function, Producer** producer, OpenSources openSources) {
+    std::vector<pyramid_source> regions;
+    std::vector<const pyramid_source*> pointers;
+    if (!path || !producer || !regionList(regionPaths, regionCount, regions, pointers)) {
+        if (producer) {
+            *producer = nullptr;
+        }
+        return failWith(PYRAMID_ERROR_ARGUMENT, std::string(function) + ": null argument");
+    }
+    const pyramid_source main = pathSource(path);
+    return openSources(&main, pointers.data(), regionCount);
+}
+
+// *_open_sources(sources, options): the options read by their size and the sources made, then
+// `build(options, main, regions, made)`; when it returns PYRAMID_OK the caller's I/O sources are
+// armed (SourceSet) and `made` is handed over.
+template <class Options, class Producer, class Build>
+pyramid_status openSources(const pyramid_source* main, const pyramid_source* const* regions, size_t regionCount,
+                           const Options* options, const char* function, Producer** producer, Build build) {
+    if (!producer) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, std::string(function) + ": null argument");
+    }
+    *producer = nullptr;
+    Options o;
+    if (!readSized(options, o, (std::string(function) + ": options").c_str())) {
+        return PYRAMID_ERROR_ARGUMENT;
+    }
+    return guarded([&] {
+        SourceSet sources;
+        ByteSourcePtr mainBytes;
+        std::vector<ByteSourcePtr> regionBytes;
+        if (!sources.makeAll(main, regions, regionCount, function, mainBytes, regionBytes)) {
+            return PYRAMID_ERROR_ARGUMENT;
+        }
+        std::unique_ptr<Producer> made;
+        const pyramid_status s = build(o, mainBytes, regionBytes, made);
+        if (s == PYRAMID_OK) {
+            sources.arm();
+            *producer = made.release();
+        }
+        return s;
+    });
+}
+
 } // namespace
 
 extern "C" {
@@ -584,57 +651,32 @@ pyramid_status pyramid_read_tile_bytes(const pyramid_file* file, int level, int 
 
 pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, int grid_size, size_t cache_tiles,
                                       pyramid_elevation** producer) {
-    std::vector<std::string> files;
-    std::vector<const char*> regions;
-    if (const pyramid_status s = setFiles(residual_path, "pyramid_elevation_open", files, regions); s != PYRAMID_OK) {
-        if (producer) {
-            *producer = nullptr;
-        }
-        return s;
-    }
-    return pyramid_elevation_open_regions(files[0].c_str(), regions.data(), regions.size(), tile_size, grid_size,
-                                          cache_tiles, producer);
+    return openPath(residual_path, "pyramid_elevation_open", producer,
+                    [&](const char* main, const char* const* regions, size_t count) {
+                        return pyramid_elevation_open_regions(main, regions, count, tile_size, grid_size, cache_tiles,
+                                                              producer);
+                    });
 }
 
 pyramid_status pyramid_elevation_open_regions(const char* residual_path, const char* const* region_paths,
                                               size_t region_count, int tile_size, int grid_size, size_t cache_tiles,
                                               pyramid_elevation** producer) {
-    std::vector<pyramid_source> regions;
-    std::vector<const pyramid_source*> pointers;
-    if (!residual_path || !producer || !regionList(region_paths, region_count, regions, pointers)) {
-        if (producer) {
-            *producer = nullptr;
-        }
-        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_elevation_open: null argument");
-    }
-    const pyramid_source main = pathSource(residual_path);
-    pyramid_elevation_options options{};
-    options.struct_size = sizeof options;
-    options.tile_size = tile_size;
-    options.grid_size = grid_size;
-    options.cache_tiles = cache_tiles;
-    return pyramid_elevation_open_sources(&main, pointers.data(), region_count, &options, producer);
+    return openRegionPaths(residual_path, region_paths, region_count, "pyramid_elevation_open", producer,
+                           [&](const pyramid_source* main, const pyramid_source* const* regions, size_t count) {
+                               pyramid_elevation_options options{};
+                               options.struct_size = sizeof options;
+                               options.tile_size = tile_size;
+                               options.grid_size = grid_size;
+                               options.cache_tiles = cache_tiles;
+                               return pyramid_elevation_open_sources(main, regions, count, &options, producer);
+                           });
 }
 
 pyramid_status pyramid_elevation_open_sources(const pyramid_source* main_source, const pyramid_source* const* regions,
                                               size_t region_count, const pyramid_elevation_options* options,
                                               pyramid_elevation** producer) {
-    if (!producer) {
-        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_elevation_open_sources: null argument");
-    }
-    *producer = nullptr;
-    pyramid_elevation_options o;
-    if (!readSized(options, o, "pyramid_elevation_open_sources: options")) {
-        return PYRAMID_ERROR_ARGUMENT;
-    }
-    return guarded([&] {
-        SourceSet sources;
-        std::shared_ptr<const pyramid::ByteSource> mainBytes;
-        std::vector<std::shared_ptr<const pyramid::ByteSource>> regionBytes;
-        if (!sources.makeAll(main_source, regions, region_count, "pyramid_elevation_open_sources", mainBytes,
-                             regionBytes)) {
-            return PYRAMID_ERROR_ARGUMENT;
-        }
+    const auto build = [](const pyramid_elevation_options& o, const ByteSourcePtr& mainBytes,
+                          const std::vector<ByteSourcePtr>& regionBytes, std::unique_ptr<pyramid_elevation>& made) {
         const std::string& name = mainBytes->name();
         // The header alone: the producer below reads the offset table, once.
         const pyramid::ResidualHeader h = pyramid::ResidualFileReader::readHeader(*mainBytes);
@@ -653,16 +695,15 @@ pyramid_status pyramid_elevation_open_sources(const pyramid_source* main_source,
         eo.tileSize = n;
         eo.gridSize = o.grid_size;
         eo.cacheCapacity = o.cache_tiles == 0 ? 1 : o.cache_tiles;
-        auto p = std::make_unique<pyramid_elevation>();
+        made = std::make_unique<pyramid_elevation>();
         try {
-            p->producer = std::make_shared<pyramid::ElevationProducer>(residuals, eo);
+            made->producer = std::make_shared<pyramid::ElevationProducer>(residuals, eo);
         } catch (const pyramid::Error& e) {
             return failWith(PYRAMID_ERROR_ARGUMENT, name + ": " + e.what());
         }
-        sources.arm();
-        *producer = p.release();
         return PYRAMID_OK;
-    });
+    };
+    return openSources(main_source, regions, region_count, options, "pyramid_elevation_open_sources", producer, build);
 }
 
 void pyramid_elevation_close(pyramid_elevation* producer) { delete producer; }
@@ -765,64 +806,39 @@ pyramid_status pyramid_normal_tile(pyramid_normal* producer, int level, int tx, 
 }
 
 pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
-    std::vector<std::string> files;
-    std::vector<const char*> regions;
-    if (const pyramid_status s = setFiles(path, "pyramid_ortho_open", files, regions); s != PYRAMID_OK) {
-        if (producer) {
-            *producer = nullptr;
-        }
-        return s;
-    }
-    return pyramid_ortho_open_regions(files[0].c_str(), regions.data(), regions.size(), colour_residuals, cache_tiles,
-                                      producer);
+    return openPath(path, "pyramid_ortho_open", producer,
+                    [&](const char* main, const char* const* regions, size_t count) {
+                        return pyramid_ortho_open_regions(main, regions, count, colour_residuals, cache_tiles,
+                                                          producer);
+                    });
 }
 
 pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* region_paths, size_t region_count,
                                           int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
-    std::vector<pyramid_source> regions;
-    std::vector<const pyramid_source*> pointers;
-    if (!path || !producer || !regionList(region_paths, region_count, regions, pointers)) {
-        if (producer) {
-            *producer = nullptr;
-        }
-        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_ortho_open: null argument");
-    }
-    const pyramid_source main = pathSource(path);
-    pyramid_ortho_options options{};
-    options.struct_size = sizeof options;
-    options.colour_residuals = colour_residuals;
-    options.cache_tiles = cache_tiles;
-    return pyramid_ortho_open_sources(&main, pointers.data(), region_count, &options, producer);
+    return openRegionPaths(path, region_paths, region_count, "pyramid_ortho_open", producer,
+                           [&](const pyramid_source* main, const pyramid_source* const* regions, size_t count) {
+                               pyramid_ortho_options options{};
+                               options.struct_size = sizeof options;
+                               options.colour_residuals = colour_residuals;
+                               options.cache_tiles = cache_tiles;
+                               return pyramid_ortho_open_sources(main, regions, count, &options, producer);
+                           });
 }
 
 pyramid_status pyramid_ortho_open_sources(const pyramid_source* main_source, const pyramid_source* const* regions,
                                           size_t region_count, const pyramid_ortho_options* options,
                                           pyramid_ortho** producer) {
-    if (!producer) {
-        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_ortho_open_sources: null argument");
-    }
-    *producer = nullptr;
-    pyramid_ortho_options o;
-    if (!readSized(options, o, "pyramid_ortho_open_sources: options")) {
-        return PYRAMID_ERROR_ARGUMENT;
-    }
-    return guarded([&] {
-        SourceSet sources;
-        std::shared_ptr<const pyramid::ByteSource> mainBytes;
-        std::vector<std::shared_ptr<const pyramid::ByteSource>> regionBytes;
-        if (!sources.makeAll(main_source, regions, region_count, "pyramid_ortho_open_sources", mainBytes,
-                             regionBytes)) {
-            return PYRAMID_ERROR_ARGUMENT;
-        }
-        auto p = std::make_unique<pyramid_ortho>();
-        p->tiles = std::make_shared<pyramid::OrthoProducer>(mainBytes, regionBytes);
+    const auto build = [](const pyramid_ortho_options& o, const ByteSourcePtr& mainBytes,
+                          const std::vector<ByteSourcePtr>& regionBytes, std::unique_ptr<pyramid_ortho>& made) {
+        made = std::make_unique<pyramid_ortho>();
+        made->tiles = std::make_shared<pyramid::OrthoProducer>(mainBytes, regionBytes);
         if (o.colour_residuals) {
-            p->residuals = std::make_unique<pyramid::ColourProducer>(p->tiles, o.cache_tiles == 0 ? 1 : o.cache_tiles);
+            made->residuals =
+                std::make_unique<pyramid::ColourProducer>(made->tiles, o.cache_tiles == 0 ? 1 : o.cache_tiles);
         }
-        sources.arm();
-        *producer = p.release();
         return PYRAMID_OK;
-    });
+    };
+    return openSources(main_source, regions, region_count, options, "pyramid_ortho_open_sources", producer, build);
 }
 
 void pyramid_ortho_close(pyramid_ortho* producer) { delete producer; }
