@@ -202,6 +202,40 @@ int main(void) {
         CHECK(remove(cancelled_path) == 0);
     }
 
+    /* A newer caller's larger struct: *_defaults zeroes the members this library does not
+     * know and keeps struct_size; set, such a member is refused, not dropped. */
+    {
+        struct newer_dem_options {
+            pyramid_dem_encode_options known;
+            double future;
+        } newer;
+        memset(&newer, 0xab, sizeof newer);
+        newer.known.struct_size = sizeof newer;
+        pyramid_dem_encode_defaults(&newer.known);
+        CHECK(newer.known.struct_size == sizeof newer);
+        CHECK(newer.future == 0.0);
+        CHECK(newer.known.tile_size == 192 && newer.known.max_level == -1);
+        newer.known.tile_size = 16;
+        newer.known.root_tile_size = 4;
+        CHECK(pyramid_encode_dem(&source, &newer.known, cancelled_path) == PYRAMID_OK);
+        CHECK(remove(cancelled_path) == 0);
+        newer.future = 1.0;
+        CHECK(pyramid_encode_dem(&source, &newer.known, cancelled_path) == PYRAMID_ERROR_ARGUMENT);
+        CHECK(strstr(pyramid_last_error(), "pyramid_dem_encode_options: members past byte") != NULL);
+        CHECK(access(cancelled_path, F_OK) != 0);
+    }
+
+    /* A struct_size that cannot hold itself: *_defaults leaves the struct, the encode refuses it. */
+    {
+        pyramid_dem_encode_options unsized;
+        memset(&unsized, 0, sizeof unsized);
+        pyramid_dem_encode_defaults(&unsized);
+        CHECK(unsized.struct_size == 0 && unsized.tile_size == 0);
+        CHECK(pyramid_encode_dem(&source, &unsized, cancelled_path) == PYRAMID_ERROR_ARGUMENT);
+        CHECK(strstr(pyramid_last_error(), "pyramid_dem_encode_options: struct_size 0 is too small") != NULL);
+        CHECK(access(cancelled_path, F_OK) != 0);
+    }
+
     /* A failing callback, and a cancelled run: statuses, messages, no file. */
     source.read = failing_read;
     CHECK(pyramid_encode_dem(&source, &options, cancelled_path) == PYRAMID_ERROR_FILE);

@@ -19,6 +19,7 @@
 #include "formats/pyramid_kind.hpp"
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/capi/capi_sized.hpp"
 #include "libpyramid/capi/capi_status.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
@@ -51,6 +52,8 @@ thread_local std::string lastError;
 
 using pyramid::capi::failWith;
 using pyramid::capi::guarded;
+using pyramid::capi::readSized;
+using pyramid::capi::writeSized;
 
 pyramid_status tooSmall(size_t size, size_t bytes);
 
@@ -75,56 +78,6 @@ bool inside(const pyramid_file* f, int level, int tx, int ty) {
 
 pyramid_status outside(int level, int tx, int ty) {
     return failWith(PYRAMID_ERROR_NOT_FOUND, "no tile " + pyramid::tileCoordinates(level, tx, ty) + " in this pyramid");
-}
-
-// ---- Size-prefixed structs ----------------------------------------------------------------
-
-// An input struct as this library knows it: the caller's first struct_size bytes over a zeroed
-// T (members past them take their zero defaults). A struct larger than T is accepted when the
-// members this library does not know are all zero; anything else is an argument error.
-template <class T>
-bool readSized(const T* in, T& out, const char* what) {
-    out = T{};
-    if (!in) {
-        out.struct_size = sizeof(T);
-        return true;
-    }
-    const size_t size = in->struct_size;
-    if (size < sizeof(size_t)) {
-        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": struct_size " + std::to_string(size) +
-                                             " is too small (set it to sizeof the struct)");
-        return false;
-    }
-    const auto* bytes = reinterpret_cast<const unsigned char*>(in);
-    for (size_t k = sizeof(T); k < size; ++k) {
-        if (bytes[k] != 0) {
-            failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": members past byte " + std::to_string(sizeof(T)) +
-                                                 " are set, and this library version does not know them");
-            return false;
-        }
-    }
-    std::memcpy(&out, in, std::min(size, sizeof(T)));
-    return true;
-}
-
-// Copies `full` into the caller's struct_size bytes at `out`: the members that fit; bytes past
-// the library's own struct are zeroed. struct_size itself is left as the caller set it.
-template <class T>
-bool writeSized(const T& full, T* out, const char* what) {
-    const size_t size = out->struct_size;
-    if (size < sizeof(size_t)) {
-        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": struct_size " + std::to_string(size) +
-                                             " is too small (set it to sizeof the struct)");
-        return false;
-    }
-    auto* bytes = reinterpret_cast<unsigned char*>(out);
-    const auto* from = reinterpret_cast<const unsigned char*>(&full);
-    const size_t common = std::min(size, sizeof(T));
-    std::memcpy(bytes + sizeof(size_t), from + sizeof(size_t), common - sizeof(size_t));
-    if (size > sizeof(T)) {
-        std::memset(bytes + sizeof(T), 0, size - sizeof(T));
-    }
-    return true;
 }
 
 // ---- Sources --------------------------------------------------------------------------------
@@ -182,7 +135,7 @@ struct SourceSet {
             failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": null source");
             return false;
         }
-        pyramid_source d;
+        pyramid_source d{};
         if (!readSized(in, d, what)) {
             return false;
         }
@@ -379,7 +332,7 @@ pyramid_status openSources(const pyramid_source* main, const pyramid_source* con
         return failWith(PYRAMID_ERROR_ARGUMENT, std::string(function) + ": null argument");
     }
     *producer = nullptr;
-    Options o;
+    Options o{}; // a member the caller's struct lacks is zero
     if (!readSized(options, o, (std::string(function) + ": options").c_str())) {
         return PYRAMID_ERROR_ARGUMENT;
     }
@@ -758,7 +711,7 @@ pyramid_status pyramid_normal_open(pyramid_elevation* elevations, const pyramid_
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_normal_open: null argument");
     }
     *producer = nullptr;
-    pyramid_normal_options o;
+    pyramid_normal_options o{};
     if (!readSized(options, o, "pyramid_normal_open: options")) {
         return PYRAMID_ERROR_ARGUMENT;
     }

@@ -9,26 +9,15 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/api/encoders.hpp"
+#include "libpyramid/capi/capi_sized.hpp"
 #include "libpyramid/capi/capi_status.hpp"
 
 namespace {
 
 using pyramid::capi::failWith;
 using pyramid::capi::guarded;
-
-// A size-prefixed struct as this library knows it: `given`'s first struct_size bytes over
-// `defaults` (a caller built against a smaller struct gets the defaults of the fields it lacks).
-template <class T>
-bool sizedCopy(const T* given, T& out, const char* what) {
-    if (given->struct_size < sizeof(size_t)) {
-        failWith(PYRAMID_ERROR_ARGUMENT, std::string(what) + ": struct_size " + std::to_string(given->struct_size) +
-                                             " is too small (set it to sizeof the struct)");
-        return false;
-    }
-    std::memcpy(&out, given, std::min(given->struct_size, sizeof(T)));
-    out.struct_size = sizeof(T);
-    return true;
-}
+using pyramid::capi::readSized;
+using pyramid::capi::writeSized;
 
 class CallbackHeights final : public pyramid::ElevationSource {
 public:
@@ -85,7 +74,6 @@ void pyramid_dem_encode_defaults(pyramid_dem_encode_options* options) {
     if (!options) {
         return;
     }
-    const size_t size = options->struct_size;
     pyramid_dem_encode_options o{};
     o.struct_size = sizeof o;
     const pyramid::DemEncodeOptions cpp;
@@ -97,8 +85,7 @@ void pyramid_dem_encode_defaults(pyramid_dem_encode_options* options) {
     o.fit_tiles = 0;
     o.compression = PYRAMID_RESIDUAL_DEFLATE;
     o.deflate_level = 0;
-    std::memcpy(options, &o, std::clamp(size, sizeof(size_t), sizeof o));
-    options->struct_size = std::clamp(size, sizeof(size_t), sizeof o);
+    writeSized(o, options, "pyramid_dem_encode_defaults");
 }
 
 pyramid_status pyramid_encode_dem(const pyramid_height_source* source, const pyramid_dem_encode_options* options,
@@ -108,13 +95,13 @@ pyramid_status pyramid_encode_dem(const pyramid_height_source* source, const pyr
     }
     return guarded([&]() -> pyramid_status {
         pyramid_height_source s{};
-        if (!sizedCopy(source, s, "pyramid_height_source")) {
+        if (!readSized(source, s, "pyramid_height_source")) {
             return PYRAMID_ERROR_ARGUMENT;
         }
         pyramid_dem_encode_options c{};
         c.struct_size = sizeof c;
         pyramid_dem_encode_defaults(&c);
-        if (options && !sizedCopy(options, c, "pyramid_dem_encode_options")) {
+        if (!readSized(options, c, "pyramid_dem_encode_options")) {
             return PYRAMID_ERROR_ARGUMENT;
         }
         if (!s.heights && !s.read) {
@@ -167,15 +154,13 @@ void pyramid_ortho_encode_defaults(pyramid_ortho_encode_options* options) {
     if (!options) {
         return;
     }
-    const size_t size = options->struct_size;
     pyramid_ortho_encode_options o{};
     o.struct_size = sizeof o;
     o.tile_size = pyramid::OrthoLevelsOptions{}.tileSize;
     o.max_level = -1;
     o.name = "RGB";
     o.outputs = PYRAMID_ORTHO_TIFF | PYRAMID_ORTHO_DXT | PYRAMID_ORTHO_RESIDUALS;
-    std::memcpy(options, &o, std::clamp(size, sizeof(size_t), sizeof o));
-    options->struct_size = std::clamp(size, sizeof(size_t), sizeof o);
+    writeSized(o, options, "pyramid_ortho_encode_defaults");
 }
 
 pyramid_status pyramid_encode_ortho(const pyramid_colour_source* source, const pyramid_ortho_encode_options* options,
@@ -185,13 +170,13 @@ pyramid_status pyramid_encode_ortho(const pyramid_colour_source* source, const p
     }
     return guarded([&]() -> pyramid_status {
         pyramid_colour_source s{};
-        if (!sizedCopy(source, s, "pyramid_colour_source")) {
+        if (!readSized(source, s, "pyramid_colour_source")) {
             return PYRAMID_ERROR_ARGUMENT;
         }
         pyramid_ortho_encode_options c{};
         c.struct_size = sizeof c;
         pyramid_ortho_encode_defaults(&c);
-        if (options && !sizedCopy(options, c, "pyramid_ortho_encode_options")) {
+        if (!readSized(options, c, "pyramid_ortho_encode_options")) {
             return PYRAMID_ERROR_ARGUMENT;
         }
         if (!s.pixels && !s.read) {

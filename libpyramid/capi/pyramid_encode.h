@@ -5,9 +5,13 @@
  * conventions of pyramid.h hold (statuses, pyramid_last_error, no exception crosses).
  * See doc/library.md.
  *
- * Option structs are size-prefixed: set struct_size to sizeof the struct, fill it with the
- * *_defaults function, then change what you need. A caller built against an older, smaller
- * struct keeps working: the fields it does not have take their defaults.
+ * Option structs are size-prefixed, by the rule of pyramid.h's structs: set struct_size to
+ * sizeof the struct, fill it with the *_defaults function, then change what you need. A caller
+ * built against an older, smaller struct keeps working: the fields it does not have take their
+ * defaults. A larger struct (a newer header) is accepted when the members this library does
+ * not know are zero, which *_defaults makes them, and refused (PYRAMID_ERROR_ARGUMENT)
+ * otherwise: an option the library cannot honour is not dropped silently. *_defaults leaves a
+ * struct whose struct_size cannot hold itself untouched; the encode call then refuses it.
  */
 #ifndef LIBPYRAMID_PYRAMID_ENCODE_H
 #define LIBPYRAMID_PYRAMID_ENCODE_H
