@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -434,16 +433,6 @@ nlohmann::json buildIdentity(const char* program) {
     return {{"program", program}, {"arguments", kept}};
 }
 
-// A whole number of --part.
-int64_t partNumber(const std::string& text, const std::string& part) {
-    int64_t value = 0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size()) {
-        fail("--part", "must be I/N (part I of N, from 0), not " + part);
-    }
-    return value;
-}
-
 } // namespace
 
 CLI::Option* addPartOption(CLI::App& app, std::string& part) {
@@ -474,15 +463,15 @@ std::optional<RegionRequest> RegionArgs::resolve() const {
     }
     RegionRoot root;
     int* fields[3] = {&root.level, &root.tx, &root.ty};
-    const char* p = region.data();
-    const char* const end = region.data() + region.size();
+    std::string_view rest(region);
     for (int k = 0; k < 3; ++k) {
-        const auto [next, error] = std::from_chars(p, end, *fields[k]);
-        const bool last = k == 2;
-        if (error != std::errc() || next == p || (last ? next != end : (next == end || *next != ','))) {
+        const size_t comma = k < 2 ? rest.find(',') : rest.size();
+        const auto value = comma == std::string_view::npos ? std::nullopt : readWholeNumber<int>(rest.substr(0, comma));
+        if (!value) {
             fail("--region", "must be LEVEL,TX,TY (a tile: three whole numbers), not '" + region + "'");
         }
-        p = next + (last ? 0 : 1);
+        *fields[k] = *value;
+        rest.remove_prefix(std::min(rest.size(), comma + 1));
     }
     return RegionRequest{root, parent};
 }
@@ -558,12 +547,13 @@ BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& b
     Team& team = worldTeam();
     if (!part.empty()) {
         const size_t slash = part.find('/');
-        if (slash == std::string::npos) {
+        const std::string_view text(part);
+        const auto index = slash == std::string::npos ? std::nullopt : readWholeNumber<int64_t>(text.substr(0, slash));
+        const auto count = slash == std::string::npos ? std::nullopt : readWholeNumber<int64_t>(text.substr(slash + 1));
+        if (!index || !count) {
             fail("--part", "must be I/N (part I of N, from 0), not " + part);
         }
-        const int64_t index = partNumber(part.substr(0, slash), part);
-        const int64_t count = partNumber(part.substr(slash + 1), part);
-        if (count < 1 || count > 1000000 || index < 0 || index >= count) {
+        if (*count < 1 || *count > 1000000 || *index < 0 || *index >= *count) {
             fail("--part", "must be I/N with 0 <= I < N, not " + part);
         }
         if (team.size() > 1) {
@@ -571,12 +561,12 @@ BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& b
         }
         build.prepare();
         const std::string base = (std::filesystem::path(build.directory) / build.name).string();
-        const std::string path = runPart(static_cast<int>(index), static_cast<int>(count), base, build.format,
+        const std::string path = runPart(static_cast<int>(*index), static_cast<int>(*count), base, build.format,
                                          buildIdentity(build.program),
                                          [&](const PartContext& share) { build.encode(&share); });
         if (!quiet) {
             std::fprintf(stderr, "%s: part %lld of %lld written to %s; 'pyramid merge' assembles the parts\n",
-                         build.program, static_cast<long long>(index), static_cast<long long>(count), path.c_str());
+                         build.program, static_cast<long long>(*index), static_cast<long long>(*count), path.c_str());
         }
         return BuildRole::Part;
     }

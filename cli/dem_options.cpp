@@ -1,7 +1,6 @@
 #include "cli/dem_options.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -33,9 +32,7 @@ std::string checkTileSize(const std::string& text, bool tileSizeAuto) {
                             : "'auto' fits a planar input's grid (preprocessDem); cube faces take a number of "
                               "intervals, e.g. 192";
     }
-    int value = 0;
-    const auto [next, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || next != text.data() + text.size() || text.empty()) {
+    if (!readWholeNumber<int>(text)) {
         return "'" + text + "' is not a whole number of intervals" + (tileSizeAuto ? " nor 'auto'" : "");
     }
     return {};

@@ -274,6 +274,15 @@ TEST(NumberText, WholeTextOnly) {
     EXPECT_THROW(parseNumber("12abc", "--scale"), Error);
 }
 
+TEST(NumberText, WholeNumbersAreTheWholeText) {
+    EXPECT_EQ(readWholeNumber<int>("4326"), 4326);
+    EXPECT_EQ(readWholeNumber<int>("-7"), -7);
+    EXPECT_EQ(readWholeNumber<int64_t>("9000000000"), int64_t{9000000000});
+    for (const char* bad : {"", " 1", "1 ", "+1", "1.0", "1e3", "12abc", "0x10", "-", "3,", "2147483648"}) {
+        EXPECT_FALSE(readWholeNumber<int>(bad).has_value()) << "'" << bad << "'";
+    }
+}
+
 TEST(NumberText, NodataValues) {
     EXPECT_TRUE(std::isnan(*tryParseNodataText("nan")));
     EXPECT_TRUE(std::isnan(*tryParseNodataText("NaN")));

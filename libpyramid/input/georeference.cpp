@@ -6,11 +6,12 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdarg>
 #include <map>
 #include <memory>
+#include <optional>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "libpyramid/input/geotiff_library.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
+#include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid {
 
@@ -363,14 +365,13 @@ std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
 
 Georeference georeferenceOfCrs(const std::string& text) {
     const std::string prefix = "EPSG:";
-    int code = 0;
-    const char* digits = text.c_str() + std::min(text.size(), prefix.size());
-    const char* end = text.c_str() + text.size();
     const bool prefixed = text.size() > prefix.size() &&
                           std::equal(prefix.begin(), prefix.end(), text.begin(),
                                      [](char a, char b) { return a == std::toupper(static_cast<unsigned char>(b)); });
-    const auto [last, ec] = std::from_chars(digits, end, code);
-    if (!prefixed || ec != std::errc() || last != end || code <= 0 || code > 65534) {
+    const std::optional<int> parsed =
+        prefixed ? readWholeNumber<int>(std::string_view(text).substr(prefix.size())) : std::nullopt;
+    const int code = parsed.value_or(0);
+    if (code <= 0 || code > 65534) {
         throw OptionError("crs", "'" + text + "' is not a CRS: give an EPSG code as EPSG:N (EPSG:4326, EPSG:32610)");
     }
     std::string why;

@@ -30,6 +30,19 @@ inline std::optional<double> readNumberText(std::string_view text, bool nonFinit
     return v;
 }
 
+// The whole of `text` as a whole number of type Int: decimal digits, with a leading '-' for a
+// negative one; nothing for anything else, or a number Int cannot hold.
+template <class Int>
+std::optional<Int> readWholeNumber(std::string_view text) {
+    Int v{};
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (text.empty() || ec != std::errc() || ptr != end) {
+        return std::nullopt;
+    }
+    return v;
+}
+
 // A finite number, or nothing.
 std::optional<double> tryParseNumber(const std::string& text);
 
