@@ -26,6 +26,7 @@
 #include "libpyramid/api/encoders.hpp"
 #include "libpyramid/distribute/team.hpp"
 #include "libpyramid/support/parse_number.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid::cli {
 
@@ -82,6 +83,12 @@ void stopOnSignals(const std::string& program) {
 }
 
 } // namespace
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), lowerAscii);
+    return ext;
+}
 
 std::string flagName(const std::string& option) {
     // Options whose flag is not their name spelled out.

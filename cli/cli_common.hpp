@@ -60,6 +60,10 @@ const std::vector<std::string>& commandArguments();
 // "--cache-mb").
 std::string flagName(const std::string& option);
 
+// The extension of an output path, ASCII letters lowered: "a/Tile.PNG" -> ".png" (the format a
+// command writes is chosen by it).
+std::string lowerExtension(const std::string& path);
+
 // The inputs of a preprocessor: INPUT... (files, directories, globs, GDAL VRTs),
 // --input-list FILE and --priority first|last.
 struct InputArgs {

@@ -1,7 +1,6 @@
 // `pyramid preview FILE|SET -o OUT.png [--level L] [--size PX] [--style ...]`: one level of a
 // pyramid drawn as a PNG (libpyramid/preview/preview.hpp, doc/cli/pyramid-preview.md).
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -60,11 +59,7 @@ CommandRunner setupPreviewCommand(CLI::App& app) {
     addReportOption(app, a->report, "the report");
     app.add_flag("-q,--quiet", a->quiet, "No summary on stderr");
     return [a, sea]() {
-        std::string ext = std::filesystem::path(a->output).extension().string();
-        for (char& c : ext) {
-            c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        }
-        if (ext != ".png") {
+        if (lowerExtension(a->output) != ".png") {
             fail(a->output, "a preview is a PNG: name it OUT.png");
         }
         PreviewOptions options = a->options;

@@ -38,14 +38,6 @@ struct TileData {
     std::vector<uint8_t> bytes;
 };
 
-std::string extensionOf(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) {
-        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    }
-    return ext;
-}
-
 // Elevations or residuals as a 16-bit grey PNG, north up: the tile's smallest finite value is 0,
 // its largest 65535 (non-finite values 0), and the range is in the PNG's text ("Minimum",
 // "Maximum") so that a value can be read back: v = min + grey / 65535 * (max - min).
@@ -93,7 +85,7 @@ void writeNormalisedPng(const TileData& tile, const std::string& path, bool isFl
 
 // Raw files keep the stored order (row 0 = bottom); images are written north-up.
 void writeTile(const TileData& tile, const std::string& path) {
-    const std::string ext = extensionOf(path);
+    const std::string ext = lowerExtension(path);
     const bool isFloat = tile.type == SampleType::Float32;
     const bool isInt16 = tile.type == SampleType::Int16;
     const bool isByte = tile.type == SampleType::UInt8;
@@ -317,7 +309,7 @@ CommandRunner setupTileCommand(CLI::App& app) {
             if (a->residual) {
                 fail("--hillshade", "draws elevations, not the stored residuals (--residual)");
             }
-            if (extensionOf(a->output) != ".png") {
+            if (lowerExtension(a->output) != ".png") {
                 fail(a->output, "--hillshade draws a PNG: name it OUT.png");
             }
         }
@@ -328,7 +320,7 @@ CommandRunner setupTileCommand(CLI::App& app) {
             const Deformation deformation = a->deform == "sphere" ? Deformation::Sphere : Deformation::Plane;
             const double size = a->size > 0.0 ? a->size : deformation == Deformation::Sphere ? 6378137.0 : 0.0;
             const TileData shading = normalTile(a->file, a->level, a->tx, a->ty, deformation, size);
-            if (extensionOf(a->output) == ".png") {
+            if (lowerExtension(a->output) == ".png") {
                 writeNormalPng(shading, a->output);
             } else {
                 writeTile(shading, a->output);

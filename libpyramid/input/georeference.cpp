@@ -5,7 +5,6 @@
 #include <tiffio.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdarg>
 #include <map>
@@ -20,6 +19,7 @@
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
 #include "libpyramid/support/parse_number.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -364,12 +364,9 @@ std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
 }
 
 Georeference georeferenceOfCrs(const std::string& text) {
-    const std::string prefix = "EPSG:";
-    const bool prefixed = text.size() > prefix.size() &&
-                          std::equal(prefix.begin(), prefix.end(), text.begin(),
-                                     [](char a, char b) { return a == std::toupper(static_cast<unsigned char>(b)); });
+    const std::string_view prefix = "EPSG:";
     const std::optional<int> parsed =
-        prefixed ? readWholeNumber<int>(std::string_view(text).substr(prefix.size())) : std::nullopt;
+        startsWithNoCase(text, prefix) ? readWholeNumber<int>(std::string_view(text).substr(prefix.size())) : std::nullopt;
     const int code = parsed.value_or(0);
     if (code <= 0 || code > 65534) {
         throw OptionError("crs", "'" + text + "' is not a CRS: give an EPSG code as EPSG:N (EPSG:4326, EPSG:32610)");
