@@ -3,10 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <limits>
 #include <memory>
-#include <random>
 
 #include <CLI/CLI.hpp>
 
@@ -114,27 +112,19 @@ void writeTile(const TileData& tile, const std::string& path) {
         std::copy_n(&tile.bytes[static_cast<size_t>(j) * rowBytes], rowBytes,
                     &flipped[static_cast<size_t>(tile.side - 1 - j) * rowBytes]);
     }
-    // The image goes to a temporary with the same extension, renamed into place when complete.
-    const std::filesystem::path target(path);
-    const std::string tmp = (target.parent_path() / ("." + target.stem().string() + ".tmp-" +
-                                                     std::to_string(std::random_device{}()) + ext)).string();
+    // The image goes to a temporary with the same extension (the module chooses the format by
+    // it), renamed into place when complete.
+    AtomicFile out(path, ext);
     SampleType fileType = tile.type;
     if (ext == ".exr" && !isFloat) {
         fileType = SampleType::Float32; // exact for int16 and byte values
     }
     std::string error;
-    if (!imageIoModule(path).write(tmp, tile.side, tile.side, tile.channels, tile.type, fileType, flipped.data(),
-                                   error)) {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
+    if (!imageIoModule(path).write(out.temporaryPath(), tile.side, tile.side, tile.channels, tile.type, fileType,
+                                   flipped.data(), error)) {
         fail(path, "cannot write the image: " + error);
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        fail(path, "cannot move the image into place");
-    }
+    out.commit();
 }
 
 TileData residualTile(const std::string& file, int level, int tx, int ty, bool raw) {

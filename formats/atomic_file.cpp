@@ -24,13 +24,13 @@ namespace {
 
 } // namespace
 
-AtomicFile::AtomicFile(const std::string& path) : path_(path) {
+AtomicFile::AtomicFile(const std::string& path, const std::string& temporarySuffix) : path_(path) {
     // The temporary sits in the destination's directory so that rename() is atomic. Its name is
     // registered before it exists, so a signal at any moment finds it (temporaries.hpp).
     int error = 0;
     for (int attempt = 0; attempt < 32 && fd_ < 0; ++attempt) {
         auto lock = lockTemporaries();
-        tmp_ = temporaryFileName(path);
+        tmp_ = temporaryFileName(path, temporarySuffix);
         registerTemporary(tmp_, TemporaryKind::File);
         fd_ = ::open(tmp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
         error = errno;

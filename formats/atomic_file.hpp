@@ -12,7 +12,10 @@ namespace pyramid {
 
 class AtomicFile {
 public:
-    explicit AtomicFile(const std::string& path); // throws Error("PATH: cannot create ...")
+    // Throws Error("PATH: cannot create ..."). With a `temporarySuffix` (".tif"), the temporary's
+    // name ends with it, so that a writer choosing the format by the name can write it by path
+    // (temporaryPath()) before commit().
+    explicit AtomicFile(const std::string& path, const std::string& temporarySuffix = "");
     ~AtomicFile();
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;

@@ -124,7 +124,9 @@ std::string temporaryTag() {
     return std::to_string(::getpid()) + "-" + hex;
 }
 
-std::string temporaryFileName(const std::string& path) { return path + kTmp + temporaryTag(); }
+std::string temporaryFileName(const std::string& path, const std::string& suffix) {
+    return path + kTmp + temporaryTag() + suffix;
+}
 
 std::string stagingDirectoryName() { return kStaging + temporaryTag(); }
 
@@ -170,7 +172,8 @@ int sweepStaleTemporaries(const std::string& directory) {
         }
         const size_t tmp = name.rfind(kTmp);
         if (tmp != std::string::npos && tmp > 0 && fs::is_regular_file(status)) {
-            const pid_t pid = parseTag(name.substr(tmp + std::strlen(kTmp)), false);
+            const std::string tag = name.substr(tmp + std::strlen(kTmp));
+            const pid_t pid = parseTag(tag.substr(0, tag.find('.')), false); // without a suffix
             if (pid != 0 && processIsGone(pid) && ::unlink(path.c_str()) == 0) {
                 ++removed;
             }

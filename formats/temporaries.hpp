@@ -41,8 +41,9 @@ void removeTemporariesForExit();
 
 // "<pid>-<8 hex digits>": the unique part of a temporary's name.
 std::string temporaryTag();
-// PATH.tmp-<pid>-<hex>: where an output is written before it is renamed onto PATH.
-std::string temporaryFileName(const std::string& path);
+// PATH.tmp-<pid>-<hex>: where an output is written before it is renamed onto PATH; with a
+// `suffix` (".tif"), PATH.tmp-<pid>-<hex>.tif, for a writer that chooses the format by it.
+std::string temporaryFileName(const std::string& path, const std::string& suffix = "");
 // .staging-<pid>-<hex>: a staging directory's name.
 std::string stagingDirectoryName();
 
@@ -51,7 +52,7 @@ std::string stagingDirectoryName();
 std::string outputName(const std::string& path);
 
 // Removes, in `directory`, the temporaries of runs that are gone: regular files named
-// `NAME.tmp-<pid>-<hex>` and directories named `.staging-<pid>` or `.staging-<pid>-<hex>` whose
+// `NAME.tmp-<pid>-<hex>` (or `NAME.tmp-<pid>-<hex>.EXT`) and directories named `.staging-<pid>` or `.staging-<pid>-<hex>` whose
 // process no longer exists (kill(pid, 0) fails with ESRCH). A staging directory that holds an
 // interrupted commit's journal is rolled back first (staging_directory.hpp). Anything else,
 // and the temporaries of live processes, is left alone. Returns how many were removed. Errors

@@ -327,10 +327,13 @@ TEST_F(Failure, StaleTemporariesOfGoneRunsAreSweptAndNothingElse) {
     ::waitpid(gone, nullptr, 0);
     const std::string dead = std::to_string(gone), alive = std::to_string(::getpid());
     fs::create_directories(out + "/.staging-" + dead + "-0badc0de/dxt");
+    // Temporaries named for a writer that chooses the format by the extension (pyramid tile -o T.tif)
+    // end with it.
     const std::vector<std::string> stale = {"DEM.dat.tmp-" + dead + "-0123abcd", ".staging-" + dead + "-0badc0de/dxt/RGB.dat",
-                                            "other.dat.tmp-" + dead + "-ffffffff"};
+                                            "other.dat.tmp-" + dead + "-ffffffff", "t.tif.tmp-" + dead + "-0123abcd.tif"};
     const std::vector<std::string> kept = {"DEM.dat.tmp-" + alive + "-0123abcd", "DEM.dat.tmp-12345678",
-                                           "notes.tmp-" + dead, "DEM.dat.tmp-" + dead + "-XYZ", ".staging-x"};
+                                           "notes.tmp-" + dead, "DEM.dat.tmp-" + dead + "-XYZ", ".staging-x",
+                                           "t.tif.tmp-" + alive + "-0123abcd.tif", "t.tif.tmp-" + dead + "-0123abc.tif"};
     for (const std::string& f : stale) {
         writeText(out + "/" + f, f);
     }
