@@ -52,11 +52,12 @@ std::string stagingDirectoryName();
 std::string outputName(const std::string& path);
 
 // Removes, in `directory`, the temporaries of runs that are gone: regular files named
-// `NAME.tmp-<pid>-<hex>` (or `NAME.tmp-<pid>-<hex>.EXT`) and directories named `.staging-<pid>` or `.staging-<pid>-<hex>` whose
-// process no longer exists (kill(pid, 0) fails with ESRCH). A staging directory that holds an
-// interrupted commit's journal is rolled back first (staging_directory.hpp). Anything else,
-// and the temporaries of live processes, is left alone. Returns how many were removed. Errors
-// (an unreadable directory) are ignored: the sweep is housekeeping.
+// `NAME.tmp-<pid>-<hex>` (or `NAME.tmp-<pid>-<hex>.EXT`) and directories named `.staging-<pid>`
+// or `.staging-<pid>-<hex>` whose process no longer exists (kill(pid, 0) fails with ESRCH). A
+// staging directory that holds an interrupted commit's journal is rolled back first
+// (staging_directory.hpp). Anything else, and the temporaries of live processes, is left alone.
+// Returns how many were removed. Errors (an unreadable directory) are ignored: the sweep is
+// housekeeping.
 int sweepStaleTemporaries(const std::string& directory);
 
 // The system's words for an errno value, in lower case: "no space left on device".

@@ -365,8 +365,9 @@ std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
 
 Georeference georeferenceOfCrs(const std::string& text) {
     const std::string_view prefix = "EPSG:";
-    const std::optional<int> parsed =
-        startsWithNoCase(text, prefix) ? readWholeNumber<int>(std::string_view(text).substr(prefix.size())) : std::nullopt;
+    const std::optional<int> parsed = startsWithNoCase(text, prefix)
+                                          ? readWholeNumber<int>(std::string_view(text).substr(prefix.size()))
+                                          : std::nullopt;
     const int code = parsed.value_or(0);
     if (code <= 0 || code > 65534) {
         throw OptionError("crs", "'" + text + "' is not a CRS: give an EPSG code as EPSG:N (EPSG:4326, EPSG:32610)");
