@@ -54,7 +54,7 @@ typedef struct pyramid_dem_encode_options {
     int root_tile_size;    /* 24: intervals of the level-0 tile */
     int max_level;         /* -1: the smallest pyramid whose finest level holds every sample */
     double scale;          /* 1: height units per residual unit; 0: the smallest 1-2-5 step that fits */
-    int threads;           /* 0: every core (the file does not depend on it) */
+    int threads;           /* 0: every core; at most 1024 (the file does not depend on it) */
     pyramid_progress_fn progress; /* may be NULL */
     pyramid_cancel_fn cancel;     /* may be NULL */
     void* user;                   /* passed to progress and cancel */
@@ -101,7 +101,7 @@ typedef struct pyramid_ortho_encode_options {
     int max_level;         /* -1: the smallest level whose width holds the longer side */
     const char* name;      /* "RGB": the files' name */
     int outputs;           /* PYRAMID_ORTHO_* flags; all three by default */
-    int threads;           /* 0: every core */
+    int threads;           /* 0: every core; at most 1024 */
     pyramid_progress_fn progress;
     pyramid_cancel_fn cancel;
     void* user;

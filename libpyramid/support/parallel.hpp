@@ -2,12 +2,31 @@
 // region, so each item's exception is caught and, after the loop, the one of the lowest index
 // is rethrown: the error a user sees does not depend on thread timing.
 #pragma once
+#include <omp.h>
+
 #include <cstdint>
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <string>
+
+#include "formats/error.hpp"
 
 namespace pyramid {
+
+// The most worker threads a `threads` option may ask for: more than any machine's cores, and
+// well below what a process can start (OpenMP cannot report a thread it failed to create).
+constexpr int kMaxThreads = 1024;
+
+// The worker count of a `threads` option: 0 is all cores (OpenMP's default), 1 to kMaxThreads
+// are taken as given; anything else is refused (OptionError "threads"), never clamped.
+inline int workerThreads(int requested) {
+    if (requested < 0 || requested > kMaxThreads) {
+        failOption("threads", "must be 0 (all cores) to " + std::to_string(kMaxThreads) + ", not " +
+                                  std::to_string(requested));
+    }
+    return requested > 0 ? requested : omp_get_max_threads();
+}
 
 template <class Body>
 void parallelFor(int64_t count, int threads, const Body& body) {

@@ -1,7 +1,5 @@
 #include "libpyramid/verify/dem_verify.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -63,7 +61,7 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
     const ResidualHeader& h = whole.header;
     const int M = h.maxLevel;
     const int64_t R = h.tileSize >> h.minLevel;
-    const int threads = threadOption > 0 ? threadOption : omp_get_max_threads();
+    const int threads = workerThreads(threadOption);
     DemVerifyReport report;
     report.file = file;
     report.source = sourceName;

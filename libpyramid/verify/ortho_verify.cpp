@@ -1,7 +1,5 @@
 #include "libpyramid/verify/ortho_verify.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -86,7 +84,7 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     report.file = file;
     report.source = source;
     report.mode = options.colourResiduals ? "colour-residuals" : h.dxt() ? "dxt" : "tiles";
-    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    const int threads = workerThreads(options.threads);
     int64_t total = 0; // every tile of levels 0..maxLevel
     for (int l = 0; l <= h.maxLevel; ++l) {
         total += int64_t{1} << (2 * l);

@@ -1,7 +1,5 @@
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +12,7 @@
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/sphere/map_sources.hpp"
+#include "libpyramid/support/parallel.hpp"
 #include "libpyramid/support/text.hpp"
 
 namespace pyramid {
@@ -97,7 +96,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     }
     const ResidualHeader header = planDemPyramid(sources.info, faceOptions, input);
     const int64_t N = static_cast<int64_t>(header.tileSize >> header.minLevel) << header.maxLevel;
-    report.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    report.threads = workerThreads(o.threads);
 
     // A split build's part writes its share of every face into its part file, and no face.
     std::unique_ptr<StagingDirectory> staging;

@@ -1,7 +1,5 @@
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -26,9 +24,7 @@ constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
 void OrthoLevelsOptions::validate() const {
     requireEncodableTileSize(tileSize);
-    if (threads < 0) {
-        failOption("threads", "must be 0 (all cores) or more");
-    }
+    workerThreads(threads);
 }
 
 struct OrthoLevels::Impl {
@@ -163,7 +159,7 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
     const Image8 black = averager.reduce(Image8(2, 2, channels));
     blankStaysBlank = std::all_of(black.pixels.begin(), black.pixels.end(), [](uint8_t v) { return v == 0; });
     zeroTile = Image8(T + 2 * kTileBorder, T + 2 * kTileBorder, channels);
-    threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    threads = workerThreads(o.threads);
 }
 
 OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o)

@@ -26,9 +26,7 @@ void ResidualEncodeOptions::validate() const {
     if (!autoScale && (!std::isfinite(scale) || scale <= 0.0)) {
         failOption("scale", "must be a positive number, not " + numberText(scale));
     }
-    if (threads < 0) {
-        failOption("threads", "must be 0 (all cores) or more");
-    }
+    workerThreads(threads);
     tiles.validate();
 }
 
@@ -592,7 +590,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     plan.C = cutLevel(plan.minLevel, plan.M, plan.T, plan.N);
     plan.folded = job.edges == GridEdges::Folded;
     plan.coding = options.tiles;
-    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    const int threads = workerThreads(options.threads);
     report.threads = threads;
     const ResidualShare* share = options.share;
     const int64_t units = plan.C == plan.M ? 1

@@ -13,6 +13,7 @@
 #include "formats/error.hpp"
 #include "formats/tile_table.hpp"
 #include "libpyramid/encode/residual/residual_parts.hpp"
+#include "libpyramid/support/parallel.hpp"
 
 namespace pyramid {
 
@@ -33,9 +34,7 @@ ResidualRecodeReport recodeResidualFile(const std::string& input, const std::str
                                         const ResidualRecodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     options.tiles.validate();
-    if (options.threads < 0) {
-        failOption("threads", "must be 0 (all cores) or more");
-    }
+    const int threads = workerThreads(options.threads);
     const auto reader = ResidualFileReader::open(input);
     const ResidualHeader& h = reader->header();
     ResidualRecodeReport report;
@@ -43,7 +42,7 @@ ResidualRecodeReport recodeResidualFile(const std::string& input, const std::str
     report.output = output;
     report.header = h;
     report.coding = options.tiles;
-    report.threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    report.threads = threads;
     report.inputBytes = std::filesystem::file_size(input);
     // Level by level, row by row; how many tiles share each input byte range.
     std::vector<TileRef> tiles;
