@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <thread>
 
 #include <CLI/CLI.hpp>
@@ -25,6 +26,7 @@
 #include "libpyramid/api/build_info.hpp"
 #include "libpyramid/api/encoders.hpp"
 #include "libpyramid/distribute/team.hpp"
+#include "libpyramid/support/parallel.hpp"
 #include "libpyramid/support/parse_number.hpp"
 #include "libpyramid/support/text.hpp"
 
@@ -140,11 +142,93 @@ void addReportOption(CLI::App& app, std::string& report, const std::string& what
     app.add_flag_callback("--json", [&report] { report = "-"; }, "The same as --report -")->excludes(file);
 }
 
+std::string programName(const CLI::App& app) {
+    return app.get_parent() != nullptr ? app.get_parent()->get_name() : app.get_name();
+}
+
+void addThreadsOption(CLI::App& app, int& threads) {
+    app.add_option("--threads", threads,
+                   "Worker threads, 1 to " + std::to_string(kMaxThreads) +
+                       ", or 0 for all cores (the default); results do not depend on it");
+}
+
 void addVersionFlag(CLI::App& app) {
     const std::string program = app.get_name();
     app.set_version_flag("--version", [program] { return versionText(program); },
                          "Print the version, the libraries' versions and the build options, then exit");
 }
+
+namespace {
+
+// What a command-line mistake prints: with no arguments at all (or only a command's name), the
+// help of the program (or command), for a newcomer; otherwise one line in the project's words
+// (CLI11's own are kept where they already read well), pointing to --help.
+std::string usageError(CLI::App& app, int argc, char** argv, const CLI::ParseError& e) {
+    const std::string program = app.get_name();
+    CLI::App* command = nullptr;
+    if (argc >= 2 && argv[1][0] != '-' && !app.get_subcommands({}).empty()) {
+        try {
+            command = app.get_subcommand(argv[1]);
+        } catch (const CLI::OptionNotFound&) {
+            std::string names;
+            for (const CLI::App* c : app.get_subcommands({})) {
+                names += (names.empty() ? "" : ", ") + c->get_name();
+            }
+            return program + ": '" + argv[1] + "' is not a command (" + names + ")\n";
+        }
+    }
+    if (argc == 1 || (argc == 2 && command != nullptr)) {
+        return (command != nullptr ? command : &app)->help();
+    }
+    const std::string hint = " (see " + program + (command != nullptr ? " " + command->get_name() : "") + " --help)\n";
+    std::string what = e.what();
+    const auto after = [&what](const std::string& prefix) {
+        return what.rfind(prefix, 0) == 0 ? std::optional<std::string>(what.substr(prefix.size())) : std::nullopt;
+    };
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+        // In the command line's order (CLI11's message lists them last first).
+        std::string extras;
+        int count = 0;
+        for (const std::string& extra : (command != nullptr ? command : &app)->remaining()) {
+            extras += (count++ == 0 ? "" : " ") + extra;
+        }
+        return program + ": unexpected argument" + (count > 1 ? "s: " : ": ") + extras + hint;
+    }
+    if (const auto conversion = after("Could not convert: ")) { // "NAME = VALUE"
+        const auto equals = conversion->find(" = ");
+        if (equals != std::string::npos) {
+            const std::string name = conversion->substr(0, equals);
+            const CLI::Option* option = (command != nullptr ? command : &app)->get_option_no_throw(name);
+            const std::string type = option != nullptr ? option->get_type_name() : "";
+            const std::string kind = type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0 ? "a whole number"
+                                     : type.rfind("FLOAT", 0) == 0                            ? "a number"
+                                                                                              : "a valid value";
+            return program + ": " + name + ": '" + conversion->substr(equals + 3) + "' is not " + kind + hint;
+        }
+    }
+    if (const auto member = what.find(" not in {"); member != std::string::npos && what.back() == '}') {
+        // "NAME: VALUE not in {A,B,C}"
+        const auto colon = what.find(": ");
+        std::string choices = what.substr(member + 9, what.size() - member - 10);
+        const auto last = choices.rfind(',');
+        if (last != std::string::npos) {
+            choices.replace(last, 1, " or ");
+        }
+        for (size_t comma = choices.find(','); comma != std::string::npos; comma = choices.find(',', comma + 2)) {
+            choices.replace(comma, 1, ", ");
+        }
+        if (colon != std::string::npos && colon < member) {
+            return program + ": " + what.substr(0, colon) + ": '" + what.substr(colon + 2, member - colon - 2) +
+                   "' is not " + choices + hint;
+        }
+    }
+    if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && endsWithNoCase(what, " missing")) {
+        return program + ": " + what.substr(0, what.find(": ")) + ": needs a value" + hint; // "NAME: 1 required TYPE missing"
+    }
+    return program + ": " + what + hint;
+}
+
+} // namespace
 
 int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners, int count) {
     keepBuffersInTheHeap();
@@ -161,7 +245,7 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << app.get_name() << ": " << e.what() << "\n";
+        std::cerr << usageError(app, argc, argv, e);
         return kExitUsage;
     }
     try {

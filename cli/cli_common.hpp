@@ -141,6 +141,13 @@ private:
 // --json is the same as --report - (the inspection commands' spelling before there was one).
 void addReportOption(CLI::App& app, std::string& report, const std::string& what);
 
+// The name a command's messages begin with: the program's (`pyramid` for its commands).
+std::string programName(const CLI::App& app);
+
+// --threads N: the worker count (0, the default, is all cores; the library refuses more than
+// kMaxThreads). Results never depend on it.
+void addThreadsOption(CLI::App& app, int& threads);
+
 // Writes `json` (pretty, with a final newline) to `path` atomically; "-" means stdout.
 void writeJson(const nlohmann::json& json, const std::string& path);
 

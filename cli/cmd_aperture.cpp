@@ -29,7 +29,7 @@ void addOutputOptions(CLI::App& app, int& deflateLevel, int& threads, std::strin
     app.add_option("--deflate-level", deflateLevel, "Deflate level of the TIFF tiles, 1 to 12")
         ->capture_default_str()
         ->check(CLI::Range(1, 12));
-    app.add_option("--threads", threads, "Worker threads (default: all cores; the output does not depend on it)");
+    addThreadsOption(app, threads);
     addReportOption(app, report, "the report");
     app.add_flag("-q,--quiet", quiet, "No progress or summary on stderr");
     addProgressOption(app);

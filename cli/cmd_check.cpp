@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
-#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -109,14 +108,12 @@ int64_t checkFile(const std::string& file, int threads, bool quiet, std::string&
     const OpenedPyramid opened = openPyramid(file);
     const PyramidKind k = opened.kind;
     kind = kindName(k);
-    const int n = threads > 0 ? threads : 0;
-    const int t = n > 0 ? n : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (k == PyramidKind::Residual) {
         const auto& reader = opened.residual;
         const auto& h = reader->header();
         const auto tiles = allTiles(h, [&](int l) { return h.tilesPerSide(l); });
         checkOverlaps(reader->table(), problems);
-        auto decoded = decodeAll(file, *reader, tiles, t, quiet);
+        auto decoded = decodeAll(file, *reader, tiles, threads, quiet);
         problems.insert(problems.end(), decoded.begin(), decoded.end());
         return static_cast<int64_t>(tiles.size());
     }
@@ -124,7 +121,7 @@ int64_t checkFile(const std::string& file, int threads, bool quiet, std::string&
     const auto& h = reader->header();
     const auto tiles = allTiles(h, [](int l) { return int64_t{1} << l; });
     checkOverlaps(reader->table(), problems);
-    auto decoded = decodeAll(file, *reader, tiles, t, quiet);
+    auto decoded = decodeAll(file, *reader, tiles, threads, quiet);
     problems.insert(problems.end(), decoded.begin(), decoded.end());
     return static_cast<int64_t>(tiles.size());
 }
@@ -202,11 +199,12 @@ CommandRunner setupCheckCommand(CLI::App& app) {
                    "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
         ->required();
     addReportOption(app, *report, "the result");
-    app.add_option("--threads", *threads, "Worker threads (default: all cores)");
+    addThreadsOption(app, *threads);
     app.add_flag("-q,--quiet", *quiet, "No progress on stderr (a failure's line stays)");
     addProgressOption(app);
-    const std::string program = app.get_parent() ? app.get_parent()->get_name() : app.get_name();
+    const std::string program = programName(app);
     return [file, report, threads, quiet, program]() {
+        const int workers = workerThreads(*threads); // before any file: a bad count is the command line's fault
         bool set = false;
         try {
             set = !findRegionIndex(*file).empty();
@@ -214,13 +212,13 @@ CommandRunner setupCheckCommand(CLI::App& app) {
             set = true; // a directory without one index: reported as the set's problem
         }
         if (set) {
-            return checkSet(*file, *report, *threads, *quiet, program);
+            return checkSet(*file, *report, workers, *quiet, program);
         }
         std::vector<std::string> problems;
         std::string kind = "unknown";
         int64_t checked = 0;
         try {
-            checked = checkFile(*file, *threads, *quiet, kind, problems);
+            checked = checkFile(*file, workers, *quiet, kind, problems);
         } catch (const Error& e) {
             problems.push_back(e.what());
         }

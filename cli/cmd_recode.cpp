@@ -22,7 +22,7 @@ CommandRunner setupRecodeCommand(CLI::App& app) {
     app.add_option("-o,--output", args->output, "The recoded file (may be the input: replaced once complete)")
         ->required();
     addResidualCodingOptions(app, args->coding);
-    app.add_option("--threads", args->threads, "Worker threads (default: all cores; the output does not depend on it)");
+    addThreadsOption(app, args->threads);
     addReportOption(app, args->report, "the report");
     app.add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
     addProgressOption(app);

@@ -2,7 +2,9 @@
 // file, index or directory) and compare it with the source.
 // `pyramid verify FILE --gl`: produce every tile on the CPU and on the GPU and compare them.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -32,6 +34,7 @@ struct VerifyArgs {
     bool gl = false;
     bool quiet = false;
     PlanarTargetArgs target;
+    std::string program; // what its messages begin with
 };
 
 int verifyResidual(const VerifyArgs& a) {
@@ -54,15 +57,23 @@ int verifyResidual(const VerifyArgs& a) {
     if (a.report != "-") {
         std::printf("%s against %s: scale %g, bound %g\n", a.file.c_str(), a.source.c_str(), report.scale, report.bound);
         for (const DemVerifyLevel& l : report.levels) {
-            std::printf("  level %2d: %6lld tiles %10lld samples  max error %-10.6g rms %-10.6g%s", l.level,
-                        static_cast<long long>(l.tiles), static_cast<long long>(l.samples), l.maxError, l.rmsError,
-                        l.beyondBound ? "  BEYOND BOUND" : "");
+            char line[200];
+            std::snprintf(line, sizeof line, "  level %2d: %6lld tiles %10lld samples  max error %-10.6g rms %-10.6g%s",
+                          l.level, static_cast<long long>(l.tiles), static_cast<long long>(l.samples), l.maxError,
+                          l.rmsError, l.beyondBound ? "  BEYOND BOUND" : "");
+            std::string text = line;
             if (l.nonFinite) {
-                std::printf("  %lld NON-FINITE", static_cast<long long>(l.nonFinite));
+                text += "  " + std::to_string(l.nonFinite) + " NON-FINITE";
             }
-            std::printf("\n");
+            text.erase(text.find_last_not_of(' ') + 1); // the columns' padding, not at the end of a line
+            std::printf("%s\n", text.c_str());
         }
         std::printf("%s\n", report.ok() ? "ok: every sample within scale/2" : "FAILED: samples beyond scale/2 or not finite");
+    }
+    if (!report.ok()) {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: %s: samples beyond scale/2 or not finite against %s\n", a.program.c_str(),
+                     a.file.c_str(), a.source.c_str());
     }
     return report.ok() ? kExitOk : kExitFailure;
 }
@@ -81,6 +92,10 @@ int verifyGl(const VerifyArgs& a) {
                         p.unit.c_str(), p.ok() ? "" : "  BEYOND TOLERANCE");
         }
         std::printf("%s\n", report.ok() ? "ok: CPU and GPU agree" : "FAILED: CPU and GPU differ");
+    }
+    if (!report.ok()) {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: %s: the CPU and GPU producers differ\n", a.program.c_str(), a.file.c_str());
     }
     return report.ok() ? kExitOk : kExitFailure;
 #else
@@ -116,6 +131,17 @@ int verifyOrthoFile(const VerifyArgs& a) {
         }
         std::printf("%s\n", report.ok ? "ok" : "FAILED: lossless tiles differ from the source");
     }
+    if (!report.ok) {
+        // preprocessOrtho writes its colour residuals as DIR/residuals/RGB.dat, in the same file
+        // format as plain tiles: compared as tiles, they differ everywhere.
+        const bool inResiduals = std::filesystem::path(a.file).parent_path().filename() == "residuals";
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: %s: lossless tiles differ from %s%s\n", a.program.c_str(), a.file.c_str(),
+                     a.source.c_str(),
+                     inResiduals && !a.colourResiduals
+                         ? " (its folder is residuals/: verify colour residuals with --colour-residuals)"
+                         : "");
+    }
     return report.ok ? kExitOk : kExitFailure;
 }
 
@@ -123,6 +149,7 @@ int verifyOrthoFile(const VerifyArgs& a) {
 
 CommandRunner setupVerifyCommand(CLI::App& app) {
     auto args = std::make_shared<VerifyArgs>();
+    args->program = programName(app);
     app.add_option("FILE", args->file, "Pyramid file or region set (its main file, index or directory) to verify")
         ->required();
     auto* source = app.add_option("--source", args->source, "The raster the file was built from");
@@ -133,7 +160,7 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
         ->capture_default_str();
     app.add_option("--nodata", args->nodata, "Missing-height value of the source, as preprocessDem");
     app.add_flag("--stretch", args->stretch, "The source was stretched (preprocessDem --stretch)");
-    app.add_option("--threads", args->threads, "Worker threads (default: all cores)");
+    addThreadsOption(app, args->threads);
     app.add_flag("-q,--quiet", args->quiet, "No progress on stderr");
     addProgressOption(app);
     addPlanarTargetOptions(app, args->target);

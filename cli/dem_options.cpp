@@ -72,7 +72,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
     app.add_option("--nodata", args->nodata,
                    "Value marking missing heights: a number, 'nan', 'inf', '-inf', or 'none' (default: what the file declares)");
     addResidualCodingOptions(app, args->coding);
-    app.add_option("--threads", o.threads, "Worker threads (default: all cores; the output does not depend on it)");
+    addThreadsOption(app, o.threads);
     app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
     addMaxFileBytesOption(app, args->maxFileBytes, "a region set");
     CLI::Option* part = addPartOption(app, args->part);

@@ -81,7 +81,7 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
 
 void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
     OrthoEncodeOptions& o = a->options;
-    app.add_option("--threads", o.levels.threads, "Worker threads (default: all cores; the output does not depend on it)");
+    addThreadsOption(app, o.levels.threads);
     app.add_option("--cache-mb", o.levels.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
     addMaxFileBytesOption(app, a->maxFileBytes, "each output as a region set");
     CLI::Option* part = addPartOption(app, a->part);
