@@ -142,6 +142,11 @@ void addReportOption(CLI::App& app, std::string& report, const std::string& what
     app.add_flag_callback("--json", [&report] { report = "-"; }, "The same as --report -")->excludes(file);
 }
 
+std::string& messageProgram() {
+    static std::string name = "libpyramid";
+    return name;
+}
+
 std::string programName(const CLI::App& app) {
     return app.get_parent() != nullptr ? app.get_parent()->get_name() : app.get_name();
 }
@@ -206,6 +211,12 @@ std::string usageError(CLI::App& app, int argc, char** argv, const CLI::ParseErr
             return program + ": " + name + ": '" + conversion->substr(equals + 3) + "' is not " + kind + hint;
         }
     }
+    if (const auto range = what.find(": Value "); range != std::string::npos && what.find(" not in range ") != std::string::npos) {
+        // "NAME: Value X not in range A to B"
+        std::string rest = what.substr(range + 8);
+        rest.replace(rest.find(" not in range "), 14, " is not ");
+        return program + ": " + what.substr(0, range) + ": " + rest + hint;
+    }
     if (const auto member = what.find(" not in {"); member != std::string::npos && what.back() == '}') {
         // "NAME: VALUE not in {A,B,C}"
         const auto colon = what.find(": ");
@@ -236,6 +247,7 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
     // After the signals are blocked: MPI's own threads inherit the mask.
     TeamScope team(argc, argv);
     arguments().assign(argv, argv + argc);
+    messageProgram() = app.get_name();
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -625,14 +637,20 @@ ResidualTileCoding ResidualCodingArgs::resolve(bool quiet) const {
     if (*codec == ResidualCodec::Context && deflateLevel != 0) {
         fail("--deflate-level", "applies to TIFF tiles, not to --compression context");
     }
-    if (*codec == ResidualCodec::Context && speaks(quiet)) {
-        std::fprintf(stderr, "warning: --compression context: the original Proland runtime cannot read these "
-                             "tiles (libpyramid's readers can)\n");
+    if (*codec == ResidualCodec::Context) {
+        warn(quiet, "--compression context: the original Proland runtime cannot read these tiles (libpyramid's "
+                    "readers can)");
     }
     return ResidualTileCoding{*codec, deflateLevel};
 }
 
 bool speaks(bool quiet) { return !quiet && worldTeam().rank() == 0; }
+
+void warn(bool quiet, const std::string& what) {
+    if (speaks(quiet)) {
+        std::fprintf(stderr, "%s: warning: %s\n", messageProgram().c_str(), what.c_str());
+    }
+}
 
 BuildRole runSplitBuild(const std::string& part, bool quiet, const SplitBuild& build) {
     Team& team = worldTeam();

@@ -143,6 +143,8 @@ void addReportOption(CLI::App& app, std::string& report, const std::string& what
 
 // The name a command's messages begin with: the program's (`pyramid` for its commands).
 std::string programName(const CLI::App& app);
+// The same for the running program (set by runProgram).
+std::string& messageProgram();
 
 // --threads N: the worker count (0, the default, is all cores; the library refuses more than
 // kMaxThreads). Results never depend on it.
@@ -222,5 +224,7 @@ std::function<void(int64_t, int64_t)> progressCallback(const std::string& label,
 std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, bool show);
 // Whether this process prints: not when quiet, nor on the ranks other than 0 of an MPI run.
 bool speaks(bool quiet);
+// "PROGRAM: warning: WHAT" on stderr, when this process speaks.
+void warn(bool quiet, const std::string& what);
 
 } // namespace pyramid::cli

@@ -155,12 +155,12 @@ CommandRunner setupHeightCommand(CLI::App& app) {
         ->capture_default_str()
         ->needs(lonlat);
     addReportOption(app, a->report, "the height, its tile and place");
-    return [a, grid, pixel, lonlat, xy]() {
+    app.parse_complete_callback([grid, pixel, lonlat, xy] {
         if (!*grid && !*pixel && !*lonlat && !*xy) {
-            fail("", "give the point: --grid X,Y, --pixel X,Y --source INPUT, --xy X,Y or --lonlat LON,LAT");
+            throw CLI::RequiredError("the point (--grid X,Y, --pixel X,Y --source INPUT, --xy X,Y or --lonlat LON,LAT)");
         }
-        return runHeight(*a);
-    };
+    });
+    return [a]() { return runHeight(*a); };
 }
 
 } // namespace pyramid::cli

@@ -34,8 +34,7 @@ CommandRunner setupMergeCommand(CLI::App& app) {
     };
     auto args = std::make_shared<Args>();
     app.add_option("parts", args->parts, "Every part file of the build (OUTPUT.part-I-of-N), in any order")
-        ->required()
-        ->check(CLI::ExistingFile);
+        ->required();
     app.add_option("-o,--output", args->directory,
                    "Directory to write the pyramids into (default: the parts' directory)");
     app.add_flag("--keep-parts", args->keep, "Keep the part files (default: removed once the pyramids are in place)");

@@ -18,7 +18,7 @@ CommandRunner setupRecodeCommand(CLI::App& app) {
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
-    app.add_option("input", args->input, "A residual (DEM) file")->required()->check(CLI::ExistingFile);
+    app.add_option("input", args->input, "A residual (DEM) file")->required();
     app.add_option("-o,--output", args->output, "The recoded file (may be the input: replaced once complete)")
         ->required();
     addResidualCodingOptions(app, args->coding);

@@ -17,10 +17,10 @@ namespace pyramid::cli {
 namespace {
 
 // The original Proland runtime's tile buffers hold 255 samples a side.
-void warnUnreadableTiles(int tileSize) {
+void warnUnreadableTiles(int tileSize, bool quiet) {
     if (tileSize + 5 >= 256) {
-        std::fprintf(stderr, "warning: tiles of %d samples: the original Proland runtime reads tiles of at most "
-                             "255 samples (tile size 250)\n", tileSize + 5);
+        warn(quiet, "tiles of " + std::to_string(tileSize + 5) +
+                        " samples: the original Proland runtime reads tiles of at most 255 samples (tile size 250)");
     }
 }
 
@@ -115,15 +115,13 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
         return options; // the warning, if any, comes with the choice (printTileFit)
     }
     options.tileSize = std::stoi(args.tileSize); // a whole number: checked while parsing
-    if (!args.quiet) {
-        warnUnreadableTiles(options.tileSize);
-    }
+    warnUnreadableTiles(options.tileSize, args.quiet);
     return options;
 }
 
 void printTileFit(const DemTileFit& fit) {
     std::fprintf(stderr, "--tile-size auto: %s\n", fit.describe().c_str());
-    warnUnreadableTiles(fit.tileSize);
+    warnUnreadableTiles(fit.tileSize, false); // printed only when the run speaks
 }
 
 void takeMerged(DemReport& report, const ResidualPyramidReport& merged) {

@@ -107,9 +107,9 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     }
     options.maxFileBytes = a.maxFileBytes.resolve();
     options.region = a.region.resolve();
-    if (options.compression == TilePolicy::JpegYCbCr && options.writeTiff && !a.quiet) {
-        std::fprintf(stderr, "warning: --compression jpeg-ycbcr: the original Proland runtime cannot read these "
-                             "tiles (libpyramid's readers can)\n");
+    if (options.compression == TilePolicy::JpegYCbCr && options.writeTiff) {
+        warn(a.quiet, "--compression jpeg-ycbcr: the original Proland runtime cannot read these tiles (libpyramid's "
+                      "readers can)");
     }
     return options;
 }

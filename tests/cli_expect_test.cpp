@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -59,12 +60,29 @@ test::RunResult runIn(const std::string& dir, const std::string& line) {
                      test::samplePath("") + "' LC_ALL=C sh '" + script + "'");
 }
 
+// A line's closing duration (" 0.1 s", the summaries' elapsed time), which no run repeats,
+// written " # s".
+std::string withoutDuration(std::string line) {
+    if (line.size() < 4 || line.compare(line.size() - 2, 2, " s") != 0) {
+        return line;
+    }
+    size_t begin = line.size() - 2;
+    while (begin > 0 && (std::isdigit(static_cast<unsigned char>(line[begin - 1])) || line[begin - 1] == '.')) {
+        --begin;
+    }
+    if (begin == line.size() - 2 || begin == 0 || line[begin - 1] != ' ') {
+        return line;
+    }
+    return line.replace(begin, line.size() - 2 - begin, "#");
+}
+
 std::string prefixed(char stream, const std::string& text) {
     std::string lines;
     size_t start = 0;
     while (start < text.size()) {
         const size_t end = text.find('\n', start);
-        const std::string line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+        const std::string line =
+            withoutDuration(text.substr(start, end == std::string::npos ? std::string::npos : end - start));
         lines += std::string(1, stream) + (line.empty() ? "" : " " + line) + "\n";
         if (end == std::string::npos) {
             lines += std::string(1, stream) + " (no newline at the end)\n";

@@ -442,7 +442,8 @@ TEST(PreprocessOrthoCli, YCbCrJpegTilesWarnAndVerify) {
                        "' --tile-size 16 --outputs tiff --compression jpeg-ycbcr --jpeg-error --report '" +
                        dir.file("r.json") + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(r.err.rfind("warning: --compression jpeg-ycbcr: the original Proland runtime cannot read", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.rfind("preprocessOrtho: warning: --compression jpeg-ycbcr: the original Proland runtime cannot read", 0), 0u)
+        << r.err;
     const auto report = nlohmann::json::parse(test::readFile(dir.file("r.json")));
     EXPECT_EQ(test::run(test::programPath("pyramid") + " check '" + dir.file("out/RGB.dat") + "'").exitCode, 0);
     const auto info = nlohmann::json::parse(

@@ -52,13 +52,13 @@ TEST(HeightCli, PlanarPixelsAndGridPointsGiveTheSourceHeights) {
     // Half-way between two samples: their mean, as the producer's tiles give them.
     const double a = heightOf(quoted(file) + " --grid 10,20"), b = heightOf(quoted(file) + " --grid 11,20");
     EXPECT_NEAR(heightOf(quoted(file) + " --grid 10.5,20"), (a + b) / 2, 1e-6);
-    // Outside the root quad, and without a point: one line, exit 1.
+    // Outside the root quad: one line, exit 1; without a point: a usage error, exit 2.
     auto r = run(programPath("pyramid") + " height " + quoted(file) + " --grid 65,3");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("outside the root quad"), std::string::npos) << r.err;
     r = run(programPath("pyramid") + " height " + quoted(file));
-    EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.err.find("give the point"), std::string::npos) << r.err;
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("the point (--grid X,Y"), std::string::npos) << r.err;
 }
 
 // A planar file built from a georeferenced input takes points in the input's CRS (and, for a

@@ -5,10 +5,12 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_kind.hpp"
 #include "libpyramid/input/image_io_module.hpp"
 #include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
@@ -45,6 +47,16 @@ struct RasterSource::Impl {
             }
         });
         if (!moduleImage) {
+            // A pyramid given where its source belongs (no image format knows one) is named as such.
+            std::optional<PyramidKind> kind;
+            try {
+                kind = detectPyramidKind(path);
+            } catch (const Error&) {
+            }
+            if (kind) {
+                fail(path, std::string(*kind == PyramidKind::Ortho ? "holds an ortho" : "holds a residual") +
+                               " pyramid, not an image: give the raster the pyramid is built from");
+            }
             fail(path, "cannot read: " + moduleError);
         }
         return *moduleImage;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_kind.hpp"
 #include "formats/tile_table.hpp"
 #include "libpyramid/encode/residual/residual_parts.hpp"
 #include "libpyramid/support/parallel.hpp"
@@ -35,7 +36,11 @@ ResidualRecodeReport recodeResidualFile(const std::string& input, const std::str
     const auto start = std::chrono::steady_clock::now();
     options.tiles.validate();
     const int threads = workerThreads(options.threads);
-    const auto reader = ResidualFileReader::open(input);
+    OpenedPyramid opened = openPyramid(input);
+    if (opened.kind != PyramidKind::Residual) {
+        fail(input, "holds an ortho pyramid: recoding stores a residual (DEM) file's tiles in another codec");
+    }
+    const std::unique_ptr<ResidualFileReader> reader = std::move(opened.residual);
     const ResidualHeader& h = reader->header();
     ResidualRecodeReport report;
     report.input = input;
