@@ -5,7 +5,10 @@ A help block is a fenced block holding "-h,--help"; its program is the one named
 `PROGRAM --help` in the text just before it, or `pyramid NAME` for doc/cli/pyramid-NAME.md.
 The block keeps the help from its "Positionals:" or "Options:" line on.
 
-    python3 scripts/doc-help.py [BUILD_DIR]      (default: build)
+    python3 scripts/doc-help.py [--check] [BUILD_DIR]      (default: build)
+
+With --check nothing is written: each block that differs from its program's help is named,
+and the exit status is 1 (ctest runs this as doc_help_blocks).
 """
 import pathlib
 import re
@@ -13,7 +16,11 @@ import subprocess
 import sys
 
 root = pathlib.Path(__file__).resolve().parent.parent
-bin_dir = root / (sys.argv[1] if len(sys.argv) > 1 else "build") / "cli"
+args = sys.argv[1:]
+check = "--check" in args
+args = [a for a in args if a != "--check"]
+bin_dir = root / (args[0] if args else "build") / "cli"
+stale = []
 
 
 def help_text(command):
@@ -42,6 +49,11 @@ for page in sorted((root / "doc" / "cli").glob("*.md")):
         if block != parts[k]:
             parts[k] = block
             changed = True
-    if changed:
+            stale.append(f"{page.relative_to(root)}: the help block of `{' '.join(command)}` differs from its --help")
+    if changed and not check:
         page.write_text("".join(parts))
         print("updated", page.relative_to(root))
+
+if check and stale:
+    print("\n".join(stale) + "\n(python3 scripts/doc-help.py rewrites them)", file=sys.stderr)
+    sys.exit(1)

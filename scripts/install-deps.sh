@@ -6,7 +6,7 @@ packages=(
   libtiff-dev libdeflate-dev libpng-dev zlib1g-dev libopenimageio-dev libopenexr-dev libsquish-dev libstb-dev libgeographiclib-dev libgeotiff-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
-  openimageio-tools help2man
+  openimageio-tools help2man python3
   openmpi-bin libopenmpi-dev openssh-client
 )
 # The fuzz targets (fuzz/README.md) build with clang, whose OpenMP needs libomp.
