@@ -137,7 +137,14 @@ std::string versionText(const std::string& program) {
     return text;
 }
 
+// Each command's --report target, for the report of a run that fails (runProgram).
+std::map<const CLI::App*, const std::string*>& reportTargets() {
+    static std::map<const CLI::App*, const std::string*> targets;
+    return targets;
+}
+
 void addReportOption(CLI::App& app, std::string& report, const std::string& what) {
+    reportTargets()[&app] = &report;
     CLI::Option* file = app.add_option("--report", report, "Write " + what + " as JSON to this file ('-' for stdout)");
     app.add_flag_callback("--json", [&report] { report = "-"; }, "The same as --report -")->excludes(file);
 }
@@ -260,22 +267,33 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
         std::cerr << usageError(app, argc, argv, e);
         return kExitUsage;
     }
+    const CLI::App* command = nullptr;
+    std::string error;
     try {
         for (int i = 0; i < count; ++i) {
             if (runners[i].app->parsed()) {
+                command = runners[i].app;
                 return runners[i].run();
             }
         }
         std::cerr << app.get_name() << ": no command given (see --help)\n";
         return kExitUsage;
     } catch (const TeamFailed&) {
-        // Another rank of an MPI run failed: rank 0 says why, once.
+        return kExitFailure; // another rank of an MPI run failed: rank 0 says why, once
     } catch (const OptionError& e) {
-        std::cerr << app.get_name() << ": " << flagName(e.option()) << ": " << e.problem() << "\n";
-    } catch (const Error& e) {
-        std::cerr << app.get_name() << ": " << e.what() << "\n";
-    } catch (const std::exception& e) {
-        std::cerr << app.get_name() << ": " << e.what() << "\n";
+        error = flagName(e.option()) + ": " + e.problem();
+    } catch (const std::exception& e) { // Error and the rest
+        error = e.what();
+    }
+    std::cerr << app.get_name() << ": " << error << "\n";
+    // A script reading the report sees the failure too: {"ok": false, ...} where the report goes.
+    const auto target = reportTargets().find(command);
+    if (target != reportTargets().end() && !target->second->empty() && worldTeam().rank() == 0) {
+        try {
+            writeJson({{"ok", false}, {"exit_code", kExitFailure}, {"error", error}}, *target->second);
+        } catch (const std::exception&) {
+            // the report's own path failed: the line above has said why the run did
+        }
     }
     return kExitFailure;
 }
@@ -437,7 +455,11 @@ void OutputPreflight::keep() {
 }
 
 void writeJson(const nlohmann::json& json, const std::string& path) {
-    const std::string text = json.dump(2) + "\n";
+    nlohmann::json report = json;
+    if (report.is_object() && !report.contains("ok")) {
+        report["ok"] = true; // every report says whether its run succeeded
+    }
+    const std::string text = report.dump(2) + "\n";
     if (path == "-") {
         std::fwrite(text.data(), 1, text.size(), stdout);
         std::fflush(stdout);

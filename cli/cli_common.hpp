@@ -150,7 +150,8 @@ std::string& messageProgram();
 // kMaxThreads). Results never depend on it.
 void addThreadsOption(CLI::App& app, int& threads);
 
-// Writes `json` (pretty, with a final newline) to `path` atomically; "-" means stdout.
+// Writes a report, `json` (pretty, with a final newline), to `path` atomically; "-" means
+// stdout. An object without "ok" gets "ok": true (a failed run's report is runProgram's).
 void writeJson(const nlohmann::json& json, const std::string& path);
 
 // The planar commands' georeference sidecar (input/pyramid_georeference.hpp) and --report must
