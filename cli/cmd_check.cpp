@@ -102,7 +102,7 @@ std::string reasonLine(const std::string& file, const std::vector<std::string>& 
 }
 
 // One file checked: its structure validated and every tile decoded. Problems are appended;
-// returns the tiles decoded. Throws Error when the file cannot be opened as a pyramid.
+// returns the tiles checked (each decoded, or found broken). Throws Error when the file cannot be opened as a pyramid.
 int64_t checkFile(const std::string& file, int threads, bool quiet, std::string& kind,
                   std::vector<std::string>& problems) {
     const OpenedPyramid opened = openPyramid(file);
@@ -176,7 +176,7 @@ int checkSet(const std::string& path, const std::string& report, int threads, bo
         for (const std::string& p : problems) {
             std::printf("%s\n", p.c_str());
         }
-        std::printf("%s: %s set of %zu file%s, %lld tiles decoded, %zu problem%s\n", name.c_str(), kind.c_str(),
+        std::printf("%s: %s set of %zu file%s, %lld tiles checked, %zu problem%s\n", name.c_str(), kind.c_str(),
                     listed, listed == 1 ? "" : "s", static_cast<long long>(checked), problems.size(),
                     problems.size() == 1 ? "" : "s");
     }
@@ -231,7 +231,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
             for (const std::string& p : problems) {
                 std::printf("%s\n", p.c_str());
             }
-            std::printf("%s: %s, %lld tiles decoded, %zu problem%s\n", file->c_str(), kind.c_str(),
+            std::printf("%s: %s, %lld tiles checked, %zu problem%s\n", file->c_str(), kind.c_str(),
                         static_cast<long long>(checked), problems.size(), problems.size() == 1 ? "" : "s");
         }
         if (problems.empty()) {
