@@ -61,10 +61,7 @@ std::unique_ptr<OrthoFileReader> OrthoFileReader::open(std::shared_ptr<const Byt
     const std::string& path = source->name();
     reader->path_ = path;
     uint8_t raw[OrthoHeader::kBytes];
-    if (source->size() < sizeof raw) {
-        fail(path, "file of " + std::to_string(source->size()) +
-                       " bytes is too short for its header and offset table of 0 tiles");
-    }
+    detail::requireHeader(path, source->size(), sizeof raw);
     source->readAt(0, raw, sizeof raw);
     OrthoHeader& h = reader->header_;
     h.maxLevel = detail::loadI32(raw + 0);

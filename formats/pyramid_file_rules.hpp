@@ -2,6 +2,7 @@
 // (formats/header_bytes.hpp): the limits a header may declare, how messages name a tile, and
 // the writers' check that every tile was written.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -24,6 +25,10 @@ constexpr bool isQuadtreeTile(int level, int tx, int ty) {
 } // namespace pyramid
 
 namespace pyramid::detail {
+
+// Fails unless a file of `fileBytes` holds a header of `headerBytes`: "PATH: empty file, not a
+// pyramid" or "PATH: file of N bytes, shorter than a pyramid header (H bytes)".
+void requireHeader(const std::string& path, uint64_t fileBytes, size_t headerBytes);
 
 // "PATH: tile (level,tx,ty)".
 std::string tileName(const std::string& path, int level, int tx, int ty);

@@ -68,10 +68,7 @@ void ResidualHeader::validate(const std::string& where) const {
 
 ResidualHeader ResidualFileReader::readHeader(const ByteSource& source) {
     uint8_t raw[ResidualHeader::kBytes];
-    if (source.size() < sizeof raw) {
-        fail(source.name(), "file of " + std::to_string(source.size()) +
-                                " bytes is too short for its header and offset table of 0 tiles");
-    }
+    detail::requireHeader(source.name(), source.size(), sizeof raw);
     source.readAt(0, raw, sizeof raw);
     ResidualHeader h;
     h.minLevel = detail::loadI32(raw + 0);

@@ -81,6 +81,9 @@ void checkRegularFile(const std::string& path) {
     if (!std::filesystem::is_regular_file(path, ec)) {
         fail(path, "not a regular file");
     }
+    if (std::filesystem::file_size(path, ec) == 0 && !ec) {
+        fail(path, "empty file, not an image");
+    }
 }
 
 } // namespace

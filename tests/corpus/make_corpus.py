@@ -177,8 +177,8 @@ def main():
 
     # ---- residual files
     R = "residual"
-    emit("residual/empty.dat", b"", R, "too short")
-    emit("residual/dem-truncated-header.dat", dem[:20], R, "too short")
+    emit("residual/empty.dat", b"", R, "empty file")
+    emit("residual/dem-truncated-header.dat", dem[:20], R, "shorter than a pyramid header")
     emit("residual/dem-truncated-table.dat", dem[:28 + 100], R, "offset table of 24 tiles")
     emit("residual/dem-offsets-past-end.dat", dem[:28 + 192 + 17686], R, "past the end of the tile data")
     small_pairs = [(0, 1066), (1066, 4786), (4786, 17686)]
@@ -256,8 +256,8 @@ def main():
     # ---- ortho files
     O = "ortho"
     rgb_small = pyramid(rgb_small_header, [rgb_tiles[0]], "q")
-    emit("ortho/empty.dat", b"", O, "too short")
-    emit("ortho/rgb-truncated-header.dat", rgb[:27], O, "too short")
+    emit("ortho/empty.dat", b"", O, "empty file")
+    emit("ortho/rgb-truncated-header.dat", rgb[:27], O, "shorter than a pyramid header")
     emit("ortho/rgb-truncated-table.dat", rgb[:28 + 40], O, "offset table of 5 tiles")
     emit("ortho/rgb-offsets-past-end.dat", rgb[:28 + 80 + 38188], O, "past the end of the tile data")
     emit("ortho/rgb-reversed-offsets.dat", with_table(rgb_small_header, [(38188, 0)], rgb_tiles[0], "q"), O,
