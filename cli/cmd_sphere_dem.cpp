@@ -37,6 +37,8 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         options.faces = choice.faces;
         options.heightScale = parseRatio(*heightScale, "--height-scale");
         options.name = *name;
+        const bool quiet = args->quiet;
+        options.warning = [quiet](const std::string& what) { warn(quiet, what); };
         const bool talk = speaks(args->quiet);
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;

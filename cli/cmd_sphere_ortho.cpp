@@ -32,6 +32,8 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
         options.extent = choice.extent;
         options.body = choice.body;
         options.faces = choice.faces;
+        const bool quiet = a->quiet;
+        options.warning = [quiet](const std::string& what) { warn(quiet, what); };
         const bool talk = speaks(a->quiet);
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;

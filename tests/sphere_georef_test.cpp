@@ -9,14 +9,19 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/map_projection.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/rasters.hpp"
 #include "tests/support/sphere_placement.hpp"
 
 namespace pyramid {
@@ -101,6 +106,36 @@ TEST(SphericalGeoreference, GeographicMapsLandWhereTheyAre) {
         };
         expectPlaced(path, -11.0, 31.2, 8, pixelOf, W, H, height, 0.5);
     }
+}
+
+// A map without georeferencing is a plate carree over its extent: when that makes its pixels
+// far from square (a regional image taken for the globe), the sources say so; a global map
+// twice as wide as tall, a fitting extent and a georeferenced file (whose own extent places it,
+// whatever its pixels) do not.
+TEST(SphericalGeoreference, PixelsFarFromSquareAreAWarning) {
+    test::TempDir dir;
+    const auto warnings = [&](int width, int height, const std::optional<GeoExtent>& extent, bool georeferenced) {
+        const std::string path = dir.file("map-" + std::to_string(width) + "x" + std::to_string(height) + ".tif");
+        const std::vector<float> v(static_cast<size_t>(width * height), 100.0f);
+        if (georeferenced) {
+            test::writeGeoTiff(path, width, height, v, test::geographicTags(4326, 10.0, 50.0, 0.01));
+        } else {
+            test::writeFloatRaster(path, width, height, v);
+        }
+        const MapSources m = openMapSources({path}, extent, PlanetBody::parse("wgs84"), 16, SampleRead::Float, 0, 1,
+                                            [](const RasterInfo&, const std::string&) { return std::nullopt; });
+        return m.warnings;
+    };
+    const auto globe = warnings(100, 70, std::nullopt, false);
+    ASSERT_EQ(globe.size(), 1u);
+    EXPECT_EQ(globe[0], dir.file("map-100x70.tif") +
+                            ": 100 x 70 pixels over the whole globe are 3.6 by 2.571 degrees, not square; a global map "
+                            "is twice as wide as tall (--extent WEST,SOUTH,EAST,NORTH places a part of the globe)");
+    EXPECT_TRUE(warnings(200, 100, std::nullopt, false).empty());
+    EXPECT_TRUE(warnings(201, 100, std::nullopt, false).empty()); // within 1 %
+    EXPECT_EQ(warnings(100, 100, GeoExtent{0.0, 0.0, 20.0, 10.0}, false).size(), 1u);
+    EXPECT_TRUE(warnings(100, 50, GeoExtent{0.0, 0.0, 20.0, 10.0}, false).empty());
+    EXPECT_TRUE(warnings(100, 70, std::nullopt, true).empty());
 }
 
 TEST(SphericalGeoreference, GridRegisteredGlobalMapAcrossTheAntimeridian) {

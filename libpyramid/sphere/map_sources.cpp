@@ -1,12 +1,42 @@
 #include "libpyramid/sphere/map_sources.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "formats/error.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/sphere/map_mosaic.hpp"
 
 namespace pyramid {
+
+namespace {
+
+// A plate carree's pixels are as wide as tall (in degrees) when its extent fits its size: a
+// global map is twice as wide as tall. Beyond 1 % apart, the map was most likely not meant for
+// that extent (a regional image taken for the globe, --extent left out).
+std::optional<std::string> unevenPixels(const std::string& name, const RasterInfo& info, const GeoExtent& e,
+                                        bool extentGiven) {
+    const double wide = (e.east - e.west) / info.width, tall = (e.north - e.south) / info.height;
+    if (std::abs(wide / tall - 1.0) <= 0.01) {
+        return std::nullopt;
+    }
+    const auto degrees = [](double v) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.4g", v);
+        return std::string(text);
+    };
+    return name + ": " + std::to_string(info.width) + " x " + std::to_string(info.height) + " pixels over " +
+           (extentGiven ? "the extent " + degrees(e.west) + "," + degrees(e.south) + "," + degrees(e.east) + "," +
+                              degrees(e.north)
+                        : std::string("the whole globe")) +
+           " are " + degrees(wide) + " by " + degrees(tall) + " degrees, not square" +
+           (extentGiven ? std::string("; is the extent the map's?")
+                        : std::string("; a global map is twice as wide as tall (--extent WEST,SOUTH,EAST,NORTH places "
+                                      "a part of the globe)"));
+}
+
+} // namespace
 
 MapSources openMapSources(const std::vector<std::string>& inputs, const std::optional<GeoExtent>& extent,
                           const PlanetBody& body, int cacheMegabytes, SampleRead read, int c0, int c1,
@@ -25,6 +55,11 @@ MapSources openMapSources(const std::vector<std::string>& inputs, const std::opt
             failOption("extent", "a mosaic of georeferenced files places itself: " + m.name + " takes no extent");
         }
         m.placement = placeMap(m.info, m.name, extent, body);
+        if (m.placement.crs.empty()) {
+            if (auto uneven = unevenPixels(m.name, m.info, m.placement.extent, extent.has_value())) {
+                m.warnings.push_back(*uneven);
+            }
+        }
         m.nodata = nodataOf(m.info, m.name);
         m.map = std::make_unique<EquirectSampler>(*m.source, m.placement, c0, c1, read, m.nodata);
         return m;

@@ -23,6 +23,9 @@ struct MapSources {
     std::optional<double> nodata;   // the raster's (of several grids: each has its own)
     std::unique_ptr<RasterSource> source; // the raster; null for several grids
     std::unique_ptr<GeodeticMap> map;     // channels [c0, c1), read as `read`
+    // What the user may not have meant, one line each: a map without georeferencing whose pixels
+    // its extent (the globe, by default) makes far from square.
+    std::vector<std::string> warnings;
 };
 
 // `inputs` in priority order (first listed first where files of one resolution overlap).

@@ -178,7 +178,14 @@ SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, co
                                               o.band, o.band + 1, [&](const RasterInfo& info, const std::string& name) {
                                                   return checkBandAndNodata(info, o, name);
                                               });
-    return encodeMap(sources, inputs, directory, options, start);
+    for (const std::string& w : sources.warnings) {
+        if (options.warning) {
+            options.warning(w);
+        }
+    }
+    SphericalDemReport report = encodeMap(sources, inputs, directory, options, start);
+    report.warnings = sources.warnings;
+    return report;
 }
 
 SphericalDemReport encodeSphericalDem(const MapSources& sources, const std::string& directory,
@@ -212,6 +219,7 @@ nlohmann::json toJson(const SphericalDemReport& r) {
             {"body", r.body},
             {"crs", r.crs.empty() ? nlohmann::json() : nlohmann::json(r.crs)}, // null: not georeferenced
             {"faces", faces},
+            {"warnings", r.warnings},
             {"threads", r.threads},
             {"seconds", r.seconds}};
 }

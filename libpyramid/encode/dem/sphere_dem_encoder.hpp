@@ -44,6 +44,8 @@ struct SphericalDemOptions {
     double heightScale = 1.0;     // height = sample value x heightScale (e.g. 10000/255)
     std::string name = "DEM";     // files NAME1.dat .. NAME6.dat
     std::vector<int> faces{1, 2, 3, 4, 5, 6};
+    // Called, before any face is encoded, with each of the inputs' warnings (MapSources).
+    std::function<void(const std::string&)> warning;
     // Called from one thread at a time with each tile's reconstruction: for tests.
     std::function<void(int face, int level, int tx, int ty, const std::vector<float>&)> reconstruction;
 };
@@ -66,6 +68,7 @@ struct SphericalDemReport {
     GeoExtent extent;             // the map's (a projected map: a geographic box around it)
     std::string crs;              // the input's CRS, if georeferenced
     std::vector<SphericalDemFaceReport> faces;
+    std::vector<std::string> warnings; // MapSources::warnings, also given to options.warning
     int threads = 0;
     double seconds = 0.0;
 };

@@ -126,7 +126,14 @@ SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs
     }
     const RasterSource& source = sources.source ? *sources.source : *described;
     const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
-    return encodeFaces(source, map, sources.name, sources.placement, inputs, directory, o, start);
+    for (const std::string& w : sources.warnings) {
+        if (o.warning) {
+            o.warning(w);
+        }
+    }
+    SphericalOrthoReport report = encodeFaces(source, map, sources.name, sources.placement, inputs, directory, o, start);
+    report.warnings = sources.warnings;
+    return report;
 }
 
 SphericalOrthoReport encodeSphericalOrtho(const MapSources& sources, const std::string& directory,
@@ -157,6 +164,7 @@ nlohmann::json toJson(const SphericalOrthoReport& r) {
             {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
                         {"north", r.extent.north}}},
             {"faces", faces},
+            {"warnings", r.warnings},
             {"threads", r.threads},
             {"seconds", r.seconds}};
 }

@@ -5,6 +5,7 @@
 // (ortho_levels.hpp, "Cube faces"), and its tile borders are its neighbours' pixels, so that the
 // faces join without seams at every level.
 #pragma once
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,8 @@ struct SphericalOrthoOptions {
     std::optional<GeoExtent> extent;
     std::string body = "wgs84";   // PlanetBody::parse
     std::vector<int> faces{1, 2, 3, 4, 5, 6};
+    // Called, before any face is encoded, with each of the inputs' warnings (MapSources).
+    std::function<void(const std::string&)> warning;
 };
 
 struct SphericalOrthoFaceReport {
@@ -44,6 +47,7 @@ struct SphericalOrthoReport {
     GeoExtent extent; // the image's (a projected one: a geographic box around it)
     std::string crs;  // the input's CRS, if georeferenced
     std::vector<SphericalOrthoFaceReport> faces;
+    std::vector<std::string> warnings; // MapSources::warnings, also given to options.warning
     int threads = 0;
     double seconds = 0.0;
 };
