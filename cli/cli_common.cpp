@@ -154,10 +154,6 @@ std::string& messageProgram() {
     return name;
 }
 
-std::string programName(const CLI::App& app) {
-    return app.get_parent() != nullptr ? app.get_parent()->get_name() : app.get_name();
-}
-
 void addThreadsOption(CLI::App& app, int& threads) {
     app.add_option("--threads", threads,
                    "Worker threads, 1 to " + std::to_string(kMaxThreads) +

@@ -141,9 +141,8 @@ private:
 // --json is the same as --report - (the inspection commands' spelling before there was one).
 void addReportOption(CLI::App& app, std::string& report, const std::string& what);
 
-// The name a command's messages begin with: the program's (`pyramid` for its commands).
-std::string programName(const CLI::App& app);
-// The same for the running program (set by runProgram).
+// The name the running program's messages begin with (`pyramid` for its commands; set by
+// runProgram).
 std::string& messageProgram();
 
 // --threads N: the worker count (0, the default, is all cores; the library refuses more than

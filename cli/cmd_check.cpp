@@ -127,7 +127,7 @@ int64_t checkFile(const std::string& file, int threads, bool quiet, std::string&
 }
 
 // A region set: the set's rules (formats/pyramid_set.hpp), then every file as checkFile does.
-int checkSet(const std::string& path, const std::string& report, int threads, bool quiet, const std::string& program) {
+int checkSet(const std::string& path, const std::string& report, int threads, bool quiet) {
     std::vector<std::string> problems;
     std::string kind = "unknown";
     std::string name = path;
@@ -184,7 +184,7 @@ int checkSet(const std::string& path, const std::string& report, int threads, bo
         return kExitOk;
     }
     std::fflush(stdout);
-    std::fprintf(stderr, "%s: %s\n", program.c_str(), reasonLine("", problems).c_str());
+    std::fprintf(stderr, "%s: %s\n", messageProgram().c_str(), reasonLine("", problems).c_str());
     return kExitFailure;
 }
 
@@ -202,8 +202,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
     addThreadsOption(app, *threads);
     app.add_flag("-q,--quiet", *quiet, "No progress on stderr (a failure's line stays)");
     addProgressOption(app);
-    const std::string program = programName(app);
-    return [file, report, threads, quiet, program]() {
+    return [file, report, threads, quiet]() {
         const int workers = workerThreads(*threads); // before any file: a bad count is the command line's fault
         bool set = false;
         try {
@@ -212,7 +211,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
             set = true; // a directory without one index: reported as the set's problem
         }
         if (set) {
-            return checkSet(*file, *report, workers, *quiet, program);
+            return checkSet(*file, *report, workers, *quiet);
         }
         std::vector<std::string> problems;
         std::string kind = "unknown";
@@ -238,7 +237,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
             return kExitOk;
         }
         std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s\n", program.c_str(), reasonLine(*file, problems).c_str());
+        std::fprintf(stderr, "%s: %s\n", messageProgram().c_str(), reasonLine(*file, problems).c_str());
         return kExitFailure;
     };
 }

@@ -34,7 +34,6 @@ struct VerifyArgs {
     bool gl = false;
     bool quiet = false;
     PlanarTargetArgs target;
-    std::string program; // what its messages begin with
 };
 
 int verifyResidual(const VerifyArgs& a) {
@@ -72,7 +71,7 @@ int verifyResidual(const VerifyArgs& a) {
     }
     if (!report.ok()) {
         std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s: samples beyond scale/2 or not finite against %s\n", a.program.c_str(),
+        std::fprintf(stderr, "%s: %s: samples beyond scale/2 or not finite against %s\n", messageProgram().c_str(),
                      a.file.c_str(), a.source.c_str());
     }
     return report.ok() ? kExitOk : kExitFailure;
@@ -95,7 +94,7 @@ int verifyGl(const VerifyArgs& a) {
     }
     if (!report.ok()) {
         std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s: the CPU and GPU producers differ\n", a.program.c_str(), a.file.c_str());
+        std::fprintf(stderr, "%s: %s: the CPU and GPU producers differ\n", messageProgram().c_str(), a.file.c_str());
     }
     return report.ok() ? kExitOk : kExitFailure;
 #else
@@ -136,7 +135,7 @@ int verifyOrthoFile(const VerifyArgs& a) {
         // format as plain tiles: compared as tiles, they differ everywhere.
         const bool inResiduals = std::filesystem::path(a.file).parent_path().filename() == "residuals";
         std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s: lossless tiles differ from %s%s\n", a.program.c_str(), a.file.c_str(),
+        std::fprintf(stderr, "%s: %s: lossless tiles differ from %s%s\n", messageProgram().c_str(), a.file.c_str(),
                      a.source.c_str(),
                      inResiduals && !a.colourResiduals
                          ? " (its folder is residuals/: verify colour residuals with --colour-residuals)"
@@ -149,7 +148,6 @@ int verifyOrthoFile(const VerifyArgs& a) {
 
 CommandRunner setupVerifyCommand(CLI::App& app) {
     auto args = std::make_shared<VerifyArgs>();
-    args->program = programName(app);
     app.add_option("FILE", args->file, "Pyramid file or region set (its main file, index or directory) to verify")
         ->required();
     auto* source = app.add_option("--source", args->source, "The raster the file was built from");
