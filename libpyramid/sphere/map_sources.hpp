@@ -26,6 +26,15 @@ struct MapSources {
     // What the user may not have meant, one line each: a map without georeferencing whose pixels
     // its extent (the globe, by default) makes far from square.
     std::vector<std::string> warnings;
+
+    // Gives each warning to `warning`, when set.
+    void tell(const std::function<void(const std::string&)>& warning) const {
+        for (const std::string& w : warnings) {
+            if (warning) {
+                warning(w);
+            }
+        }
+    }
 };
 
 // `inputs` in priority order (first listed first where files of one resolution overlap).

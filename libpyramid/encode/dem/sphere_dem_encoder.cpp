@@ -178,11 +178,7 @@ SphericalDemReport encodeSphericalDem(const std::vector<std::string>& inputs, co
                                               o.band, o.band + 1, [&](const RasterInfo& info, const std::string& name) {
                                                   return checkBandAndNodata(info, o, name);
                                               });
-    for (const std::string& w : sources.warnings) {
-        if (options.warning) {
-            options.warning(w);
-        }
-    }
+    sources.tell(options.warning);
     SphericalDemReport report = encodeMap(sources, inputs, directory, options, start);
     report.warnings = sources.warnings;
     return report;

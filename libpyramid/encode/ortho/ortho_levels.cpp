@@ -24,7 +24,7 @@ constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
 void OrthoLevelsOptions::validate() const {
     requireEncodableTileSize(tileSize);
-    workerThreads(threads);
+    workerThreads(threads); // refuses a count out of range
 }
 
 struct OrthoLevels::Impl {

@@ -126,11 +126,7 @@ SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs
     }
     const RasterSource& source = sources.source ? *sources.source : *described;
     const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
-    for (const std::string& w : sources.warnings) {
-        if (o.warning) {
-            o.warning(w);
-        }
-    }
+    sources.tell(o.warning);
     SphericalOrthoReport report = encodeFaces(source, map, sources.name, sources.placement, inputs, directory, o, start);
     report.warnings = sources.warnings;
     return report;

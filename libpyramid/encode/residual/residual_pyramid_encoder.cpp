@@ -26,7 +26,7 @@ void ResidualEncodeOptions::validate() const {
     if (!autoScale && (!std::isfinite(scale) || scale <= 0.0)) {
         failOption("scale", "must be a positive number, not " + numberText(scale));
     }
-    workerThreads(threads);
+    workerThreads(threads); // refuses a count out of range
     tiles.validate();
 }
 
