@@ -186,7 +186,7 @@ std::string usageError(CLI::App& app, int argc, char** argv, const CLI::ParseErr
         }
     }
     if (argc == 1 || (argc == 2 && command != nullptr)) {
-        return (command != nullptr ? command : &app)->help();
+        return command != nullptr ? command->help(program) : app.help(); // "Usage: pyramid info ..."
     }
     const std::string hint = " (see " + program + (command != nullptr ? " " + command->get_name() : "") + " --help)\n";
     std::string what = e.what();
