@@ -664,6 +664,11 @@ ResidualTileCoding ResidualCodingArgs::resolve(bool quiet) const {
 
 bool speaks(bool quiet) { return !quiet && worldTeam().rank() == 0; }
 
+void sayFailure(const std::string& what) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "%s: %s\n", messageProgram().c_str(), what.c_str());
+}
+
 void warn(bool quiet, const std::string& what) {
     if (speaks(quiet)) {
         std::fprintf(stderr, "%s: warning: %s\n", messageProgram().c_str(), what.c_str());

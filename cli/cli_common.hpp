@@ -226,5 +226,8 @@ std::function<void(int64_t, int64_t)> mergeProgress(const std::string& program, 
 bool speaks(bool quiet);
 // "PROGRAM: warning: WHAT" on stderr, when this process speaks.
 void warn(bool quiet, const std::string& what);
+// "PROGRAM: WHAT" on stderr, after what stdout holds: the one line of a run that found a
+// problem and returns its failure itself (check, verify) instead of throwing.
+void sayFailure(const std::string& what);
 
 } // namespace pyramid::cli

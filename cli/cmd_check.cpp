@@ -183,8 +183,7 @@ int checkSet(const std::string& path, const std::string& report, int threads, bo
     if (problems.empty()) {
         return kExitOk;
     }
-    std::fflush(stdout);
-    std::fprintf(stderr, "%s: %s\n", messageProgram().c_str(), reasonLine("", problems).c_str());
+    sayFailure(reasonLine("", problems));
     return kExitFailure;
 }
 
@@ -236,8 +235,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
         if (problems.empty()) {
             return kExitOk;
         }
-        std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s\n", messageProgram().c_str(), reasonLine(*file, problems).c_str());
+        sayFailure(reasonLine(*file, problems));
         return kExitFailure;
     };
 }

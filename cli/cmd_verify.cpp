@@ -70,9 +70,7 @@ int verifyResidual(const VerifyArgs& a) {
         std::printf("%s\n", report.ok() ? "ok: every sample within scale/2" : "FAILED: samples beyond scale/2 or not finite");
     }
     if (!report.ok()) {
-        std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s: samples beyond scale/2 or not finite against %s\n", messageProgram().c_str(),
-                     a.file.c_str(), a.source.c_str());
+        sayFailure(a.file + ": samples beyond scale/2 or not finite against " + a.source);
     }
     return report.ok() ? kExitOk : kExitFailure;
 }
@@ -93,8 +91,7 @@ int verifyGl(const VerifyArgs& a) {
         std::printf("%s\n", report.ok() ? "ok: CPU and GPU agree" : "FAILED: CPU and GPU differ");
     }
     if (!report.ok()) {
-        std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s: the CPU and GPU producers differ\n", messageProgram().c_str(), a.file.c_str());
+        sayFailure(a.file + ": the CPU and GPU producers differ");
     }
     return report.ok() ? kExitOk : kExitFailure;
 #else
@@ -134,12 +131,10 @@ int verifyOrthoFile(const VerifyArgs& a) {
         // preprocessOrtho writes its colour residuals as DIR/residuals/RGB.dat, in the same file
         // format as plain tiles: compared as tiles, they differ everywhere.
         const bool inResiduals = std::filesystem::path(a.file).parent_path().filename() == "residuals";
-        std::fflush(stdout);
-        std::fprintf(stderr, "%s: %s: lossless tiles differ from %s%s\n", messageProgram().c_str(), a.file.c_str(),
-                     a.source.c_str(),
-                     inResiduals && !a.colourResiduals
-                         ? " (its folder is residuals/: verify colour residuals with --colour-residuals)"
-                         : "");
+        sayFailure(a.file + ": lossless tiles differ from " + a.source +
+                   (inResiduals && !a.colourResiduals
+                        ? " (its folder is residuals/: verify colour residuals with --colour-residuals)"
+                        : ""));
     }
     return report.ok ? kExitOk : kExitFailure;
 }
