@@ -115,13 +115,24 @@ void writeTile(const TileData& tile, const std::string& path) {
     // The image goes to a temporary with the same extension (the module chooses the format by
     // it), renamed into place when complete.
     AtomicFile out(path, ext);
-    SampleType fileType = tile.type;
-    if (ext == ".exr" && !isFloat) {
-        fileType = SampleType::Float32; // exact for int16 and byte values
+    SampleType type = tile.type;
+    const void* samples = flipped.data();
+    std::vector<float> values;
+    if (ext == ".exr" && !isFloat) { // EXR holds no integers: their values as float32, exactly
+        values.resize(flipped.size() / sampleBytes);
+        for (size_t i = 0; i < values.size(); ++i) {
+            int16_t v = 0;
+            if (isInt16) {
+                std::memcpy(&v, &flipped[2 * i], 2);
+            }
+            values[i] = isInt16 ? static_cast<float>(v) : static_cast<float>(flipped[i]);
+        }
+        type = SampleType::Float32;
+        samples = values.data();
     }
     std::string error;
-    if (!imageIoModule(path).write(out.temporaryPath(), tile.side, tile.side, tile.channels, tile.type, fileType,
-                                   flipped.data(), error)) {
+    if (!imageIoModule(path).write(out.temporaryPath(), tile.side, tile.side, tile.channels, type, type, samples,
+                                   error)) {
         fail(path, "cannot write the image: " + error);
     }
     out.commit();

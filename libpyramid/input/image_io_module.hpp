@@ -39,7 +39,10 @@ struct ImageIoModule {
     // `cacheMegabytes`. Null with `error` set (one line) when the file is not a readable image.
     std::unique_ptr<ModuleImage> (*open)(const std::string& path, int cacheMegabytes, std::string& error) = nullptr;
     // Writes a width x height image of interleaved samples of `type` (north first) in the
-    // format the extension of `path` names, as `fileType` samples. False with `error` set.
+    // format the extension of `path` names, as `fileType` samples (converted by OpenImageIO's
+    // rules, integers normalised as in read: pass the same type twice to keep the values). The
+    // samples are stored as given; a last channel of two or four is unassociated alpha. False
+    // with `error` set.
     bool (*write)(const std::string& path, int width, int height, int channels, SampleType type, SampleType fileType,
                   const void* pixels, std::string& error) = nullptr;
     // The version of the OpenImageIO library the module runs on ("2.4.7"), for --version.

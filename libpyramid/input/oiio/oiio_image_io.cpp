@@ -179,7 +179,15 @@ bool writeImage(const std::string& path, int width, int height, int channels, Sa
             error = firstLine(OIIO::geterror());
             return false;
         }
-        const OIIO::ImageSpec spec(width, height, channels, typeDescOf(fileType));
+        OIIO::ImageSpec spec(width, height, channels, typeDescOf(fileType));
+        // The samples are written as they are: a last channel named alpha (grey and alpha, RGBA)
+        // is unassociated, as the pyramids store it, so that no writer divides the colours by it
+        // (PNG) or labels them premultiplied (TIFF's ExtraSamples).
+        if (channels == 2) {
+            spec.channelnames = {"Y", "A"};
+            spec.alpha_channel = 1;
+        }
+        spec.attribute("oiio:UnassociatedAlpha", 1);
         if (!out->open(path, spec) || !out->write_image(typeDescOf(type), pixels) || !out->close()) {
             error = firstLine(out->geterror());
             return false;
