@@ -68,25 +68,35 @@ void prepareOutputFile(const std::string& path, OutputParents& parents) {
         fail(path, "is a directory: name the file to write in it");
     }
     const fs::path parent = file.parent_path().empty() ? fs::path(".") : file.parent_path();
-    const fs::path existing = nearestExisting(parent);
-    checkWritableDirectory(path, existing);
-    if (existing != parent) {
-        auto lock = lockTemporaries();
-        std::vector<std::string> missing;
-        for (fs::path p = parent; p != existing && !p.empty(); p = p.parent_path()) {
-            missing.push_back(p.string());
-        }
-        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-            registerTemporary(*it, TemporaryKind::EmptyDirectory);
-            if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST) {
-                const int error = errno;
-                unregisterTemporary(*it);
-                fail(path, "cannot create the directory " + *it + ": " + systemWords(error));
-            }
-            parents.created_.insert(parents.created_.begin(), *it);
-        }
-    }
+    checkWritableDirectory(path, nearestExisting(parent));
+    makeOutputDirectory(parent.string(), parents, path);
     sweepStaleTemporaries(parent.string());
+}
+
+void makeOutputDirectory(const std::string& directory, OutputParents& parents, const std::string& who) {
+    const fs::path dir = fs::path(directory).lexically_normal();
+    const fs::path existing = nearestExisting(dir);
+    if (existing == dir) {
+        std::error_code ec;
+        if (!fs::is_directory(dir, ec)) {
+            fail(who, "cannot be written: " + dir.string() + " is not a directory");
+        }
+        return;
+    }
+    auto lock = lockTemporaries();
+    std::vector<std::string> missing;
+    for (fs::path p = dir; p != existing && !p.empty(); p = p.parent_path()) {
+        missing.push_back(p.string());
+    }
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+        registerTemporary(*it, TemporaryKind::EmptyDirectory);
+        if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST) {
+            const int error = errno;
+            unregisterTemporary(*it);
+            fail(who, "cannot create the directory " + *it + ": " + systemWords(error));
+        }
+        parents.created_.insert(parents.created_.begin(), *it);
+    }
 }
 
 void prepareOutputDirectory(const std::string& directory) {

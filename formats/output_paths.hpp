@@ -18,7 +18,7 @@ public:
     void keep() { kept_ = true; }
 
 private:
-    friend void prepareOutputFile(const std::string&, OutputParents&);
+    friend void makeOutputDirectory(const std::string&, OutputParents&, const std::string&);
     std::vector<std::string> created_; // deepest first
     bool kept_ = false;
 };
@@ -28,6 +28,10 @@ private:
 // Creates the missing parents (recorded in `parents`), then sweeps stale temporaries beside
 // the file.
 void prepareOutputFile(const std::string& path, OutputParents& parents);
+
+// Makes `directory` and its missing parents (`mkdir -p`), recorded in `parents`. Throws Error
+// naming `who` when one cannot be made, or when `directory` exists and is not a directory.
+void makeOutputDirectory(const std::string& directory, OutputParents& parents, const std::string& who);
 
 // For an output directory (made later by a StagingDirectory): throws Error naming `directory`
 // when it exists and is not a directory or cannot be written, or when the nearest existing

@@ -84,34 +84,14 @@ std::vector<Entry> readJournal(const fs::path& journal) {
 void StagingDirectory::failRenameForTesting(int index) { renameFailureForTesting = index; }
 
 StagingDirectory::StagingDirectory(const std::string& destination) : destination_(destination) {
+    makeOutputDirectory(destination, created_, destination);
     std::error_code ec;
     auto lock = lockTemporaries();
-    for (fs::path p = fs::path(destination).lexically_normal(); !p.empty() && !fs::exists(p, ec);
-         p = p.parent_path()) {
-        created_.push_back(p.string());
-        registerTemporary(p.string(), TemporaryKind::EmptyDirectory);
-        if (p == p.parent_path()) {
-            break;
-        }
-    }
-    fs::create_directories(destination, ec);
-    if (ec || !fs::is_directory(destination)) {
-        const std::string why = ec ? systemWords(ec.value()) : "not a directory";
-        for (const std::string& dir : created_) {
-            fs::remove(dir, ec); // only succeeds when empty
-            unregisterTemporary(dir);
-        }
-        fail(destination, "cannot create the output directory (" + why + ")");
-    }
     // The process id tells a later run whether this run is still going (sweepStaleTemporaries).
     staging_ = (fs::path(destination) / stagingDirectoryName()).string();
     registerTemporary(staging_, TemporaryKind::Tree);
     if (!fs::create_directory(staging_, ec) || ec) {
         unregisterTemporary(staging_);
-        for (const std::string& dir : created_) {
-            fs::remove(dir, ec);
-            unregisterTemporary(dir);
-        }
         fail(destination, "cannot create a staging directory (" + (ec ? systemWords(ec.value()) : "it exists") + ")");
     }
 }
@@ -123,12 +103,7 @@ StagingDirectory::~StagingDirectory() {
         fs::remove_all(staging_, ec);
     }
     unregisterTemporary(staging_);
-    for (const std::string& dir : created_) {
-        if (!committed_) {
-            fs::remove(dir, ec); // only succeeds when empty
-        }
-        unregisterTemporary(dir);
-    }
+    // created_ then removes the directories made for the destination, if empty and not committed.
 }
 
 std::string StagingDirectory::path(const std::string& relative) const {
@@ -239,7 +214,7 @@ void StagingDirectory::commit() {
     fsyncPath(staging_, true);
     std::error_code ec;
     fs::remove_all(staging_, ec);
-    committed_ = true;
+    created_.keep();
 }
 
 bool StagingDirectory::recover(const std::string& staging, const std::string& destination) {

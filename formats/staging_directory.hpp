@@ -29,6 +29,8 @@
 #include <string>
 #include <vector>
 
+#include "formats/output_paths.hpp"
+
 namespace pyramid {
 
 class StagingDirectory {
@@ -60,8 +62,7 @@ public:
 private:
     std::string destination_;
     std::string staging_;
-    std::vector<std::string> created_; // directories this object created, deepest first
-    bool committed_ = false;
+    OutputParents created_; // the directories made for the destination, kept by commit()
     bool keep_ = false; // a failed rollback: the old files are still in .old/
 };
 

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "formats/output_paths.hpp"
 #include "formats/staging_directory.hpp"
 
 namespace pyramid {
@@ -13,10 +14,8 @@ std::string runPart(int index, int count, const std::string& base, const std::st
     if (count < 1 || index < 0 || index >= count) {
         failOption("part", "must be I/N with 0 <= I < N, not " + std::to_string(index) + "/" + std::to_string(count));
     }
-    const std::filesystem::path parent = std::filesystem::path(base).parent_path();
-    if (!parent.empty()) {
-        std::filesystem::create_directories(parent); // an output directory not made yet
-    }
+    OutputParents parents; // an output directory not made yet, removed again if the part fails
+    prepareOutputFile(partFileName(base, index, count), parents);
     PartOutput out(partFileName(base, index, count), format, index, count, job);
     PartContext share;
     share.index = index;
@@ -24,6 +23,7 @@ std::string runPart(int index, int count, const std::string& base, const std::st
     share.out = &out;
     encode(share);
     out.commit();
+    parents.keep();
     return out.path();
 }
 

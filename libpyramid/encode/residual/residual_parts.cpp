@@ -8,6 +8,7 @@
 #include <map>
 
 #include "formats/error.hpp"
+#include "formats/output_paths.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/residual/residual_output.hpp"
 
@@ -117,7 +118,8 @@ ResidualMergeReport mergeResidualParts(const std::vector<std::string>& paths, co
     ResidualMergeReport report;
     report.parts = count;
     report.directory = directory;
-    std::filesystem::create_directories(directory.empty() ? std::filesystem::path(".") : std::filesystem::path(directory));
+    OutputParents parents; // removed again if the merge fails
+    makeOutputDirectory(directory.empty() ? "." : directory, parents, directory);
     std::unique_ptr<StagingDirectory> staging;
     if (pyramids > 1) {
         staging = std::make_unique<StagingDirectory>(directory);
@@ -168,6 +170,7 @@ ResidualMergeReport mergeResidualParts(const std::vector<std::string>& paths, co
     if (staging) {
         staging->commit();
     }
+    parents.keep();
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }
