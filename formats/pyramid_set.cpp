@@ -12,6 +12,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
+#include "formats/georeference_sidecar.hpp"
 #include "formats/pyramid_file_rules.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/residual_file.hpp"
@@ -178,6 +179,32 @@ RegionIndex readRegionIndex(const std::string& path) {
         fail(path, "cannot read the region set index");
     }
     return parseRegionIndex(text.str(), path);
+}
+
+std::vector<std::string> filesNamedAfter(const std::string& path) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    const auto exists = [&](const std::string& f) { return std::filesystem::is_regular_file(f, ec); };
+    const std::string index = regionIndexPath(path);
+    if (exists(index)) {
+        files.push_back(index);
+        try {
+            // Only the region files named by the rule (never a path the index could point anywhere).
+            for (const RegionEntry& r : readRegionIndex(index).regions) {
+                const std::string file = regionFilePath(path, r.root);
+                if (std::filesystem::path(r.file) == std::filesystem::path(file).filename() && exists(file)) {
+                    files.push_back(file);
+                }
+            }
+        } catch (const Error&) {
+            // An index that cannot be read names no region files; it goes itself.
+        }
+    }
+    const std::string sidecar = georeferenceSidecarPath(path);
+    if (exists(sidecar)) {
+        files.push_back(sidecar);
+    }
+    return files;
 }
 
 void writeRegionIndex(const std::string& path, RegionIndex index) {

@@ -66,6 +66,13 @@ void writeRegionIndex(const std::string& path, RegionIndex index);
 // ...) records for a set a preprocessor wrote.
 RegionIndex makeRegionIndex(const std::string& mainFile, PyramidKind kind, const std::vector<RegionRoot>& roots);
 
+// The files named after an output `path` that exist beside it, an earlier run's: its region
+// index, the region files the index lists (by the naming rule: regionFilePath), its
+// georeference sidecar. A run that writes `path` replaces them all: the ones it does not write
+// again go in the same commit (StagingDirectory::commit), so that no reader takes an earlier
+// build's regions or placement for the new one's.
+std::vector<std::string> filesNamedAfter(const std::string& path);
+
 // The files a path names, resolved but not yet checked.
 struct PyramidSet {
     std::string index;                // the index's path; empty for a file alone

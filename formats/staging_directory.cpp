@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "formats/error.hpp"
+#include "formats/pyramid_set.hpp"
 #include "formats/temporaries.hpp"
 
 namespace pyramid {
@@ -27,7 +28,8 @@ constexpr const char* kJournal = ".commit";
 
 struct Entry {
     std::string relative;
-    bool old = false; // the destination had a file, backed up in .old/
+    bool old = false;  // the destination had a file, backed up in .old/
+    bool drop = false; // no new file: a file named after an output, removed by the commit
 };
 
 // Flushes a file or directory to disk. False (errno set) when that fails.
@@ -126,11 +128,27 @@ void StagingDirectory::commit() {
             entries.push_back({fs::relative(it->path(), staging).generic_string(), false});
         }
     }
+    // The files named after each output that it does not write again (an earlier run's region
+    // index, region files, georeference sidecar) go in the same commit: an output replaces
+    // them all, or, should the commit fail, none.
+    std::set<std::string> staged;
+    for (const Entry& e : entries) {
+        staged.insert(e.relative);
+    }
+    const size_t outputs = entries.size();
+    for (size_t i = 0; i < outputs; ++i) {
+        for (const std::string& named : filesNamedAfter((destination / entries[i].relative).string())) {
+            const std::string relative = fs::path(named).lexically_relative(destination).generic_string();
+            if (!relative.empty() && relative.rfind("..", 0) != 0 && staged.insert(relative).second) {
+                entries.push_back({relative, false, true});
+            }
+        }
+    }
     std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.relative < b.relative; });
 
     // 1. The new files on disk; every destination replaceable.
     for (const Entry& e : entries) {
-        if (!fsyncPath((staging / e.relative).string(), false)) {
+        if (!e.drop && !fsyncPath((staging / e.relative).string(), false)) {
             fail(outputName((staging / e.relative).string()), "cannot write (flush): " + systemWords(errno));
         }
     }
@@ -185,10 +203,13 @@ void StagingDirectory::commit() {
         int error = 0;
         if (static_cast<int>(i) == renameFailureForTesting.load()) {
             error = EIO;
-        } else if (::rename((staging / entries[i].relative).c_str(), target.c_str()) != 0) {
+        } else if (entries[i].drop ? ::unlink(target.c_str()) != 0 && errno != ENOENT
+                                   : ::rename((staging / entries[i].relative).c_str(), target.c_str()) != 0) {
             error = errno;
         }
         if (error != 0) {
+            const std::string what = entries[i].drop ? "cannot remove the earlier run's file named after an output: "
+                                                     : "cannot move the new output into place: ";
             const bool restored = rollBack(staging, destination, entries);
             for (const std::string& d : createdHere) {
                 fs::remove(d, ec);
@@ -196,13 +217,11 @@ void StagingDirectory::commit() {
             if (!restored) {
                 keep_ = true; // the old files that could not be put back are still in .old/
                 unregisterTemporary(staging_);
-                fail(target.string(), "cannot move the new output into place: " + systemWords(error) +
-                                          "; some old files could not be put back: they are in " + staging_ + "/" +
-                                          kBackups);
+                fail(target.string(), what + systemWords(error) + "; some old files could not be put back: they are in " +
+                                          staging_ + "/" + kBackups);
             }
             ::unlink((staging / kJournal).c_str());
-            fail(target.string(), "cannot move the new output into place: " + systemWords(error) +
-                                      " (the old outputs are unchanged)");
+            fail(target.string(), what + systemWords(error) + " (the old outputs are unchanged)");
         }
     }
     // 5. The renames on disk.

@@ -85,6 +85,37 @@ TEST_F(StagingCommit, AFailedFourthRenameLeavesTheOldFiles) {
     EXPECT_EQ(contents(out), before);
 }
 
+// An output replaces the files an earlier run named after it (its region index, the region
+// files the index lists, its georeference sidecar): those it does not write again go in the
+// same commit, and come back with the old output when the commit fails.
+TEST_F(StagingCommit, FilesNamedAfterAnOutputGoWithTheCommit) {
+    writeText(out + "/A1.dat.regions.json",
+              R"({"format": "libpyramid region set", "version": 1, "kind": "residual", "main": "A1.dat",)"
+              R"( "regions": [{"file": "A1-L1-0-1.dat", "root": [1, 0, 1]}, {"file": "A1-L1-1-1.dat", "root": [1, 1, 1]}]})");
+    writeText(out + "/A1-L1-0-1.dat", "old region");
+    writeText(out + "/A1-L1-1-1.dat", "old region");
+    writeText(out + "/A1.dat.georef.json", "old sidecar");
+    writeText(out + "/A1-L1-0-0.dat", "not listed: another file"); // named like a region, not the index's
+    const auto before = contents(out);
+    // A failure after the first file's rename: everything back, the named files too.
+    StagingDirectory::failRenameForTesting(2);
+    EXPECT_THROW(stageAndCommit(), Error);
+    EXPECT_EQ(contents(out), before);
+    StagingDirectory::failRenameForTesting(-1);
+    // The new A1.dat with its new region A1-L1-1-1.dat: the index, the other region and the
+    // sidecar go; the file the index did not list stays.
+    stageAndCommit({"A1-L1-1-1.dat"});
+    auto after = before;
+    for (const std::string& f : kFiles) {
+        after[f] = "new " + f;
+    }
+    after["A1-L1-1-1.dat"] = "new A1-L1-1-1.dat";
+    after.erase("A1.dat.regions.json");
+    after.erase("A1-L1-0-1.dat");
+    after.erase("A1.dat.georef.json");
+    EXPECT_EQ(contents(out), after);
+}
+
 TEST_F(StagingCommit, ADirectoryInTheWayOfTheFourthFileChangesNothing) {
     fs::remove(out + "/dxt/A4.dat");
     fs::create_directories(out + "/dxt/A4.dat/inside");

@@ -15,15 +15,21 @@ ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& 
                                bool levelOrder)
     : output_(output), header_(header), maxFileBytes_(maxFileBytes), levelOrder_(levelOrder && maxFileBytes == 0) {
     const std::filesystem::path outputPath(output);
+    // A set, or a file whose earlier run left files named after it (a set's index and regions, a
+    // sidecar): staged, so that the commit replaces those too.
+    if (maxFileBytes_ > 0 || !filesNamedAfter(output).empty()) {
+        const std::filesystem::path parent = outputPath.parent_path();
+        staging_ = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
+    }
     if (levelOrder_) {
         // Never committed: its temporary goes when the writer does.
         writer_ = std::make_unique<ResidualFileWriter>(output + ".staged", header);
         writer_->allowPastLimit();
-    } else if (maxFileBytes_ > 0) {
-        const std::filesystem::path parent = outputPath.parent_path();
-        staging_ = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
+    } else if (staging_) {
         writer_ = std::make_unique<ResidualFileWriter>(staging_->path(outputPath.filename().string()), header);
-        writer_->allowPastLimit();
+        if (maxFileBytes_ > 0) {
+            writer_->allowPastLimit();
+        }
     } else {
         writer_ = std::make_unique<ResidualFileWriter>(output, header);
     }
@@ -38,41 +44,9 @@ void ResidualOutput::place(const std::vector<CompanionFile>& companions, Residua
     report.header = header_;
     report.sharedTiles = writer_->sharedTiles();
     report.files.clear();
-    if (staging_) {
-        ResidualFileWriter& writer = *writer_;
-        const uint64_t wholeBytes =
-            ResidualHeader::kBytes + 8 * static_cast<uint64_t>(header_.tileCount()) + writer.bytesWritten();
-        std::vector<ResidualSetFile> files;
-        if (!writer.pastLimit() && wholeBytes <= maxFileBytes_) {
-            writer.commit(); // into the staging directory
-            files.push_back(ResidualSetFile{fileName, header_, wholeBytes});
-        } else {
-            files = writeResidualSet(writer, fileName, maxFileBytes_,
-                                     [&](const std::string& name) { return staging_->path(name); });
-        }
-        writer_.reset(); // its temporary (a split pyramid's) is not staged
-        std::vector<RegionRoot> roots;
-        for (size_t k = 1; k < files.size(); ++k) {
-            roots.push_back(RegionRoot{files[k].header.rootLevel, files[k].header.rootTx, files[k].header.rootTy});
-        }
-        writeRegionIndex(regionIndexPath(staging_->path(fileName)),
-                         makeRegionIndex(staging_->path(fileName), PyramidKind::Residual, roots));
-        for (const CompanionFile& c : companions) {
-            AtomicFile file(staging_->path(c.name));
-            file.writeAt(0, c.text.data(), c.text.size());
-            file.commit();
-        }
-        auto lock = lockTemporaries();
-        staging_->commit();
-        report.bytes = 0;
-        for (const ResidualSetFile& f : files) {
-            report.files.emplace_back(f.name, f.bytes);
-            report.bytes += f.bytes;
-        }
-        return;
-    }
     if (levelOrder_) {
-        auto ordered = std::make_unique<ResidualFileWriter>(output_, header_);
+        const std::string target = staging_ ? staging_->path(fileName) : output_;
+        auto ordered = std::make_unique<ResidualFileWriter>(target, header_);
         for (int l = 0; l <= header_.maxLevel; ++l) {
             const int64_t side = header_.tilesPerSide(l);
             for (int64_t ty = 0; ty < side; ++ty) {
@@ -84,6 +58,43 @@ void ResidualOutput::place(const std::vector<CompanionFile>& companions, Residua
         }
         writer_ = std::move(ordered);
         report.sharedTiles = writer_->sharedTiles();
+    }
+    if (staging_) {
+        ResidualFileWriter& writer = *writer_;
+        const uint64_t wholeBytes =
+            ResidualHeader::kBytes + 8 * static_cast<uint64_t>(header_.tileCount()) + writer.bytesWritten();
+        std::vector<ResidualSetFile> files;
+        if (maxFileBytes_ == 0 || (!writer.pastLimit() && wholeBytes <= maxFileBytes_)) {
+            writer.commit(); // into the staging directory
+            files.push_back(ResidualSetFile{fileName, header_, wholeBytes});
+        } else {
+            files = writeResidualSet(writer, fileName, maxFileBytes_,
+                                     [&](const std::string& name) { return staging_->path(name); });
+        }
+        writer_.reset(); // its temporary (a split pyramid's) is not staged
+        if (maxFileBytes_ > 0) { // a set's index, even of the main file alone
+            std::vector<RegionRoot> roots;
+            for (size_t k = 1; k < files.size(); ++k) {
+                roots.push_back(RegionRoot{files[k].header.rootLevel, files[k].header.rootTx, files[k].header.rootTy});
+            }
+            writeRegionIndex(regionIndexPath(staging_->path(fileName)),
+                             makeRegionIndex(staging_->path(fileName), PyramidKind::Residual, roots));
+        }
+        for (const CompanionFile& c : companions) {
+            AtomicFile file(staging_->path(c.name));
+            file.writeAt(0, c.text.data(), c.text.size());
+            file.commit();
+        }
+        auto lock = lockTemporaries();
+        staging_->commit();
+        report.bytes = 0;
+        for (const ResidualSetFile& f : files) {
+            if (maxFileBytes_ > 0) { // a set lists its files; one file reports its bytes only
+                report.files.emplace_back(f.name, f.bytes);
+            }
+            report.bytes += f.bytes;
+        }
+        return;
     }
     writer_->finish(); // complete and on disk: only the renames are left
     std::vector<std::unique_ptr<AtomicFile>> staged;
