@@ -1,14 +1,21 @@
 // preprocessDem and preprocessOrtho carry a georeferenced input's placement: the report's
 // `georeference` object and the sidecar beside the output give the CRS, the root quad's and the
 // data's ground extent and the CRS units between samples at every level; the pyramid itself is
-// the one an unreferenced input with the same pixels makes, and unreferenced inputs get no
-// sidecar.
+// the one an unreferenced input with the same pixels makes (a south-up input's, that of its
+// north-up copy), and unreferenced inputs get no sidecar.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
+#include <limits>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
 #include "libpyramid/runtime/height_query.hpp"
@@ -114,6 +121,86 @@ TEST(PlanarGeoreference, LonLatOfGradsFromParis) {
         EXPECT_NEAR(a[1], b[1], 1e-6) << lon << "," << lat;
         EXPECT_GT(a[0], 0.0);
         EXPECT_LT(a[0], 1.0);
+    }
+}
+
+// The rows and columns of a W x H raster of `values` values a pixel, mirrored as asked.
+template <typename T>
+std::vector<T> mirrored(const std::vector<T>& v, int W, int H, int values, bool acrossX, bool acrossY) {
+    std::vector<T> out(v.size());
+    const auto n = static_cast<size_t>(values);
+    for (int y = 0; y < H; ++y) {
+        for (int x = 0; x < W; ++x) {
+            const auto to = static_cast<size_t>((acrossY ? H - 1 - y : y) * W + (acrossX ? W - 1 - x : x));
+            std::copy_n(&v[static_cast<size_t>(y * W + x) * n], n, &out[to * n]);
+        }
+    }
+    return out;
+}
+
+// A south-up file (row 0 the south edge: a positive north-south pixel size), or one turned half
+// round (its columns also run west), is read north-up by preprocessDem and preprocessOrtho
+// (sphere/planar_mosaic.hpp): the pyramid and the sidecar of its north-up copy, byte for byte, and
+// a sample named by its own column and row.
+TEST(PlanarGeoreference, SouthUpInputsMakeTheNorthUpPyramid) {
+    test::TempDir dir;
+    // 65 x 41 samples: 64 intervals across the finest grid, sample for sample; corners exact in binary.
+    const int W = 65, H = 41;
+    const double west = 10.0, north = 50.0, step = 1.0 / 64;
+    const std::array<double, 6> southUp{west, step, 0.0, north - H * step, 0.0, step};
+    const std::array<double, 6> halfRound{west + W * step, -step, 0.0, north - H * step, 0.0, step};
+    const std::vector<float> heights = test::syntheticHeights(W, H);
+    std::vector<uint8_t> rgb(static_cast<size_t>(W * H * 3));
+    for (size_t k = 0; k < rgb.size(); ++k) {
+        rgb[k] = static_cast<uint8_t>(k * 7 + k / 97);
+    }
+    test::writeGeoTiff(dir.file("north.tif"), W, H, heights, test::geographicTags(4326, west, north, step));
+    test::writeGeoTiffRgb(dir.file("north-rgb.tif"), W, H, rgb, test::geographicTags(4326, west, north, step));
+    DemEncodeOptions o;
+    o.tileSize = 16;
+    o.rootTileSize = 4;
+    encodeDem(dir.file("north.tif"), dir.file("north.dat"), o);
+    OrthoEncodeOptions oo;
+    oo.levels.tileSize = 16;
+    encodeOrtho(dir.file("north-rgb.tif"), dir.file("north-rgb"), oo);
+    nlohmann::json sidecar = nlohmann::json::parse(test::readFile(dir.file("north.dat.georef.json")));
+    sidecar.erase("pyramid");
+    for (const auto& [name, t, acrossX] :
+         {std::tuple{"south", southUp, false}, std::tuple{"turned", halfRound, true}}) {
+        SCOPED_TRACE(name);
+        const std::string dem = dir.file(std::string(name) + ".tif"), image = dir.file(std::string(name) + "-rgb.tif");
+        test::GeoTiffTags tags = test::geographicTags(4326, west, north, step);
+        test::setTransformation(tags, t);
+        test::writeGeoTiff(dem, W, H, mirrored(heights, W, H, 1, acrossX, true), tags);
+        test::writeGeoTiffRgb(image, W, H, mirrored(rgb, W, H, 3, acrossX, true), tags);
+        const std::string out = dir.file(std::string(name) + ".dat");
+        encodeDem(dem, out, o);
+        EXPECT_TRUE(test::readFile(out) == test::readFile(dir.file("north.dat")));
+        nlohmann::json placed = nlohmann::json::parse(test::readFile(out + ".georef.json"));
+        placed.erase("pyramid");
+        EXPECT_EQ(placed, sidecar);
+        const std::string images = dir.file(std::string(name) + "-rgb");
+        encodeOrtho(image, images, oo);
+        for (const char* file : {"/RGB.dat", "/RGB.dat.georef.json", "/dxt/RGB.dat", "/residuals/RGB.dat"}) {
+            EXPECT_TRUE(test::readFile(images + file) == test::readFile(dir.file("north-rgb") + file)) << file;
+        }
+        // The longitude and latitude of a sample find its height (within half the quantization step).
+        const auto uv = crsToRootQuad(out, west + 7.5 * step, north - 3.5 * step, true);
+        EXPECT_NEAR(fileHeightAt(out, uv[0], uv[1]).height, heights[3 * W + 7], 0.5 + 1e-3);
+    }
+    // A +Inf sample is named by the file's own column and row.
+    std::vector<float> spiked = heights;
+    spiked[static_cast<size_t>(5 * W + 2)] = std::numeric_limits<float>::infinity(); // column 2, row 5 north-up
+    test::GeoTiffTags tags = test::geographicTags(4326, west, north, step);
+    test::setTransformation(tags, southUp);
+    test::writeGeoTiff(dir.file("spiked.tif"), W, H, mirrored(spiked, W, H, 1, false, true), tags);
+    try {
+        encodeDem(dir.file("spiked.tif"), dir.file("spiked.dat"), o);
+        ADD_FAILURE() << "an infinite height was encoded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("+Inf height at column 2, row " + std::to_string(H - 1 - 5)),
+                  std::string::npos)
+            << e.what();
     }
 }
 

@@ -177,6 +177,12 @@ RasterSource::PixelPlace RasterSource::placeOf(int x, int y, int channel) const 
         RasterMosaic::Place p = impl_->mosaic->placeOf(x, y, channel);
         return {std::move(p.path), p.column, p.row};
     }
+    if (impl_->computed) {
+        int px = x, py = y;
+        if (const RasterSource* from = impl_->computed->placeOf(px, py)) {
+            return from->placeOf(px, py, channel);
+        }
+    }
     return {path_, x, y};
 }
 

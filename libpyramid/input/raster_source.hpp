@@ -17,6 +17,8 @@
 
 namespace pyramid {
 
+class RasterSource;
+
 // Pixels computed by their owner (a raster resampled from others, a procedural map): what a
 // RasterSource made of them reads (RasterSource::fromPixels). Both reads are thread-safe and
 // take windows already checked against the raster.
@@ -25,6 +27,9 @@ public:
     virtual ~RasterPixels() = default;
     virtual void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const = 0;
     virtual void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const = 0;
+    // For RasterSource::placeOf: the raster whose pixel (x, y) is, (x, y) turned into its own
+    // coordinates; null (the default) when the pixel is computed here.
+    virtual const RasterSource* placeOf(int& /*x*/, int& /*y*/) const { return nullptr; }
 };
 
 // Computed 8-bit pixels (a caller's colours, an aperture): the owner gives channels [c0, c1) of a

@@ -135,6 +135,84 @@ private:
     mutable std::unique_ptr<MapMosaic> mosaics_[2];
 };
 
+// A file whose axis-aligned transform runs its rows north (south-up) or its columns west, read
+// north-up: the same samples mirrored, under the transform of the same ground with t[1] > 0
+// and t[5] < 0 (exactly: no resampling).
+class NorthUpPixels final : public RasterPixels {
+public:
+    NorthUpPixels(std::unique_ptr<RasterSource> file, bool mirrorX, bool mirrorY)
+        : file_(std::move(file)), mirrorX_(mirrorX), mirrorY_(mirrorY) {}
+
+    void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const override {
+        read(x0, y0, x1, y1, 1, out,
+             [&](int a0, int b0, int a1, int b1) { file_->readFloat(a0, b0, a1, b1, channel, out); });
+    }
+
+    void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
+        read(x0, y0, x1, y1, c1 - c0, out,
+             [&](int a0, int b0, int a1, int b1) { file_->readUInt16(a0, b0, a1, b1, c0, c1, out); });
+    }
+
+    const RasterSource* placeOf(int& x, int& y) const override {
+        x = mirrorX_ ? file_->info().width - 1 - x : x;
+        y = mirrorY_ ? file_->info().height - 1 - y : y;
+        return file_.get();
+    }
+
+private:
+    // The file's window mirroring (x0, y0)-(x1, y1) read by `fileRead` into `out`, then turned round.
+    template <typename T, typename FileRead>
+    void read(int x0, int y0, int x1, int y1, int values, T* out, FileRead fileRead) const {
+        const int W = file_->info().width, H = file_->info().height;
+        fileRead(mirrorX_ ? W - x1 : x0, mirrorY_ ? H - y1 : y0, mirrorX_ ? W - x0 : x1, mirrorY_ ? H - y0 : y1);
+        const auto n = static_cast<size_t>(values), row = static_cast<size_t>(x1 - x0) * n;
+        const auto rows = static_cast<size_t>(y1 - y0);
+        if (mirrorY_) {
+            for (size_t r = 0; r < rows / 2; ++r) {
+                std::swap_ranges(out + r * row, out + (r + 1) * row, out + (rows - 1 - r) * row);
+            }
+        }
+        if (mirrorX_) {
+            for (T* line = out; line != out + rows * row; line += row) {
+                for (size_t a = 0, b = row - n; a < b; a += n, b -= n) {
+                    std::swap_ranges(line + a, line + a + n, line + b);
+                }
+            }
+        }
+    }
+
+    std::unique_ptr<RasterSource> file_;
+    bool mirrorX_, mirrorY_;
+};
+
+// The files of one grid as one raster (RasterSource::openMosaic), north-up: a planar pyramid's
+// tiles put north at the top whatever way the file's rows run (NorthUpPixels).
+std::unique_ptr<RasterSource> openNorthUp(const std::vector<std::string>& group, int cacheMegabytes) {
+    std::unique_ptr<RasterSource> source = RasterSource::openMosaic(group, cacheMegabytes);
+    const RasterInfo& info = source->info();
+    if (!info.georeference || !info.georeference->problem.empty() || !info.georeference->axisAligned()) {
+        return source; // placed by no transform, or rotated (its sidecar says so)
+    }
+    const auto& t = info.georeference->pixelToCrs;
+    const bool mirrorX = t[1] < 0.0, mirrorY = t[5] > 0.0;
+    if (!mirrorX && !mirrorY) {
+        return source;
+    }
+    RasterInfo northUp = info;
+    auto& u = northUp.georeference->pixelToCrs;
+    if (mirrorX) {
+        u[0] += t[1] * info.width;
+        u[1] = -t[1];
+    }
+    if (mirrorY) {
+        u[3] += t[5] * info.height;
+        u[5] = -t[5];
+    }
+    const std::string name = source->path();
+    auto pixels = std::make_shared<NorthUpPixels>(std::move(source), mirrorX, mirrorY);
+    return RasterSource::fromPixels(name, northUp, std::move(pixels));
+}
+
 } // namespace
 
 std::array<double, 4> PlanarTarget::parseExtent(const std::string& text) {
@@ -149,7 +227,7 @@ std::array<double, 4> PlanarTarget::parseExtent(const std::string& text) {
 std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& inputs, int cacheMegabytes,
                                                bool sameSamples, const PlanarTarget& target) {
     if (inputs.size() <= 1 && target.empty()) {
-        return RasterSource::openMosaic(inputs, cacheMegabytes);
+        return openNorthUp(inputs, cacheMegabytes);
     }
     if (target.extent) {
         const auto& e = *target.extent;
@@ -171,14 +249,14 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
         }
     }
     if (groups.size() == 1 && target.empty()) {
-        return RasterSource::openMosaic(groups[0], cacheMegabytes);
+        return openNorthUp(groups[0], cacheMegabytes);
     }
     // Every group described, the finest of all, and the CRS and finest group on it.
     std::vector<std::unique_ptr<RasterSource>> described;
     std::vector<GeoreferencedMap> maps;
     size_t finest = 0;
     for (size_t k = 0; k < groups.size(); ++k) {
-        described.push_back(RasterSource::openMosaic(groups[k], 1));
+        described.push_back(openNorthUp(groups[k], 1));
         const RasterInfo& info = described.back()->info();
         maps.emplace_back(*info.georeference, info.width, info.height, described.back()->path());
         if (maps[k].metresPerPixel() < maps[finest].metresPerPixel() * (1.0 - 1e-9)) {
@@ -273,7 +351,7 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
     info.width = static_cast<int>(x1 - x0);
     info.height = static_cast<int>(y1 - y0);
     if (onGrid && groups.size() == 1 && x0 == 0.0 && y0 == 0.0 && info.width == gridWidth && info.height == gridHeight) {
-        return RasterSource::openMosaic(groups[0], cacheMegabytes); // the group as it is
+        return openNorthUp(groups[0], cacheMegabytes); // the group as it is
     }
     auto& t = info.georeference->pixelToCrs;
     t[0] += t[1] * x0 + t[2] * y0;
@@ -285,7 +363,7 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
     const PlanetBody body(crs.name + "'s ellipsoid", crs.semiMajorAxis, crs.flattening);
     std::unique_ptr<RasterSource> own;
     if (onGrid) {
-        own = RasterSource::openMosaic(groups[*onGrid], std::max(2, cacheMegabytes / 2));
+        own = openNorthUp(groups[*onGrid], std::max(2, cacheMegabytes / 2));
     }
     auto pixels = std::make_shared<ResampledPixels>(groups, std::move(own), static_cast<int>(-x0), static_cast<int>(-y0),
                                                     info, body, std::max(2, cacheMegabytes / 2), grid, gridWidth,

@@ -15,8 +15,11 @@
 //   sphere/map_mosaic.hpp). Pixels no group reaches are nodata (the finest group's declared
 //   value, else NaN; colours 0).
 // * Geodetic coordinates of every CRS are taken on the target CRS's ellipsoid (no datum shift).
+// * North-up: a file whose axis-aligned transform runs its rows north (south-up) or its columns
+//   west is read mirrored, sample for sample, under the transform of the same ground, so that
+//   rows run south and columns east as the planar pyramids and their sidecars take them.
 //
-// One file, or files on one grid, without --crs or --extent are read as they are.
+// One file, or files on one grid, without --crs or --extent are read as they are (north-up).
 #pragma once
 #include <array>
 #include <memory>
