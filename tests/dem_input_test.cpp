@@ -340,5 +340,45 @@ TEST(DemInput, HolesAreFilledWithinTheSurroundingHeights) {
     EXPECT_GT(low, 96.0f);
 }
 
+TEST(DemInput, OneValidHeightBetweenTheInMemoryGridsSamplesIsFound) {
+    test::TempDir dir;
+    // Nodata but for one height, at column 65, row 63: finest sample (65, 65) of the 128-interval
+    // pyramid, which the in-memory grid of levels 0..C (every 4th sample here) does not hold.
+    // The root starts from that height, so every level is rebuilt at it.
+    const int side = 129;
+    std::vector<float> heights(static_cast<size_t>(side * side), -9999.0f);
+    heights[static_cast<size_t>(65 + 63 * side)] = 1234.5f;
+    test::writeFloatRaster(dir.file("one.tif"), side, side, heights);
+    DemEncodeOptions o;
+    o.tileSize = 16;
+    o.rootTileSize = 4;
+    o.scale = 0.1;
+    o.nodata = -9999.0;
+    float low = std::numeric_limits<float>::max(), high = std::numeric_limits<float>::lowest();
+    o.reconstruction = [&](int, int, int, const std::vector<float>& z) {
+        low = std::min(low, *std::min_element(z.begin(), z.end()));
+        high = std::max(high, *std::max_element(z.begin(), z.end()));
+    };
+    const DemReport report = encodeDem(dir.file("one.tif"), dir.file("DEM.dat"), o);
+    EXPECT_EQ(report.header.maxLevel, 5);
+    EXPECT_EQ(report.levels.back().samples, 1);
+    EXPECT_EQ(report.nodataFilled, side * side - 1);
+    EXPECT_LE(report.levels.back().maxError, 0.05 + 1e-3);
+    EXPECT_NEAR(low, 1234.5f, 0.05f);
+    EXPECT_NEAR(high, 1234.5f, 0.05f);
+    // Without it, nothing is valid: the input fails, by name.
+    heights[static_cast<size_t>(65 + 63 * side)] = -9999.0f;
+    test::writeFloatRaster(dir.file("none.tif"), side, side, heights);
+    o.reconstruction = nullptr;
+    try {
+        encodeDem(dir.file("none.tif"), dir.file("NONE.dat"), o);
+        FAIL() << "an input without a valid height was accepted";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("none.tif: no valid height anywhere"), std::string::npos) << what;
+    }
+    EXPECT_FALSE(test::fileExists(dir.file("NONE.dat")));
+}
+
 } // namespace
 } // namespace pyramid

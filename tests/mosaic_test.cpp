@@ -3,7 +3,8 @@
 //   raster, planar and spherical, DEM and ortho;
 // * overlaps at two resolutions take the finer file; a UTM map beside a geographic one joins
 //   within the resampling error; planar mosaics of several grids are resampled onto the finest,
-//   whose own samples are kept as they are;
+//   whose own samples are kept as they are, as are those of files of another sample type on
+//   its grid;
 // * on the command line, a VRT over the tiles, a list file and a directory give the same bytes
 //   as the files named one by one; a file without georeferencing and a missing one are refused
 //   by name, with nothing written; --priority last lets the last listed file win overlaps.
@@ -11,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -415,6 +417,68 @@ TEST(Mosaic, PlanarExtentCutsAndWidensOnTheGrid) {
     // The same CRS named by --crs and the whole file as the extent: the file as it is.
     PlanarTarget same{"EPSG:4326", std::array<double, 4>{7.0, 46.0 - 50 * g.step, 7.0 + 70 * g.step, 46.0}};
     EXPECT_EQ(openPlanarMosaic({whole}, 16, false, same)->path(), whole);
+}
+
+TEST(Mosaic, PlanarFilesOfAnotherSampleTypeOnTheGridKeepTheirSamples) {
+    test::TempDir dir;
+    // One DEM of 3-arc-second pixels (a step no binary fraction holds) with nodata holes, cut in
+    // two on its grid: the west part int16, the east part float32, both declaring -32768. Their
+    // sample types keep them in two groups, but every pixel is still its own sample, by value: a
+    // hole stays a hole and its neighbours keep their heights, whichever file is listed first.
+    const int W = 60, H = 40, split = 25;
+    const double step = 1.0 / 1200.0;
+    const auto heightOf = [](int x, int y) { return static_cast<int16_t>(800 + 3 * x - 5 * y + (x * 7 + y * 3) % 11); };
+    const auto hole = [](int x, int y) {
+        return (x >= 40 && x < 43 && y >= 10 && y < 12) || (x == 30 && y == 20) || (x == 5 && y == 7);
+    };
+    std::vector<int16_t> whole(static_cast<size_t>(W * H)), westPart(static_cast<size_t>(split * H));
+    std::vector<float> eastPart(static_cast<size_t>((W - split) * H));
+    for (int y = 0; y < H; ++y) {
+        for (int x = 0; x < W; ++x) {
+            const int16_t v = hole(x, y) ? int16_t{-32768} : heightOf(x, y);
+            whole[static_cast<size_t>(x + y * W)] = v;
+            if (x < split) {
+                westPart[static_cast<size_t>(x + y * split)] = v;
+            } else {
+                eastPart[static_cast<size_t>(x - split + y * (W - split))] = v;
+            }
+        }
+    }
+    const auto tags = [&](int x0) {
+        test::GeoTiffTags t = test::geographicTags(4326, -121.5 + x0 * step, 46.5, step);
+        t.gdalNodata = "-32768";
+        return t;
+    };
+    const std::string wholePath = dir.file("whole.tif"), west = dir.file("west.tif"), east = dir.file("east.tif");
+    test::writeGeoTiffInt16(wholePath, W, H, whole, tags(0));
+    test::writeGeoTiffInt16(west, split, H, westPart, tags(0));
+    test::writeGeoTiff(east, W - split, H, eastPart, tags(split));
+    for (const bool westFirst : {true, false}) {
+        const std::vector<std::string> inputs = westFirst ? std::vector<std::string>{west, east}
+                                                          : std::vector<std::string>{east, west};
+        const auto m = openPlanarMosaic(inputs, 16);
+        ASSERT_EQ(m->info().width, W);
+        ASSERT_EQ(m->info().height, H);
+        ASSERT_TRUE(m->info().nodata);
+        EXPECT_EQ(*m->info().nodata, -32768.0);
+        std::vector<float> all(static_cast<size_t>(W * H));
+        m->readFloat(0, 0, W, H, 0, all.data());
+        for (int y = 0; y < H; ++y) {
+            for (int x = 0; x < W; ++x) {
+                const float expected = hole(x, y) ? -32768.0f : static_cast<float>(heightOf(x, y));
+                ASSERT_EQ(all[static_cast<size_t>(x + y * W)], expected) << x << "," << y << " " << inputs[0];
+            }
+        }
+    }
+    // Through the encoder: the bytes of the pyramid built from the whole int16 raster.
+    DemEncodeOptions o;
+    o.tileSize = 32;
+    o.rootTileSize = 4;
+    o.scale = 0.25;
+    const DemReport single = encodeDem(wholePath, dir.file("whole.dat"), o);
+    const DemReport mixed = encodeDem({west, east}, dir.file("mixed.dat"), o);
+    EXPECT_EQ(mixed.nodataFilled, single.nodataFilled);
+    EXPECT_TRUE(bytesOf(dir.file("whole.dat")) == bytesOf(dir.file("mixed.dat")));
 }
 
 TEST(Mosaic, CommandLinesTakeListsDirectoriesAndVrts) {

@@ -33,22 +33,28 @@ const Georeference& placedBy(const std::string& path, const RasterInfo& info) {
 
 // Whether two files lie on one grid (RasterMosaic's rules).
 bool oneGrid(const RasterInfo& a, const RasterInfo& b) {
+    return a.channels == b.channels && a.type == b.type && sameNodata(a.nodata, b.nodata) && offsetOnGrid(a, b);
+}
+
+} // namespace
+
+std::optional<std::array<int64_t, 2>> offsetOnGrid(const RasterInfo& a, const RasterInfo& b) {
     const Georeference& g = *a.georeference;
     const Georeference& h = *b.georeference;
-    if (!sameCrs(g, h) || a.channels != b.channels || a.type != b.type ||
-        !sameNodata(a.nodata, b.nodata) || !g.axisAligned() || !h.axisAligned()) {
-        return false;
+    if (!sameCrs(g, h) || !g.axisAligned() || !h.axisAligned()) {
+        return std::nullopt;
     }
     const auto& t = g.pixelToCrs;
     const auto& u = h.pixelToCrs;
     if (std::fabs(t[1] - u[1]) > 1e-9 * std::fabs(t[1]) || std::fabs(t[5] - u[5]) > 1e-9 * std::fabs(t[5])) {
-        return false;
+        return std::nullopt;
     }
     const double dx = (u[0] - t[0]) / t[1], dy = (u[3] - t[3]) / t[5];
-    return std::fabs(dx - std::round(dx)) <= 1e-6 && std::fabs(dy - std::round(dy)) <= 1e-6;
+    if (std::fabs(dx - std::round(dx)) > 1e-6 || std::fabs(dy - std::round(dy)) > 1e-6) {
+        return std::nullopt;
+    }
+    return std::array<int64_t, 2>{std::llround(dx), std::llround(dy)};
 }
-
-} // namespace
 
 std::vector<std::vector<std::string>> groupByGrid(const std::vector<std::string>& paths) {
     std::vector<std::vector<std::string>> groups;

@@ -11,6 +11,7 @@
 // * Bounded: at most kOpenFiles files are open at once (least recently used closed first), each
 //   with a share of the cache budget; a file is opened only when a read needs it.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -24,6 +25,12 @@
 namespace pyramid {
 
 class RasterSource;
+
+// Where file b's pixel (0, 0) lies in file a's pixel coordinates (whole pixels) when the two
+// lie on one grid: the same CRS and pixel size, no rotation, a whole number of pixels apart
+// (within 10^-6 pixel); none otherwise. Bands, sample types and nodata are not compared. Both
+// must be georeferenced.
+std::optional<std::array<int64_t, 2>> offsetOnGrid(const RasterInfo& a, const RasterInfo& b);
 
 // The files of a mosaic grouped by grid: each group holds the files one RasterMosaic can join
 // (same CRS, bands, sample type, pixel size and nodata, at whole pixels from each other), in

@@ -32,28 +32,41 @@ double groundSide(const Georeference& g, int width, int height, const Georeferen
     return std::min(across * std::cos(latitude * std::numbers::pi / 180.0), down) * metresPerUnit;
 }
 
+// A group whose own samples the mosaic takes as they are, with its pixel (0, 0) in the mosaic.
+struct OwnGroup {
+    std::unique_ptr<RasterSource> source;
+    int64_t x = 0, y = 0;
+};
+
 class ResampledPixels final : public RasterPixels {
 public:
-    // `own`: the finest group when it lies on the grid (its first pixel at (x0, y0) of the
-    // mosaic), else null; `grid`: the CRS and transform of the grid's pixel coordinates (the
-    // mosaic's, shifted by (x0, y0)).
-    ResampledPixels(std::vector<std::vector<std::string>> groups, std::unique_ptr<RasterSource> own, int x0, int y0,
+    // `own`: the groups on the grid (the finest group in the CRS and any other on its grid), in
+    // priority order; `x0`, `y0`: the grid's pixel (0, 0) in the mosaic; `grid`: the CRS and
+    // transform of the grid's pixel coordinates (the mosaic's, shifted by (x0, y0)).
+    ResampledPixels(std::vector<std::vector<std::string>> groups, std::vector<OwnGroup> own, int x0, int y0,
                     RasterInfo info, PlanetBody body, int cacheMegabytes, const Georeference& grid, int64_t gridWidth,
                     int64_t gridHeight, const std::string& gridName)
-        : groups_(std::move(groups)), finest_(std::move(own)), x0_(x0), y0_(y0), info_(std::move(info)),
+        : groups_(std::move(groups)), own_(std::move(own)), x0_(x0), y0_(y0), info_(std::move(info)),
           body_(std::move(body)), cacheMegabytes_(cacheMegabytes), grid_(grid, gridWidth, gridHeight, gridName) {}
 
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const override {
         const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
-        read<float>(x0, y0, x1, y1, 1, gap, out,
-                    [&](int a0, int b0, int a1, int b1, float* to) { finest_->readFloat(a0, b0, a1, b1, channel, to); },
-                    [this](float v) { return !isNodata(v, finest_->info().nodata); }, mosaic(SampleRead::Float), channel);
+        read<float>(
+            x0, y0, x1, y1, 1, gap, out,
+            [&](const RasterSource& s, int a0, int b0, int a1, int b1, float* to) {
+                s.readFloat(a0, b0, a1, b1, channel, to);
+            },
+            [](const RasterSource& s, float v) { return !isNodata(v, s.info().nodata); }, mosaic(SampleRead::Float),
+            channel);
     }
 
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
-        read<uint16_t>(x0, y0, x1, y1, c1 - c0, 0, out,
-                       [&](int a0, int b0, int a1, int b1, uint16_t* to) { finest_->readUInt16(a0, b0, a1, b1, c0, c1, to); },
-                       [](uint16_t) { return true; }, mosaic(SampleRead::UInt16), c0);
+        read<uint16_t>(
+            x0, y0, x1, y1, c1 - c0, 0, out,
+            [&](const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) {
+                s.readUInt16(a0, b0, a1, b1, c0, c1, to);
+            },
+            [](const RasterSource&, uint16_t) { return true; }, mosaic(SampleRead::UInt16), c0);
     }
 
 private:
@@ -68,8 +81,8 @@ private:
         return *mosaics_[k];
     }
 
-    // Values (x, y) of the window, `values` per pixel: the finest group's own where it has one
-    // (`has`), else the mosaic's at the pixel centre, else `gap`.
+    // Values (x, y) of the window, `values` per pixel: the first group on the grid with its own
+    // there (`has`), else the mosaic's at the pixel centre, else `gap`.
     template <typename T, typename Own, typename Has>
     void read(int x0, int y0, int x1, int y1, int values, T gap, T* out, Own own, Has has, const MapMosaic& map,
               int firstChannel) const {
@@ -77,19 +90,28 @@ private:
         const auto n = static_cast<size_t>(values);
         std::fill(out, out + width * static_cast<size_t>(y1 - y0) * n, gap);
         std::vector<uint8_t> done(width * static_cast<size_t>(y1 - y0), 0);
-        // The finest group's pixels: the window within it, shifted by its place in the mosaic.
-        const int fx0 = std::max(x0 - x0_, 0), fx1 = finest_ ? std::min(x1 - x0_, finest_->info().width) : 0;
-        const int fy0 = std::max(y0 - y0_, 0), fy1 = finest_ ? std::min(y1 - y0_, finest_->info().height) : 0;
-        if (fx0 < fx1 && fy0 < fy1) {
-            std::vector<T> part(static_cast<size_t>(fx1 - fx0) * static_cast<size_t>(fy1 - fy0) * n);
-            own(fx0, fy0, fx1, fy1, part.data());
+        // Each group's pixels on the grid: the window within it, shifted by its place in the mosaic.
+        std::vector<T> part;
+        for (const OwnGroup& g : own_) {
+            const RasterSource& s = *g.source;
+            const int fx0 = static_cast<int>(std::max<int64_t>(x0 - g.x, 0));
+            const int fx1 = static_cast<int>(std::min<int64_t>(x1 - g.x, s.info().width));
+            const int fy0 = static_cast<int>(std::max<int64_t>(y0 - g.y, 0));
+            const int fy1 = static_cast<int>(std::min<int64_t>(y1 - g.y, s.info().height));
+            if (fx0 >= fx1 || fy0 >= fy1) {
+                continue;
+            }
+            const auto partWidth = static_cast<size_t>(fx1 - fx0);
+            part.resize(partWidth * static_cast<size_t>(fy1 - fy0) * n);
+            own(s, fx0, fy0, fx1, fy1, part.data());
             for (int y = fy0; y < fy1; ++y) {
                 for (int x = fx0; x < fx1; ++x) {
-                    const T* from = &part[(static_cast<size_t>(y - fy0) * static_cast<size_t>(fx1 - fx0) + static_cast<size_t>(x - fx0)) * n];
-                    if (!std::all_of(from, from + n, has)) {
+                    const size_t k = static_cast<size_t>(y + g.y - y0) * width + static_cast<size_t>(x + g.x - x0);
+                    const size_t at = static_cast<size_t>(y - fy0) * partWidth + static_cast<size_t>(x - fx0);
+                    const T* from = &part[at * n];
+                    if (done[k] || !std::all_of(from, from + n, [&](T v) { return has(s, v); })) {
                         continue;
                     }
-                    const size_t k = static_cast<size_t>(y + y0_ - y0) * width + static_cast<size_t>(x + x0_ - x0);
                     std::copy(from, from + n, out + k * n);
                     done[k] = 1;
                 }
@@ -125,7 +147,7 @@ private:
     }
 
     std::vector<std::vector<std::string>> groups_;
-    std::unique_ptr<RasterSource> finest_; // null when the finest group is not on the grid
+    std::vector<OwnGroup> own_; // empty when the finest group is not on the grid
     int x0_, y0_; // the grid's pixel (0, 0) in the mosaic
     RasterInfo info_;
     PlanetBody body_;
@@ -296,6 +318,14 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
     }
     const std::string gridName = onGrid ? described[*onGrid]->path() : target.crs;
     const GeoreferencedMap gridMap(grid, gridWidth, gridHeight, gridName);
+    // The groups on that grid, in list order, with their pixel (0, 0) on it: that group, and any
+    // other there whose sample type or nodata value kept it apart (groupByGrid).
+    std::vector<std::pair<size_t, std::array<int64_t, 2>>> onTheGrid;
+    for (size_t k = 0; onGrid && k < groups.size(); ++k) {
+        if (const auto at = offsetOnGrid(described[*onGrid]->info(), described[k]->info())) {
+            onTheGrid.emplace_back(k, *at);
+        }
+    }
 
     // The mosaic's pixels on that grid: the extent asked for, or the union of the footprints.
     constexpr double kSnap = 1e-6; // a pixel edge within this of an extent's edge is on it
@@ -309,9 +339,11 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
     std::array<double, 4> inputBox{minX, minY, maxX, maxY};
     for (size_t k = 0; k < groups.size(); ++k) {
         const RasterInfo& info = described[k]->info();
-        if (onGrid && k == *onGrid) {
-            add(0.0, 0.0);
-            add(static_cast<double>(info.width), static_cast<double>(info.height));
+        const auto on = std::find_if(onTheGrid.begin(), onTheGrid.end(), [&](const auto& g) { return g.first == k; });
+        if (on != onTheGrid.end()) {
+            const auto [dx, dy] = on->second;
+            add(static_cast<double>(dx), static_cast<double>(dy));
+            add(static_cast<double>(dx + info.width), static_cast<double>(dy + info.height));
             continue;
         }
         constexpr int kSide = 32; // points along each edge of the group's outline
@@ -361,9 +393,11 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
     }
     const std::string name = inputs.size() == 1 ? inputs[0] : inputs[0] + " and " + std::to_string(inputs.size() - 1) + " more";
     const PlanetBody body(crs.name + "'s ellipsoid", crs.semiMajorAxis, crs.flattening);
-    std::unique_ptr<RasterSource> own;
-    if (onGrid) {
-        own = openNorthUp(groups[*onGrid], std::max(2, cacheMegabytes / 2));
+    std::vector<OwnGroup> own;
+    for (const auto& [k, at] : onTheGrid) {
+        const int share = std::max(2, cacheMegabytes / 2 / static_cast<int>(onTheGrid.size()));
+        own.push_back({openNorthUp(groups[k], share), at[0] - static_cast<int64_t>(x0),
+                       at[1] - static_cast<int64_t>(y0)});
     }
     auto pixels = std::make_shared<ResampledPixels>(groups, std::move(own), static_cast<int>(-x0), static_cast<int>(-y0),
                                                     info, body, std::max(2, cacheMegabytes / 2), grid, gridWidth,

@@ -9,11 +9,12 @@
 //   geographic CRS), their edges on whole multiples of the pixel size in CRS units.
 // * The extent: --extent (PlanarTarget::extent, in the CRS's units), else the union of every
 //   group's footprint; widened to whole pixels.
-// * Where the finest group is on the grid and has a value, its own sample is taken as it is (no
-//   resampling); elsewhere the groups give one, finest first, each sampled bilinearly at the
-//   pixel's centre (its geodetic point, forward-projected into the group's CRS:
-//   sphere/map_mosaic.hpp). Pixels no group reaches are nodata (the finest group's declared
-//   value, else NaN; colours 0).
+// * Where the finest group is on the grid, it and every other group on that grid (files that
+//   groupByGrid keeps apart for their sample type or nodata value) give their own samples as
+//   they are (no resampling), the first listed with a value first; elsewhere the groups give
+//   one, finest first, each sampled bilinearly at the pixel's centre (its geodetic point,
+//   forward-projected into the group's CRS: sphere/map_mosaic.hpp). Pixels no group reaches
+//   are nodata (the finest group's declared value, else NaN; colours 0).
 // * Geodetic coordinates of every CRS are taken on the target CRS's ellipsoid (no datum shift).
 // * North-up: a file whose axis-aligned transform runs its rows north (south-up) or its columns
 //   west is read mirrored, sample for sample, under the transform of the same ground, so that

@@ -111,6 +111,11 @@ void writeGeoTiff(const std::string& path, int width, int height, const std::vec
     write(path, width, height, 1, 32, SAMPLEFORMAT_IEEEFP, values.data(), tags);
 }
 
+void writeGeoTiffInt16(const std::string& path, int width, int height, const std::vector<int16_t>& values,
+                       const GeoTiffTags& tags) {
+    write(path, width, height, 1, 16, SAMPLEFORMAT_INT, values.data(), tags);
+}
+
 void writeGeoTiffHalf(const std::string& path, int width, int height, const std::vector<uint16_t>& values,
                       const GeoTiffTags& tags) {
     write(path, width, height, 1, 16, SAMPLEFORMAT_IEEEFP, values.data(), tags);

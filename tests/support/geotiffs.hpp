@@ -1,5 +1,5 @@
-// Small GeoTIFFs for tests, written with libtiff and libgeotiff (no GDAL): float32 heights or
-// 8-bit RGB, with the GeoKeys and placement tags a test chooses.
+// Small GeoTIFFs for tests, written with libtiff and libgeotiff (no GDAL): float32 or int16
+// heights or 8-bit RGB, with the GeoKeys and placement tags a test chooses.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -39,6 +39,9 @@ void setTransformation(GeoTiffTags& tags, const std::array<double, 6>& t);
 // Writes width x height float32 samples (row 0 first), one band.
 void writeGeoTiff(const std::string& path, int width, int height, const std::vector<float>& values,
                   const GeoTiffTags& tags);
+// Writes width x height int16 samples (row 0 first), one band.
+void writeGeoTiffInt16(const std::string& path, int width, int height, const std::vector<int16_t>& values,
+                       const GeoTiffTags& tags);
 // Writes width x height half-float samples (IEEE binary16 bit patterns), one band: a layout only
 // the OpenImageIO module reads.
 void writeGeoTiffHalf(const std::string& path, int width, int height, const std::vector<uint16_t>& values,

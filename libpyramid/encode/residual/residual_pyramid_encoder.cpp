@@ -662,7 +662,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                 b0 = b1;
             }
         });
-        fillRootNodata(plan, grid, job.emptyFill, job.input);
+        fillRootNodata(plan, grid, *job.heights, threads, job.emptyFill, job.input);
     }
 
     double scale = options.scale;

@@ -1,13 +1,64 @@
 #include "libpyramid/encode/residual/root_fill.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "formats/error.hpp"
+#include "libpyramid/support/parallel.hpp"
 
 namespace pyramid {
 
-void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, std::optional<float> emptyFill, const std::string& input) {
+namespace {
+
+// The sum and count of the valid finest samples [0, N]^2: blocks of kBlock x kBlock samples, one
+// row of blocks at a time (those no valid height can reach skipped), summed in block order
+// whatever the threads.
+std::pair<double, int64_t> finestValid(const ResidualPlan& plan, const HeightSource& heights, int threads) {
+    constexpr int64_t kBlock = 256;
+    double sum = 0.0;
+    int64_t count = 0;
+    if (!heights.mayHaveHeights(0, 0, plan.N, plan.N)) {
+        return {sum, count};
+    }
+    const int64_t blocks = plan.N / kBlock + 1;
+    std::vector<double> sums(static_cast<size_t>(blocks));
+    std::vector<int64_t> counts(static_cast<size_t>(blocks));
+    for (int64_t by = 0; by < blocks; ++by) {
+        parallelFor(blocks, threads, [&](int64_t bx) {
+            SourceGrid block;
+            block.x0 = bx * kBlock;
+            block.y0 = by * kBlock;
+            block.nx = std::min(plan.N + 1, block.x0 + kBlock) - block.x0;
+            block.ny = std::min(plan.N + 1, block.y0 + kBlock) - block.y0;
+            double s = 0.0;
+            int64_t c = 0;
+            if (heights.mayHaveHeights(block.x0, block.y0, block.x0 + block.nx - 1, block.y0 + block.ny - 1)) {
+                heights.sample(block);
+                for (size_t k = 0; k < block.valid.size(); ++k) {
+                    if (block.valid[k]) {
+                        s += block.height[k];
+                        ++c;
+                    }
+                }
+            }
+            sums[static_cast<size_t>(bx)] = s;
+            counts[static_cast<size_t>(bx)] = c;
+        });
+        for (int64_t bx = 0; bx < blocks; ++bx) {
+            sum += sums[static_cast<size_t>(bx)];
+            count += counts[static_cast<size_t>(bx)];
+        }
+    }
+    return {sum, count};
+}
+
+} // namespace
+
+void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSource& heights, int threads,
+                    std::optional<float> emptyFill, const std::string& input) {
     const int64_t border = plan.folded ? 2 : 0;
     const int64_t side = plan.R + 1 + 2 * border;
     const int64_t unit = int64_t{1} << plan.M;
@@ -33,6 +84,10 @@ void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, std::optional<fl
                 sum += grid.height[s];
                 ++valid;
             }
+        }
+        if (valid == 0 && grid.stride > 1) {
+            // The grid holds every stride-th sample: valid heights between them count too.
+            std::tie(sum, valid) = finestValid(plan, heights, threads);
         }
         if (valid == 0 && !emptyFill) {
             fail(input, "no valid height anywhere (everything is nodata)");
