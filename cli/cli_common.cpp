@@ -466,9 +466,44 @@ void writeJson(const nlohmann::json& json, const std::string& path) {
     out.commit();
 }
 
-void checkReportIsNotSidecar(const std::string& report, const std::string& sidecar) {
-    if (!report.empty() && std::filesystem::path(report).lexically_normal() == std::filesystem::path(sidecar).lexically_normal()) {
-        fail("--report", "'" + report + "' is where the georeference sidecar goes; name the report otherwise");
+void checkOutputsApart(const InputArgs& input, const std::vector<OutputFile>& writes, std::string& report) {
+    namespace fs = std::filesystem;
+    // The same file: the same inode when both exist, else the same path once resolved.
+    const auto same = [](const std::string& a, const std::string& b) {
+        std::error_code ec, ed;
+        if (fs::exists(a, ec) && fs::exists(b, ed)) {
+            return fs::equivalent(a, b, ec) && !ec;
+        }
+        return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ed) && !ec && !ed;
+    };
+    std::vector<std::string> inputs = input.inputs;
+    if (!input.list.empty()) {
+        inputs.push_back(input.list);
+    }
+    std::error_code ec;
+    const auto reportNames = [&](const std::string& what) {
+        // Not even the failure report goes there.
+        const std::string named = report;
+        report.clear();
+        fail("--report", "'" + named + "' is " + what + "; name the report otherwise");
+    };
+    for (const std::string& in : inputs) {
+        if (!fs::is_regular_file(in, ec)) {
+            continue; // a directory or a glob: its files are not outputs' names
+        }
+        if (!report.empty() && report != "-" && same(report, in)) {
+            reportNames("an input");
+        }
+        for (const OutputFile& out : writes) {
+            if (same(out.path, in)) {
+                fail("-o", "'" + out.path + "' is an input; name the output otherwise");
+            }
+        }
+    }
+    for (const OutputFile& out : writes) {
+        if (!report.empty() && report != "-" && same(report, out.path)) {
+            reportNames(out.what);
+        }
     }
 }
 

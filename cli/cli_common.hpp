@@ -153,9 +153,15 @@ void addThreadsOption(CLI::App& app, int& threads);
 // stdout. An object without "ok" gets "ok": true (a failed run's report is runProgram's).
 void writeJson(const nlohmann::json& json, const std::string& path);
 
-// The planar commands' georeference sidecar (input/pyramid_georeference.hpp) and --report must
-// be two files: throws Error naming --report otherwise.
-void checkReportIsNotSidecar(const std::string& report, const std::string& sidecar);
+// Refuses a run that would write over what it reads or write two things to one file: an output
+// it writes (`writes`: the pyramid files, their georeference sidecar) naming an input file, or
+// the report naming an input or an output. A report so refused is dropped first, so that not
+// even the failure report is written there. Throws Error ("-o: ...", "--report: ...").
+struct OutputFile {
+    std::string path;
+    std::string what; // for messages: "the output", "where the georeference sidecar goes"
+};
+void checkOutputsApart(const InputArgs& input, const std::vector<OutputFile>& writes, std::string& report);
 // One line on stderr for a georeferenced input: its CRS and the sidecar written.
 void printGeoreferenceSummary(const std::optional<PyramidGeoreference>& georeference, const std::string& sidecar);
 

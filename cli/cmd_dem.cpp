@@ -24,7 +24,10 @@ CommandRunner setupDemCommand(CLI::App& app) {
     return [args, target]() {
         DemEncodeOptions options = resolveDemOptions(*args);
         options.target = target->resolve();
-        checkReportIsNotSidecar(args->report, georeferenceSidecarPath(args->output));
+        checkOutputsApart(args->input,
+                          {{args->output, "the output"},
+                           {georeferenceSidecarPath(args->output), "where the georeference sidecar goes"}},
+                          args->report);
         const bool talk = speaks(args->quiet);
         if (talk) {
             options.tileFitChosen = printTileFit;

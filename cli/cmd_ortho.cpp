@@ -26,7 +26,14 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
         options.levels.target = target->resolve();
         const std::string sidecar =
             (std::filesystem::path(a->output) / georeferenceSidecarPath(options.name + ".dat")).string();
-        checkReportIsNotSidecar(a->report, sidecar);
+        const std::filesystem::path directory(a->output);
+        const std::string file = options.name + ".dat";
+        checkOutputsApart(a->input,
+                          {{(directory / file).string(), "an output"},
+                           {(directory / "dxt" / file).string(), "an output"},
+                           {(directory / "residuals" / file).string(), "an output"},
+                           {sidecar, "where the georeference sidecar goes"}},
+                          a->report);
         const bool talk = speaks(a->quiet);
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;

@@ -39,6 +39,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         options.name = *name;
         const bool quiet = args->quiet;
         options.warning = [quiet](const std::string& what) { warn(quiet, what); };
+        checkOutputsApart(args->input, {}, args->report); // the faces go into a directory
         const bool talk = speaks(args->quiet);
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;

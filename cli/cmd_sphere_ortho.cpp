@@ -34,6 +34,7 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
         options.faces = choice.faces;
         const bool quiet = a->quiet;
         options.warning = [quiet](const std::string& what) { warn(quiet, what); };
+        checkOutputsApart(a->input, {}, a->report); // the faces go into a directory
         const bool talk = speaks(a->quiet);
         std::unique_ptr<OutputPreflight> preflight;
         std::unique_ptr<Progress> progress;
