@@ -89,12 +89,22 @@ TileTable::Range TileTable::range(int64_t index) const {
 
 TileTable::~TileTable() = default;
 
+int64_t TileTable::storedTiles() const {
+    int64_t stored = 0;
+    for (int64_t i = 0; i < tileCount_; ++i) {
+        stored += range(i).size() > 0 ? 1 : 0;
+    }
+    return stored;
+}
+
 int64_t TileTable::distinctRanges() const {
     std::vector<std::pair<uint64_t, uint64_t>> seen;
     seen.reserve(static_cast<size_t>(tileCount_));
     for (int64_t i = 0; i < tileCount_; ++i) {
         const Range r = range(i);
-        seen.emplace_back(r.begin, r.end);
+        if (r.size() > 0) {
+            seen.emplace_back(r.begin, r.end);
+        }
     }
     std::sort(seen.begin(), seen.end());
     return static_cast<int64_t>(std::unique(seen.begin(), seen.end()) - seen.begin());

@@ -45,7 +45,10 @@ public:
     Range range(int64_t index) const;
     uint64_t dataStart() const { return dataStart_; }
     uint64_t fileSize() const { return fileSize_; }
-    // Number of distinct byte ranges (tiles sharing bytes count once).
+    // Number of tiles with a non-empty byte range (the others are left out).
+    int64_t storedTiles() const;
+    // Number of distinct non-empty byte ranges (tiles sharing bytes count once, tiles left out as
+    // an empty range not at all): never more than the tiles stored.
     int64_t distinctRanges() const;
     // The bytes of tile `index` (positional read: safe from many threads at once).
     // Throws MissingTileError for an empty range ("PATH: tile N is missing").

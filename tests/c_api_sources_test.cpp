@@ -411,10 +411,12 @@ TEST(CApiSources, EveryOpenClearsTheHandleAndNamesTheCallOrFileWhenItFails) {
     refused(pyramid_elevation_open(none.c_str(), 4, 0, 2, &e), PYRAMID_ERROR_FILE, e, "none.dat");
     e = staleElevation;
     refused(pyramid_elevation_open_regions(dem.c_str(), nullRegion, 1, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
-            "pyramid_elevation_open: null argument");
+            "pyramid_elevation_open_regions: null argument");
     e = staleElevation;
     refused(pyramid_elevation_open_regions(dem.c_str(), nullptr, 1, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
-            "pyramid_elevation_open: null argument");
+            "pyramid_elevation_open_regions: null argument");
+    refused(pyramid_elevation_open_regions(dem.c_str(), nullptr, 0, 4, 0, 2, nullptr), PYRAMID_ERROR_ARGUMENT,
+            nullptr, "pyramid_elevation_open_regions: null argument");
     pyramid_elevation_options eo{};
     eo.struct_size = 1;
     e = staleElevation;
@@ -437,7 +439,10 @@ TEST(CApiSources, EveryOpenClearsTheHandleAndNamesTheCallOrFileWhenItFails) {
     refused(pyramid_ortho_open(none.c_str(), 0, 2, &o), PYRAMID_ERROR_FILE, o, "none.dat");
     o = staleOrtho;
     refused(pyramid_ortho_open_regions(rgb.c_str(), nullRegion, 1, 0, 2, &o), PYRAMID_ERROR_ARGUMENT, o,
-            "pyramid_ortho_open: null argument");
+            "pyramid_ortho_open_regions: null argument");
+    o = staleOrtho;
+    refused(pyramid_ortho_open_regions(rgb.c_str(), nullptr, 0, 2, 2, &o), PYRAMID_ERROR_ARGUMENT, o,
+            "pyramid_ortho_open_regions: colour_residuals 2 is neither 0 nor 1");
     pyramid_ortho_options oo{};
     oo.struct_size = 1;
     o = staleOrtho;

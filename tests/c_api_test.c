@@ -180,6 +180,10 @@ static void test_ortho(const char* dir) {
 static void test_errors(const char* dir) {
     char path[4096];
     pyramid_file* file = (pyramid_file*)1;
+    pyramid_elevation* elevations = NULL;
+    pyramid_normal* normals;
+    pyramid_normal_options no;
+    const char* message;
     path_of(path, sizeof path, dir, "no-such-file.dat");
     CHECK(pyramid_open(path, &file) == PYRAMID_ERROR_FILE);
     CHECK(file == NULL);
@@ -190,6 +194,34 @@ static void test_errors(const char* dir) {
     CHECK(pyramid_version_number() == PYRAMID_VERSION_NUMBER);
     CHECK(strlen(pyramid_version_string()) >= 5);
     pyramid_close(NULL);
+
+    /* A bad grid size names the file once. */
+    path_of(path, sizeof path, dir, "proland/DEM.dat");
+    CHECK(pyramid_elevation_open(path, 24, 7, 4, &elevations) == PYRAMID_ERROR_ARGUMENT);
+    CHECK(elevations == NULL);
+    message = pyramid_last_error();
+    CHECK(strncmp(message, path, strlen(path)) == 0 && strstr(message, "gridSize 7") != NULL);
+    CHECK(strstr(message + 1, path) == NULL);
+    /* ... and so does a bad tile size. */
+    CHECK(pyramid_elevation_open(path, 100, 0, 4, &elevations) == PYRAMID_ERROR_ARGUMENT);
+    message = pyramid_last_error();
+    CHECK(strncmp(message, path, strlen(path)) == 0 && strstr(message + 1, path) == NULL);
+
+    /* Every open clears the handle when it fails, a null argument included. */
+    memset(&no, 0, sizeof no);
+    no.struct_size = sizeof no;
+    no.deformation = PYRAMID_DEFORM_PLANE;
+    no.size = 1.0;
+    normals = (pyramid_normal*)&no;
+    CHECK(pyramid_normal_open(NULL, &no, &normals) == PYRAMID_ERROR_ARGUMENT);
+    CHECK(normals == NULL);
+    CHECK(strstr(pyramid_last_error(), "pyramid_normal_open: null argument") != NULL);
+    CHECK(pyramid_elevation_open(path, 24, 0, 4, &elevations) == PYRAMID_OK);
+    normals = (pyramid_normal*)&no;
+    CHECK(pyramid_normal_open(elevations, NULL, &normals) == PYRAMID_ERROR_ARGUMENT);
+    CHECK(normals == NULL);
+    CHECK(pyramid_normal_open(elevations, &no, NULL) == PYRAMID_ERROR_ARGUMENT);
+    pyramid_elevation_close(elevations);
 }
 
 /* ---- Memory and callback sources ----------------------------------------------------------- */
@@ -497,6 +529,15 @@ static void test_stat(const char* dir) {
     short small[4];
     long reads;
     int level;
+    pyramid_file_info fi;
+    pyramid_elevation* left_out = NULL;
+    pyramid_elevation* reference = NULL;
+    pyramid_ortho* ortho = NULL;
+    pyramid_ortho_options oo;
+    float* zf;
+    float* zr;
+    double height = 0.0;
+    unsigned char* pixels;
     path_of(path, sizeof path, dir, "proland/DEM.dat");
     dem = load_file(path, &size);
     CHECK(dem != NULL);
@@ -559,15 +600,73 @@ static void test_stat(const char* dir) {
         CHECK(written == 0);
         CHECK(pyramid_read_tile_bytes(file, 4, 1, 0, NULL, 0, &written) == PYRAMID_ERROR_NOT_FOUND);
         CHECK(pyramid_tile_stat(file, 4, 0, 0, &t) == PYRAMID_OK && t.exists == 1);
+        /* Every tile of the original has bytes of its own: 23 left, 23 distinct ranges. */
+        memset(&fi, 0, sizeof fi);
+        fi.struct_size = sizeof fi;
+        CHECK(pyramid_get_file_info(file, &fi) == PYRAMID_OK);
+        CHECK(fi.stored_tiles == 23 && fi.distinct_tiles == 23);
         pyramid_close(file);
     }
+    /* The elevation producer continues smoothly there (zero residuals), at the tile and below:
+     * file tile (4, 1, 0) is producer tile (1, 1, 0) for elevation tiles of 192 (delta 3). */
+    CHECK(pyramid_elevation_open_sources(&source, NULL, 0, NULL, &left_out) == PYRAMID_OK);
+    CHECK(pyramid_elevation_open(path, 0, 0, 8, &reference) == PYRAMID_OK);
+    if (left_out && reference) {
+        zf = (float*)malloc(197 * 197 * sizeof(float));
+        zr = (float*)malloc(197 * 197 * sizeof(float));
+        CHECK(pyramid_elevation_tile(left_out, 1, 1, 0, zf, NULL, NULL, 197 * 197) == PYRAMID_OK);
+        CHECK(pyramid_elevation_tile(reference, 1, 1, 0, zr, NULL, NULL, 197 * 197) == PYRAMID_OK);
+        CHECK(isfinite(zf[98 + 98 * 197]) && memcmp(zf, zr, 197 * 197 * sizeof(float)) != 0);
+        CHECK(pyramid_elevation_tile(left_out, 2, 2, 1, zf, NULL, NULL, 197 * 197) == PYRAMID_OK);
+        CHECK(isfinite(zf[98 + 98 * 197]));
+        CHECK(pyramid_elevation_height(left_out, -1, 0.7, 0.2, &height) == PYRAMID_OK && isfinite(height));
+        /* Elsewhere the same tiles as the original's. */
+        CHECK(pyramid_elevation_tile(left_out, 2, 0, 0, zf, NULL, NULL, 197 * 197) == PYRAMID_OK);
+        CHECK(pyramid_elevation_tile(reference, 2, 0, 0, zr, NULL, NULL, 197 * 197) == PYRAMID_OK);
+        CHECK(memcmp(zf, zr, 197 * 197 * sizeof(float)) == 0);
+        free(zf);
+        free(zr);
+    }
+    pyramid_elevation_close(left_out);
+    pyramid_elevation_close(reference);
     free(copy);
+    free(dem);
+
+    /* An ortho tile stored as an empty range: no tile as it is, no residual for the colour
+     * residual producer (the prediction alone), at the tile and below. */
+    path_of(path, sizeof path, dir, "proland/RGB.dat");
+    dem = load_file(path, &size);
+    CHECK(dem != NULL);
+    if (!dem) {
+        return;
+    }
+    memcpy(dem + 28 + 16 * 1 + 8, dem + 28 + 16 * 1, 8); /* tile 1 = (1, 0, 0) */
+    source = memory_source(dem, size);
+    pixels = (unsigned char*)malloc(196 * 196 * 4);
+    CHECK(pyramid_ortho_open_sources(&source, NULL, 0, NULL, &ortho) == PYRAMID_OK);
+    if (ortho) {
+        CHECK(pyramid_ortho_tile(ortho, 1, 0, 0, pixels, 196 * 196 * 4) == PYRAMID_ERROR_NOT_FOUND);
+        CHECK(pyramid_ortho_tile(ortho, 1, 1, 0, pixels, 196 * 196 * 4) == PYRAMID_OK);
+        pyramid_ortho_close(ortho);
+    }
+    memset(&oo, 0, sizeof oo);
+    oo.struct_size = sizeof oo;
+    oo.colour_residuals = 1;
+    CHECK(pyramid_ortho_open_sources(&source, NULL, 0, &oo, &ortho) == PYRAMID_OK);
+    if (ortho) {
+        CHECK(pyramid_ortho_tile(ortho, 1, 0, 0, pixels, 196 * 196 * 4) == PYRAMID_OK);
+        CHECK(pyramid_ortho_tile(ortho, 2, 1, 1, pixels, 196 * 196 * 4) == PYRAMID_OK);
+        CHECK(pyramid_ortho_tile(ortho, 2, 2, 0, pixels, 196 * 196 * 4) == PYRAMID_OK);
+        pyramid_ortho_close(ortho);
+    }
+    free(pixels);
     free(dem);
 }
 
 static void test_status_names(void) {
     CHECK(strcmp(pyramid_status_name(PYRAMID_ERROR_NOT_FOUND), "not_found") == 0);
     CHECK(strcmp(pyramid_status_name(PYRAMID_ERROR_ARGUMENT), "argument") == 0);
+    CHECK(strcmp(pyramid_status_name(PYRAMID_ERROR_CANCELLED), "cancelled") == 0);
     CHECK(PYRAMID_ERROR_NOT_FOUND != PYRAMID_ERROR_ARGUMENT);
 }
 
@@ -807,6 +906,41 @@ static void test_scale(const char* dir) {
     pyramid_close(file);
 }
 
+/* colour_residuals is 0 or 1: anything else is refused, by every open. */
+static void test_colour_residuals_option(const char* dir) {
+    char path[4096];
+    pyramid_ortho* producer;
+    pyramid_source source;
+    pyramid_ortho_options o;
+    const int refused[] = {2, -1, 256};
+    size_t k;
+    path_of(path, sizeof path, dir, "proland/RGB.dat");
+    source = path_source(path);
+    memset(&o, 0, sizeof o);
+    o.struct_size = sizeof o;
+    for (k = 0; k < sizeof refused / sizeof refused[0]; ++k) {
+        producer = (pyramid_ortho*)&o; /* stale: must come back NULL */
+        CHECK(pyramid_ortho_open(path, refused[k], 4, &producer) == PYRAMID_ERROR_ARGUMENT);
+        CHECK(producer == NULL);
+        CHECK(strstr(pyramid_last_error(), "pyramid_ortho_open: colour_residuals") != NULL);
+        producer = (pyramid_ortho*)&o;
+        CHECK(pyramid_ortho_open_regions(path, NULL, 0, refused[k], 4, &producer) == PYRAMID_ERROR_ARGUMENT);
+        CHECK(producer == NULL);
+        CHECK(strstr(pyramid_last_error(), "pyramid_ortho_open_regions: colour_residuals") != NULL);
+        o.colour_residuals = refused[k];
+        producer = (pyramid_ortho*)&o;
+        CHECK(pyramid_ortho_open_sources(&source, NULL, 0, &o, &producer) == PYRAMID_ERROR_ARGUMENT);
+        CHECK(producer == NULL);
+        CHECK(strstr(pyramid_last_error(), "pyramid_ortho_open_sources: colour_residuals") != NULL);
+    }
+    for (k = 0; k <= 1; ++k) {
+        o.colour_residuals = (int)k;
+        producer = NULL;
+        CHECK(pyramid_ortho_open_sources(&source, NULL, 0, &o, &producer) == PYRAMID_OK);
+        pyramid_ortho_close(producer);
+    }
+}
+
 int main(int argc, char** argv) {
     if (argc < 2) {
         fprintf(stderr, "usage: c_api_test DATA_DIR\n");
@@ -816,6 +950,7 @@ int main(int argc, char** argv) {
     test_elevation(argv[1]);
     test_normals(argv[1]);
     test_ortho(argv[1]);
+    test_colour_residuals_option(argv[1]);
     test_errors(argv[1]);
     test_sources(argv[1]);
     test_stat(argv[1]);

@@ -2,6 +2,7 @@
 // producer, on small pyramids written here with hand-picked values.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <tuple>
 
 #include "formats/error.hpp"
@@ -181,6 +182,71 @@ TEST(ResidualRegions, MismatchedRegionsAreRefused) {
     EXPECT_THROW(ResidualProducer(dir.file("main.dat"), {dir.file("region.dat")}), Error);
 }
 
+// Leaves tile `index` of the pyramid file `path` out: its byte range made empty (end moved onto
+// begin), as a file may store it (doc/format.md). `offsetBytes`: 4 (residual) or 8 (ortho).
+void leaveOut(const std::string& path, int64_t index, int offsetBytes) {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    const auto entry = static_cast<std::streamoff>(ResidualHeader::kBytes) + index * 2 * offsetBytes;
+    std::vector<char> begin(static_cast<size_t>(offsetBytes));
+    f.seekg(entry);
+    f.read(begin.data(), offsetBytes);
+    f.seekp(entry + offsetBytes);
+    f.write(begin.data(), offsetBytes);
+    ASSERT_TRUE(f.good()) << path;
+}
+
+// A tile left out (an empty byte range) has zero residuals, for the tile and every tile below it:
+// the elevations continue smoothly, as beyond the file.
+TEST(ResidualRegions, ATileLeftOutHasZeroResiduals) {
+    test::TempDir dir;
+    ResidualHeader h;
+    h.minLevel = 1;
+    h.maxLevel = 2;
+    h.tileSize = 4;
+    {
+        ResidualFileWriter w(dir.file("main.dat"), h);
+        w.writeTile(0, 0, 0, ramp(h.tileSamples(0), 100));
+        w.writeTile(1, 0, 0, ramp(9, 1));
+        for (int t = 0; t < 4; ++t) {
+            w.writeTile(2, t % 2, t / 2, ramp(9, 10 + 10 * t));
+        }
+        w.commit();
+    }
+    leaveOut(dir.file("main.dat"), h.tileIndex(2, 1, 0), 4);
+    ResidualProducerOptions ro;
+    ro.delta = 1;
+    auto residuals = std::make_shared<ResidualProducer>(dir.file("main.dat"), std::vector<std::string>{}, ro);
+    EXPECT_FALSE(residuals->hasTile(1, 1, 0));
+    EXPECT_TRUE(residuals->hasTile(1, 0, 0));
+    EXPECT_EQ(residuals->tile(1, 1, 0), std::vector<float>(81, 0.0f));
+    ElevationProducerOptions eo;
+    eo.tileSize = 4;
+    ElevationProducer producer(residuals, eo);
+    std::vector<float> expected(81, 0.0f);
+    upsampleAndAdd(producer.tile(0, 0, 0)->zf.data(), 9, 4, quadrantOffset(1, 4), quadrantOffset(0, 4), expected.data(),
+                   9);
+    const auto leftOut = producer.tile(1, 1, 0);
+    EXPECT_EQ(leftOut->zf, expected);
+    std::vector<float> below(81, 0.0f);
+    upsampleAndAdd(leftOut->zf.data(), 9, 4, quadrantOffset(3, 4), quadrantOffset(1, 4), below.data(), 9);
+    EXPECT_EQ(producer.tile(2, 3, 1)->zf, below);
+
+    // The root with delta 1 folds file levels 0 and 1: one of them left out is zero, not missing.
+    leaveOut(dir.file("main.dat"), h.tileIndex(0, 0, 0), 4);
+    const ResidualProducer folded(dir.file("main.dat"), {}, ro);
+    EXPECT_TRUE(folded.hasTile(0, 0, 0));
+    std::vector<float> root(81, 0.0f);
+    const std::vector<int16_t> level1 = ramp(9, 1);
+    std::vector<float> zeros(81, 0.0f);
+    for (size_t k = 0; k < root.size(); ++k) {
+        root[k] = static_cast<float>(level1[k]) * h.scale;
+    }
+    upsampleAndAdd(zeros.data(), 9, 4, 1, 1, root.data(), 9);
+    EXPECT_EQ(folded.tile(0, 0, 0), root);
+    leaveOut(dir.file("main.dat"), h.tileIndex(1, 0, 0), 4);
+    EXPECT_FALSE(ResidualProducer(dir.file("main.dat"), {}, ro).hasTile(0, 0, 0));
+}
+
 std::vector<uint8_t> solid(int side, int channels, uint8_t base) {
     std::vector<uint8_t> p(static_cast<size_t>(side) * side * channels);
     for (size_t k = 0; k < p.size(); ++k) {
@@ -271,6 +337,19 @@ TEST(ColourProducer, RebuildsChildrenFromResiduals) {
     std::vector<uint8_t> expected(64);
     upsampleColour(child->data(), 4, 1, 2, 0, nullptr, expected.data());
     EXPECT_EQ(*beyond, expected);
+
+    // A tile left out (an empty byte range): no residual either, at the tile and below.
+    leaveOut(dir.file("residuals.dat"), h.tileIndex(1, 0, 1), 8);
+    const auto tiles = std::make_shared<OrthoProducer>(dir.file("residuals.dat"));
+    EXPECT_FALSE(tiles->hasTile(1, 0, 1));
+    EXPECT_THROW(tiles->tile(1, 0, 1), MissingTileError);
+    ColourProducer q(tiles);
+    const auto leftOut = q.tile(1, 0, 1);
+    upsampleColour(root.data(), 4, 1, 0, 1, nullptr, expected.data());
+    EXPECT_EQ(*leftOut, expected);
+    upsampleColour(leftOut->data(), 4, 1, 1, 3, nullptr, expected.data());
+    EXPECT_EQ(*q.tile(2, 1, 3), expected);
+    EXPECT_EQ(*q.tile(1, 1, 0), *child);
 }
 
 // The row predictor sums the same integers as the per-sample formula, in another order: equal

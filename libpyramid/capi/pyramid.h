@@ -65,7 +65,8 @@ PYRAMID_API const char* pyramid_version_string(void);
 
 /* The calling thread's last error message, "" if none. Valid until its next failing call. */
 PYRAMID_API const char* pyramid_last_error(void);
-/* A constant name for a status: "ok", "argument", "file", "memory", "internal", "not_found". */
+/* A constant name for a status: "ok", "argument", "file", "memory", "internal", "not_found",
+ * "cancelled" ("unknown" for a value outside the enum). */
 PYRAMID_API const char* pyramid_status_name(pyramid_status status);
 
 /* ---- Sources (0.2.1) ----------------------------------------------------------------------- */
@@ -278,7 +279,9 @@ PYRAMID_API pyramid_status pyramid_normal_tile(pyramid_normal* producer, int lev
 typedef struct pyramid_ortho pyramid_ortho;
 
 /* colour_residuals = 0: the file's tiles as they are; 1: the file holds colour residuals and
- * tiles are rebuilt by the colour upsample (any level, smooth beyond the file's deepest).
+ * tiles are rebuilt by the colour upsample (any level, smooth beyond the file's deepest, and
+ * where the file leaves a tile out as an empty byte range); other values are
+ * PYRAMID_ERROR_ARGUMENT.
  * `path` may name a region set, as for pyramid_elevation_open. */
 PYRAMID_API pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t cache_tiles, pyramid_ortho** producer);
 /* The same over a main file and `region_count` nested region files (same tile size, channels

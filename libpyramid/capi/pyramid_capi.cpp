@@ -353,6 +353,90 @@ pyramid_status openSources(const pyramid_source* main, const pyramid_source* con
     });
 }
 
+// Each producer's opens: *_open, *_open_regions and *_open_sources end in one function that
+// takes the name of the call made, for its messages.
+
+pyramid_status openElevationSources(const char* function, const pyramid_source* mainSource,
+                                    const pyramid_source* const* regions, size_t regionCount,
+                                    const pyramid_elevation_options* options, pyramid_elevation** producer) {
+    const auto build = [](const pyramid_elevation_options& o, const ByteSourcePtr& mainBytes,
+                          const std::vector<ByteSourcePtr>& regionBytes, std::unique_ptr<pyramid_elevation>& made) {
+        const std::string& name = mainBytes->name();
+        // The header alone: the producer below reads the offset table, once.
+        const pyramid::ResidualHeader h = pyramid::ResidualFileReader::readHeader(*mainBytes);
+        const int n = o.tile_size == 0 ? h.tileSize : o.tile_size;
+        int delta = 0;
+        // The tiling's errors name the file (the source's name) themselves.
+        try {
+            delta = pyramid::elevationDelta(h, n, name);
+        } catch (const pyramid::Error& e) {
+            return failWith(PYRAMID_ERROR_ARGUMENT, e.what());
+        }
+        pyramid::ResidualProducerOptions ro;
+        ro.delta = delta;
+        ro.scale = o.scale == 0.0f ? 1.0f : o.scale;
+        auto residuals = std::make_shared<pyramid::ResidualProducer>(mainBytes, regionBytes, ro);
+        pyramid::ElevationProducerOptions eo;
+        eo.tileSize = n;
+        eo.gridSize = o.grid_size;
+        eo.cacheCapacity = o.cache_tiles == 0 ? 1 : o.cache_tiles;
+        made = std::make_unique<pyramid_elevation>();
+        try {
+            made->producer = std::make_shared<pyramid::ElevationProducer>(residuals, eo);
+        } catch (const pyramid::Error& e) {
+            return failWith(PYRAMID_ERROR_ARGUMENT, e.what());
+        }
+        return PYRAMID_OK;
+    };
+    return openSources(mainSource, regions, regionCount, options, function, producer, build);
+}
+
+pyramid_status openElevationRegions(const char* function, const char* path, const char* const* regionPaths,
+                                    size_t regionCount, int tileSize, int gridSize, size_t cacheTiles,
+                                    pyramid_elevation** producer) {
+    return openRegionPaths(path, regionPaths, regionCount, function, producer,
+                           [&](const pyramid_source* main, const pyramid_source* const* regions, size_t count) {
+                               pyramid_elevation_options options{};
+                               options.struct_size = sizeof options;
+                               options.tile_size = tileSize;
+                               options.grid_size = gridSize;
+                               options.cache_tiles = cacheTiles;
+                               return openElevationSources(function, main, regions, count, &options, producer);
+                           });
+}
+
+pyramid_status openOrthoSources(const char* function, const pyramid_source* mainSource,
+                                const pyramid_source* const* regions, size_t regionCount,
+                                const pyramid_ortho_options* options, pyramid_ortho** producer) {
+    const auto build = [function](const pyramid_ortho_options& o, const ByteSourcePtr& mainBytes,
+                                  const std::vector<ByteSourcePtr>& regionBytes, std::unique_ptr<pyramid_ortho>& made) {
+        if (o.colour_residuals != 0 && o.colour_residuals != 1) {
+            return failWith(PYRAMID_ERROR_ARGUMENT, std::string(function) + ": colour_residuals " +
+                                                        std::to_string(o.colour_residuals) + " is neither 0 nor 1");
+        }
+        made = std::make_unique<pyramid_ortho>();
+        made->tiles = std::make_shared<pyramid::OrthoProducer>(mainBytes, regionBytes);
+        if (o.colour_residuals == 1) {
+            made->residuals =
+                std::make_unique<pyramid::ColourProducer>(made->tiles, o.cache_tiles == 0 ? 1 : o.cache_tiles);
+        }
+        return PYRAMID_OK;
+    };
+    return openSources(mainSource, regions, regionCount, options, function, producer, build);
+}
+
+pyramid_status openOrthoRegions(const char* function, const char* path, const char* const* regionPaths,
+                                size_t regionCount, int colourResiduals, size_t cacheTiles, pyramid_ortho** producer) {
+    return openRegionPaths(path, regionPaths, regionCount, function, producer,
+                           [&](const pyramid_source* main, const pyramid_source* const* regions, size_t count) {
+                               pyramid_ortho_options options{};
+                               options.struct_size = sizeof options;
+                               options.colour_residuals = colourResiduals;
+                               options.cache_tiles = cacheTiles;
+                               return openOrthoSources(function, main, regions, count, &options, producer);
+                           });
+}
+
 } // namespace
 
 extern "C" {
@@ -466,9 +550,7 @@ pyramid_status pyramid_get_file_info(const pyramid_file* file, pyramid_file_info
         full.data_offset = table->dataStart();
         // The counts walk the whole table: only for callers whose struct holds them.
         if (info->struct_size >= offsetof(pyramid_file_info, stored_tiles) + sizeof full.stored_tiles) {
-            for (int64_t i = 0; i < table->tileCount(); ++i) {
-                full.stored_tiles += table->range(i).size() > 0 ? 1 : 0;
-            }
+            full.stored_tiles = table->storedTiles();
         }
         if (info->struct_size >= offsetof(pyramid_file_info, distinct_tiles) + sizeof full.distinct_tiles) {
             full.distinct_tiles = table->distinctRanges();
@@ -604,59 +686,24 @@ pyramid_status pyramid_read_tile_bytes(const pyramid_file* file, int level, int 
 
 pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, int grid_size, size_t cache_tiles,
                                       pyramid_elevation** producer) {
-    return openPath(residual_path, "pyramid_elevation_open", producer,
-                    [&](const char* main, const char* const* regions, size_t count) {
-                        return pyramid_elevation_open_regions(main, regions, count, tile_size, grid_size, cache_tiles,
-                                                              producer);
-                    });
+    const char* function = "pyramid_elevation_open";
+    return openPath(residual_path, function, producer, [&](const char* main, const char* const* regions, size_t count) {
+        return openElevationRegions(function, main, regions, count, tile_size, grid_size, cache_tiles, producer);
+    });
 }
 
 pyramid_status pyramid_elevation_open_regions(const char* residual_path, const char* const* region_paths,
                                               size_t region_count, int tile_size, int grid_size, size_t cache_tiles,
                                               pyramid_elevation** producer) {
-    return openRegionPaths(residual_path, region_paths, region_count, "pyramid_elevation_open", producer,
-                           [&](const pyramid_source* main, const pyramid_source* const* regions, size_t count) {
-                               pyramid_elevation_options options{};
-                               options.struct_size = sizeof options;
-                               options.tile_size = tile_size;
-                               options.grid_size = grid_size;
-                               options.cache_tiles = cache_tiles;
-                               return pyramid_elevation_open_sources(main, regions, count, &options, producer);
-                           });
+    return openElevationRegions("pyramid_elevation_open_regions", residual_path, region_paths, region_count,
+                                tile_size, grid_size, cache_tiles, producer);
 }
 
 pyramid_status pyramid_elevation_open_sources(const pyramid_source* main_source, const pyramid_source* const* regions,
                                               size_t region_count, const pyramid_elevation_options* options,
                                               pyramid_elevation** producer) {
-    const auto build = [](const pyramid_elevation_options& o, const ByteSourcePtr& mainBytes,
-                          const std::vector<ByteSourcePtr>& regionBytes, std::unique_ptr<pyramid_elevation>& made) {
-        const std::string& name = mainBytes->name();
-        // The header alone: the producer below reads the offset table, once.
-        const pyramid::ResidualHeader h = pyramid::ResidualFileReader::readHeader(*mainBytes);
-        const int n = o.tile_size == 0 ? h.tileSize : o.tile_size;
-        int delta = 0;
-        try {
-            delta = pyramid::elevationDelta(h, n);
-        } catch (const pyramid::Error& e) {
-            return failWith(PYRAMID_ERROR_ARGUMENT, name + ": " + e.what());
-        }
-        pyramid::ResidualProducerOptions ro;
-        ro.delta = delta;
-        ro.scale = o.scale == 0.0f ? 1.0f : o.scale;
-        auto residuals = std::make_shared<pyramid::ResidualProducer>(mainBytes, regionBytes, ro);
-        pyramid::ElevationProducerOptions eo;
-        eo.tileSize = n;
-        eo.gridSize = o.grid_size;
-        eo.cacheCapacity = o.cache_tiles == 0 ? 1 : o.cache_tiles;
-        made = std::make_unique<pyramid_elevation>();
-        try {
-            made->producer = std::make_shared<pyramid::ElevationProducer>(residuals, eo);
-        } catch (const pyramid::Error& e) {
-            return failWith(PYRAMID_ERROR_ARGUMENT, name + ": " + e.what());
-        }
-        return PYRAMID_OK;
-    };
-    return openSources(main_source, regions, region_count, options, "pyramid_elevation_open_sources", producer, build);
+    return openElevationSources("pyramid_elevation_open_sources", main_source, regions, region_count, options,
+                                producer);
 }
 
 void pyramid_elevation_close(pyramid_elevation* producer) { delete producer; }
@@ -707,10 +754,12 @@ pyramid_status pyramid_elevation_height(pyramid_elevation* producer, int level, 
 
 pyramid_status pyramid_normal_open(pyramid_elevation* elevations, const pyramid_normal_options* options,
                                    pyramid_normal** producer) {
+    if (producer) {
+        *producer = nullptr; // whenever the open fails, as every open
+    }
     if (!elevations || !options || !producer) {
         return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_normal_open: null argument");
     }
-    *producer = nullptr;
     pyramid_normal_options o{};
     if (!readSized(options, o, "pyramid_normal_open: options")) {
         return PYRAMID_ERROR_ARGUMENT;
@@ -759,39 +808,22 @@ pyramid_status pyramid_normal_tile(pyramid_normal* producer, int level, int tx, 
 }
 
 pyramid_status pyramid_ortho_open(const char* path, int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
-    return openPath(path, "pyramid_ortho_open", producer,
-                    [&](const char* main, const char* const* regions, size_t count) {
-                        return pyramid_ortho_open_regions(main, regions, count, colour_residuals, cache_tiles,
-                                                          producer);
-                    });
+    const char* function = "pyramid_ortho_open";
+    return openPath(path, function, producer, [&](const char* main, const char* const* regions, size_t count) {
+        return openOrthoRegions(function, main, regions, count, colour_residuals, cache_tiles, producer);
+    });
 }
 
 pyramid_status pyramid_ortho_open_regions(const char* path, const char* const* region_paths, size_t region_count,
                                           int colour_residuals, size_t cache_tiles, pyramid_ortho** producer) {
-    return openRegionPaths(path, region_paths, region_count, "pyramid_ortho_open", producer,
-                           [&](const pyramid_source* main, const pyramid_source* const* regions, size_t count) {
-                               pyramid_ortho_options options{};
-                               options.struct_size = sizeof options;
-                               options.colour_residuals = colour_residuals;
-                               options.cache_tiles = cache_tiles;
-                               return pyramid_ortho_open_sources(main, regions, count, &options, producer);
-                           });
+    return openOrthoRegions("pyramid_ortho_open_regions", path, region_paths, region_count, colour_residuals,
+                            cache_tiles, producer);
 }
 
 pyramid_status pyramid_ortho_open_sources(const pyramid_source* main_source, const pyramid_source* const* regions,
                                           size_t region_count, const pyramid_ortho_options* options,
                                           pyramid_ortho** producer) {
-    const auto build = [](const pyramid_ortho_options& o, const ByteSourcePtr& mainBytes,
-                          const std::vector<ByteSourcePtr>& regionBytes, std::unique_ptr<pyramid_ortho>& made) {
-        made = std::make_unique<pyramid_ortho>();
-        made->tiles = std::make_shared<pyramid::OrthoProducer>(mainBytes, regionBytes);
-        if (o.colour_residuals) {
-            made->residuals =
-                std::make_unique<pyramid::ColourProducer>(made->tiles, o.cache_tiles == 0 ? 1 : o.cache_tiles);
-        }
-        return PYRAMID_OK;
-    };
-    return openSources(main_source, regions, region_count, options, "pyramid_ortho_open_sources", producer, build);
+    return openOrthoSources("pyramid_ortho_open_sources", main_source, regions, region_count, options, producer);
 }
 
 void pyramid_ortho_close(pyramid_ortho* producer) { delete producer; }

@@ -71,7 +71,8 @@ struct GlElevationProducer::Impl {
 
     explicit Impl(size_t capacity) : cache(capacity) {}
 
-    // The residual tile holding elevation tile (level, tx, ty), uploaded, or null if no file has it.
+    // The residual tile holding elevation tile (level, tx, ty), uploaded, or null without residuals
+    // there (ResidualProducer::hasTile: beyond every file, or left out as an empty byte range).
     const GlTexture* residualTile(int level, int tx, int ty) {
         const TileKey key{level, tx >> k, ty >> k};
         if (!residuals->hasTile(key.level, key.tx, key.ty)) {

@@ -83,7 +83,8 @@ struct ElevationProducer::Impl {
         std::vector<float>& z = tile->zf;
         z.assign(static_cast<size_t>(side) * side, 0.0f);
         // The residual window: tile (level, tx >> k, ty >> k) of the residual producer, from
-        // ((tx mod 2^k) * n, (ty mod 2^k) * n). Beyond every file: no residual (R = 0).
+        // ((tx mod 2^k) * n, (ty mod 2^k) * n). Beyond every file, or left out of the file that
+        // holds it (ResidualProducer::hasTile): no residual (R = 0).
         const int rtx = tx >> k, rty = ty >> k;
         if (residuals->hasTile(level, rtx, rty)) {
             const std::vector<float> r = residuals->tile(level, rtx, rty);

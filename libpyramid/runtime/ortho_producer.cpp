@@ -13,10 +13,10 @@ struct OrthoProducer::Impl {
     int maxLevel = 0;
 
     const OrthoFileReader& holder(int level, int tx, int ty, RelativeTile& rel) const {
-        const int k = deepestHolder(files, level, tx, ty, rel);
+        const int k = deepestStorer(files, level, tx, ty, rel);
         if (k < 0) {
             throw MissingTileError(files.front()->path() + ": no tile " + tileCoordinates(level, tx, ty) +
-                                   " in any file");
+                                   " stored in any file");
         }
         return *files[static_cast<size_t>(k)];
     }
@@ -57,7 +57,7 @@ int OrthoProducer::maxLevel() const { return impl_->maxLevel; }
 
 bool OrthoProducer::hasTile(int level, int tx, int ty) const {
     RelativeTile rel;
-    return deepestHolder(impl_->files, level, tx, ty, rel) >= 0;
+    return deepestStorer(impl_->files, level, tx, ty, rel) >= 0;
 }
 
 std::vector<uint8_t> OrthoProducer::tile(int level, int tx, int ty) const {

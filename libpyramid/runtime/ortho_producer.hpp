@@ -24,8 +24,10 @@ public:
     const OrthoHeader& header() const; // the main file's
     const std::string& path() const;   // the main file's, for messages
     int maxLevel() const;              // deepest level any file holds
+    // True when the deepest file holding the tile stores it (not an empty byte range: a tile left
+    // out, as beyond every file; region_lookup.hpp, storesTile). The colour producers' residual.
     bool hasTile(int level, int tx, int ty) const;
-    // Throws MissingTileError when no file holds the tile (hasTile) or its byte range is empty.
+    // Throws MissingTileError without hasTile.
     // tilePixels()^2 x channels bytes, row 0 = bottom (DXT tiles decoded to RGB or RGBA).
     std::vector<uint8_t> tile(int level, int tx, int ty) const;
     // The stored bytes: a TIFF, or the raw DXT1/DXT5 block stream.

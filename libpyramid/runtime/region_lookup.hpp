@@ -40,4 +40,20 @@ int deepestHolder(const std::vector<std::unique_ptr<Reader>>& readers, int level
     return best;
 }
 
+// Whether `reader` stores its relative tile `rel` (a tile it holds): a file may leave a tile out
+// as an empty byte range (doc/format.md), and where the deepest file holding a tile leaves it out
+// a residual set has zero residuals and an ortho set no tile, as beyond every file. The one rule
+// for every producer, CPU and GL: ResidualProducer::hasTile and OrthoProducer::hasTile.
+template <class Reader>
+bool storesTile(const Reader& reader, const RelativeTile& rel) {
+    return reader.tileRange(rel.level, rel.tx, rel.ty).size() > 0;
+}
+
+// deepestHolder, but -1 also when that file leaves the tile out (storesTile).
+template <class Reader>
+int deepestStorer(const std::vector<std::unique_ptr<Reader>>& readers, int level, int tx, int ty, RelativeTile& rel) {
+    const int k = deepestHolder(readers, level, tx, ty, rel);
+    return k >= 0 && storesTile(*readers[static_cast<size_t>(k)], rel) ? k : -1;
+}
+
 } // namespace pyramid

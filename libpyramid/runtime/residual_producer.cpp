@@ -23,8 +23,15 @@ struct ResidualProducer::Impl {
     int tileSize = 0;
     int maxLevel = 0;
 
+    // Whether absolute file tile (level, tx, ty) has residuals (ResidualProducer::hasTile).
+    bool stored(int level, int tx, int ty) const {
+        RelativeTile rel;
+        return deepestStorer(files, level, tx, ty, rel) >= 0;
+    }
+
     // Scaled residuals of absolute file tile (level, tx, ty) into `out` (stride `stride`,
-    // lower-left corner); returns the samples per side.
+    // lower-left corner), which keeps its zeros where the tile is left out (an empty byte range);
+    // returns the samples per side.
     int load(int level, int tx, int ty, float* out, size_t stride) const {
         RelativeTile rel;
         const int k = deepestHolder(files, level, tx, ty, rel);
@@ -34,8 +41,11 @@ struct ResidualProducer::Impl {
         }
         const ResidualFileReader& f = *files[static_cast<size_t>(k)];
         const float scale = scales[static_cast<size_t>(k)];
-        const std::vector<int16_t> r = f.readTile(rel.level, rel.tx, rel.ty);
         const int s = f.header().tileSamples(rel.level);
+        if (!storesTile(f, rel)) {
+            return s;
+        }
+        const std::vector<int16_t> r = f.readTile(rel.level, rel.tx, rel.ty);
         for (int j = 0; j < s; ++j) {
             for (int i = 0; i < s; ++i) {
                 out[static_cast<size_t>(i) + static_cast<size_t>(j) * stride] =
@@ -98,8 +108,16 @@ int ResidualProducer::delta() const { return impl_->delta; }
 int ResidualProducer::maxLevel() const { return impl_->maxLevel; }
 
 bool ResidualProducer::hasTile(int level, int tx, int ty) const {
-    RelativeTile rel;
-    return level >= 0 && deepestHolder(impl_->files, level + impl_->delta, tx, ty, rel) >= 0;
+    if (level < 0) {
+        return false;
+    }
+    // The root with delta > 0 folds file levels 0..delta (tile()).
+    for (int l = level == 0 ? 0 : level + impl_->delta; l <= level + impl_->delta; ++l) {
+        if (impl_->stored(l, tx, ty)) {
+            return true;
+        }
+    }
+    return false;
 }
 
 int ResidualProducer::tileSamples(int level) const {

@@ -48,12 +48,15 @@ public:
     int tileSize() const;                 // residual tileSize (without the +5)
     int delta() const;
     int maxLevel() const;                 // deepest producer level any file holds
-    // True when some file holds the producer tile (level, tx, ty).
+    // True when some file holds the producer tile (level, tx, ty) with residuals: false beyond every
+    // file and where the deepest file holding it leaves it out (an empty byte range, zero residuals:
+    // region_lookup.hpp, storesTile). The root with delta > 0 has residuals when one of the file
+    // levels 0..delta it folds has. The elevation producers' residual, CPU and GL.
     bool hasTile(int level, int tx, int ty) const;
     // Samples per side of the data inside the returned array ((tileSize >> k) + 5).
     int tileSamples(int level) const;
     // The scaled residuals: float(r) * scale, (tileSize+5)^2 floats, row 0 = bottom.
-    // Throws MissingTileError if no file holds the tile.
+    // Throws MissingTileError if no file holds the tile; zeros where it is left out (!hasTile).
     std::vector<float> tile(int level, int tx, int ty) const;
 
 private:

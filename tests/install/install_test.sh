@@ -3,7 +3,8 @@
 # the build tree) and runs them:
 #   - the installed runtime library: its needed libraries, soname and exports;
 #   - the CMake package: a consumer of each component, each looked for alone
-#     (tests/install/CMakeLists.txt: runtime, preprocess, and gl when it was built);
+#     (tests/install/CMakeLists.txt: runtime, runtime_static through COMPONENTS runtime,
+#     preprocess, and gl when it was built);
 #   - pkg-config: every installed .pc file resolves; a C loader links libpyramid-runtime, a C++
 #     program the static libraries (--static);
 #   - the samples (samples/README.md), each built the way its README says and run on data.
@@ -62,6 +63,7 @@ cmake -S "$here" -B "$tmp/cmake" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_C_COMPILE
   -DLIBPYRAMID_CONSUMER_GL=$with_gl >/dev/null
 cmake --build "$tmp/cmake" >/dev/null
 "$tmp/cmake/runtime/consumer" "$data"
+"$tmp/cmake/runtime_static/runtime_static_consumer" "$data"
 mkdir "$tmp/encoded"
 "$tmp/cmake/preprocess/preprocess_consumer" "$samples" "$tmp/encoded"
 if [ $with_gl = ON ]; then
