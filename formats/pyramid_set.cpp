@@ -107,6 +107,47 @@ std::string regionFilePath(const std::string& mainFile, const RegionRoot& root) 
     return p.has_parent_path() ? (p.parent_path() / name).string() : name;
 }
 
+std::optional<RegionFileName> parseRegionFilePath(const std::string& file) {
+    const fs::path p(file);
+    const std::string extension = p.extension().string();
+    std::string stem = p.stem().string();
+    // The three numbers after the last "-L", "-" and "-" of the stem, as regionFilePath spells them.
+    int numbers[3] = {0, 0, 0};
+    for (int k = 2; k >= 0; --k) {
+        const size_t dash = stem.rfind('-');
+        if (dash == std::string::npos) {
+            return std::nullopt;
+        }
+        std::string digits = stem.substr(dash + 1);
+        if (k == 0) {
+            if (digits.empty() || digits[0] != 'L') {
+                return std::nullopt;
+            }
+            digits.erase(0, 1);
+        }
+        if (digits.empty() || digits.size() > 10 ||
+            !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+            return std::nullopt;
+        }
+        const int64_t value = std::stoll(digits);
+        if (value > INT32_MAX) {
+            return std::nullopt;
+        }
+        numbers[k] = static_cast<int>(value);
+        stem.erase(dash);
+    }
+    const RegionRoot root{numbers[0], numbers[1], numbers[2]};
+    if (stem.empty() || root.level < 1 || !isQuadtreeTile(root.level, root.tx, root.ty)) {
+        return std::nullopt;
+    }
+    const std::string mainName = stem + extension;
+    // Only the names regionFilePath gives (no leading zeros, the stem and extension it splits).
+    if (regionFilePath(mainName, root) != p.filename().string()) {
+        return std::nullopt;
+    }
+    return RegionFileName{p.has_parent_path() ? (p.parent_path() / mainName).string() : mainName, root};
+}
+
 RegionIndex parseRegionIndex(const std::string& text, const std::string& path) {
     nlohmann::json j;
     try {

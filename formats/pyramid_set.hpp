@@ -8,6 +8,7 @@
 //                            "kind": "residual", "main": "DEM.dat",
 //                            "regions": [{"file": "DEM-L6-12-40.dat", "root": [6, 12, 40]}]}
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,15 @@ std::string regionIndexPath(const std::string& mainFile);
 // The region file of `mainFile` rooted at `root`: "DIR/DEM.dat", (6, 12, 40) -> "DIR/DEM-L6-12-40.dat"
 // (the main file's stem and extension).
 std::string regionFilePath(const std::string& mainFile, const RegionRoot& root);
+// The inverse of regionFilePath, by the name alone: "DIR/DEM-L6-12-40.dat" -> "DIR/DEM.dat",
+// (6, 12, 40); nullopt for a path the rule gives no main file for (a root off its level or
+// outside 1..30, numbers spelt otherwise than regionFilePath spells them, an empty stem).
+// Whether the main file exists is not asked.
+struct RegionFileName {
+    std::string mainFile;
+    RegionRoot root;
+};
+std::optional<RegionFileName> parseRegionFilePath(const std::string& file);
 
 // Parses an index (its regions in any order). Throws Error("PATH: ...") for text that is not
 // such an index: bad JSON, another format or version, an unknown kind, an empty file name, a

@@ -3,10 +3,12 @@
 // subtree, byte for byte (the colour residuals against the enclosing pyramid's reconstruction),
 // whether its root lies in the in-memory top levels or below them, and whichever walk reaches
 // it; it is the very file a set written with --max-file-bytes holds for that root; wrong roots,
-// parents of another build and combinations with --part or --max-file-bytes are refused with
-// one line naming the option or file, and nothing is written.
+// parents of another build (by header, or by the colours they rebuild) and combinations with
+// --part or --max-file-bytes are refused with one line naming the option or file, and nothing
+// is written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -203,7 +205,7 @@ TEST(OrthoRegionBuild, ACubeFacesRegionHoldsTheFacesTiles) {
 TEST(OrthoRegionBuild, RefusesWhatCannotBeARegionOfThisBuild) {
     Fixture f;
     // Parents of other builds: tiles of another size, DXT tiles, elevations. (The TIFF file of the
-    // same build has the residual file's header: nothing tells them apart but their name.)
+    // same build has the residual file's header: its colours tell them apart, see below.)
     OrthoEncodeOptions other = small();
     other.levels.tileSize = 16;
     encodeOrtho(f.input, f.dir.file("other"), other);
@@ -249,6 +251,64 @@ TEST(OrthoRegionBuild, RefusesWhatCannotBeARegionOfThisBuild) {
         EXPECT_NE(run.err.find(expected), std::string::npos) << arguments << ": " << run.err;
         EXPECT_FALSE(fs::exists(f.dir.file("out"))) << arguments;
     }
+}
+
+// A parent with this build's header that is not its colour residuals: the plain colours
+// (RGB.dat has the very header of residuals/RGB.dat), or the residuals of another input. The
+// rebuilt colours of the root's parent are not the input's, beyond the 1 the halved residuals
+// allow: refused, naming the file and what to name instead. Level 0 of the plain colours is
+// the residuals' (their root stores its colours), and a build with JPEG residuals is not
+// checked (JPEG's loss has no bound known ahead): both are taken.
+TEST(OrthoRegionBuild, RefusesAParentThatDoesNotRebuildThisInputsColours) {
+    Fixture f;
+    std::vector<uint16_t> inverted = test::texturedColours(256, 256);
+    for (uint16_t& v : inverted) {
+        v = static_cast<uint16_t>(255 - v);
+    }
+    test::writeImage(f.dir.file("other.png"), 256, 256, 3, inverted, false);
+    encodeOrtho(f.dir.file("other.png"), f.dir.file("other"), small());
+    for (const RegionRoot& root : std::vector<RegionRoot>{{1, 1, 0}, {3, 5, 2}, {4, 9, 14}, {5, 31, 0}}) {
+        for (const std::string& parent : {f.whole("RGB.dat"), f.dir.file("other/residuals/RGB.dat")}) {
+            if (root.level == 1 && parent == f.whole("RGB.dat")) {
+                continue; // level 0 of colour residuals is the colours: taken (below)
+            }
+            try {
+                buildRegion(f, root, f.dir.file("out"), parent);
+                ADD_FAILURE() << "accepted " << tileText(root) << " " << parent;
+            } catch (const OptionError& e) {
+                const std::string expected = "parent: " + parent + " does not rebuild this input's colours at level " +
+                                             std::to_string(root.level - 1) + " (max error ";
+                EXPECT_EQ(std::string(e.what()).rfind(expected, 0), 0u) << e.what();
+                EXPECT_NE(std::string(e.what()).find("name the colour residuals of the same build, residuals/RGB.dat"),
+                          std::string::npos)
+                    << e.what();
+            }
+            EXPECT_FALSE(fs::exists(f.dir.file("out")));
+        }
+    }
+    // The root's parent at level 0: the plain colours are what the residuals store there.
+    buildRegion(f, RegionRoot{1, 1, 0}, f.dir.file("plain"), f.whole("RGB.dat"));
+    expectRegionOfWhole(regionFilePath(f.dir.file("plain/residuals/RGB.dat"), {1, 1, 0}), f.whole("residuals/RGB.dat"),
+                        {1, 1, 0});
+    OrthoEncodeOptions jpeg = small();
+    jpeg.residualCompression = TilePolicy::Jpeg;
+    encodeOrtho(f.input, f.dir.file("jpeg"), jpeg);
+    for (const RegionRoot& root : std::vector<RegionRoot>{{1, 1, 0}, {3, 5, 2}, {4, 9, 14}, {5, 31, 0}}) {
+        buildRegion(f, root, f.dir.file("j" + tileText(root)), f.dir.file("jpeg/residuals/RGB.dat"),
+                    [](OrthoEncodeOptions& o) { o.residualCompression = TilePolicy::Jpeg; });
+        expectRegionOfWhole(regionFilePath(f.dir.file("j" + tileText(root) + "/residuals/RGB.dat"), root),
+                            f.dir.file("jpeg/residuals/RGB.dat"), root);
+    }
+
+    // The program: one line, a non-zero exit, nothing written.
+    const test::RunResult run =
+        test::run(test::programPath("preprocessOrtho") + " -q " + f.input + " --tile-size 8 -o " + f.dir.file("out") +
+                  " --region 4,9,14 --parent " + f.whole("RGB.dat"));
+    EXPECT_NE(run.exitCode, 0);
+    const std::string expected = "preprocessOrtho: --parent: " + f.whole("RGB.dat") + " does not rebuild";
+    EXPECT_EQ(run.err.rfind(expected, 0), 0u) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_FALSE(fs::exists(f.dir.file("out")));
 }
 
 TEST(OrthoRegionBuild, TheProgramWritesTheRegionAndSaysWhichItIs) {

@@ -21,6 +21,7 @@
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
+#include "formats/pyramid_set.hpp"
 #include "libpyramid/api/encoders.hpp"
 #include "libpyramid/preview/preview.hpp"
 #include "libpyramid/preview/preview_levels.hpp"
@@ -415,6 +416,45 @@ TEST(Preview, APlanetsOrthoWorldMapAndCubeCross) {
     o.projection = PreviewProjection::Equirectangular;
     EXPECT_THROW(writePreview(dir.file("planet/RGB1.dat"), dir.file("none.png"), o), Error);
     EXPECT_FALSE(fs::exists(dir.file("none.png")));
+}
+
+// Region files (NAME-L<level>-<tx>-<ty>.dat, formats/pyramid_set.hpp) are not cube faces, though
+// six of them may end in 1..6.dat: a region set's directory is drawn as the set, and a planet
+// whose faces are sets as the planet.
+TEST(Preview, RegionFilesAreNotTakenForAPlanetsFaces) {
+    TempDir dir;
+    const std::string input = " " + test::samplePath("bluemarble.png") + " --tile-size 64 -q -o ";
+    ASSERT_EQ(test::run(test::programPath("preprocessOrtho") + input + dir.file("flat") +
+                        " --outputs residuals --max-file-bytes 200K")
+                  .exitCode,
+              0);
+    ASSERT_EQ(test::run(test::programPath("preprocessSphericalOrtho") + input + dir.file("planet") +
+                        " --outputs tiff --max-file-bytes 40K")
+                  .exitCode,
+              0);
+    // What made them look like planets: six region files RGB-L4-0-1.dat .. RGB-L4-0-6.dat, and
+    // so for a face.
+    for (int k = 1; k <= 6; ++k) {
+        ASSERT_TRUE(fs::exists(regionFilePath(dir.file("flat/residuals/RGB.dat"), {4, 0, k})));
+        ASSERT_TRUE(fs::exists(regionFilePath(dir.file("planet/RGB5.dat"), {3, 0, k})));
+    }
+    PreviewOptions o;
+    o.level = 2;
+    const PreviewReport set = writePreview(dir.file("flat/residuals"), dir.file("set.png"), o);
+    EXPECT_EQ(set.kind, "colour residuals");
+    EXPECT_EQ(set.projection, "face");
+    writePreview(dir.file("flat/residuals/RGB.dat"), dir.file("main.png"), o);
+    const Png fromDirectory = readPng(dir.file("set.png")), fromMain = readPng(dir.file("main.png"));
+    EXPECT_EQ(fromDirectory.width, 256);
+    EXPECT_EQ(fromDirectory.samples, fromMain.samples);
+
+    const PreviewReport planet = writePreview(dir.file("planet"), dir.file("planet.png"), o);
+    EXPECT_EQ(planet.projection, "equirectangular");
+    EXPECT_EQ(planet.width, 1024); // faces of 256 pixels at level 2
+    // A region file named as one face of a planet is not one.
+    o.projection = PreviewProjection::Equirectangular;
+    EXPECT_THROW(writePreview(regionFilePath(dir.file("planet/RGB5.dat"), {3, 0, 1}), dir.file("r.png"), o), Error);
+    EXPECT_FALSE(fs::exists(dir.file("r.png")));
 }
 
 // A legend: a colour bar from the lowest value (left) to the highest (right) under the image,

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -108,6 +109,20 @@ TEST(RegionIndex, NamesRoundTripAndResolution) {
     EXPECT_EQ(regionIndexPath("out/DEM.dat"), "out/DEM.dat.regions.json");
     EXPECT_EQ(regionFilePath("out/DEM.dat", {6, 12, 40}), "out/DEM-L6-12-40.dat");
     EXPECT_EQ(regionFilePath("RGB.dat", {1, 0, 1}), "RGB-L1-0-1.dat");
+    // The names parse back to their main file and root; no other name does.
+    for (const auto& [main, root] : std::vector<std::pair<std::string, RegionRoot>>{
+             {"out/DEM.dat", {6, 12, 40}}, {"RGB3.dat", {1, 0, 1}}, {"a-L1-0-1.b.dat", {30, 0, (1 << 30) - 1}},
+             {"x/DEM", {2, 3, 3}}}) {
+        const auto parsed = parseRegionFilePath(regionFilePath(main, root));
+        ASSERT_TRUE(parsed) << main;
+        EXPECT_EQ(parsed->mainFile, main);
+        EXPECT_EQ(parsed->root, root);
+    }
+    for (const std::string name : {"RGB.dat", "RGB3.dat", "RGB-L0-0-0.dat", "RGB-L1-2-0.dat", "RGB-L1-01-0.dat",
+                                   "RGB-L31-0-0.dat", "-L1-0-0.dat", "RGB-1-0-0.dat", "RGB-L1-0.dat", "RGB-L1-0-1-.dat",
+                                   "RGB-L1--0-1.dat", "RGB-L1-0-+1.dat", "RGB-L99999999999-0-0.dat"}) {
+        EXPECT_FALSE(parseRegionFilePath("out/" + name)) << name;
+    }
     const RegionIndex index = makeRegionIndex("out/DEM.dat", PyramidKind::Ortho, {{7, 1, 2}, {6, 12, 40}, {6, 3, 40}});
     EXPECT_EQ(index.main, "DEM.dat");
     ASSERT_EQ(index.regions.size(), 3u);

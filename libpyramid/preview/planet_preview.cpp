@@ -36,8 +36,15 @@ PlanetFaces family(const std::string& directory, const std::string& name) {
     return faces;
 }
 
-// "DEM3.dat" -> "DEM": the name of a face file NAMEk.dat, k = 1..6; nullopt for any other name.
-std::optional<std::string> faceFamily(const std::string& file) {
+// "DEM3.dat" -> "DEM": the name of a face file NAMEk.dat, k = 1..6, in `directory`; nullopt for
+// any other name, and for a region file of a main file beside it (RGB-L4-0-1.dat of RGB.dat,
+// DEM3-L2-1-3.dat of DEM3.dat: formats/pyramid_set.hpp), which a set (or a face) holds.
+std::optional<std::string> faceFamily(const std::string& directory, const std::string& file) {
+    std::error_code ec;
+    if (const auto region = parseRegionFilePath((fs::path(directory) / file).string());
+        region && fs::is_regular_file(region->mainFile, ec)) {
+        return std::nullopt;
+    }
     const std::string suffix = ".dat";
     if (file.size() < suffix.size() + 1 || file.compare(file.size() - suffix.size(), suffix.size(), suffix) != 0) {
         return std::nullopt;
@@ -61,7 +68,7 @@ std::optional<PlanetFaces> planetFacesIn(const std::string& directory) {
     std::set<std::string> names;
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(directory, ec)) {
-        const auto name = faceFamily(entry.path().filename().string());
+        const auto name = faceFamily(directory, entry.path().filename().string());
         if (name && entry.is_regular_file(ec) && complete(family(directory, *name))) {
             names.insert(*name);
         }
@@ -92,11 +99,12 @@ PlanetFaces planetFacesOf(const std::string& target) {
         }
         return *faces;
     }
-    const auto name = faceFamily(fs::path(target).filename().string());
+    const fs::path parentPath = fs::path(target).parent_path();
+    const std::string directory = parentPath.empty() ? "." : parentPath.string();
+    const auto name = faceFamily(directory, fs::path(target).filename().string());
     if (!name) {
         fail(target, "is not a cube face of a planet (NAME1.dat .. NAME6.dat)");
     }
-    const std::string directory = fs::path(target).parent_path().empty() ? "." : fs::path(target).parent_path().string();
     PlanetFaces faces = family(directory, *name);
     for (const std::string& f : faces.files) {
         if (!fs::is_regular_file(f, ec)) {

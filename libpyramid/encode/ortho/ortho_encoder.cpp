@@ -444,6 +444,11 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
         // Only the tiles the region needs are encoded.
         const auto keep = [&](TileBatch& item) {
             if (region) {
+                for (const TrueTile& t : item) {
+                    if (t.level == region->root.level && t.tx == region->root.tx && t.ty == region->root.ty) {
+                        region->checkParent(t); // before any of the region's tiles is encoded
+                    }
+                }
                 std::erase_if(item, [&](const TrueTile& t) { return !region->needed(t.level, t.tx, t.ty); });
             }
         };

@@ -1,5 +1,7 @@
 #include "libpyramid/encode/ortho/ortho_region.hpp"
 
+#include <algorithm>
+#include <cstdlib>
 #include <string>
 
 #include "formats/error.hpp"
@@ -14,6 +16,38 @@ bool OrthoRegionPlan::needed(int level, int tx, int ty) const {
         return true;
     }
     return ancestors && level < root.level && regionHolds(RegionRoot{level, tx, ty}, root.level, root.tx, root.ty);
+}
+
+void OrthoRegionPlan::checkParent(const TrueTile& t) const {
+    if (parentRecon.empty()) {
+        return;
+    }
+    const int n = parent.tileSize, half = n / 2, c = parent.channels;
+    const auto rowBytes = static_cast<size_t>(n) * static_cast<size_t>(c);
+    const Image8& tile = t.image();
+    Image8 interior(n, n, c, Image8::Unset);
+    for (int y = 0; y < n; ++y) {
+        std::copy_n(tile.at(2, y + 2), rowBytes, interior.at(0, y));
+    }
+    const Image8 quarter = ColourAverager(parent.colourSpace, c).reduce(interior);
+    // The quarter of the parent over the root, in the parent's (tileSize + 4)^2 tile with its border.
+    const int x0 = 2 + (root.tx & 1) * half, y0 = 2 + (root.ty & 1) * half;
+    const auto side = static_cast<size_t>(n + 4);
+    int worst = 0;
+    for (int y = 0; y < half; ++y) {
+        const uint8_t* rebuilt = parentRecon.data() + ((static_cast<size_t>(y0 + y) * side) + static_cast<size_t>(x0)) *
+                                                          static_cast<size_t>(c);
+        const uint8_t* truth = quarter.at(0, y);
+        for (size_t k = 0; k < static_cast<size_t>(half) * static_cast<size_t>(c); ++k) {
+            worst = std::max(worst, std::abs(int{rebuilt[k]} - int{truth[k]}));
+        }
+    }
+    if (worst > parent.maxError) {
+        failOption("parent", parent.name + " does not rebuild this input's colours at level " +
+                                 std::to_string(root.level - 1) + " (max error " + std::to_string(worst) +
+                                 ", beyond the residuals' " + std::to_string(parent.maxError) +
+                                 "): name the colour residuals of the same build, " + parent.expected);
+    }
 }
 
 namespace {
@@ -38,8 +72,7 @@ OrthoLevels::Range coarseFirstRange(const OrthoLevels& levels, const RegionRoot&
 }
 
 // The colour reconstruction of the root's parent, as the runtime rebuilds it from `parent`.
-std::vector<uint8_t> parentReconstruction(const OrthoLevels& levels, const RegionRoot& root, const std::string& parent) {
-    const PyramidSet set = openPyramidSet(parent);
+std::vector<uint8_t> parentReconstruction(const OrthoLevels& levels, const RegionRoot& root, const PyramidSet& set) {
     const auto mismatch = [&](const std::string& what) {
         failOption("parent", set.name() + " is not the colour residuals of this build: " + what);
     };
@@ -107,7 +140,18 @@ OrthoRegionPlan planOrthoRegion(const OrthoLevels& levels, const OrthoEncodeOpti
         return plan;
     }
     if (o.writeResiduals) {
-        plan.parentRecon = parentReconstruction(levels, root, request.parent);
+        const PyramidSet set = openPyramidSet(request.parent);
+        plan.parentRecon = parentReconstruction(levels, root, set);
+        plan.parent.name = set.name();
+        plan.parent.expected = "residuals/" + o.name + ".dat";
+        plan.parent.colourSpace = o.levels.colourSpace;
+        plan.parent.tileSize = levels.tileSize();
+        plan.parent.channels = levels.channels();
+        // Deflate residuals are lossless: the halved residual rebuilds each colour within 1, and
+        // level 0 stores its colours. JPEG's loss has no bound known ahead (the report measures
+        // it afterwards): such a parent is not checked.
+        const bool jpeg = o.residualCompression == TilePolicy::Jpeg;
+        plan.parent.maxError = jpeg ? 255 : root.level == 1 ? 0 : 1;
     }
     const int c = levels.topLevels(OrthoLevels::WalkOrder::SinglePass);
     if (root.level > c && levels.subtreeItems(OrthoLevels::WalkOrder::SinglePass) > 0) {

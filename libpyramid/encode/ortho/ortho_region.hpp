@@ -7,6 +7,7 @@
 // residual pyramid (`parent`) through the runtime's colour producer, bit-exact with the encoder.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "formats/ortho_file.hpp"
@@ -24,10 +25,25 @@ struct OrthoRegionPlan {
     std::vector<uint8_t> parentRecon;   // from `parent`: the root's parent, (tileSize+4)^2 x channels
     int64_t tiles = 0;                  // the region's
 
+    // With parentRecon: what checkParent compares it with, and how it names what it expects.
+    struct ParentCheck {
+        std::string name;                // the parent's name in messages (PyramidSet::name)
+        std::string expected;            // "residuals/RGB.dat": the build's colour residuals
+        ColourSpace colourSpace = ColourSpace::Srgb;
+        int tileSize = 0, channels = 0;
+        int maxError = 1;                // the residual coding's bound on a rebuilt colour
+    } parent;
+
     // Whether the tile goes into the region's files.
     bool holds(int level, int tx, int ty) const { return regionHolds(root, level, tx, ty); }
     // Whether the tile is encoded: the region's tiles, and with `ancestors` the root's ancestors.
     bool needed(int level, int tx, int ty) const;
+    // The parent (parentRecon) must be this input's: its quarter over the root is the root's
+    // true tile 2x2 averaged (levels are averages, ortho_levels.hpp), within the error the
+    // closed loop of the colour residuals leaves (doc/ortho-encoding.md, "Colour residuals").
+    // Throws OptionError("parent") naming the parent file when it is not; nothing without a
+    // parent. `root` is the root's true tile.
+    void checkParent(const TrueTile& root) const;
 };
 
 // Checks the request against the pyramid (one-line errors naming the option or the parent file)
