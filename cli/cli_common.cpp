@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -59,6 +60,10 @@ const char* signalName(int signal) {
     }
 }
 
+// Whether a progress bar's line is on screen without its line end (Progress, ProgressMode::Bar):
+// a message then starts on a line of its own.
+std::atomic<bool> barLineOpen{false};
+
 // The signals that stop a run go to one thread, whatever the others are doing: it removes the
 // temporaries (a commit in progress first ends or rolls back, under the registry's lock, so
 // the outputs are the old ones or the new ones, never a mix) and ends the process at once,
@@ -77,8 +82,8 @@ void stopOnSignals(const std::string& program) {
         while (sigwait(&signals, &signal) != 0) {
         }
         removeTemporariesForExit();
-        std::fprintf(stderr, "\n%s: stopped by %s (temporaries removed)\n", program.c_str(),
-                     signalName(signal));
+        std::fprintf(stderr, "%s%s: stopped by %s (temporaries removed)\n", barLineOpen ? "\n" : "",
+                     program.c_str(), signalName(signal));
         std::fflush(stderr);
         _exit(128 + signal);
     }).detach();
@@ -158,6 +163,10 @@ void addThreadsOption(CLI::App& app, int& threads) {
     app.add_option("--threads", threads,
                    "Worker threads, 1 to " + std::to_string(kMaxThreads) +
                        ", or 0 for all cores (the default); results do not depend on it");
+}
+
+void addCacheOption(CLI::App& app, int& cacheMegabytes) {
+    app.add_option("--cache-mb", cacheMegabytes, "Input cache budget in MB, at least 1")->capture_default_str();
 }
 
 void addVersionFlag(CLI::App& app) {
@@ -286,7 +295,12 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
     const auto target = reportTargets().find(command);
     if (target != reportTargets().end() && !target->second->empty() && worldTeam().rank() == 0) {
         try {
+            OutputParents parents; // a report directory not made yet, as a run that succeeds makes it
+            if (*target->second != "-") {
+                prepareOutputFile(*target->second, parents);
+            }
             writeJson({{"ok", false}, {"exit_code", kExitFailure}, {"error", error}}, *target->second);
+            parents.keep();
         } catch (const std::exception&) {
             // the report's own path failed: the line above has said why the run did
         }
@@ -397,6 +411,7 @@ void Progress::draw(int64_t counted, bool final) {
         last_ = now;
         // Padded so that a shorter line covers a longer one.
         std::fprintf(stderr, "\r%-78s%s", line().c_str(), final ? "\n" : "");
+        barLineOpen = !final;
         break;
     }
     case ProgressMode::Lines: {
@@ -561,7 +576,7 @@ void addInputOptions(CLI::App& app, InputArgs& args, const char* inputHelp) {
 namespace {
 
 // The build's identity in its part files: the command line without what does not change the
-// files (the part, threads, cache, report, quiet).
+// files (the part, threads, cache, report, quiet, progress).
 nlohmann::json buildIdentity(const char* program) {
     std::vector<std::string> kept;
     const std::vector<std::string>& all = commandArguments();
@@ -571,7 +586,7 @@ nlohmann::json buildIdentity(const char* program) {
             continue;
         }
         bool dropped = false;
-        for (const std::string flag : {"--part", "--threads", "--cache-mb", "--report"}) {
+        for (const std::string flag : {"--part", "--threads", "--cache-mb", "--report", "--progress"}) {
             if (a == flag) {
                 ++i; // and its value
                 dropped = true;

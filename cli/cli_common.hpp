@@ -149,6 +149,9 @@ std::string& messageProgram();
 // kMaxThreads). Results never depend on it.
 void addThreadsOption(CLI::App& app, int& threads);
 
+// --cache-mb N: the input cache budget in MB (the library refuses less than 1).
+void addCacheOption(CLI::App& app, int& cacheMegabytes);
+
 // Writes a report, `json` (pretty, with a final newline), to `path` atomically; "-" means
 // stdout. An object without "ok" gets "ok": true (a failed run's report is runProgram's).
 void writeJson(const nlohmann::json& json, const std::string& path);

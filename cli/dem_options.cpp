@@ -9,6 +9,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/api/encoders.hpp"
+#include "libpyramid/encode/tile_size_rule.hpp"
 #include "libpyramid/support/parse_number.hpp"
 #include "libpyramid/support/text.hpp"
 
@@ -73,7 +74,7 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                    "Value marking missing heights: a number, 'nan', 'inf', '-inf', or 'none' (default: what the file declares)");
     addResidualCodingOptions(app, args->coding);
     addThreadsOption(app, o.threads);
-    app.add_option("--cache-mb", o.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
+    addCacheOption(app, o.cacheMegabytes);
     addMaxFileBytesOption(app, args->maxFileBytes, "a region set");
     CLI::Option* part = addPartOption(app, args->part);
     addProgressOption(app);
@@ -107,14 +108,15 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
         if (args.rootTileSizeOption && args.rootTileSizeOption->count() > 0) {
             fail("--root-tile-size", "is chosen by --tile-size auto: give one or the other");
         }
-        if (options.maxLevel >= 0 || options.dstMaxLevel >= 0) {
-            fail(options.maxLevel >= 0 ? "--max-level" : "--dst-max-level",
+        if (options.maxLevel || options.dstMaxLevel) {
+            fail(options.maxLevel ? "--max-level" : "--dst-max-level",
                  "is chosen by --tile-size auto: give one or the other");
         }
         options.fitTiles = true;
         return options; // the warning, if any, comes with the choice (printTileFit)
     }
     options.tileSize = std::stoi(args.tileSize); // a whole number: checked while parsing
+    requireEncodableTileSize(options.tileSize);  // refused alone, before any warning about it
     warnUnreadableTiles(options.tileSize, args.quiet);
     return options;
 }

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -14,18 +15,17 @@ namespace pyramid::cli {
 
 namespace {
 
-TilePolicy parsePolicy(const std::string& option, const std::string& text) {
-    static const std::map<std::string, TilePolicy> names = {{"deflate", TilePolicy::Deflate},
-                                                            {"lzw", TilePolicy::Lzw},
-                                                            {"jpeg", TilePolicy::Jpeg},
-                                                            {"jpeg-ycbcr", TilePolicy::JpegYCbCr},
-                                                            {"none", TilePolicy::None},
-                                                            {"original", TilePolicy::Original}};
-    const auto it = names.find(text);
-    if (it == names.end()) {
-        fail(option, "'" + text + "' is not deflate, lzw, jpeg, jpeg-ycbcr, none or original");
+// `text` as one of `choices` (the names an option accepts, in the order its error lists them).
+TilePolicy parsePolicy(const std::string& option, const std::string& text,
+                       const std::vector<std::pair<std::string, TilePolicy>>& choices) {
+    std::string names;
+    for (size_t k = 0; k < choices.size(); ++k) {
+        if (choices[k].first == text) {
+            return choices[k].second;
+        }
+        names += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + choices[k].first;
     }
-    return it->second;
+    fail(option, "'" + text + "' is not " + names);
 }
 
 void parseOutputs(const std::string& text, OrthoEncodeOptions& o) {
@@ -82,7 +82,7 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
 void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
     OrthoEncodeOptions& o = a->options;
     addThreadsOption(app, o.levels.threads);
-    app.add_option("--cache-mb", o.levels.cacheMegabytes, "Input cache budget in MB")->capture_default_str();
+    addCacheOption(app, o.levels.cacheMegabytes);
     addMaxFileBytesOption(app, a->maxFileBytes, "each output as a region set");
     CLI::Option* part = addPartOption(app, a->part);
     addProgressOption(app);
@@ -96,8 +96,16 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
 OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     OrthoEncodeOptions options = a.options;
     parseOutputs(a.outputs, options);
-    options.compression = parsePolicy("--compression", a.compression);
-    options.residualCompression = parsePolicy("--residual-compression", a.residualCompression);
+    options.compression = parsePolicy("--compression", a.compression,
+                                      {{"deflate", TilePolicy::Deflate},
+                                       {"lzw", TilePolicy::Lzw},
+                                       {"jpeg", TilePolicy::Jpeg},
+                                       {"jpeg-ycbcr", TilePolicy::JpegYCbCr},
+                                       {"none", TilePolicy::None},
+                                       {"original", TilePolicy::Original}});
+    // Colour residual tiles are Deflate or JPEG (OrthoEncodeOptions::validate()).
+    options.residualCompression = parsePolicy("--residual-compression", a.residualCompression,
+                                              {{"deflate", TilePolicy::Deflate}, {"jpeg", TilePolicy::Jpeg}});
     if (a.colourSpace == "srgb") {
         options.levels.colourSpace = ColourSpace::Srgb;
     } else if (a.colourSpace == "linear" || a.colourSpace == "none") {

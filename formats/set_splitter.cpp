@@ -6,6 +6,7 @@
 #include <unordered_set>
 
 #include "formats/error.hpp"
+#include "formats/temporaries.hpp"
 
 namespace pyramid {
 
@@ -79,10 +80,11 @@ public:
             fits = l;
         }
         if (fits < lowest) {
-            const std::string what = root.level == 0 ? "the levels 0.." + std::to_string(lowest) + " of the main file"
-                                                     : "the tile (" + std::to_string(root.level) + "," +
-                                                           std::to_string(root.tx) + "," + std::to_string(root.ty) + ")";
-            fail(whole_.path, what + " alone pass the file size limit of " + std::to_string(cap_) + " bytes");
+            const std::string what = root.level == 0
+                                         ? "the levels 0.." + std::to_string(lowest) + " of the main file alone pass"
+                                         : "the tile " + tileCoordinates(root.level, root.tx, root.ty) + " alone passes";
+            // Named as the output, not as the staged file being split.
+            fail(outputName(whole_.path), what + " the file size limit of " + std::to_string(cap_) + " bytes");
         }
         file.last = fits;
         out.push_back(file);

@@ -135,6 +135,9 @@ std::string outputName(const std::string& path) {
     for (const fs::path& part : fs::path(path)) {
         const std::string name = part.string();
         if (name.rfind(kStaging, 0) == 0 && parseTag(name.substr(std::strlen(kStaging)), true) != 0) {
+            if (out == ".") {
+                out.clear(); // staged in the working directory: the output named as given, "DEM.dat"
+            }
             continue;
         }
         out /= part;

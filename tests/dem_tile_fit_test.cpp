@@ -185,11 +185,11 @@ TEST(DemTileFit, TooSmallInputsAndContradictingOptionsAreRefused) {
     } catch (const OptionError& e) {
         EXPECT_EQ(e.option(), "maxLevel");
     }
-    o.maxLevel = -1;
+    o.maxLevel.reset();
     o.dstMaxLevel = 1;
     EXPECT_THROW(o.validate(), OptionError);
     // The tile fields are ignored under fitTiles.
-    o.dstMaxLevel = -1;
+    o.dstMaxLevel.reset();
     o.tileSize = 7;
     EXPECT_NO_THROW(o.validate());
 }

@@ -212,6 +212,7 @@ protected:
             EXPECT_EQ(s.err.find("100% ("), std::string::npos) << percent << "%\n" << s.err;
             EXPECT_TRUE(s.temporarySeen) << percent << "%: the run had no temporary to remove yet";
             EXPECT_NE(s.err.find("stopped by SIGINT"), std::string::npos) << s.err;
+            EXPECT_EQ(s.err.find("\n\n"), std::string::npos) << s.err; // no empty line: no bar was open
             const auto after = snapshot(outputDir);
             EXPECT_EQ(names(after), names(before)) << percent << "%";
             EXPECT_TRUE(after == before) << percent << "%: the previous outputs changed";

@@ -330,6 +330,23 @@ TEST(RasterReaders, PngRowsAreReadWhileTheyAreDecoded) {
     } catch (const std::exception& e) {
         EXPECT_EQ(std::string(e.what()), damagedPath + ": cannot read: damaged or truncated PNG (IDAT: CRC error)");
     }
+    // A text chunk with a bad CRC before the image data: an ancillary chunk, which libpng would
+    // only warn about and drop; a damaged file is refused whole.
+    std::string text = whole;
+    const std::string chunk = std::string("\0\0\0\x07tEXtTitle\0x", 15) + std::string(4, '\0'); // CRC 0: wrong
+    text.insert(8 + 25, chunk); // after the signature and IHDR
+    const std::string textPath = dir.file("bad-text.png");
+    {
+        std::FILE* f = std::fopen(textPath.c_str(), "wb");
+        std::fwrite(text.data(), 1, text.size(), f);
+        std::fclose(f);
+    }
+    try {
+        RasterSource::open(textPath)->readUInt16(0, h - 1, w, h, 0, 3, row.data());
+        ADD_FAILURE() << "a file with a damaged text chunk was read";
+    } catch (const std::exception& e) {
+        EXPECT_EQ(std::string(e.what()), textPath + ": cannot read: damaged or truncated PNG (tEXt: CRC error)");
+    }
     // Opened and closed at once: the decoding thread stops (a leak or a late write would show
     // under the sanitizers).
     for (int k = 0; k < 3; ++k) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <numbers>
 #include <tuple>
 
@@ -49,10 +50,10 @@ std::vector<uint16_t> globe(int w, int h, bool noise, int scale = 1) {
     return v;
 }
 
-SphericalOrthoOptions small(int tileSize, int maxLevel) {
+SphericalOrthoOptions small(int tileSize, std::optional<int> maxLevel) {
     SphericalOrthoOptions o;
     o.ortho.levels.tileSize = tileSize;
-    o.ortho.levels.maxLevel = maxLevel;
+    o.ortho.levels.maxLevel = maxLevel; // none: chosen from the map
     return o;
 }
 
@@ -136,7 +137,7 @@ TEST(SphereOrtho, BordersAreTheNeighbourFacesPixels) {
 TEST(SphereOrtho, FinestPixelsAreTheMapAtTheirGeodeticPoint) {
     test::TempDir dir;
     test::writeImage(dir.file("globe.png"), 512, 256, 3, globe(512, 256, false), false);
-    SphericalOrthoOptions o = small(16, -1);
+    SphericalOrthoOptions o = small(16, std::nullopt);
     o.ortho.writeDxt = o.ortho.writeResiduals = false;
     const SphericalOrthoReport report = encodeSphericalOrtho(dir.file("globe.png"), dir.file("out"), o);
     ASSERT_EQ(report.faces.size(), 6u);

@@ -228,8 +228,9 @@ TEST(SplitBuildCli, PartsOfTheProgramsMergeIntoTheSingleRunsFilesSidecarIncluded
     ASSERT_EQ(test::run(dem + dir.file("one/DEM.dat")).exitCode, 0);
     ASSERT_TRUE(fs::exists(dir.file("one/DEM.dat.georef.json")));
     for (int i = 0; i < 3; ++i) {
+        // Options that do not change the files may differ from part to part.
         const test::RunResult r = test::run(dem + dir.file("p/DEM.dat") + " --part " + std::to_string(i) + "/3 --threads " +
-                                            std::to_string(1 + i % 2));
+                                            std::to_string(1 + i % 2) + (i == 1 ? " --progress none" : ""));
         ASSERT_EQ(r.exitCode, 0) << r.err;
     }
     EXPECT_FALSE(fs::exists(dir.file("p/DEM.dat")));

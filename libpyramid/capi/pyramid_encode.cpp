@@ -110,13 +110,15 @@ pyramid_status pyramid_encode_dem(const pyramid_height_source* source, const pyr
         pyramid::DemEncodeOptions o;
         o.tileSize = c.tile_size;
         o.rootTileSize = c.root_tile_size;
-        o.maxLevel = c.max_level;
+        if (c.max_level != -1) { // -1: the default; other negative levels are refused
+            o.maxLevel = c.max_level;
+        }
         o.autoScale = c.scale == 0.0;
         o.scale = o.autoScale ? 1.0 : c.scale;
         o.threads = c.threads;
         o.fitTiles = c.fit_tiles != 0;
         if (o.fitTiles) {
-            o.maxLevel = -1; // chosen by the fit, as the other tile fields are
+            o.maxLevel.reset(); // chosen by the fit, as the other tile fields are
         }
         switch (c.compression) {
         case PYRAMID_RESIDUAL_DEFLATE:
@@ -187,7 +189,9 @@ pyramid_status pyramid_encode_ortho(const pyramid_colour_source* source, const p
         }
         pyramid::OrthoEncodeOptions o;
         o.levels.tileSize = c.tile_size;
-        o.levels.maxLevel = c.max_level;
+        if (c.max_level != -1) { // -1: the default; other negative levels are refused
+            o.levels.maxLevel = c.max_level;
+        }
         o.levels.threads = c.threads;
         o.name = c.name;
         o.writeTiff = (c.outputs & PYRAMID_ORTHO_TIFF) != 0;

@@ -52,7 +52,7 @@ typedef struct pyramid_dem_encode_options {
     size_t struct_size;
     int tile_size;         /* 192: intervals per tile (tiles are tile_size + 5 samples) */
     int root_tile_size;    /* 24: intervals of the level-0 tile */
-    int max_level;         /* -1: the smallest pyramid whose finest level holds every sample */
+    int max_level;         /* -1: the smallest pyramid whose finest level holds every sample (other negatives: refused) */
     double scale;          /* 1: height units per residual unit; 0: the smallest 1-2-5 step that fits */
     int threads;           /* 0: every core; at most 1024 (the file does not depend on it) */
     pyramid_progress_fn progress; /* may be NULL */
@@ -98,7 +98,7 @@ enum {
 typedef struct pyramid_ortho_encode_options {
     size_t struct_size;
     int tile_size;         /* 192: pixels per tile, without borders */
-    int max_level;         /* -1: the smallest level whose width holds the longer side */
+    int max_level;         /* -1: the smallest level whose width holds the longer side (other negatives: refused) */
     const char* name;      /* "RGB": the files' name */
     int outputs;           /* PYRAMID_ORTHO_* flags; all three by default */
     int threads;           /* 0: every core; at most 1024 */

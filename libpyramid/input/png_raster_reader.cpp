@@ -87,6 +87,9 @@ std::unique_ptr<PngRasterReader> PngRasterReader::open(const std::string& path, 
     // tenth of the decoding thread's time.
     png_set_option(d->png, PNG_IGNORE_ADLER32, PNG_OPTION_ON);
 #endif
+    // A bad CRC fails the file in every chunk, not only the critical ones (libpng's default warns
+    // and drops an ancillary chunk): a damaged file is refused whole.
+    png_set_crc_action(d->png, PNG_CRC_DEFAULT, PNG_CRC_ERROR_QUIT);
     png_read_info(d->png, d->pngInfo);
     const png_uint_32 width = png_get_image_width(d->png, d->pngInfo);
     const png_uint_32 height = png_get_image_height(d->png, d->pngInfo);

@@ -88,6 +88,12 @@ void checkRegularFile(const std::string& path) {
 
 } // namespace
 
+void requireCacheBudget(int cacheMegabytes) {
+    if (cacheMegabytes < 1) {
+        failOption("cacheMegabytes", "must be at least 1 (MB), not " + std::to_string(cacheMegabytes));
+    }
+}
+
 RasterInfo RasterSource::describe(const std::string& path) {
     checkRegularFile(path);
     if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {

@@ -42,6 +42,10 @@ public:
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const final;
 };
 
+// The input cache budget the encoders' options take (cacheMegabytes): at least 1 MB. Throws
+// OptionError("cacheMegabytes") otherwise.
+void requireCacheBudget(int cacheMegabytes);
+
 class RasterSource {
 public:
     // Throws Error("PATH: ...") when the file is missing, unreadable or not an image.

@@ -169,8 +169,8 @@ void checkOptions(const PreviewOptions& o) {
     if (o.size < 1) {
         failOption("size", std::to_string(o.size) + " is not a positive number of pixels");
     }
-    if (o.level < -1) {
-        failOption("level", std::to_string(o.level) + " is not a level");
+    if (o.level && *o.level < 0) {
+        failOption("level", std::to_string(*o.level) + " is not a level");
     }
     if (!(o.spacing >= 0.0) || !std::isfinite(o.spacing)) {
         failOption("spacing", "must be a positive distance");

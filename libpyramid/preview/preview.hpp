@@ -34,7 +34,7 @@ enum class PreviewStyle { Auto, Hillshade, Shade, Heights, Residuals, Colours };
 enum class PreviewProjection { Auto, Face, Equirectangular, Cube };
 
 struct PreviewOptions {
-    int level = -1;  // -1: the deepest level at most `size` samples a side (level 0 at least)
+    std::optional<int> level; // none: the deepest level at most `size` samples a side (level 0 at least)
     int size = 1024;
     PreviewStyle style = PreviewStyle::Auto; // Auto: Hillshade for elevations, Colours for orthos
     // Ground distance between the level's samples, in height units (hillshade): 0 takes it from

@@ -20,12 +20,12 @@ int64_t orthoLevelSide(const OrthoHeader& h, int level) { return int64_t{h.tileS
 
 int chooseLevel(const PreviewOptions& o, int deepest, int64_t limit, const std::function<int64_t(int)>& side,
                 const std::string& name) {
-    if (o.level >= 0) {
-        if (o.level > deepest) {
-            failOption("level", std::to_string(o.level) + " is not a level of " + name + " (0 to " +
+    if (o.level) {
+        if (*o.level > deepest) {
+            failOption("level", std::to_string(*o.level) + " is not a level of " + name + " (0 to " +
                                     std::to_string(deepest) + ")");
         }
-        return o.level;
+        return *o.level;
     }
     int level = 0;
     while (level < deepest && side(level + 1) <= limit) {

@@ -74,7 +74,15 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     // A DXT1 file says 3 channels whatever the source had (1 to 3, expanded to RGB).
     // The source as the preprocessor read it: a file, or the files a VRT, directory or glob names.
     const std::vector<std::string> sources = expandInputs({source}).paths;
-    lo.channels = h.dxt() && h.channels == 3 ? std::min(3, RasterSource::open(sources[0])->info().channels) : h.channels;
+    const int sourceChannels = RasterSource::describe(sources[0]).channels;
+    if (h.dxt() && h.channels == 3) {
+        lo.channels = std::min(3, sourceChannels);
+    } else if (sourceChannels < h.channels) {
+        fail(source, std::to_string(sourceChannels) + (sourceChannels == 1 ? " channel" : " channels") +
+                         ", the pyramid's tiles have " + std::to_string(h.channels));
+    } else {
+        lo.channels = h.channels;
+    }
     const OrthoLevels levels(sources, lo);
     std::shared_ptr<ColourProducer> residuals;
     if (options.colourResiduals) {

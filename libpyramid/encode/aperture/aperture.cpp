@@ -18,6 +18,7 @@
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/face_locate.hpp"
 #include "libpyramid/sphere/map_sources.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -242,6 +243,9 @@ private:
 ApertureReport encodeApertureFile(const std::string& dem, const std::string& output, const ApertureEncodeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     options.search.validate();
+    if (options.size && !(*options.size > 0.0 && std::isfinite(*options.size))) {
+        failOption("size", numberText(*options.size) + " is not a positive, finite ground size");
+    }
     const std::filesystem::path out(output);
     if (out.extension() != ".dat" || out.stem().empty()) {
         fail(output, "an aperture pyramid is an ortho file: name it NAME.dat");
@@ -251,8 +255,8 @@ ApertureReport encodeApertureFile(const std::string& dem, const std::string& out
         fail(set.name(), "holds an ortho pyramid, not elevations");
     }
     const ResidualHeader h = ResidualFileReader::readHeader(set.main);
-    double size = options.size;
-    if (size <= 0.0) {
+    double size = options.size.value_or(0.0);
+    if (!options.size) {
         size = groundSpacing(set.main, 0)[0] * static_cast<double>(h.tileSize >> h.minLevel);
         if (!(size > 0.0)) {
             failOption("size", "the ground size of " + set.name() + " is unknown (no " +

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,9 +51,9 @@ std::array<uint8_t, 3> encodeAperture(const Aperture& a);
 
 struct ApertureEncodeOptions {
     ApertureSearch search;
-    // The root quad's side on the ground, in height units; 0: from the DEM's georeference
-    // sidecar (metres), else an error.
-    double size = 0.0;
+    // The root quad's side on the ground, in height units (positive and finite); none: from the
+    // DEM's georeference sidecar (metres), else an error.
+    std::optional<double> size;
     int threads = 0;
     int deflateLevel = 6;
     std::function<void(int64_t, int64_t)> progress; // (tiles done, total)

@@ -38,8 +38,9 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
 
 void DemEncodeOptions::validate() const {
     ResidualEncodeOptions::validate();
-    if (fitTiles && (maxLevel >= 0 || dstMaxLevel >= 0)) {
-        failOption(maxLevel >= 0 ? "maxLevel" : "dstMaxLevel",
+    requireCacheBudget(cacheMegabytes);
+    if (fitTiles && (maxLevel || dstMaxLevel)) {
+        failOption(maxLevel ? "maxLevel" : "dstMaxLevel",
                    "is chosen with the tiles by tileSize auto (fitTiles): give one or the other");
     }
     if (fitTiles) {
@@ -56,12 +57,17 @@ void DemEncodeOptions::validate() const {
         failOption("rootTileSize", std::to_string(rootTileSize) + " is odd: every level's tiles need an even size (" +
                                        std::to_string(2 * rootTileSize) + " with one level less covers the same grid)");
     }
-    if (maxLevel >= 0 && dstMaxLevel >= 0) {
+    if (maxLevel && dstMaxLevel) {
         failOption("dstMaxLevel", "and maxLevel name the same level: give one of them");
     }
-    if (dstMaxLevel >= 0 && minLevel() + dstMaxLevel > 24) {
-        failOption("dstMaxLevel", std::to_string(dstMaxLevel) + " makes maxLevel = minLevel " +
-                                      std::to_string(minLevel()) + " + " + std::to_string(dstMaxLevel) +
+    if (dstMaxLevel && *dstMaxLevel < 0) {
+        failOption("dstMaxLevel", std::to_string(*dstMaxLevel) + " is outside 0.." + std::to_string(24 - minLevel()) +
+                                      " (maxLevel = minLevel " + std::to_string(minLevel()) +
+                                      " + dstMaxLevel, at most 24)");
+    }
+    if (dstMaxLevel && minLevel() + *dstMaxLevel > 24) {
+        failOption("dstMaxLevel", std::to_string(*dstMaxLevel) + " makes maxLevel = minLevel " +
+                                      std::to_string(minLevel()) + " + " + std::to_string(*dstMaxLevel) +
                                       ", beyond 24");
     }
 }
@@ -83,10 +89,11 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
     }
     const int minLevel = o.minLevel();
     const int64_t longest = std::max(input.width, input.height);
-    int maxLevel = o.dstMaxLevel >= 0 ? minLevel + o.dstMaxLevel : o.maxLevel;
+    const std::optional<int> asked = o.dstMaxLevel ? std::optional<int>(minLevel + *o.dstMaxLevel) : o.maxLevel;
     // A level the caller gave (not the default, nor the fit's) is named in the errors.
-    const bool given = maxLevel >= 0 && !options.fitTiles;
-    if (maxLevel < 0) {
+    const bool given = asked && !options.fitTiles;
+    int maxLevel = asked.value_or(-1);
+    if (!asked) {
         maxLevel = minLevel;
         while ((static_cast<int64_t>(o.rootTileSize) << maxLevel) + 1 < longest) {
             ++maxLevel;
@@ -107,7 +114,7 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
         const std::string what = "maxLevel " + std::to_string(maxLevel) + " makes " + std::to_string(h.tileCount()) +
                                  " tiles, more than " + std::to_string(kMaxTiles) + " in one file";
         if (given) {
-            failOption(o.dstMaxLevel >= 0 ? "dstMaxLevel" : "maxLevel", what);
+            failOption(o.dstMaxLevel ? "dstMaxLevel" : "maxLevel", what);
         }
         fail(where, what);
     }

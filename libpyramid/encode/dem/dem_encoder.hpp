@@ -26,12 +26,14 @@ struct DemEncodeOptions : ResidualEncodeOptions {
     int tileSize = 192;
     int rootTileSize = 24;          // tileSize >> minLevel
     // The file's maxLevel, counted from the root (level 0, one tile of rootTileSize
-    // intervals); -1: the smallest pyramid whose finest level holds every input sample.
-    int maxLevel = -1;
+    // intervals), minLevel to 24; none: the smallest pyramid whose finest level holds every
+    // input sample.
+    std::optional<int> maxLevel;
     // The same level counted as the original tools' preprocessDem counts it (dstMaxLevel), from
     // the first level of full-size tiles: maxLevel = minLevel + dstMaxLevel, with minLevel =
-    // log2(tileSize / rootTileSize). -1: not given. At most one of maxLevel and dstMaxLevel.
-    int dstMaxLevel = -1;
+    // log2(tileSize / rootTileSize), so 0 to 24 - minLevel. At most one of maxLevel and
+    // dstMaxLevel.
+    std::optional<int> dstMaxLevel;
     // `--tile-size auto`: tileSize, rootTileSize and maxLevel are chosen from the input's size
     // by fitDemTiles (dem_tile_fit.hpp), so that the finest level is the input's grid; the
     // three fields above are then ignored, and maxLevel and dstMaxLevel may not be given.
@@ -44,11 +46,11 @@ struct DemEncodeOptions : ResidualEncodeOptions {
     std::optional<double> nodata;   // overrides what the file declares
     bool ignoreDeclaredNodata = false;
     bool stretch = false;           // map width and height independently (the original behaviour)
-    int cacheMegabytes = 256;       // input cache budget
+    int cacheMegabytes = 256;       // input cache budget, at least 1
     PlanarTarget target;            // the CRS and extent a mosaic (or one file) is resampled onto
 
     // Throws OptionError for values no input can take: tileSize, rootTileSize, maxLevel and
-    // dstMaxLevel (together, beyond 24, or with fitTiles), scale.
+    // dstMaxLevel (together, outside their range, or with fitTiles), cacheMegabytes, scale.
     void validate() const;
     // minLevel = log2(tileSize / rootTileSize), of options that validate().
     int minLevel() const;

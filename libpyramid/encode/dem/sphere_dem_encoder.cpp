@@ -85,14 +85,14 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     DemEncodeOptions faceOptions = o;
     faceOptions.stretch = false;
     faceOptions.reconstruction = nullptr;
-    if (faceOptions.maxLevel < 0 && faceOptions.dstMaxLevel < 0) {
+    if (!faceOptions.maxLevel && !faceOptions.dstMaxLevel) {
         const double equatorWidth = placement.columnsAround / 4.0;
-        faceOptions.maxLevel = 0;
-        while (faceOptions.maxLevel < 24 &&
-               static_cast<double>(static_cast<int64_t>(faceOptions.rootTileSize) << faceOptions.maxLevel) < equatorWidth) {
-            ++faceOptions.maxLevel;
+        int level = 0;
+        const auto rootTile = static_cast<int64_t>(faceOptions.rootTileSize);
+        while (level < 24 && static_cast<double>(rootTile << level) < equatorWidth) {
+            ++level;
         }
-        faceOptions.maxLevel = std::max(faceOptions.maxLevel, o.minLevel());
+        faceOptions.maxLevel = std::max(level, o.minLevel());
     }
     const ResidualHeader header = planDemPyramid(sources.info, faceOptions, input);
     const int64_t N = static_cast<int64_t>(header.tileSize >> header.minLevel) << header.maxLevel;

@@ -24,7 +24,11 @@ constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
 void OrthoLevelsOptions::validate() const {
     requireEncodableTileSize(tileSize);
+    if (maxLevel && (*maxLevel < 0 || *maxLevel > 20)) {
+        failOption("maxLevel", std::to_string(*maxLevel) + " is outside 0..20");
+    }
     workerThreads(threads); // refuses a count out of range
+    requireCacheBudget(cacheMegabytes);
 }
 
 struct OrthoLevels::Impl {
@@ -122,17 +126,17 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
     if (info.type != SampleType::UInt8 && info.type != SampleType::UInt16) {
         fail(input, "imagery must have 8- or 16-bit unsigned samples");
     }
-    if (info.channels > 4 && o.channels == 0) {
+    if (info.channels > 4 && !o.channels) {
         fail(input, std::to_string(info.channels) + " channels (1 to 4 expected; the channels option selects the first ones)");
     }
-    if (o.channels < 0 || o.channels > std::min(4, info.channels)) {
-        failOption("channels", std::to_string(o.channels) + " is not 1.." + std::to_string(std::min(4, info.channels)));
+    if (o.channels && (*o.channels < 1 || *o.channels > std::min(4, info.channels))) {
+        failOption("channels",
+                   std::to_string(*o.channels) + " is not 1.." + std::to_string(std::min(4, info.channels)));
     }
-    channels = o.channels ? o.channels : info.channels;
+    channels = o.channels.value_or(info.channels);
     T = o.tileSize;
-    M = o.maxLevel;
-    if (M < 0) {
-        M = 0;
+    M = o.maxLevel.value_or(0);
+    if (!o.maxLevel) {
         while ((static_cast<int64_t>(T) << M) < wanted) {
             ++M;
         }

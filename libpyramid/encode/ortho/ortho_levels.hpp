@@ -42,6 +42,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,16 +57,17 @@ namespace pyramid {
 
 struct OrthoLevelsOptions {
     int tileSize = 192;
-    int maxLevel = -1;    // -1: the smallest level whose width holds the input's longer side (face: width / 4)
-    int channels = 0;     // 0: every input channel (1..4), else the first `channels`
+    // 0 to 20; none: the smallest level whose width holds the input's longer side (face: width / 4).
+    std::optional<int> maxLevel;
+    std::optional<int> channels; // the first `channels` (1 to min(4, the input's)); none: every input channel (1..4)
     ColourSpace colourSpace = ColourSpace::Srgb;
     bool stretch = false; // planar only
     int threads = 0;
-    int cacheMegabytes = 256;
+    int cacheMegabytes = 256; // at least 1
     PlanarTarget target; // planar only: the CRS and extent a mosaic (or one file) is resampled onto
 
-    // The checks that do not need the input (tileSize, threads); OrthoLevels checks the others against
-    // it. Throws OptionError naming the field.
+    // The checks that do not need the input (tileSize, maxLevel, threads, cacheMegabytes);
+    // OrthoLevels checks the others against it. Throws OptionError naming the field.
     void validate() const;
 };
 

@@ -108,7 +108,7 @@ SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs
     // The bands and sample type every file must have: the first file's.
     const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
     // (A wrong channel count is refused by OrthoLevels, naming the option.)
-    const int channels = std::min({o.ortho.levels.channels > 0 ? o.ortho.levels.channels : 4, first.channels, 4});
+    const int channels = std::min({std::max(1, o.ortho.levels.channels.value_or(4)), first.channels, 4});
     const MapSources sources = openMapSources(
         inputs, o.extent, body, o.ortho.levels.cacheMegabytes, SampleRead::UInt16, 0, channels,
         [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {

@@ -20,7 +20,7 @@
 namespace pyramid {
 
 struct SphericalOrthoOptions {
-    // ortho.name "RGB" gives RGB1.dat .. RGB6.dat; ortho.levels.maxLevel counts per face (-1: the
+    // ortho.name "RGB" gives RGB1.dat .. RGB6.dat; ortho.levels.maxLevel counts per face (none: the
     // smallest level at least width / 4 pixels wide); ortho.levels.stretch is not used;
     // ortho.progress counts the tiles of all faces together.
     OrthoEncodeOptions ortho;

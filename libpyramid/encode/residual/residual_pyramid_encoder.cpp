@@ -470,7 +470,8 @@ double nextScale(const Overflow& overflow, const ResidualEncodeOptions& options,
                                 numberText(niceCeil(std::max(needed, overflow.scale * 1.000001))));
     }
     if (!options.autoScale || attempt >= 12) {
-        failOption("scale", what + ": use " + roundUp3(needed) + " or more, or auto");
+        failOption("scale", what + ": use " + roundUp3(needed) + " or more (a largest error of " + roundUp3(needed / 2.0) +
+                                ", half the scale), or auto");
     }
     return niceCeil(std::max(needed, overflow.scale * 1.000001));
 }
