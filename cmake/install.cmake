@@ -34,7 +34,8 @@ foreach(folder ${PYRAMID_HEADER_FOLDERS})
           FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h" PATTERN "oiio" EXCLUDE)
 endforeach()
 
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/doc/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# doc/ beside README.md as in the sources, so that the links between them hold where installed.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/doc/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/doc)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 # The CMake package.

@@ -65,13 +65,27 @@ void checkRoot(const RegionRoot& r, const std::string& path) {
     }
 }
 
+// A set's files lie at or below the index's directory: a name that is absolute or climbs out of
+// it ("..") would send a reader anywhere on the disk (an index that came with a download).
+bool withinIndexDirectory(const std::string& file) {
+    const fs::path p(file);
+    return !p.is_absolute() && !p.has_root_name() &&
+           std::none_of(p.begin(), p.end(), [](const fs::path& part) { return part == ".."; });
+}
+
 void checkIndex(const RegionIndex& index, const std::string& path) {
     if (index.main.empty()) {
         fail(path, "the main file's name is empty");
     }
+    if (!withinIndexDirectory(index.main)) {
+        fail(path, "the main file '" + index.main + "' is not a path within the index's directory");
+    }
     for (const RegionEntry& e : index.regions) {
         if (e.file.empty()) {
             fail(path, "region " + tileText(e.root) + ": its file name is empty");
+        }
+        if (!withinIndexDirectory(e.file)) {
+            fail(path, "region " + tileText(e.root) + ": '" + e.file + "' is not a path within the index's directory");
         }
         checkRoot(e.root, path);
     }

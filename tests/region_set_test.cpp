@@ -168,6 +168,16 @@ TEST(RegionIndex, NamesRoundTripAndResolution) {
     refuses(R"({"format": "libpyramid region set", "version": 1, "kind": "ortho", "main": "",
                "regions": []})",
             "main file's name is empty");
+    // Every file within the index's directory: no absolute path, nothing that climbs out of it.
+    refuses(R"({"format": "libpyramid region set", "version": 1, "kind": "ortho", "main": "a",
+               "regions": [{"file": "/tmp/b.dat", "root": [1, 0, 0]}]})",
+            "'/tmp/b.dat' is not a path within the index's directory");
+    refuses(R"({"format": "libpyramid region set", "version": 1, "kind": "ortho", "main": "a",
+               "regions": [{"file": "sub/../../b.dat", "root": [1, 0, 0]}]})",
+            "is not a path within the index's directory");
+    refuses(R"({"format": "libpyramid region set", "version": 1, "kind": "ortho", "main": "../a.dat",
+               "regions": []})",
+            "main file '../a.dat' is not a path within");
 }
 
 TEST(RegionSet, ResolvesByMainFileIndexAndDirectory) {

@@ -7,7 +7,8 @@
 #     preprocess, and gl when it was built);
 #   - pkg-config: every installed .pc file resolves; a C loader links libpyramid-runtime, a C++
 #     program the static libraries (--static);
-#   - the samples (samples/README.md), each built the way its README says and run on data.
+#   - the samples (samples/README.md), each built the way its README says and run on data;
+#   - the docs: README.md's links to doc/ hold where installed.
 # Usage: install_test.sh BUILD_DIR DATA_DIR [C_COMPILER [CXX_COMPILER]]
 set -eu
 build=$1
@@ -21,6 +22,15 @@ trap 'rm -rf "$tmp"' EXIT
 prefix=$tmp/prefix
 
 cmake --install "$build" --prefix "$prefix" >/dev/null
+
+# ---- The docs: README.md beside doc/, as in the sources, so that their relative links hold. ----
+docs=$(find "$prefix" -path '*/share/doc/libpyramid/README.md' | head -n 1)
+test -n "$docs" || { echo "no installed README.md" >&2; exit 1; }
+docdir=$(dirname "$docs")
+for link in $(grep -o '](doc/[^)#]*' "$docs" | sed 's/^](//' | sort -u); do
+  test -e "$docdir/$link" || { echo "installed README.md links to $link, which is not installed" >&2; exit 1; }
+done
+test -e "$docdir/doc/c-api.md" || { echo "no installed doc/c-api.md" >&2; exit 1; }
 
 # ---- The runtime library: libtiff, libdeflate and zlib only; the C API only. ----
 lib=$(find "$prefix" -name 'libpyramid-runtime.so.*.*.*' | head -n 1)
