@@ -81,7 +81,9 @@ typedef struct pyramid_io {
      * the handle, from several at once when a handle is shared: it must be thread-safe. */
     int (*read)(void* user, uint64_t offset, void* buffer, size_t size, size_t* bytes_read);
     /* May be NULL. Called once with `user` when the handle that took these callbacks is closed,
-     * after its last read; never when the open fails (the callbacks stay the caller's). */
+     * after its last read (an elevation handle with a normal producer made from it: when the
+     * later of the two closes, since the producer reads through it); never when the open fails
+     * (the callbacks stay the caller's). */
     void (*release)(void* user);
     void* user;    /* passed to read and release */
     uint64_t size; /* total bytes of the source */
