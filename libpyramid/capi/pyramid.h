@@ -237,8 +237,9 @@ PYRAMID_API pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, i
                                       float* zm, size_t count);
 
 /* The height at point (u, v) of the root quad (u east, v north, both in [0, 1]) in the tiles of
- * `level` (-1: the deepest with residuals): the bilinear interpolation, in double precision, of
- * the four zf samples around the point in the tile that holds it. */
+ * `level` (-1: the deepest with residuals; deeper levels, which add no detail, are refused with
+ * PYRAMID_ERROR_ARGUMENT): the bilinear interpolation, in double precision, of the four zf
+ * samples around the point in the tile that holds it. */
 PYRAMID_API pyramid_status pyramid_elevation_height(pyramid_elevation* producer, int level, double u, double v, double* height);
 
 /* ---- Normal producer (0.2.2) ------------------------------------------------------------- */
