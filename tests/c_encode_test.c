@@ -178,6 +178,8 @@ int main(void) {
         }
         pyramid_close(deflate);
         pyramid_close(context);
+        remove(fit_deflate);
+        remove(fit_context);
         fit.compression = 3;
         CHECK(pyramid_encode_dem(&source, &fit, cancelled_path) == PYRAMID_ERROR_ARGUMENT);
         CHECK(strstr(pyramid_last_error(), "compression 3") != NULL);
