@@ -1,6 +1,8 @@
 // `pyramid height SET|DIR (--grid X,Y | --pixel X,Y --source INPUT | --xy X,Y | --lonlat LON,LAT)`: the
 // reconstructed height at one point, through the runtime's own producer: a pipeline's check
 // that a build landed where it should.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -9,6 +11,7 @@
 
 #include "cli/cli_common.hpp"
 #include "formats/error.hpp"
+#include "formats/georeference_sidecar.hpp"
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
@@ -16,7 +19,9 @@
 #include "libpyramid/runtime/height_query.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/face_locate.hpp"
+#include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/parse_number.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid::cli {
 
@@ -62,6 +67,31 @@ bool isPlanarSetDirectory(const HeightArgs& a) {
     }
 }
 
+// A file built from a georeferenced input has its sidecar: the source's own georeferencing must
+// put the pixel (a DEM sample at its pixel's centre) where the geometry put it, (u, v), within a
+// hundredth of a finest interval. Otherwise the source is not the raster the file was built from
+// alone (another raster, one tile of a mosaic, a build with --crs or --extent) or the build's
+// --stretch was not the one given: refused, as a height from the wrong place would be wrong.
+void checkPixelPlacement(const std::string& main, const HeightArgs& a, const RasterInfo& info, double px, double py,
+                         double u, double v, double intervals) {
+    if (!info.georeference || !info.georeference->axisAligned() ||
+        !std::filesystem::exists(georeferenceSidecarPath(main))) {
+        return;
+    }
+    const auto& t = info.georeference->pixelToCrs;
+    const double cx = px + 0.5, cy = py + 0.5;
+    const double x = t[0] + t[1] * cx + t[2] * cy, y = t[3] + t[4] * cx + t[5] * cy;
+    const std::array<double, 2> placed = crsToRootQuad(main, x, y, false);
+    const double tolerance = std::max(0.01 / intervals, 1e-12);
+    if (!(std::abs(placed[0] - u) <= tolerance && std::abs(placed[1] - v) <= tolerance)) {
+        fail("--source", a.source + "'s georeferencing puts pixel " + a.pixel + " at (" + numberText(placed[0]) +
+                             ", " + numberText(placed[1]) + ") of " + main + "'s root quad, the build's geometry" +
+                             (a.stretch ? " with" : " without") + " --stretch at (" + numberText(u) + ", " +
+                             numberText(v) + "): not the raster the file was built from alone (give the point with "
+                             "--xy or --lonlat)");
+    }
+}
+
 int runHeight(const HeightArgs& a) {
     std::string file = a.target;
     double u = 0.0, v = 0.0;
@@ -104,12 +134,20 @@ int runHeight(const HeightArgs& a) {
                 fail("--pixel", "needs the source raster the file was built from (--source INPUT)");
             }
             const auto [px, py] = parsePair(a.pixel, "--pixel");
-            const RasterInfo info = RasterSource::open(a.source)->info();
+            // Opened as the encoder opens one input: north-up, whichever way its rows run.
+            const RasterInfo info = openPlanarMosaic({a.source}, 16, false, PlanarTarget{})->info();
+            if (!(px >= 0.0 && px <= info.width - 1 && py >= 0.0 && py <= info.height - 1)) {
+                fail("--pixel", a.pixel + " is outside " + a.source + "'s " + std::to_string(info.width) + " x " +
+                                    std::to_string(info.height) + " samples (columns 0.." +
+                                    std::to_string(info.width - 1) + ", rows 0.." + std::to_string(info.height - 1) +
+                                    ")");
+            }
             // The encoder's own geometry (doc/dem-encoding.md, "Sampling"): X = x Lx / N,
             // Y = (N - y) Ly / N.
             const DemGeometry g = makeDemGeometry(info.width, info.height, finestIntervals(h), a.stretch, a.source);
             u = px / static_cast<double>(g.lx);
             v = 1.0 - py / static_cast<double>(g.ly);
+            checkPixelPlacement(main, a, info, px, py, u, v, static_cast<double>(finestIntervals(h)));
         }
     }
     const PointHeight p = setHeightAt(file, u, v); // a file alone, or the set it or its index names

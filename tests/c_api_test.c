@@ -902,6 +902,19 @@ static void test_scale(const char* dir) {
     CHECK(strstr(pyramid_last_error(), "scale") != NULL);
     o.scale = (float)NAN;
     CHECK(pyramid_elevation_open_sources(&source, NULL, 0, &o, &scaled) == PYRAMID_ERROR_ARGUMENT);
+    /* So are finite scales whose product with the file's 0.1 puts a residual beyond float's range
+     * (3e38 x 0.1 x 32768), or underflows to 0 (the smallest float times 0.1). */
+    o.scale = 3e38f;
+    CHECK(pyramid_elevation_open_sources(&source, NULL, 0, &o, &scaled) == PYRAMID_ERROR_ARGUMENT);
+    CHECK(scaled == NULL);
+    CHECK(strstr(pyramid_last_error(), "beyond float's range") != NULL);
+    o.scale = 1e-45f;
+    CHECK(pyramid_elevation_open_sources(&source, NULL, 0, &o, &scaled) == PYRAMID_ERROR_ARGUMENT);
+    CHECK(strstr(pyramid_last_error(), "underflows to 0") != NULL);
+    /* A large scale whose residuals stay finite is served. */
+    o.scale = 1e33f;
+    CHECK(pyramid_elevation_open_sources(&source, NULL, 0, &o, &scaled) == PYRAMID_OK);
+    pyramid_elevation_close(scaled);
     pyramid_elevation_close(plain);
     pyramid_close(file);
 }

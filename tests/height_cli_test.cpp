@@ -5,13 +5,16 @@
 // by --lonlat.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -100,6 +103,55 @@ TEST(HeightCli, PlanarFilesOfGeoreferencedInputsTakeCrsPoints) {
     const auto r = run(programPath("pyramid") + " height " + quoted(dir.file("plain.dat")) + " --xy 3,4");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("not built from a georeferenced input"), std::string::npos) << r.err;
+}
+
+// --pixel takes the raster's samples alone (an index beyond them is refused), north-up as the
+// encoder reads it (a south-up copy of the same ground gives the same heights), and a georeferenced
+// source must put the pixel where the build did: another raster of other ground, or --stretch
+// where the build had none, is refused rather than answered from the wrong place.
+TEST(HeightCli, PixelsOfAGeoreferencedSourceMustLieWhereTheBuildPutThem) {
+    test::TempDir dir;
+    const int w = 65, h = 33; // 64 intervals across: without --stretch the raster fills the upper half
+    const std::vector<float> heights = test::syntheticHeights(w, h, 900.0f);
+    const double step = 1.0 / 64.0;
+    const std::string input = dir.file("dem.tif");
+    test::writeGeoTiff(input, w, h, heights, test::geographicTags(4326, 7.0, 46.5, step));
+    const std::string file = dir.file("DEM.dat");
+    const auto built = run(programPath("preprocessDem") + " -q " + quoted(input) + " -o " + quoted(file) +
+                           " --tile-size 16 --root-tile-size 4 --scale 0.5");
+    ASSERT_EQ(built.exitCode, 0) << built.err;
+    const std::string pixel = " --pixel 17,9 --source ";
+    const double want = heights[9 * w + 17];
+    EXPECT_NEAR(heightOf(quoted(file) + pixel + quoted(input)), want, 0.25 + 1e-3);
+
+    // The same ground south-up (rows running north): pixel 17,9 counted from the north is the same sample.
+    std::vector<float> mirrored(heights.size());
+    for (int y = 0; y < h; ++y) {
+        std::copy_n(heights.begin() + static_cast<std::ptrdiff_t>(y) * w, w,
+                    mirrored.begin() + static_cast<std::ptrdiff_t>(h - 1 - y) * w);
+    }
+    test::GeoTiffTags southUp;
+    southUp.shortKeys = test::geographicTags(4326, 7.0, 46.5, step).shortKeys;
+    test::setTransformation(southUp, {7.0, step, 0.0, 46.5 - h * step, 0.0, step});
+    const std::string flipped = dir.file("south-up.tif");
+    test::writeGeoTiff(flipped, w, h, mirrored, southUp);
+    EXPECT_NEAR(heightOf(quoted(file) + pixel + quoted(flipped)), want, 0.25 + 1e-3);
+
+    const auto refused = [&](const std::string& args, const std::string& message) {
+        const auto r = run(programPath("pyramid") + " height " + quoted(file) + args);
+        EXPECT_EQ(r.exitCode, 1) << args << "\n" << r.err;
+        EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+        EXPECT_EQ(r.out, "") << args;
+    };
+    // The same samples a pixel to the east: other ground.
+    const std::string shifted = dir.file("shifted.tif");
+    test::writeGeoTiff(shifted, w, h, heights, test::geographicTags(4326, 7.0 + step, 46.5, step));
+    refused(pixel + quoted(shifted), "not the raster the file was built from alone");
+    // --stretch, which the build did not have, places rows elsewhere.
+    refused(pixel + quoted(input) + " --stretch", "the build's geometry with --stretch");
+    // Beyond the samples (inside the root quad, whose lower half the raster does not reach).
+    refused(" --pixel 17,33 --source " + quoted(input), "17,33 is outside");
+    refused(" --pixel=-1,0 --source " + quoted(input), "columns 0..64, rows 0..32");
 }
 
 double smoothHeight(double lon, double lat) {

@@ -217,7 +217,8 @@ typedef struct pyramid_elevation_options {
     size_t cache_tiles; /* produced tiles kept; 0 is taken as 1 */
     /* The residual producer's `scale`: every residual of every file is multiplied by
      * (file scale x scale), that product taken once in float32. 0 = 1 (the files' scales as
-     * they are); non-finite is PYRAMID_ERROR_ARGUMENT. */
+     * they are); non-finite is PYRAMID_ERROR_ARGUMENT, and so is a product with a file's scale
+     * that underflows to 0 or puts a residual beyond float's range. */
     float scale;
 } pyramid_elevation_options;
 

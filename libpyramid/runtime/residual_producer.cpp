@@ -7,12 +7,13 @@
 #include "formats/error.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/runtime/region_lookup.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
 void ResidualProducerOptions::validate() const {
     if (!std::isfinite(scale) || scale == 0.0f) {
-        failOption("scale", std::to_string(scale) + " is not a finite non-zero number");
+        failOption("scale", numberText(scale) + " is not a finite non-zero number");
     }
 }
 
@@ -67,7 +68,19 @@ ResidualProducer::ResidualProducer(std::shared_ptr<const ByteSource> mainFile,
     options.validate();
     auto addFile = [&](std::shared_ptr<const ByteSource> source) {
         impl_->files.push_back(ResidualFileReader::open(std::move(source)));
-        impl_->scales.push_back(impl_->files.back()->header().scale * options.scale);
+        const float fileScale = impl_->files.back()->header().scale;
+        const float product = fileScale * options.scale;
+        // The option must keep every residual a finite non-zero float where the file's own scale
+        // does: the product overflowing (or the largest residual, -32768, times it) or
+        // underflowing to 0 would serve infinities, NaNs or flat zeros for the file's heights. (A
+        // file whose own scale overflows is served as it is: verification reports its heights.)
+        const bool fileFinite = std::isfinite(fileScale * -32768.0f);
+        if ((fileFinite && !std::isfinite(product * -32768.0f)) || product == 0.0f) {
+            failOption("scale", numberText(options.scale) + " times the scale of " +
+                                    impl_->files.back()->path() + " (" + numberText(fileScale) + ") " +
+                                    (product == 0.0f ? "underflows to 0" : "puts its residuals beyond float's range"));
+        }
+        impl_->scales.push_back(product);
     };
     addFile(std::move(mainFile));
     const ResidualHeader& main = impl_->files.front()->header();

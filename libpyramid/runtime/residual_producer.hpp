@@ -25,7 +25,8 @@ struct ResidualProducerOptions {
     // each other. Finite and non-zero (1: the files' residuals as they are).
     float scale = 1.0f;
     // Throws OptionError("scale: ...") for a non-finite or zero scale. (delta is checked against
-    // the main file by the producer.)
+    // the main file by the producer, and so is the product with each file's scale: every residual
+    // times it must be a finite non-zero float.)
     void validate() const;
 };
 
