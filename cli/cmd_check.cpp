@@ -1,5 +1,6 @@
 // `pyramid check SET [--report FILE|-]`: the structure validated, every tile decoded; for a region set
-// (its main file, index or directory) every file, and the set's own rules.
+// (its main file, index or directory) every file, and the set's own rules; for a directory that
+// is not one set alone, every pyramid under it.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/support/parallel.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid::cli {
 
@@ -126,8 +128,42 @@ int64_t checkFile(const std::string& file, int threads, bool quiet, std::string&
     return static_cast<int64_t>(tiles.size());
 }
 
+// What checking one pyramid (a file alone or a region set) found.
+struct Checked {
+    nlohmann::json report;             // the command's report for it alone
+    std::vector<std::string> problems; // each naming its file
+    std::vector<std::string> lines;    // what it prints on stdout: its problems, then its summary
+    int64_t tiles = 0;
+};
+
+// A file alone: its structure validated and every tile decoded.
+Checked checkAlone(const std::string& file, int threads, bool quiet) {
+    std::vector<std::string> problems;
+    std::string kind = "unknown";
+    int64_t checked = 0;
+    try {
+        checked = checkFile(file, threads, quiet, kind, problems);
+    } catch (const Error& e) {
+        problems.push_back(e.what());
+    }
+    Checked c;
+    c.report = {{"file", file}, {"kind", kind}, {"tiles_checked", checked}, {"problems", problems},
+                {"ok", problems.empty()}};
+    c.lines = problems;
+    c.lines.push_back(file + ": " + kind + ", " + std::to_string(checked) + " tiles checked, " +
+                      std::to_string(problems.size()) + " problem" + (problems.size() == 1 ? "" : "s"));
+    for (std::string& p : problems) {
+        if (p.rfind(file + ": ", 0) != 0) {
+            p = file + ": " + p;
+        }
+    }
+    c.problems = std::move(problems);
+    c.tiles = checked;
+    return c;
+}
+
 // A region set: the set's rules (formats/pyramid_set.hpp), then every file as checkFile does.
-int checkSet(const std::string& path, const std::string& report, int threads, bool quiet) {
+Checked checkSet(const std::string& path, int threads, bool quiet) {
     std::vector<std::string> problems;
     std::string kind = "unknown";
     std::string name = path;
@@ -147,44 +183,106 @@ int checkSet(const std::string& path, const std::string& report, int threads, bo
             if (!std::filesystem::is_regular_file(file, ec)) {
                 continue; // the set's rules said so
             }
-            std::vector<std::string> own;
-            std::string fileKind = "unknown";
-            int64_t tiles = 0;
-            try {
-                tiles = checkFile(file, threads, quiet, fileKind, own);
-            } catch (const Error& e) {
-                own.push_back(e.what());
-            }
-            for (std::string& p : own) {
-                if (p.rfind(file + ": ", 0) != 0) {
-                    p = file + ": " + p;
-                }
-            }
-            checked += tiles;
-            files.push_back({{"file", file}, {"kind", fileKind}, {"tiles_checked", tiles}, {"problems", own}});
-            problems.insert(problems.end(), own.begin(), own.end());
+            Checked one = checkAlone(file, threads, quiet);
+            checked += one.tiles;
+            files.push_back({{"file", file}, {"kind", one.report["kind"]}, {"tiles_checked", one.tiles},
+                             {"problems", one.problems}});
+            problems.insert(problems.end(), one.problems.begin(), one.problems.end());
         }
     } catch (const Error& e) {
         problems.push_back(e.what());
     }
-    if (!report.empty()) {
-        writeJson({{"file", path}, {"set", name}, {"kind", kind}, {"files", files}, {"tiles_checked", checked},
-                   {"problems", problems}, {"ok", problems.empty()}},
-                  report);
-    }
-    if (report != "-") {
-        for (const std::string& p : problems) {
-            std::printf("%s\n", p.c_str());
+    Checked c;
+    c.report = {{"file", path}, {"set", name}, {"kind", kind}, {"files", files}, {"tiles_checked", checked},
+                {"problems", problems}, {"ok", problems.empty()}};
+    c.lines = problems;
+    c.lines.push_back(name + ": " + kind + " set of " + std::to_string(listed) + " file" + (listed == 1 ? "" : "s") +
+                      ", " + std::to_string(checked) + " tiles checked, " + std::to_string(problems.size()) +
+                      " problem" + (problems.size() == 1 ? "" : "s"));
+    c.problems = std::move(problems);
+    c.tiles = checked;
+    return c;
+}
+
+// The pyramids under a directory (its subdirectories too, in name order): every region set
+// index (*.regions.json) names a set, and every other *.dat file that no index lists is a file
+// alone. What a build's output directory holds: a planet's faces, an ortho build's three
+// outputs, sets and files side by side.
+struct DirectoryPyramids {
+    std::vector<std::string> sets;  // the indexes
+    std::vector<std::string> files; // files alone
+};
+
+DirectoryPyramids pyramidsUnder(const std::string& directory) {
+    DirectoryPyramids found;
+    std::vector<std::string> dats;
+    std::error_code ec;
+    for (auto it = std::filesystem::recursive_directory_iterator(directory, ec);
+         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+        if (!it->is_regular_file(ec)) {
+            continue;
         }
-        std::printf("%s: %s set of %zu file%s, %lld tiles checked, %zu problem%s\n", name.c_str(), kind.c_str(),
-                    listed, listed == 1 ? "" : "s", static_cast<long long>(checked), problems.size(),
-                    problems.size() == 1 ? "" : "s");
+        const std::string path = it->path().string();
+        if (endsWithNoCase(path, ".regions.json")) {
+            found.sets.push_back(path);
+        } else if (endsWithNoCase(path, ".dat")) {
+            dats.push_back(path);
+        }
     }
-    if (problems.empty()) {
-        return kExitOk;
+    if (ec) {
+        fail(directory, "cannot be listed: " + ec.message());
     }
-    sayFailure(reasonLine("", problems));
-    return kExitFailure;
+    std::sort(found.sets.begin(), found.sets.end());
+    std::sort(dats.begin(), dats.end());
+    std::vector<std::string> listed; // the files the indexes name, as they name them
+    for (const std::string& index : found.sets) {
+        try {
+            const PyramidSet set = resolvePyramidSet(index);
+            listed.push_back(std::filesystem::weakly_canonical(set.main).string());
+            for (const std::string& r : set.regions) {
+                listed.push_back(std::filesystem::weakly_canonical(r).string());
+            }
+        } catch (const Error&) {
+            // a bad index is the set's problem, found when it is checked
+        }
+    }
+    std::sort(listed.begin(), listed.end());
+    for (const std::string& dat : dats) {
+        if (!std::binary_search(listed.begin(), listed.end(), std::filesystem::weakly_canonical(dat).string())) {
+            found.files.push_back(dat);
+        }
+    }
+    return found;
+}
+
+// Every pyramid under a directory, each checked as it would be alone, and their totals.
+Checked checkDirectory(const std::string& directory, const DirectoryPyramids& found, int threads, bool quiet) {
+    Checked c;
+    nlohmann::json pyramids = nlohmann::json::array();
+    auto add = [&](Checked one) {
+        c.lines.insert(c.lines.end(), one.lines.begin(), one.lines.end());
+        c.tiles += one.tiles;
+        c.problems.insert(c.problems.end(), one.problems.begin(), one.problems.end());
+        pyramids.push_back(std::move(one.report));
+    };
+    for (const std::string& index : found.sets) {
+        add(checkSet(index, threads, quiet));
+    }
+    for (const std::string& file : found.files) {
+        add(checkAlone(file, threads, quiet));
+    }
+    const size_t count = found.sets.size() + found.files.size();
+    if (count == 0) {
+        c.problems.push_back(directory + ": no pyramid (a *.dat file or a *.regions.json index) in this directory");
+        c.lines.push_back(c.problems.back());
+    }
+    c.report = {{"file", directory}, {"pyramids", pyramids}, {"tiles_checked", c.tiles}, {"problems", c.problems},
+                {"ok", c.problems.empty()}};
+    c.lines.push_back(directory + ": " + std::to_string(count) + " pyramid" + (count == 1 ? "" : "s") + " (" +
+                      std::to_string(found.sets.size()) + " region set" + (found.sets.size() == 1 ? "" : "s") +
+                      "), " + std::to_string(c.tiles) + " tiles checked, " + std::to_string(c.problems.size()) +
+                      " problem" + (c.problems.size() == 1 ? "" : "s"));
+    return c;
 }
 
 } // namespace
@@ -195,7 +293,8 @@ CommandRunner setupCheckCommand(CLI::App& app) {
     auto threads = std::make_shared<int>(0);
     auto quiet = std::make_shared<bool>(false);
     app.add_option("FILE", *file,
-                   "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
+                   "Residual (DEM) or ortho pyramid file, a region set (its main file, index or directory), or a "
+                   "directory: every pyramid under it")
         ->required();
     addReportOption(app, *report, "the result");
     addThreadsOption(app, *threads);
@@ -203,39 +302,35 @@ CommandRunner setupCheckCommand(CLI::App& app) {
     addProgressOption(app);
     return [file, report, threads, quiet]() {
         const int workers = workerThreads(*threads); // before any file: a bad count is the command line's fault
-        bool set = false;
-        try {
-            set = !findRegionIndex(*file).empty();
-        } catch (const Error&) {
-            set = true; // a directory without one index: reported as the set's problem
-        }
-        if (set) {
-            return checkSet(*file, *report, workers, *quiet);
-        }
-        std::vector<std::string> problems;
-        std::string kind = "unknown";
-        int64_t checked = 0;
-        try {
-            checked = checkFile(*file, workers, *quiet, kind, problems);
-        } catch (const Error& e) {
-            problems.push_back(e.what());
+        Checked c;
+        std::error_code ec;
+        if (std::filesystem::is_directory(*file, ec)) {
+            // One set and nothing else: the set as before; else every pyramid under it.
+            const DirectoryPyramids found = pyramidsUnder(*file);
+            const bool oneSet = found.sets.size() == 1 && found.files.empty() &&
+                                std::filesystem::equivalent(std::filesystem::path(found.sets[0]).parent_path(), *file, ec);
+            c = oneSet ? checkSet(*file, workers, *quiet) : checkDirectory(*file, found, workers, *quiet);
+        } else {
+            bool set = false;
+            try {
+                set = !findRegionIndex(*file).empty();
+            } catch (const Error&) {
+                set = true; // reported as the set's problem
+            }
+            c = set ? checkSet(*file, workers, *quiet) : checkAlone(*file, workers, *quiet);
         }
         if (!report->empty()) {
-            writeJson({{"file", *file}, {"kind", kind}, {"tiles_checked", checked}, {"problems", problems},
-                       {"ok", problems.empty()}},
-                      *report);
+            writeJson(c.report, *report);
         }
         if (*report != "-") {
-            for (const std::string& p : problems) {
-                std::printf("%s\n", p.c_str());
+            for (const std::string& line : c.lines) {
+                std::printf("%s\n", line.c_str());
             }
-            std::printf("%s: %s, %lld tiles checked, %zu problem%s\n", file->c_str(), kind.c_str(),
-                        static_cast<long long>(checked), problems.size(), problems.size() == 1 ? "" : "s");
         }
-        if (problems.empty()) {
+        if (c.problems.empty()) {
             return kExitOk;
         }
-        sayFailure(reasonLine(*file, problems));
+        sayFailure(reasonLine("", c.problems));
         return kExitFailure;
     };
 }

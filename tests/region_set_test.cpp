@@ -4,6 +4,7 @@
 // round-trips; every rule of a set rejects a set that breaks it, with its message.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -390,6 +391,62 @@ TEST(RegionSet, CommandsOnTheSetGiveTheSingleFilesResults) {
     r = run(pyramid + " check " + shellQuoted(s.single));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find(s.single + ": residual, "), std::string::npos) << r.out;
+}
+
+// `pyramid check DIR` on a directory that is not one set alone checks every pyramid under it, as
+// each would be checked alone: every region set by its index (its files counted once, not again
+// as files alone), and every other *.dat file, in subdirectories too; one broken file fails the
+// whole, named in the one line on stderr.
+TEST(RegionSet, CheckOfADirectoryChecksEveryPyramidUnderIt) {
+    SplitDem s;
+    const std::string pyramid = programPath("pyramid");
+    const std::string top = s.dir.file("");
+    auto r = run(pyramid + " check " + shellQuoted(top) + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["ok"], true);
+    ASSERT_EQ(j["pyramids"].size(), 2u);
+    EXPECT_EQ(j["pyramids"][0]["set"], s.index);
+    EXPECT_EQ(j["pyramids"][0]["files"].size(), 18u);
+    EXPECT_EQ(j["pyramids"][1]["file"], s.single);
+    const auto alone = [&](const std::string& path) {
+        const auto one = run(pyramid + " check " + shellQuoted(path) + " --json");
+        EXPECT_EQ(one.exitCode, 0) << one.err;
+        return nlohmann::json::parse(one.out)["tiles_checked"].get<int64_t>();
+    };
+    EXPECT_EQ(j["tiles_checked"], alone(s.index) + alone(s.single));
+    r = run(pyramid + " check " + shellQuoted(top));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find(top + ": 2 pyramids (1 region set), "), std::string::npos) << r.out;
+
+    // A file the set does not list, though named like its regions, is checked alone; a broken
+    // one fails the directory.
+    fs::copy_file(s.nested, s.dir.file("set/DEM-L5-4-9.dat"));
+    std::string bytes = test::readFile(s.single);
+    bytes.resize(bytes.size() - 7);
+    {
+        std::ofstream out(s.dir.file("single/cut.dat"), std::ios::binary);
+        out << bytes;
+    }
+    r = run(pyramid + " check " + shellQuoted(top) + " --json");
+    EXPECT_EQ(r.exitCode, 1);
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["ok"], false);
+    ASSERT_EQ(j["pyramids"].size(), 4u);
+    EXPECT_EQ(j["pyramids"][1]["file"], s.dir.file("set/DEM-L5-4-9.dat"));
+    EXPECT_EQ(j["pyramids"][1]["ok"], true);
+    EXPECT_EQ(j["pyramids"][2]["file"], s.single);
+    EXPECT_EQ(j["pyramids"][3]["file"], s.dir.file("single/cut.dat"));
+    EXPECT_EQ(j["pyramids"][3]["ok"], false);
+    EXPECT_EQ(r.err.rfind("pyramid: " + s.dir.file("single/cut.dat") + ": ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+
+    // A directory holding no pyramid: one line, exit 1.
+    fs::create_directories(s.dir.file("nothing"));
+    r = run(pyramid + " check " + shellQuoted(s.dir.file("nothing")));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("no pyramid (a *.dat file or a *.regions.json index) in this directory"), std::string::npos)
+        << r.err;
 }
 
 // Rewrites the set's index with `roots` (files named after them) and returns the set's problems.
