@@ -16,7 +16,6 @@
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/support/parallel.hpp"
-#include "libpyramid/support/text.hpp"
 
 namespace pyramid::cli {
 
@@ -204,59 +203,8 @@ Checked checkSet(const std::string& path, int threads, bool quiet) {
     return c;
 }
 
-// The pyramids under a directory (its subdirectories too, in name order): every region set
-// index (*.regions.json) names a set, and every other *.dat file that no index lists is a file
-// alone. What a build's output directory holds: a planet's faces, an ortho build's three
-// outputs, sets and files side by side.
-struct DirectoryPyramids {
-    std::vector<std::string> sets;  // the indexes
-    std::vector<std::string> files; // files alone
-};
-
-DirectoryPyramids pyramidsUnder(const std::string& directory) {
-    DirectoryPyramids found;
-    std::vector<std::string> dats;
-    std::error_code ec;
-    for (auto it = std::filesystem::recursive_directory_iterator(directory, ec);
-         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
-        if (!it->is_regular_file(ec)) {
-            continue;
-        }
-        const std::string path = it->path().string();
-        if (endsWithNoCase(path, ".regions.json")) {
-            found.sets.push_back(path);
-        } else if (endsWithNoCase(path, ".dat")) {
-            dats.push_back(path);
-        }
-    }
-    if (ec) {
-        fail(directory, "cannot be listed: " + ec.message());
-    }
-    std::sort(found.sets.begin(), found.sets.end());
-    std::sort(dats.begin(), dats.end());
-    std::vector<std::string> listed; // the files the indexes name, as they name them
-    for (const std::string& index : found.sets) {
-        try {
-            const PyramidSet set = resolvePyramidSet(index);
-            listed.push_back(std::filesystem::weakly_canonical(set.main).string());
-            for (const std::string& r : set.regions) {
-                listed.push_back(std::filesystem::weakly_canonical(r).string());
-            }
-        } catch (const Error&) {
-            // a bad index is the set's problem, found when it is checked
-        }
-    }
-    std::sort(listed.begin(), listed.end());
-    for (const std::string& dat : dats) {
-        if (!std::binary_search(listed.begin(), listed.end(), std::filesystem::weakly_canonical(dat).string())) {
-            found.files.push_back(dat);
-        }
-    }
-    return found;
-}
-
 // Every pyramid under a directory, each checked as it would be alone, and their totals.
-Checked checkDirectory(const std::string& directory, const DirectoryPyramids& found, int threads, bool quiet) {
+Checked checkDirectory(const std::string& directory, const PyramidsUnder& found, int threads, bool quiet) {
     Checked c;
     nlohmann::json pyramids = nlohmann::json::array();
     auto add = [&](Checked one) {
@@ -306,7 +254,7 @@ CommandRunner setupCheckCommand(CLI::App& app) {
         std::error_code ec;
         if (std::filesystem::is_directory(*file, ec)) {
             // One set and nothing else: the set as before; else every pyramid under it.
-            const DirectoryPyramids found = pyramidsUnder(*file);
+            const PyramidsUnder found = pyramidsUnder(*file);
             const bool oneSet = found.sets.size() == 1 && found.files.empty() &&
                                 std::filesystem::equivalent(std::filesystem::path(found.sets[0]).parent_path(), *file, ec);
             c = oneSet ? checkSet(*file, workers, *quiet) : checkDirectory(*file, found, workers, *quiet);

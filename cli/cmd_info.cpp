@@ -192,16 +192,77 @@ void printSetInfo(const nlohmann::json& j) {
     }
 }
 
+// Every pyramid under a directory (pyramidsUnder): each one's information as it would be alone,
+// and the totals. Throws Error for the first that cannot be read, as for a set.
+nlohmann::json directoryInfo(const std::string& directory, const PyramidsUnder& found) {
+    if (found.count() == 0) {
+        fail(directory, "no pyramid (a *.dat file or a *.regions.json index) in this directory");
+    }
+    nlohmann::json pyramids = nlohmann::json::array();
+    uint64_t fileBytes = 0;
+    int64_t files = 0;
+    for (const std::string& index : found.sets) {
+        nlohmann::json j = setInfo(index);
+        fileBytes += j["totals"]["file_bytes"].get<uint64_t>();
+        files += j["totals"]["files"].get<int64_t>();
+        pyramids.push_back(std::move(j));
+    }
+    for (const std::string& file : found.files) {
+        nlohmann::json j = fileInfo(file);
+        fileBytes += j["file_bytes"].get<uint64_t>();
+        files += 1;
+        pyramids.push_back(std::move(j));
+    }
+    return {{"directory", directory},
+            {"pyramids", pyramids},
+            {"totals",
+             {{"pyramids", found.count()}, {"region_sets", found.sets.size()}, {"files", files},
+              {"file_bytes", fileBytes}}}};
+}
+
+void printDirectoryInfo(const nlohmann::json& j) {
+    for (const auto& p : j["pyramids"]) {
+        if (p.contains("set")) {
+            printSetInfo(p);
+        } else {
+            printInfo(p);
+        }
+    }
+    const nlohmann::json& t = j["totals"];
+    const auto count = t["pyramids"].get<long long>(), sets = t["region_sets"].get<long long>();
+    std::printf("%s: %lld pyramid%s (%lld region set%s), %lld files, %lld bytes\n",
+                j["directory"].get<std::string>().c_str(), count, count == 1 ? "" : "s", sets, sets == 1 ? "" : "s",
+                t["files"].get<long long>(), t["file_bytes"].get<long long>());
+}
+
 } // namespace
 
 CommandRunner setupInfoCommand(CLI::App& app) {
     auto file = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
     app.add_option("FILE", *file,
-                   "Residual (DEM) or ortho pyramid file, or a region set (its main file, index or directory)")
+                   "Residual (DEM) or ortho pyramid file, a region set (its main file, index or directory), or a "
+                   "directory: every pyramid under it")
         ->required();
     addReportOption(app, *report, "the information");
     return [file, report]() {
+        std::error_code ec;
+        if (std::filesystem::is_directory(*file, ec)) {
+            // One set and nothing else: the set as before; else every pyramid under it.
+            const PyramidsUnder found = pyramidsUnder(*file);
+            const bool oneSet = found.sets.size() == 1 && found.files.empty() &&
+                                std::filesystem::equivalent(std::filesystem::path(found.sets[0]).parent_path(), *file, ec);
+            if (!oneSet) {
+                const nlohmann::json j = directoryInfo(*file, found);
+                if (!report->empty()) {
+                    writeJson(j, *report);
+                }
+                if (*report != "-") {
+                    printDirectoryInfo(j);
+                }
+                return kExitOk;
+            }
+        }
         if (!findRegionIndex(*file).empty()) {
             const nlohmann::json j = setInfo(*file);
             if (!report->empty()) {

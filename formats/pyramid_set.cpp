@@ -476,4 +476,46 @@ PyramidSet openPyramidSet(const std::string& path) {
     return set;
 }
 
+PyramidsUnder pyramidsUnder(const std::string& directory) {
+    PyramidsUnder found;
+    std::vector<std::string> dats;
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(directory, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+        if (!it->is_regular_file(ec)) {
+            continue;
+        }
+        const std::string path = it->path().string();
+        if (endsWith(path, kRegionIndexSuffix)) {
+            found.sets.push_back(path);
+        } else if (endsWith(path, ".dat")) {
+            dats.push_back(path);
+        }
+    }
+    if (ec) {
+        fail(directory, "cannot list the directory: " + ec.message());
+    }
+    std::sort(found.sets.begin(), found.sets.end());
+    std::sort(dats.begin(), dats.end());
+    std::vector<std::string> listed; // the files the indexes name
+    for (const std::string& index : found.sets) {
+        try {
+            const PyramidSet set = resolvePyramidSet(index);
+            listed.push_back(fs::weakly_canonical(set.main).string());
+            for (const std::string& r : set.regions) {
+                listed.push_back(fs::weakly_canonical(r).string());
+            }
+        } catch (const Error&) {
+            // a bad index: its problems are the set's
+        }
+    }
+    std::sort(listed.begin(), listed.end());
+    for (const std::string& dat : dats) {
+        if (!std::binary_search(listed.begin(), listed.end(), fs::weakly_canonical(dat).string())) {
+            found.files.push_back(dat);
+        }
+    }
+    return found;
+}
+
 } // namespace pyramid

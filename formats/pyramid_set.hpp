@@ -117,4 +117,17 @@ std::string findRegionIndex(const std::string& path);
 // resolvePyramidSet, then the first of pyramidSetProblems thrown as an Error.
 PyramidSet openPyramidSet(const std::string& path);
 
+// The pyramids under a directory, its subdirectories too (what a build's output directory holds:
+// a planet's faces, an ortho build's three outputs, sets and files side by side): every region
+// set index (*.regions.json) names a set, and every other *.dat file that no index lists is a
+// file alone. Each list in path order; files of other names are not looked at. Throws Error
+// naming the directory when it cannot be listed. (A bad index is listed as a set: its problems
+// are the set's.)
+struct PyramidsUnder {
+    std::vector<std::string> sets;  // the indexes
+    std::vector<std::string> files; // files alone
+    size_t count() const { return sets.size() + files.size(); }
+};
+PyramidsUnder pyramidsUnder(const std::string& directory);
+
 } // namespace pyramid

@@ -393,11 +393,11 @@ TEST(RegionSet, CommandsOnTheSetGiveTheSingleFilesResults) {
     EXPECT_NE(r.out.find(s.single + ": residual, "), std::string::npos) << r.out;
 }
 
-// `pyramid check DIR` on a directory that is not one set alone checks every pyramid under it, as
-// each would be checked alone: every region set by its index (its files counted once, not again
+// `pyramid check DIR` (and `pyramid info DIR`) on a directory that is not one set alone takes
+// every pyramid under it, as each would be taken alone: every region set by its index (its files counted once, not again
 // as files alone), and every other *.dat file, in subdirectories too; one broken file fails the
 // whole, named in the one line on stderr.
-TEST(RegionSet, CheckOfADirectoryChecksEveryPyramidUnderIt) {
+TEST(RegionSet, CheckAndInfoOfADirectoryTakeEveryPyramidUnderIt) {
     SplitDem s;
     const std::string pyramid = programPath("pyramid");
     const std::string top = s.dir.file("");
@@ -418,6 +418,18 @@ TEST(RegionSet, CheckOfADirectoryChecksEveryPyramidUnderIt) {
     r = run(pyramid + " check " + shellQuoted(top));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find(top + ": 2 pyramids (1 region set), "), std::string::npos) << r.out;
+    // `pyramid info` takes the directory the same way: each pyramid's information, and the totals.
+    r = run(pyramid + " info " + shellQuoted(top) + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["pyramids"].size(), 2u);
+    EXPECT_EQ(j["pyramids"][0]["set"], s.index);
+    EXPECT_EQ(j["pyramids"][1]["file"], s.single);
+    EXPECT_EQ(j["totals"]["files"], 19);
+    EXPECT_EQ(j["totals"]["file_bytes"],
+              j["pyramids"][0]["totals"]["file_bytes"].get<uint64_t>() + fs::file_size(s.single));
+    r = run(pyramid + " info " + shellQuoted(top));
+    EXPECT_NE(r.out.find(top + ": 2 pyramids (1 region set), 19 files, "), std::string::npos) << r.out;
 
     // A file the set does not list, though named like its regions, is checked alone; a broken
     // one fails the directory.
@@ -443,10 +455,13 @@ TEST(RegionSet, CheckOfADirectoryChecksEveryPyramidUnderIt) {
 
     // A directory holding no pyramid: one line, exit 1.
     fs::create_directories(s.dir.file("nothing"));
-    r = run(pyramid + " check " + shellQuoted(s.dir.file("nothing")));
-    EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.err.find("no pyramid (a *.dat file or a *.regions.json index) in this directory"), std::string::npos)
-        << r.err;
+    for (const char* command : {" check ", " info "}) {
+        r = run(pyramid + command + shellQuoted(s.dir.file("nothing")));
+        EXPECT_EQ(r.exitCode, 1) << command;
+        EXPECT_NE(r.err.find("no pyramid (a *.dat file or a *.regions.json index) in this directory"),
+                  std::string::npos)
+            << r.err;
+    }
 }
 
 // Rewrites the set's index with `roots` (files named after them) and returns the set's problems.
