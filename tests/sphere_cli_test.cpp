@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -85,6 +86,35 @@ TEST(SphereDemCli, SampleMapMakesSixFacesAndAReport) {
         EXPECT_EQ(check.exitCode, 0) << check.out << check.err;
     }
     EXPECT_EQ(filesIn(out), 6u); // no staging leftovers
+
+    // `pyramid verify DIR --source MAP`: every face rebuilt and compared with the map, sampled as
+    // the encoder sampled it (the same --height-scale); the faces' own report said the same.
+    const std::string verify = programPath("pyramid") + " verify -q " + out + " --source " + test::samplePath("srtm.png");
+    auto v = run(verify + " --height-scale 10000/255 --json");
+    ASSERT_EQ(v.exitCode, 0) << v.err << v.out;
+    nlohmann::json vj = nlohmann::json::parse(v.out);
+    EXPECT_EQ(vj["ok"], true);
+    ASSERT_EQ(vj["faces"].size(), 6u);
+    for (int f = 1; f <= 6; ++f) {
+        const nlohmann::json& face = vj["faces"][static_cast<size_t>(f - 1)];
+        EXPECT_EQ(face["face"], f);
+        EXPECT_EQ(face["levels"].size(), 7u);
+        for (size_t l = 0; l < 7; ++l) {
+            EXPECT_NEAR(face["levels"][l]["max_error"].get<double>(),
+                        j["faces"][static_cast<size_t>(f - 1)]["dem"]["levels"][l]["max_error"].get<double>(), 1e-3);
+        }
+    }
+    v = run(verify + " --height-scale 10000/255 --faces 2 --json");
+    ASSERT_EQ(v.exitCode, 0) << v.err;
+    vj = nlohmann::json::parse(v.out);
+    ASSERT_EQ(vj["faces"].size(), 1u);
+    EXPECT_EQ(vj["faces"][0]["face"], 2);
+    // Without the build's --height-scale the heights are 255/10000 of the faces': every face fails, in one line.
+    v = run(verify);
+    EXPECT_EQ(v.exitCode, 1);
+    EXPECT_EQ(v.err, "pyramid: " + out + ": faces 1, 2, 3, 4, 5, 6 (DEMN.dat): samples beyond scale/2 or not finite "
+                     "against " + test::samplePath("srtm.png") + "\n");
+    EXPECT_NE(v.out.find("FAILED"), std::string::npos) << v.out;
 }
 
 TEST(SphereDemCli, FacesBodyExtentAndQuiet) {
@@ -103,6 +133,28 @@ TEST(SphereDemCli, FacesBodyExtentAndQuiet) {
     EXPECT_TRUE(std::filesystem::exists(out + "/DEM1.dat"));
     EXPECT_TRUE(std::filesystem::exists(out + "/DEM6.dat"));
     EXPECT_EQ(filesIn(out), 2u);
+    // verify takes the faces the directory holds, on the body they were built on.
+    const std::string verify = programPath("pyramid") + " verify -q " + out + " --source " +
+                               test::samplePath("srtm.png") + " --extent -180,-90,180,90 --json";
+    auto v = run(verify + " --body moon");
+    ASSERT_EQ(v.exitCode, 0) << v.err;
+    const nlohmann::json vj = nlohmann::json::parse(v.out);
+    ASSERT_EQ(vj["faces"].size(), 2u);
+    EXPECT_EQ(vj["faces"][1]["face"], 6);
+    EXPECT_EQ(vj["faces"][1]["file"], out + "/DEM6.dat");
+    // Sampled on another body, the map's heights land elsewhere.
+    v = run(verify);
+    EXPECT_EQ(v.exitCode, 1);
+    EXPECT_EQ(nlohmann::json::parse(v.out)["ok"], false);
+    // A face the directory does not hold, options that do not apply: one line, exit 1.
+    for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+             {" --body moon --faces 2", "DEM2.dat"}, {" --body moon --stretch", "--stretch"},
+             {" --body moon --crs EPSG:4326", "--crs"}}) {
+        v = run(verify + args);
+        EXPECT_EQ(v.exitCode, 1) << args;
+        EXPECT_NE(v.err.find(words), std::string::npos) << args << "\n" << v.err;
+        EXPECT_EQ(lines(v.err), 1u) << v.err;
+    }
 }
 
 TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {

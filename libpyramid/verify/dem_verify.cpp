@@ -8,12 +8,14 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/encode/dem/dem_sampling.hpp"
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -174,6 +176,7 @@ std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, co
     checkFaceList(options.faces);
     const PlanetBody body = PlanetBody::parse(options.body);
     std::vector<DemVerifyReport> reports;
+    int64_t before = 0; // tiles of the faces already compared
     for (const int face : options.faces) {
         const std::string file = (std::filesystem::path(directory) / (options.name + std::to_string(face) + ".dat")).string();
         const WholePyramid whole = wholePyramid(file);
@@ -181,9 +184,36 @@ std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, co
         const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
         const FaceSampler faceSampler(map, body, face, FaceGrid{N, FaceGridKind::Vertices}, options.heightScale);
         const FaceHeights heights(faceSampler);
-        reports.push_back(compareLevels(file, whole, options.source, heights, options.threads, {}));
+        int64_t faceTiles = 0;
+        std::function<void(int64_t, int64_t)> progress;
+        if (options.progress) {
+            // Faces of one build have one header: the total is this face's times their count.
+            const auto faces = static_cast<int64_t>(options.faces.size());
+            progress = [&, faces](int64_t done, int64_t total) {
+                faceTiles = total;
+                options.progress(before + done, std::max(total * faces, before + total));
+            };
+        }
+        reports.push_back(compareLevels(file, whole, options.source, heights, options.threads, progress));
+        before += faceTiles;
     }
     return reports;
+}
+
+std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, const std::vector<std::string>& inputs,
+                                                const SphericalDemVerifyOptions& options) {
+    checkFaceList(options.faces);
+    const PlanetBody body = PlanetBody::parse(options.body);
+    DemEncodeOptions read; // the band and nodata, chosen as the encoder chooses them
+    read.band = options.band;
+    read.nodata = options.nodata;
+    read.ignoreDeclaredNodata = options.ignoreDeclaredNodata;
+    const MapSources sources =
+        openMapSources(inputs, options.extent, body, read.cacheMegabytes, SampleRead::Float, read.band, read.band + 1,
+                       [&](const RasterInfo& info, const std::string& name) { return checkBandAndNodata(info, read, name); });
+    SphericalDemVerifyOptions named = options;
+    named.source = sources.name;
+    return verifySphericalDem(directory, *sources.map, named);
 }
 
 nlohmann::json toJson(const DemVerifyReport& r) {

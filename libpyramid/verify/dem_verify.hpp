@@ -65,9 +65,21 @@ struct SphericalDemVerifyOptions {
     double heightScale = 1.0;    // as encoded
     std::string source = "map";  // names the map in the reports
     int threads = 0;
+    // The map's files, read as preprocessSphericalDem read them (the overload taking inputs):
+    int band = 0;                      // 0-based
+    std::optional<double> nodata;      // overrides what the files declare
+    bool ignoreDeclaredNodata = false;
+    std::optional<GeoExtent> extent;   // places a map without georeferencing
+    // (tiles compared, tiles of all the faces); one thread at a time.
+    std::function<void(int64_t, int64_t)> progress;
 };
 // One report per face, in the order of options.faces.
 std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, const GeodeticMap& map,
+                                                const SphericalDemVerifyOptions& options);
+// Against the map files the faces were built from (one, or a mosaic: sphere/map_sources.hpp),
+// opened with the options' band, nodata and extent as preprocessSphericalDem opens them;
+// options.source is the map's name.
+std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, const std::vector<std::string>& inputs,
                                                 const SphericalDemVerifyOptions& options);
 
 nlohmann::json toJson(const DemVerifyReport& report);
