@@ -1,8 +1,12 @@
 // `pyramid verify SET --source INPUT`: rebuild every level of a file or a region set (its main
 // file, index or directory) and compare it with the source.
-// `pyramid verify DIR --source MAP`: every face of a spherical DEM set against its map.
+// `pyramid verify DIR --source MAP`: every face of a planet (DEM or imagery) against its map.
 // `pyramid verify FILE --gl`: produce every tile on the CPU and on the GPU and compare them.
+#include <algorithm>
 #include <cstdio>
+#include <functional>
+#include <optional>
+#include <vector>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -39,7 +43,7 @@ struct VerifyArgs {
     PlanarTargetArgs target;
     // A planet's directory (NAME1..6.dat, as preprocessSphericalDem wrote them):
     std::string body = "wgs84";
-    std::string name = "DEM";
+    std::string name;  // empty: DEM, else RGB (the faces the directory holds)
     std::string faces; // empty: every face the directory holds
     std::string heightScale = "1";
 };
@@ -62,86 +66,170 @@ void printDemLevels(const DemVerifyReport& report) {
     }
 }
 
-// A directory holding a face of a spherical DEM set: NAMEi.dat, or its region set's index.
-bool holdsSphericalFaces(const VerifyArgs& a) {
-    std::error_code ec;
-    if (!std::filesystem::is_directory(a.file, ec)) {
-        return false;
+// preprocessOrtho writes its colour residuals into DIR/residuals/ (the spherical one its faces),
+// in the same file format as plain tiles: compared as tiles, they differ everywhere. A hint for
+// a failed comparison of files in `folder`.
+std::string residualsHint(const std::filesystem::path& folder, bool colourResiduals) {
+    std::filesystem::path name = folder.filename();
+    if (name.empty()) {
+        name = folder.parent_path().filename(); // "DIR/residuals/"
     }
-    for (int face = 1; face <= 6; ++face) {
-        const std::filesystem::path file = std::filesystem::path(a.file) / (a.name + std::to_string(face) + ".dat");
-        if (std::filesystem::exists(file, ec) || std::filesystem::exists(regionIndexPath(file.string()), ec)) {
-            return true;
-        }
-    }
-    return false;
+    return name == "residuals" && !colourResiduals
+               ? " (its folder is residuals/: verify colour residuals with --colour-residuals)"
+               : "";
 }
 
-// `pyramid verify DIR --source MAP`: every face of a spherical DEM set rebuilt and compared with
-// the map sampled at the face's points, as preprocessSphericalDem sampled it.
-int verifySpherical(const VerifyArgs& a) {
+ColourSpace parseColourSpace(const std::string& text) {
+    if (text == "linear" || text == "none") {
+        return ColourSpace::Linear;
+    }
+    if (text != "srgb") {
+        fail("--colour-space", "'" + text + "' is not srgb or linear");
+    }
+    return ColourSpace::Srgb;
+}
+
+// An ortho pyramid's verification, a line per level, under a line naming it and its source.
+void printOrthoLevels(const OrthoVerifyReport& report) {
+    std::printf("%s against %s (%s)\n", report.file.c_str(), report.source.c_str(), report.mode.c_str());
+    for (const OrthoVerifyLevel& l : report.levels) {
+        std::printf("  level %2d: %6lld tiles  max error %3d  rms %-8.4g psnr %6.2f dB  %lld lossy tiles\n", l.level,
+                    static_cast<long long>(l.tiles), l.maxError, l.rmsError, l.psnr,
+                    static_cast<long long>(l.lossyTiles));
+    }
+}
+
+// Whether NAMEi.dat of a planet's directory is there, as a file or as a region set's index.
+bool faceThere(const std::string& directory, const std::string& name, int face) {
+    const std::string file = (std::filesystem::path(directory) / (name + std::to_string(face) + ".dat")).string();
+    std::error_code ec;
+    return std::filesystem::exists(file, ec) || std::filesystem::exists(regionIndexPath(file), ec);
+}
+
+// The base name of the faces a planet's directory holds: --name, else DEM or RGB, the first the
+// directory holds a face of; nothing for a path that is not such a directory.
+std::optional<std::string> planetFaceName(const VerifyArgs& a) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(a.file, ec)) {
+        return std::nullopt;
+    }
+    const std::vector<std::string> names = a.name.empty() ? std::vector<std::string>{"DEM", "RGB"}
+                                                          : std::vector<std::string>{a.name};
+    for (const std::string& name : names) {
+        for (int face = 1; face <= 6; ++face) {
+            if (faceThere(a.file, name, face)) {
+                return name;
+            }
+        }
+    }
+    return std::nullopt;
+}
+
+// Which options were given on the command line: those that apply to one kind of face only.
+struct GivenOptions {
+    bool band = false, nodata = false, heightScale = false, colourSpace = false;
+};
+
+// `pyramid verify DIR --source MAP`: every face of a planet (DEM faces, or imagery faces: plain,
+// DXT or colour residuals) rebuilt and compared with the map, opened and sampled as the
+// spherical preprocessors do.
+int verifySpherical(const VerifyArgs& a, const std::string& name, const GivenOptions& given) {
     if (a.source.empty()) {
         fail("--source", "verifying a planet's faces needs the map they were built from (--source MAP)");
     }
     if (!a.target.crs.empty()) {
-        fail("--crs", "a planet's faces are not in a CRS: give the map as preprocessSphericalDem took it");
+        fail("--crs", "a planet's faces are not in a CRS: give the map as the spherical preprocessors took it");
     }
-    if (a.stretch || a.colourResiduals) {
-        fail(a.stretch ? "--stretch" : "--colour-residuals", "does not apply to a planet's DEM faces");
+    if (a.stretch) {
+        fail("--stretch", "does not apply to a planet's faces");
     }
     std::string faces = a.faces;
     if (faces.empty()) {
         for (int face = 1; face <= 6; ++face) {
-            const std::string file = (std::filesystem::path(a.file) / (a.name + std::to_string(face) + ".dat")).string();
-            std::error_code ec;
-            if (std::filesystem::exists(file, ec) || std::filesystem::exists(regionIndexPath(file), ec)) {
+            if (faceThere(a.file, name, face)) {
                 faces += (faces.empty() ? "" : ",") + std::to_string(face);
             }
         }
     }
     const SphereChoice choice = resolveSphereOptions(SphereArgs{a.target.extent, a.body, faces});
-    SphericalDemVerifyOptions o;
-    o.body = choice.body;
-    o.name = a.name;
-    o.faces = choice.faces;
-    o.extent = choice.extent;
-    o.heightScale = parseRatio(a.heightScale, "--height-scale");
-    o.threads = a.threads;
-    o.band = a.band - 1;
-    const NodataChoice nodata = parseNodataChoice(a.nodata, "--nodata");
-    o.nodata = nodata.value;
-    o.ignoreDeclaredNodata = nodata.ignoreDeclared;
-    o.progress = progressCallback(a.file, a.quiet, Progress::OffTerminal::Silent);
-    const std::vector<DemVerifyReport> reports = verifySphericalDem(a.file, expandInputs({a.source}).paths, o);
-    bool ok = true;
+    const std::string first =
+        (std::filesystem::path(a.file) / (name + std::to_string(choice.faces.front()) + ".dat")).string();
+    const PyramidKind kind =
+        findRegionIndex(first).empty() ? detectPyramidKind(first) : resolvePyramidSet(first).kind;
+    const std::vector<std::string> inputs = expandInputs({a.source}).paths;
+    const auto progress = progressCallback(a.file, a.quiet, Progress::OffTerminal::Silent);
+    std::vector<bool> passed;
     nlohmann::json faceReports = nlohmann::json::array();
-    for (size_t k = 0; k < reports.size(); ++k) {
-        ok = ok && reports[k].ok();
-        nlohmann::json j = toJson(reports[k]);
-        j["face"] = o.faces[k];
-        faceReports.push_back(std::move(j));
+    std::vector<std::function<void()>> prints;
+    if (kind == PyramidKind::Residual) {
+        if (a.colourResiduals || given.colourSpace) {
+            fail(a.colourResiduals ? "--colour-residuals" : "--colour-space", "does not apply to a planet's DEM faces");
+        }
+        SphericalDemVerifyOptions o;
+        o.body = choice.body;
+        o.name = name;
+        o.faces = choice.faces;
+        o.extent = choice.extent;
+        o.heightScale = parseRatio(a.heightScale, "--height-scale");
+        o.threads = a.threads;
+        o.band = a.band - 1;
+        const NodataChoice nodata = parseNodataChoice(a.nodata, "--nodata");
+        o.nodata = nodata.value;
+        o.ignoreDeclaredNodata = nodata.ignoreDeclared;
+        o.progress = progress;
+        for (const DemVerifyReport& r : verifySphericalDem(a.file, inputs, o)) {
+            passed.push_back(r.ok());
+            faceReports.push_back(toJson(r));
+            prints.push_back([r] { printDemLevels(r); });
+        }
+    } else {
+        if (given.band || given.nodata || given.heightScale) {
+            fail(given.band ? "--band" : given.nodata ? "--nodata" : "--height-scale",
+                 "does not apply to a planet's imagery faces");
+        }
+        SphericalOrthoVerifyOptions o;
+        o.body = choice.body;
+        o.name = name;
+        o.faces = choice.faces;
+        o.extent = choice.extent;
+        o.colourSpace = parseColourSpace(a.colourSpace);
+        o.colourResiduals = a.colourResiduals;
+        o.threads = a.threads;
+        o.progress = progress;
+        for (const OrthoVerifyReport& r : verifySphericalOrtho(a.file, inputs, o)) {
+            passed.push_back(r.ok);
+            faceReports.push_back(toJson(r));
+            prints.push_back([r] { printOrthoLevels(r); });
+        }
+    }
+    const bool dem = kind == PyramidKind::Residual;
+    const bool ok = std::all_of(passed.begin(), passed.end(), [](bool p) { return p; });
+    for (size_t k = 0; k < faceReports.size(); ++k) {
+        faceReports[k]["face"] = choice.faces[k];
     }
     if (!a.report.empty()) {
         writeJson({{"directory", a.file}, {"source", a.source}, {"faces", faceReports}, {"ok", ok}}, a.report);
     }
     if (a.report != "-") {
-        for (const DemVerifyReport& r : reports) {
-            printDemLevels(r);
+        for (const auto& print : prints) {
+            print();
         }
-        std::printf("%s\n", ok ? "ok: every sample of every face within scale/2"
-                               : "FAILED: samples beyond scale/2 or not finite");
+        std::printf("%s\n", ok ? (dem ? "ok: every sample of every face within scale/2" : "ok: every face")
+                               : (dem ? "FAILED: samples beyond scale/2 or not finite"
+                                      : "FAILED: lossless tiles differ from the source"));
     }
     if (!ok) {
         std::string failed;
         size_t count = 0;
-        for (size_t k = 0; k < reports.size(); ++k) {
-            if (!reports[k].ok()) {
-                failed += (failed.empty() ? "" : ", ") + std::to_string(o.faces[k]);
+        for (size_t k = 0; k < passed.size(); ++k) {
+            if (!passed[k]) {
+                failed += (failed.empty() ? "" : ", ") + std::to_string(choice.faces[k]);
                 ++count;
             }
         }
-        sayFailure(a.file + ": face" + (count == 1 ? " " : "s ") + failed + " (" + a.name +
-                   "N.dat): samples beyond scale/2 or not finite against " + a.source);
+        sayFailure(a.file + ": face" + (count == 1 ? " " : "s ") + failed + " (" + name + "N.dat): " +
+                   (dem ? "samples beyond scale/2 or not finite" : "lossless tiles differ") + " against " + a.source +
+                   (dem ? "" : residualsHint(a.file, a.colourResiduals)));
     }
     return ok ? kExitOk : kExitFailure;
 }
@@ -207,32 +295,18 @@ int verifyOrthoFile(const VerifyArgs& a) {
     o.colourResiduals = a.colourResiduals;
     o.target = a.target.resolve();
     o.progress = progressCallback(a.file, a.quiet, Progress::OffTerminal::Silent);
-    if (a.colourSpace == "linear" || a.colourSpace == "none") {
-        o.colourSpace = ColourSpace::Linear;
-    } else if (a.colourSpace != "srgb") {
-        fail("--colour-space", "'" + a.colourSpace + "' is not srgb or linear");
-    }
+    o.colourSpace = parseColourSpace(a.colourSpace);
     const OrthoVerifyReport report = verifyOrtho(a.file, a.source, o);
     if (!a.report.empty()) {
         writeJson(toJson(report), a.report);
     }
     if (a.report != "-") {
-        std::printf("%s against %s (%s)\n", a.file.c_str(), a.source.c_str(), report.mode.c_str());
-        for (const OrthoVerifyLevel& l : report.levels) {
-            std::printf("  level %2d: %6lld tiles  max error %3d  rms %-8.4g psnr %6.2f dB  %lld lossy tiles\n", l.level,
-                        static_cast<long long>(l.tiles), l.maxError, l.rmsError, l.psnr,
-                        static_cast<long long>(l.lossyTiles));
-        }
+        printOrthoLevels(report);
         std::printf("%s\n", report.ok ? "ok" : "FAILED: lossless tiles differ from the source");
     }
     if (!report.ok) {
-        // preprocessOrtho writes its colour residuals as DIR/residuals/RGB.dat, in the same file
-        // format as plain tiles: compared as tiles, they differ everywhere.
-        const bool inResiduals = std::filesystem::path(a.file).parent_path().filename() == "residuals";
         sayFailure(a.file + ": lossless tiles differ from " + a.source +
-                   (inResiduals && !a.colourResiduals
-                        ? " (its folder is residuals/: verify colour residuals with --colour-residuals)"
-                        : ""));
+                   residualsHint(std::filesystem::path(a.file).parent_path(), a.colourResiduals));
     }
     return report.ok ? kExitOk : kExitFailure;
 }
@@ -249,9 +323,9 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     app.add_flag("--gl", args->gl, "Produce every tile on the CPU and on the GPU (headless EGL) and compare them")
         ->excludes(source);
     addReportOption(app, args->report, "the report");
-    app.add_option("--band", args->band, "Band of the source holding the heights, from 1 (as preprocessDem)")
+    auto* band = app.add_option("--band", args->band, "Band of the source holding the heights, from 1 (as preprocessDem)")
         ->capture_default_str();
-    app.add_option("--nodata", args->nodata, "Missing-height value of the source, as preprocessDem");
+    auto* nodata = app.add_option("--nodata", args->nodata, "Missing-height value of the source, as preprocessDem");
     app.add_flag("--stretch", args->stretch, "The source was stretched (preprocessDem --stretch)");
     addThreadsOption(app, args->threads);
     app.add_flag("-q,--quiet", args->quiet, "No progress on stderr");
@@ -259,22 +333,24 @@ CommandRunner setupVerifyCommand(CLI::App& app) {
     addPlanarTargetOptions(app, args->target);
     app.add_flag("--colour-residuals", args->colourResiduals,
                  "Ortho files: FILE holds colour residuals (residuals/RGB.dat); compare the rebuilt colours");
-    app.add_option("--colour-space", args->colourSpace, "Ortho files: the averaging of preprocessOrtho (srgb or linear)")
+    auto* colourSpace = app.add_option("--colour-space", args->colourSpace, "Ortho files: the averaging of preprocessOrtho (srgb or linear)")
         ->capture_default_str();
     app.add_option("--body", args->body, "A planet's directory: the body its faces were built on, as preprocessSphericalDem")
         ->capture_default_str();
-    app.add_option("--name", args->name, "A planet's directory: the base name of its faces (NAME1.dat .. NAME6.dat)")
-        ->capture_default_str();
+    app.add_option("--name", args->name,
+                   "A planet's directory: the base name of its faces, NAME1.dat .. NAME6.dat (default: DEM, else RGB)");
     app.add_option("--faces", args->faces, "A planet's directory: the faces to verify, e.g. 1,3 (default: every face it holds)");
-    app.add_option("--height-scale", args->heightScale,
+    auto* heightScale = app.add_option("--height-scale", args->heightScale,
                    "A planet's directory: the --height-scale of preprocessSphericalDem (a number or a ratio A/B)")
         ->capture_default_str();
-    return [args]() {
-        if (holdsSphericalFaces(*args)) {
+    return [args, band, nodata, heightScale, colourSpace]() {
+        if (const std::optional<std::string> name = planetFaceName(*args)) {
             if (args->gl) {
                 fail(args->file, "--gl compares a single pyramid file, not a planet's faces");
             }
-            return verifySpherical(*args);
+            const GivenOptions given{band->count() > 0, nodata->count() > 0, heightScale->count() > 0,
+                                     colourSpace->count() > 0};
+            return verifySpherical(*args, *name, given);
         }
         // A file alone, or a region set (its main file, index or directory), verified whole.
         const bool set = !findRegionIndex(args->file).empty();

@@ -233,6 +233,54 @@ TEST(SphereOrthoCli, SampleImageMakesEighteenFilesAndAReport) {
         }
     }
     EXPECT_EQ(filesIn(out), 18u);
+
+    // `pyramid verify DIR --source MAP` on each of the three folders: the plain tiles equal the
+    // map's, sampled as the encoder sampled it; DXT tiles are lossy (reported); the colour
+    // residuals rebuild the colours within 1.
+    const std::string map = test::samplePath("bluemarble.png");
+    const auto verify = [&](const std::string& folder, const std::string& args) {
+        return run(programPath("pyramid") + " verify -q " + folder + " --source " + map + args);
+    };
+    auto v = verify(out, " --json");
+    ASSERT_EQ(v.exitCode, 0) << v.err;
+    nlohmann::json vj = nlohmann::json::parse(v.out);
+    ASSERT_EQ(vj["faces"].size(), 6u);
+    for (int f = 1; f <= 6; ++f) {
+        const nlohmann::json& face = vj["faces"][static_cast<size_t>(f - 1)];
+        EXPECT_EQ(face["face"], f);
+        EXPECT_EQ(face["file"], out + "/RGB" + std::to_string(f) + ".dat");
+        EXPECT_EQ(face["mode"], "tiles");
+        ASSERT_EQ(face["levels"].size(), 4u);
+        for (const auto& level : face["levels"]) {
+            EXPECT_EQ(level["max_error"], 0);
+        }
+    }
+    v = verify(out + "/dxt", " --json");
+    ASSERT_EQ(v.exitCode, 0) << v.err;
+    vj = nlohmann::json::parse(v.out);
+    EXPECT_EQ(vj["faces"][0]["mode"], "dxt");
+    EXPECT_GT(vj["faces"][0]["levels"][3]["lossy_tiles"].get<int64_t>(), 0);
+    v = verify(out + "/residuals", " --colour-residuals --faces 3 --json");
+    ASSERT_EQ(v.exitCode, 0) << v.err;
+    vj = nlohmann::json::parse(v.out);
+    ASSERT_EQ(vj["faces"].size(), 1u);
+    EXPECT_EQ(vj["faces"][0]["face"], 3);
+    for (const auto& level : vj["faces"][0]["levels"]) {
+        EXPECT_LE(level["max_error"].get<int>(), 1);
+    }
+    // Residuals compared as tiles, another map, options of DEM faces: one line, exit 1.
+    v = verify(out + "/residuals", "");
+    EXPECT_EQ(v.exitCode, 1);
+    EXPECT_NE(v.err.find("(its folder is residuals/: verify colour residuals with --colour-residuals)"),
+              std::string::npos)
+        << v.err;
+    v = run(programPath("pyramid") + " verify -q " + out + " --source " + test::samplePath("srtm.png"));
+    EXPECT_EQ(v.exitCode, 1);
+    EXPECT_EQ(v.err, "pyramid: " + out + ": faces 1, 2, 3, 4, 5, 6 (RGBN.dat): lossless tiles differ against " +
+                         test::samplePath("srtm.png") + "\n");
+    v = verify(out, " --height-scale 2");
+    EXPECT_EQ(v.exitCode, 1);
+    EXPECT_NE(v.err.find("--height-scale: does not apply to a planet's imagery faces"), std::string::npos) << v.err;
 }
 
 TEST(SphereOrthoCli, BadInputIsOneLineAndWritesNothing) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <mutex>
 
@@ -10,6 +11,8 @@
 #include "formats/pyramid_set.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
@@ -48,22 +51,50 @@ std::vector<uint8_t> expected(const TrueTile& t, const OrthoHeader& h, int sourc
     return out;
 }
 
-} // namespace
-
-OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source, const OrthoVerifyOptions& options) {
-    // A file alone, or the region set it, its index or its directory names: tiles are read from
-    // the deepest file holding them.
+// A whole ortho pyramid: a file alone, or the region set it, its index or its directory names
+// (tiles read from the deepest file holding them), and its header with the set's deepest level.
+struct WholeOrtho {
     std::shared_ptr<const OrthoProducer> reader;
+    OrthoHeader header;
+};
+
+WholeOrtho wholeOrtho(const std::string& file) {
+    WholeOrtho w;
     if (findRegionIndex(file).empty()) {
         if (OrthoFileReader::open(file)->header().rootLevel != 0) {
             fail(file, "a region file cannot be verified on its own against a whole-map source");
         }
-        reader = std::make_shared<OrthoProducer>(file);
+        w.reader = std::make_shared<OrthoProducer>(file);
     } else {
-        reader = openOrthoSet(file);
+        w.reader = openOrthoSet(file);
     }
-    OrthoHeader h = reader->header();
-    h.maxLevel = reader->maxLevel();
+    w.header = w.reader->header();
+    w.header.maxLevel = w.reader->maxLevel();
+    return w;
+}
+
+// The channels of the true tiles a pyramid of header `h` is compared with, from a source of
+// `sourceChannels`: a DXT1 file says 3 whatever the source had (1 to 3, expanded to RGB).
+int comparedChannels(const OrthoHeader& h, int sourceChannels, const std::string& source) {
+    if (h.dxt() && h.channels == 3) {
+        return std::min(3, sourceChannels);
+    }
+    if (sourceChannels < h.channels) {
+        fail(source, std::to_string(sourceChannels) + (sourceChannels == 1 ? " channel" : " channels") +
+                         ", the pyramid's tiles have " + std::to_string(h.channels));
+    }
+    return h.channels;
+}
+
+// Every tile of `whole` compared with the true tiles `levels` gives.
+OrthoVerifyReport compareOrtho(const std::string& file, const std::string& source, const WholeOrtho& whole,
+                               const OrthoLevels& levels, const OrthoVerifyOptions& options);
+
+} // namespace
+
+OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source, const OrthoVerifyOptions& options) {
+    const WholeOrtho whole = wholeOrtho(file);
+    const OrthoHeader& h = whole.header;
     OrthoLevelsOptions lo;
     lo.tileSize = h.tileSize;
     lo.maxLevel = h.maxLevel;
@@ -71,19 +102,86 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     lo.stretch = options.stretch;
     lo.threads = options.threads;
     lo.target = options.target;
-    // A DXT1 file says 3 channels whatever the source had (1 to 3, expanded to RGB).
     // The source as the preprocessor read it: a file, or the files a VRT, directory or glob names.
     const std::vector<std::string> sources = expandInputs({source}).paths;
-    const int sourceChannels = RasterSource::describe(sources[0]).channels;
-    if (h.dxt() && h.channels == 3) {
-        lo.channels = std::min(3, sourceChannels);
-    } else if (sourceChannels < h.channels) {
-        fail(source, std::to_string(sourceChannels) + (sourceChannels == 1 ? " channel" : " channels") +
-                         ", the pyramid's tiles have " + std::to_string(h.channels));
-    } else {
-        lo.channels = h.channels;
-    }
+    lo.channels = comparedChannels(h, RasterSource::describe(sources[0]).channels, source);
     const OrthoLevels levels(sources, lo);
+    return compareOrtho(file, source, whole, levels, options);
+}
+
+std::vector<OrthoVerifyReport> verifySphericalOrtho(const std::string& directory, const std::vector<std::string>& inputs,
+                                                    const SphericalOrthoVerifyOptions& options) {
+    checkFaceList(options.faces);
+    if (inputs.empty()) {
+        fail("input", "no input files");
+    }
+    const PlanetBody body = PlanetBody::parse(options.body);
+    const auto faceFile = [&](int face) {
+        return (std::filesystem::path(directory) / (options.name + std::to_string(face) + ".dat")).string();
+    };
+    std::vector<WholeOrtho> faces;
+    for (const int face : options.faces) {
+        faces.push_back(wholeOrtho(faceFile(face)));
+    }
+    const OrthoHeader& h = faces.front().header;
+    // The map as preprocessSphericalOrtho opened it: the channels the faces hold, of files whose
+    // bands and sample type are the first file's.
+    const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
+    const int channels = comparedChannels(h, first.channels, inputs[0]);
+    const MapSources sources = openMapSources(
+        inputs, options.extent, body, 256, SampleRead::UInt16, 0, channels,
+        [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
+            if (info.channels != first.channels || info.type != first.type) {
+                fail(name, std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
+                               std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +
+                               inputs[0]);
+            }
+            return std::nullopt;
+        });
+    std::unique_ptr<RasterSource> described; // several grids: one of the files describes the map
+    if (!sources.source) {
+        described = RasterSource::open(inputs[0], 1);
+    }
+    const RasterSource& source = sources.source ? *sources.source : *described;
+    const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
+    std::vector<OrthoVerifyReport> reports;
+    int64_t before = 0; // tiles of the faces already compared
+    for (size_t k = 0; k < faces.size(); ++k) {
+        const OrthoHeader& fh = faces[k].header;
+        if (fh.tileSize != h.tileSize || fh.maxLevel != h.maxLevel || fh.channels != h.channels) {
+            fail(faceFile(options.faces[k]), "its tiles are not those of " + faceFile(options.faces.front()) +
+                                                 ": the faces are not of one build");
+        }
+        OrthoLevelsOptions lo;
+        lo.tileSize = fh.tileSize;
+        lo.maxLevel = fh.maxLevel;
+        lo.colourSpace = options.colourSpace;
+        lo.threads = options.threads;
+        lo.channels = channels;
+        const OrthoLevels levels(source, sources.placement, body, options.faces[k], lo, map);
+        OrthoVerifyOptions o;
+        o.colourResiduals = options.colourResiduals;
+        o.threads = options.threads;
+        const auto count = static_cast<int64_t>(faces.size());
+        int64_t faceTiles = 0;
+        if (options.progress) {
+            o.progress = [&, count](int64_t done, int64_t total) {
+                faceTiles = total;
+                options.progress(before + done, total * count);
+            };
+        }
+        reports.push_back(compareOrtho(faceFile(options.faces[k]), sources.name, faces[k], levels, o));
+        before += faceTiles;
+    }
+    return reports;
+}
+
+namespace {
+
+OrthoVerifyReport compareOrtho(const std::string& file, const std::string& source, const WholeOrtho& whole,
+                               const OrthoLevels& levels, const OrthoVerifyOptions& options) {
+    const std::shared_ptr<const OrthoProducer>& reader = whole.reader;
+    const OrthoHeader& h = whole.header;
     std::shared_ptr<ColourProducer> residuals;
     if (options.colourResiduals) {
         residuals = std::make_shared<ColourProducer>(reader, 1024);
@@ -184,6 +282,8 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
     }
     return report;
 }
+
+} // namespace
 
 nlohmann::json toJson(const OrthoVerifyReport& r) {
     nlohmann::json levels = nlohmann::json::array();

@@ -5,12 +5,14 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "libpyramid/filters/colour_average.hpp"
+#include "libpyramid/sphere/equirect_sampler.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 
 namespace pyramid {
@@ -41,6 +43,24 @@ struct OrthoVerifyReport {
 };
 
 OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source, const OrthoVerifyOptions& options);
+
+// The cube faces preprocessSphericalOrtho wrote into a directory (NAME1.dat .. NAME6.dat, each a
+// file or a region set), against the map they were built from: one file or a mosaic, opened as
+// preprocessSphericalOrtho opens it, each face's true tiles rebuilt by its own code on `body`.
+struct SphericalOrthoVerifyOptions {
+    std::string body = "wgs84";              // as encoded (PlanetBody::parse)
+    std::string name = "RGB";                // files NAME1.dat .. NAME6.dat
+    std::vector<int> faces{1, 2, 3, 4, 5, 6};
+    std::optional<GeoExtent> extent;         // places a map without georeferencing
+    ColourSpace colourSpace = ColourSpace::Srgb;
+    bool colourResiduals = false;            // the faces hold colour residuals (residuals/)
+    int threads = 0;
+    // (tiles compared, tiles of all the faces); one thread at a time.
+    std::function<void(int64_t, int64_t)> progress;
+};
+// One report per face, in the order of options.faces.
+std::vector<OrthoVerifyReport> verifySphericalOrtho(const std::string& directory, const std::vector<std::string>& inputs,
+                                                    const SphericalOrthoVerifyOptions& options);
 
 nlohmann::json toJson(const OrthoVerifyReport& report);
 
