@@ -11,8 +11,8 @@
 #include "formats/pyramid_set.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
-#include "libpyramid/sphere/map_sources.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
@@ -112,9 +112,6 @@ OrthoVerifyReport verifyOrtho(const std::string& file, const std::string& source
 std::vector<OrthoVerifyReport> verifySphericalOrtho(const std::string& directory, const std::vector<std::string>& inputs,
                                                     const SphericalOrthoVerifyOptions& options) {
     checkFaceList(options.faces);
-    if (inputs.empty()) {
-        fail("input", "no input files");
-    }
     const PlanetBody body = PlanetBody::parse(options.body);
     const auto faceFile = [&](int face) {
         return (std::filesystem::path(directory) / (options.name + std::to_string(face) + ".dat")).string();
@@ -124,26 +121,15 @@ std::vector<OrthoVerifyReport> verifySphericalOrtho(const std::string& directory
         faces.push_back(wholeOrtho(faceFile(face)));
     }
     const OrthoHeader& h = faces.front().header;
-    // The map as preprocessSphericalOrtho opened it: the channels the faces hold, of files whose
-    // bands and sample type are the first file's.
-    const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
-    const int channels = comparedChannels(h, first.channels, inputs[0]);
-    const MapSources sources = openMapSources(
-        inputs, options.extent, body, 256, SampleRead::UInt16, 0, channels,
-        [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
-            if (info.channels != first.channels || info.type != first.type) {
-                fail(name, std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
-                               std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +
-                               inputs[0]);
-            }
-            return std::nullopt;
-        });
-    std::unique_ptr<RasterSource> described; // several grids: one of the files describes the map
-    if (!sources.source) {
-        described = RasterSource::open(inputs[0], 1);
-    }
-    const RasterSource& source = sources.source ? *sources.source : *described;
-    const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
+    // The map as preprocessSphericalOrtho opened it, with the channels the faces hold.
+    int channels = 0;
+    const OrthoMap opened = openOrthoMap(inputs, options.extent, body, 256, [&](const RasterInfo& first) {
+        channels = comparedChannels(h, first.channels, inputs[0]);
+        return channels;
+    });
+    const MapSources& sources = opened.sources;
+    const RasterSource& source = opened.source();
+    const GeodeticMap* map = opened.map();
     std::vector<OrthoVerifyReport> reports;
     int64_t before = 0; // tiles of the faces already compared
     for (size_t k = 0; k < faces.size(); ++k) {

@@ -97,37 +97,44 @@ SphericalOrthoReport encodeFaces(const RasterSource& source, const GeodeticMap* 
 
 } // namespace
 
-SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs, const std::string& directory,
-                                          const SphericalOrthoOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
-    checkSphericalOrthoOptions(o);
-    const PlanetBody body = PlanetBody::parse(o.body);
+OrthoMap openOrthoMap(const std::vector<std::string>& inputs, const std::optional<GeoExtent>& extent,
+                      const PlanetBody& body, int cacheMegabytes,
+                      const std::function<int(const RasterInfo&)>& channelsOf) {
     if (inputs.empty()) {
         fail("input", "no input files");
     }
     // The bands and sample type every file must have: the first file's.
     const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
-    // (A wrong channel count is refused by OrthoLevels, naming the option.)
-    const int channels = std::min({std::max(1, o.ortho.levels.channels.value_or(4)), first.channels, 4});
-    const MapSources sources = openMapSources(
-        inputs, o.extent, body, o.ortho.levels.cacheMegabytes, SampleRead::UInt16, 0, channels,
-        [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
-            if (info.channels != first.channels || info.type != first.type) {
-                fail(name, std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
-                               std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +
-                               inputs[0]);
-            }
-            return std::nullopt;
-        });
-    // Several grids: the faces sample the mosaic; one of its files describes the input.
-    std::unique_ptr<RasterSource> described;
-    if (!sources.source) {
-        described = RasterSource::open(inputs[0], 1);
+    OrthoMap m;
+    m.sources = openMapSources(inputs, extent, body, cacheMegabytes, SampleRead::UInt16, 0, channelsOf(first),
+                               [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
+                                   if (info.channels != first.channels || info.type != first.type) {
+                                       fail(name, std::to_string(info.channels) + " bands of " +
+                                                      sampleTypeName(info.type) + ", not " +
+                                                      std::to_string(first.channels) + " of " +
+                                                      sampleTypeName(first.type) + " as " + inputs[0]);
+                                   }
+                                   return std::nullopt;
+                               });
+    if (!m.sources.source) {
+        m.described = RasterSource::open(inputs[0], 1);
     }
-    const RasterSource& source = sources.source ? *sources.source : *described;
-    const GeodeticMap* map = sources.source ? nullptr : sources.map.get();
+    return m;
+}
+
+SphericalOrthoReport encodeSphericalOrtho(const std::vector<std::string>& inputs, const std::string& directory,
+                                          const SphericalOrthoOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    checkSphericalOrthoOptions(o);
+    const PlanetBody body = PlanetBody::parse(o.body);
+    // (A wrong channel count is refused by OrthoLevels, naming the option.)
+    const OrthoMap map = openOrthoMap(inputs, o.extent, body, o.ortho.levels.cacheMegabytes, [&](const RasterInfo& first) {
+        return std::min({std::max(1, o.ortho.levels.channels.value_or(4)), first.channels, 4});
+    });
+    const MapSources& sources = map.sources;
     sources.tell(o.warning);
-    SphericalOrthoReport report = encodeFaces(source, map, sources.name, sources.placement, inputs, directory, o, start);
+    SphericalOrthoReport report =
+        encodeFaces(map.source(), map.map(), sources.name, sources.placement, inputs, directory, o, start);
     report.warnings = sources.warnings;
     return report;
 }

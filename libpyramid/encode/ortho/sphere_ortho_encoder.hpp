@@ -6,6 +6,7 @@
 // faces join without seams at every level.
 #pragma once
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,6 +52,21 @@ struct SphericalOrthoReport {
     int threads = 0;
     double seconds = 0.0;
 };
+
+// The map of a spherical ortho build, opened as preprocessSphericalOrtho opens it: `inputs` (one
+// file or a mosaic: map_sources.hpp), every file of the first one's bands and sample type (else
+// Error naming the file), the first `channelsOf(first file's info)` channels read.
+struct OrthoMap {
+    MapSources sources;
+    std::unique_ptr<RasterSource> described; // several grids: the first file, which describes the map
+    // The raster the faces' levels describe the map by, and the map to sample when there are
+    // several grids (else null: the raster is sampled).
+    const RasterSource& source() const { return sources.source ? *sources.source : *described; }
+    const GeodeticMap* map() const { return sources.source ? nullptr : sources.map.get(); }
+};
+OrthoMap openOrthoMap(const std::vector<std::string>& inputs, const std::optional<GeoExtent>& extent,
+                      const PlanetBody& body, int cacheMegabytes,
+                      const std::function<int(const RasterInfo&)>& channelsOf);
 
 // Encodes the faces one after the other (each with every thread). Throws Error naming the file
 // or option at fault; options are checked before any file is written, and each face's files
