@@ -33,10 +33,10 @@ echo "== preprocessSphericalDem: samples/srtm.png (height = red x 10000/255 m) -
 "$bin/preprocessSphericalDem" samples/srtm.png -o out/planet --height-scale 10000/255 --report out/planet-dem.json
 echo "== preprocessSphericalOrtho: samples/bluemarble.png -> out/planet/{RGB1..6.dat,dxt/,residuals/}"
 "$bin/preprocessSphericalOrtho" samples/bluemarble.png -o out/planet --report out/planet-ortho.json
-for f in 1 2 3 4 5 6; do
-  "$bin/pyramid" check out/planet/DEM$f.dat
-  "$bin/pyramid" check out/planet/residuals/RGB$f.dat
-done
+"$bin/pyramid" verify out/planet --source samples/srtm.png --height-scale 10000/255 -q | tail -n 1
+"$bin/pyramid" verify out/planet --name RGB --source samples/bluemarble.png -q | tail -n 1
+"$bin/pyramid" verify out/planet/residuals --source samples/bluemarble.png --colour-residuals -q | tail -n 1
+"$bin/pyramid" check out/planet | tail -n 1
 echo "== preprocessSphericalAperture: out/planet/DEM1..6.dat -> out/planet-aperture/APERTURE1..6.dat"
 "$bin/preprocessSphericalAperture" out/planet -o out/planet-aperture --directions 8 --radius 8
 
