@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <filesystem>
@@ -20,7 +21,9 @@
 #include "libpyramid/api/encoders.hpp"
 #include "libpyramid/encode/aperture/aperture.hpp"
 #include "libpyramid/api/sources.hpp"
+#include "libpyramid/runtime/level_heights.hpp"
 #include "libpyramid/runtime/ortho_producer.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
@@ -134,6 +137,56 @@ TEST(Aperture, TheBottomOfAConicalPitSeesTheCapItsWallsLeave) {
     o.threads = 2;
     encodeApertureFile(dem, dir.file("two/APERTURE.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("one/APERTURE.dat")), test::readFile(dir.file("two/APERTURE.dat")));
+}
+
+// Every finest pixel is the aperture of the direct search of doc/shading.md, byte for byte: each
+// azimuth's horizon the largest of 0 and atan2(rise, run) over every step of every level searched,
+// on rough ground whose horizons come from near and far steps alike.
+TEST(Aperture, EveryPixelIsTheDirectSearchsAperture) {
+    TempDir dir;
+    const std::string dem = demOf(dir, "rough", [](double x, double y) {
+        const auto grain = static_cast<double>((static_cast<int64_t>(x) * 7919 + static_cast<int64_t>(y) * 104729) % 97);
+        return 30.0 * std::sin(x * 0.3) * std::cos(y * 0.23) + 20.0 * std::sin(x * 0.07 + y * 0.11) + 0.1 * grain;
+    });
+    ApertureEncodeOptions o;
+    o.size = 128.0; // 1 height unit between the finest samples
+    encodeApertureFile(dem, dir.file("APERTURE.dat"), o);
+    const auto producer = openElevationSet(dem);
+    const int n = producer->tileSize(), finest = 2, W = n << finest;
+    const auto height = [&](int level, double x, double y) {
+        const LevelCell cell = levelCell(n, int64_t{1} << level, x, y);
+        return cellHeight(producer->tile(level, cell.tx, cell.ty)->zf.data(), n, cell);
+    };
+    const ApertureSearch& search = o.search;
+    int compared = 0;
+    for (int js = 0; js < W; js += 5) {     // rows from the south
+        for (int i = 0; i < W; i += 3) {
+            const double x = i + 0.5, y = js + 0.5;
+            const double z0 = height(finest, x, y);
+            std::vector<double> horizons(static_cast<size_t>(search.directions));
+            for (int d = 0; d < search.directions; ++d) {
+                const double azimuth = 2.0 * std::numbers::pi * d / search.directions;
+                double horizon = 0.0;
+                for (int q = 0; q < search.levels && finest - q >= 0; ++q) {
+                    const double scale = std::ldexp(1.0, q);
+                    for (int k = q == 0 ? 1 : search.radius / 2 + 1; k <= search.radius; ++k) {
+                        const double distance = k * scale;
+                        const double z = height(finest - q, (x + distance * std::cos(azimuth)) / scale,
+                                                (y + distance * std::sin(azimuth)) / scale);
+                        horizon = std::max(horizon, std::atan2(z - z0, distance * 1.0));
+                    }
+                }
+                horizons[static_cast<size_t>(d)] = horizon;
+            }
+            const std::array<uint8_t, 3> want = encodeAperture(apertureOfHorizons(horizons.data(), search.directions));
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_EQ(pixel(dir.file("APERTURE.dat"), finest, i, js, c), want[static_cast<size_t>(c)])
+                    << "pixel " << i << "," << js << " channel " << c;
+            }
+            ++compared;
+        }
+    }
+    EXPECT_EQ(compared, 26 * 43);
 }
 
 TEST(Aperture, TheProgramNeedsAGroundSize) {

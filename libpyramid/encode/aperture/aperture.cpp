@@ -63,17 +63,49 @@ std::array<uint8_t, 3> encodeAperture(const Aperture& a) {
 
 namespace {
 
-// A sector's horizon: the largest of 0 and angle(level, distance) over the search's steps, the
-// distance in finest-level samples (1..radius on the finest level, then radius/2 + 1 .. radius
-// samples of each coarser one, twice as far apart), while levels remain.
-template <class Angle>
-double horizonOf(const ApertureSearch& search, int finest, const Angle& angle) {
-    double horizon = 0.0;
+// The steps of a sector's search, in order: the distance in finest-level samples (1..radius on
+// the finest level, then radius/2 + 1 .. radius samples of each coarser one, twice as far
+// apart), while levels remain.
+struct SearchStep {
+    int level = 0;
+    double distance = 0.0;
+};
+
+std::vector<SearchStep> searchSteps(const ApertureSearch& search, int finest) {
+    std::vector<SearchStep> steps;
     for (int q = 0; q < search.levels && finest - q >= 0; ++q) {
         const double scale = std::ldexp(1.0, q);
         for (int k = q == 0 ? 1 : search.radius / 2 + 1; k <= search.radius; ++k) {
-            horizon = std::max(horizon, angle(finest - q, k * scale));
+            steps.push_back({finest - q, k * scale});
         }
+    }
+    return steps;
+}
+
+// A sector's horizon: the largest of 0 and atan2(rise, run) over the steps, where `slope(k,
+// rise, run)` gives step k's rise and run (run > 0). A step whose rise is not positive cannot
+// raise the horizon, nor one whose slope is clearly below the steepest so far (by a millionth,
+// far beyond atan2's rounding while the slope is below a million): atan2 is computed only for
+// the others, and the horizon is bit for bit the largest of every step's atan2.
+template <class Slope>
+double horizonOf(size_t steps, const Slope& slope) {
+    double horizon = 0.0, steepest = 0.0;
+    for (size_t k = 0; k < steps; ++k) {
+        double rise = 0.0, run = 1.0;
+        slope(k, rise, run);
+        if (!(run > 0.0)) {
+            horizon = std::max(horizon, std::atan2(rise, run)); // beyond the slopes' rule: taken as it is
+            continue;
+        }
+        if (!(rise > 0.0)) {
+            continue;
+        }
+        const double ratio = rise / run;
+        if (ratio < steepest * (1.0 - 1e-6) && steepest <= 1e6) {
+            continue;
+        }
+        horizon = std::max(horizon, std::atan2(rise, run));
+        steepest = std::max(steepest, ratio);
     }
     return horizon;
 }
@@ -119,6 +151,9 @@ class AperturePixels final : public BytePixels {
 public:
     AperturePixels(std::shared_ptr<ElevationProducer> producer, int finest, double spacing, const ApertureSearch& search)
         : producer_(std::move(producer)), finest_(finest), spacing_(spacing), search_(search) {
+        for (const SearchStep& step : searchSteps(search, finest)) {
+            steps_.push_back({step.level, step.distance, std::ldexp(1.0, finest_ - step.level), step.distance * spacing_});
+        }
         for (int k = 0; k < search.directions; ++k) {
             const double azimuth = 2.0 * std::numbers::pi * k / search.directions;
             cos_.push_back(std::cos(azimuth));
@@ -136,10 +171,12 @@ public:
                 const double z0 = heights.at(finest_, x, y);
                 for (int d = 0; d < search_.directions; ++d) {
                     const double dx = cos_[static_cast<size_t>(d)], dy = sin_[static_cast<size_t>(d)];
-                    horizons[static_cast<size_t>(d)] = horizonOf(search_, finest_, [&](int level, double distance) {
-                        const double scale = std::ldexp(1.0, finest_ - level);
-                        const double z = heights.at(level, (x + distance * dx) / scale, (y + distance * dy) / scale);
-                        return std::atan2(z - z0, distance * spacing_);
+                    horizons[static_cast<size_t>(d)] = horizonOf(steps_.size(), [&](size_t k, double& rise, double& run) {
+                        const Step& step = steps_[k];
+                        const double z = heights.at(step.level, (x + step.distance * dx) / step.scale,
+                                                    (y + step.distance * dy) / step.scale);
+                        rise = z - z0;
+                        run = step.run;
                     });
                 }
                 const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
@@ -149,12 +186,17 @@ public:
     }
 
 private:
+    struct Step {
+        int level;
+        double distance, scale, run; // scale: 2^(finest - level); run: the ground distance
+    };
     std::shared_ptr<ElevationProducer> producer_;
     int finest_;
     double spacing_;
     ApertureSearch search_;
     int64_t width_ = 0;
     std::vector<double> cos_, sin_;
+    std::vector<Step> steps_;
 };
 
 // The aperture at points of a planet whose heights are six faces' elevation producers, on a
@@ -170,6 +212,11 @@ public:
         vertices_ = static_cast<double>(int64_t{faces_[0]->tileSize()} << finest);
         // The mean ground distance between a face's samples: a quarter of a great circle over N.
         spacing_ = std::numbers::pi / 2.0 * radius / vertices_;
+        for (const SearchStep& step : searchSteps(search, finest)) {
+            const double angle = step.distance * spacing_ / radius_;
+            steps_.push_back({step.level, std::cos(angle), std::sin(angle), std::ldexp(vertices_, step.level - finest_)});
+        }
+        finestSide_ = std::ldexp(vertices_, 0);
         for (int k = 0; k < search.directions; ++k) {
             const double azimuth = 2.0 * std::numbers::pi * k / search.directions;
             cos_.push_back(std::cos(azimuth));
@@ -185,15 +232,15 @@ public:
         for (const auto& f : faces_) {
             readers.emplace_back(*f);
         }
-        const auto heightAt = [&](const std::array<double, 3>& d, int level) {
+        // At level `level`, `side` vertex intervals across a face.
+        const auto heightAt = [&](const std::array<double, 3>& d, int level, double side) {
             const FacePoint p = facePointOf(d);
-            const double side = std::ldexp(vertices_, level - finest_);
             return readers[static_cast<size_t>(p.face - 1)].at(level, (p.u + 1.0) / 2.0 * side, (p.v + 1.0) / 2.0 * side);
         };
         std::vector<double> horizons(static_cast<size_t>(search_.directions));
         for (size_t n = 0; n < count; ++n) {
             const std::array<double, 3> d0 = unit(directionOf(body_, points[n]));
-            const double r0 = radius_ + heightAt(d0, finest_);
+            const double r0 = radius_ + heightAt(d0, finest_, finestSide_);
             // The point's frame: east (z x up; at a pole, the x axis' choice), north = up x east.
             std::array<double, 3> east{-d0[1], d0[0], 0.0};
             if (std::hypot(east[0], east[1]) < 1e-12) {
@@ -206,12 +253,13 @@ public:
                 const auto K = static_cast<size_t>(k);
                 const std::array<double, 3> t{cos_[K] * east[0] + sin_[K] * north[0], cos_[K] * east[1] + sin_[K] * north[1],
                                               cos_[K] * east[2] + sin_[K] * north[2]};
-                horizons[K] = horizonOf(search_, finest_, [&](int level, double distance) {
-                    const double angle = distance * spacing_ / radius_;
-                    const double c = std::cos(angle), s = std::sin(angle);
+                horizons[K] = horizonOf(steps_.size(), [&](size_t j, double& rise, double& run) {
+                    const Step& step = steps_[j];
+                    const double c = step.c, s = step.s;
                     const std::array<double, 3> d{c * d0[0] + s * t[0], c * d0[1] + s * t[1], c * d0[2] + s * t[2]};
-                    const double r = radius_ + heightAt(d, level);
-                    return std::atan2(r * c - r0, r * s);
+                    const double r = radius_ + heightAt(d, step.level, step.side);
+                    rise = r * c - r0;
+                    run = r * s;
                 });
             }
             const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
@@ -228,13 +276,20 @@ private:
         return {v[0] / l, v[1] / l, v[2] / l};
     }
 
+    // A step of the search: its level, the cosine and sine of its angle along the great circle,
+    // and its level's vertex intervals across a face.
+    struct Step {
+        int level;
+        double c, s, side;
+    };
     std::vector<std::shared_ptr<ElevationProducer>> faces_;
     int finest_;
     double radius_;
     PlanetBody body_;
     ApertureSearch search_;
-    double vertices_ = 0.0, spacing_ = 0.0;
+    double vertices_ = 0.0, spacing_ = 0.0, finestSide_ = 0.0;
     std::vector<double> cos_, sin_;
+    std::vector<Step> steps_;
     GeoExtent extent_; // the globe
 };
 
