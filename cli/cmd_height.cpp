@@ -18,6 +18,7 @@
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/runtime/height_query.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/face_locate.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/parse_number.hpp"
@@ -57,7 +58,7 @@ bool isPlanarSetDirectory(const HeightArgs& a) {
     if (a.lonlat.empty()) {
         return true;
     }
-    if (std::filesystem::exists(std::filesystem::path(a.target) / (a.name + "1.dat"))) {
+    if (std::filesystem::exists(faceFilePath(a.target, a.name, 1))) {
         return false;
     }
     try {
@@ -116,7 +117,7 @@ int runHeight(const HeightArgs& a) {
         const PlanetBody body = PlanetBody::parse(a.body);
         const FacePoint p = facePointOf(directionOf(body, GeodeticPoint{lat, lon}));
         face = p.face;
-        file = (std::filesystem::path(a.target) / (a.name + std::to_string(face) + ".dat")).string();
+        file = faceFilePath(a.target, a.name, face);
         u = (p.u + 1.0) / 2.0;
         v = (p.v + 1.0) / 2.0;
     } else {

@@ -20,6 +20,7 @@
 #include "formats/pyramid_set.hpp"
 #include "libpyramid/api/encoders.hpp"
 #include "libpyramid/input/input_list.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
 #ifdef PYRAMID_WITH_GL
 #include "libpyramid/gl/gl_verify.hpp"
 #endif
@@ -101,7 +102,7 @@ void printOrthoLevels(const OrthoVerifyReport& report) {
 
 // Whether NAMEi.dat of a planet's directory is there, as a file or as a region set's index.
 bool faceThere(const std::string& directory, const std::string& name, int face) {
-    const std::string file = (std::filesystem::path(directory) / (name + std::to_string(face) + ".dat")).string();
+    const std::string file = faceFilePath(directory, name, face);
     std::error_code ec;
     return std::filesystem::exists(file, ec) || std::filesystem::exists(regionIndexPath(file), ec);
 }
@@ -152,8 +153,7 @@ int verifySpherical(const VerifyArgs& a, const std::string& name, const GivenOpt
         }
     }
     const SphereChoice choice = resolveSphereOptions(SphereArgs{a.target.extent, a.body, faces});
-    const std::string first =
-        (std::filesystem::path(a.file) / (name + std::to_string(choice.faces.front()) + ".dat")).string();
+    const std::string first = faceFilePath(a.file, name, choice.faces.front());
     const PyramidKind kind =
         findRegionIndex(first).empty() ? detectPyramidKind(first) : resolvePyramidSet(first).kind;
     const std::vector<std::string> inputs = expandInputs({a.source}).paths;

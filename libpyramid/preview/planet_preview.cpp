@@ -31,7 +31,7 @@ PlanetFaces family(const std::string& directory, const std::string& name) {
     faces.directory = directory;
     faces.name = name;
     for (int k = 0; k < kCubeFaceCount; ++k) {
-        faces.files[static_cast<size_t>(k)] = (fs::path(directory) / (name + std::to_string(k + 1) + ".dat")).string();
+        faces.files[static_cast<size_t>(k)] = faceFilePath(directory, name, k + 1);
     }
     return faces;
 }

@@ -1,12 +1,19 @@
 #include "libpyramid/sphere/cube_faces.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <cstdlib>
 #include <string>
 
 #include "formats/error.hpp"
 
 namespace pyramid {
+
+std::string faceFileName(const std::string& name, int face) { return name + std::to_string(face) + ".dat"; }
+
+std::string faceFilePath(const std::string& directory, const std::string& name, int face) {
+    return (std::filesystem::path(directory) / faceFileName(name, face)).string();
+}
 
 void checkFaceList(const std::vector<int>& faces) {
     if (faces.empty()) {

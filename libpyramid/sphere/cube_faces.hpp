@@ -22,6 +22,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace pyramid {
@@ -31,6 +32,11 @@ inline constexpr int kCubeFaceCount = 6;
 // A list of faces to build (an option of the spherical encoders): at least one, each 1..6,
 // none twice. Throws OptionError("faces", ...) otherwise.
 void checkFaceList(const std::vector<int>& faces);
+
+// The file of face `face` (1..6) of a planet's pyramids named `name`: "NAMEi.dat" (DEM1.dat ..
+// DEM6.dat; proland-compat, "Spherical (cube) variants"), and the same in `directory`.
+std::string faceFileName(const std::string& name, int face);
+std::string faceFilePath(const std::string& directory, const std::string& name, int face);
 
 enum class FaceGridKind {
     Vertices,     // DEM samples: n + 1 per side

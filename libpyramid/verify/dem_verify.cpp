@@ -178,7 +178,7 @@ std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, co
     std::vector<DemVerifyReport> reports;
     int64_t before = 0; // tiles of the faces already compared
     for (const int face : options.faces) {
-        const std::string file = (std::filesystem::path(directory) / (options.name + std::to_string(face) + ".dat")).string();
+        const std::string file = faceFilePath(directory, options.name, face);
         const WholePyramid whole = wholePyramid(file);
         const ResidualHeader& h = whole.header;
         const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;

@@ -114,7 +114,7 @@ std::vector<OrthoVerifyReport> verifySphericalOrtho(const std::string& directory
     checkFaceList(options.faces);
     const PlanetBody body = PlanetBody::parse(options.body);
     const auto faceFile = [&](int face) {
-        return (std::filesystem::path(directory) / (options.name + std::to_string(face) + ".dat")).string();
+        return faceFilePath(directory, options.name, face);
     };
     std::vector<WholeOrtho> faces;
     for (const int face : options.faces) {

@@ -395,7 +395,7 @@ SphericalApertureReport encodeSphericalApertureFiles(const std::string& director
     std::vector<std::shared_ptr<ElevationProducer>> faces;
     int finest = -1, tileSize = 0;
     for (int f = 1; f <= kCubeFaceCount; ++f) {
-        const std::string file = (std::filesystem::path(directory) / (options.name + std::to_string(f) + ".dat")).string();
+        const std::string file = faceFilePath(directory, options.name, f);
         const PyramidSet set = openPyramidSet(file);
         if (set.kind != PyramidKind::Residual) {
             fail(set.name(), "holds an ortho pyramid, not elevations");
@@ -440,7 +440,7 @@ SphericalApertureReport encodeSphericalApertureFiles(const std::string& director
     report.spacing = spacing;
     report.search = options.search;
     for (const SphericalOrthoFaceReport& f : r.faces) {
-        report.outputs.push_back((std::filesystem::path(output) / (options.output + std::to_string(f.face) + ".dat")).string());
+        report.outputs.push_back(faceFilePath(output, options.output, f.face));
         report.tiles += f.ortho.tiles;
         report.bytes += f.ortho.bytes.empty() ? 0 : f.ortho.bytes[0];
     }

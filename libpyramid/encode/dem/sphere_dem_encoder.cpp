@@ -136,7 +136,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         SphericalDemFaceReport fr;
         fr.face = face;
         // A region build writes the face's region file, named as its set would name it.
-        const std::string faceName = options.name + std::to_string(face) + ".dat";
+        const std::string faceName = faceFileName(options.name, face);
         const std::string name = o.region ? regionFilePath(faceName, o.region->root) : faceName;
         fr.dem.input = input;
         fr.dem.output = (std::filesystem::path(directory) / name).string();
