@@ -278,6 +278,10 @@ TEST(SphereOrthoCli, SampleImageMakesEighteenFilesAndAReport) {
     EXPECT_EQ(v.exitCode, 1);
     EXPECT_EQ(v.err, "pyramid: " + out + ": faces 1, 2, 3, 4, 5, 6 (RGBN.dat): lossless tiles differ against " +
                          test::samplePath("srtm.png") + "\n");
+    // --name names the faces: this directory holds no DEM faces, so it is not taken as a planet's.
+    v = verify(out, " --name DEM");
+    EXPECT_EQ(v.exitCode, 1);
+    EXPECT_EQ(v.out, "");
     v = verify(out, " --height-scale 2");
     EXPECT_EQ(v.exitCode, 1);
     EXPECT_NE(v.err.find("--height-scale: does not apply to a planet's imagery faces"), std::string::npos) << v.err;
