@@ -13,6 +13,8 @@
 // A coordinate beyond the level is clamped to it (its edge continues); the east and north edges
 // belong to the last cells.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -26,11 +28,39 @@ struct LevelCell {
     double wx = 0.0, wy = 0.0;
 };
 
+namespace level_heights_detail {
+
+// Tile t, vertex k of that tile and the fraction w across the cell, along one axis.
+inline void axisCell(int n, int64_t across, double c, int& t, int& k, double& w) {
+    const int64_t vertices = across * n;
+    c = std::clamp(c, 0.0, static_cast<double>(vertices));
+    const int64_t whole = std::min<int64_t>(static_cast<int64_t>(std::floor(c)), vertices - 1);
+    t = static_cast<int>(whole / n);
+    k = static_cast<int>(whole - int64_t{t} * n);
+    w = c - static_cast<double>(whole);
+}
+
+} // namespace level_heights_detail
+
 // The cell holding vertex coordinates (x, y) of a level of `across` x `across` tiles of n
 // intervals, (x, y) clamped to 0 .. across * n.
-LevelCell levelCell(int n, int64_t across, double x, double y);
+inline LevelCell levelCell(int n, int64_t across, double x, double y) {
+    LevelCell cell;
+    level_heights_detail::axisCell(n, across, x, cell.tx, cell.i, cell.wx);
+    level_heights_detail::axisCell(n, across, y, cell.ty, cell.j, cell.wy);
+    return cell;
+}
 
 // The height at `cell` in the samples `z` of its tile ((n + 5)^2 floats, row 0 the south).
-double cellHeight(const float* z, int n, const LevelCell& cell);
+inline double cellHeight(const float* z, int n, const LevelCell& cell) {
+    const size_t side = static_cast<size_t>(n) + 5;
+    const auto at = [&](int a, int b) {
+        return static_cast<double>(z[static_cast<size_t>(b + 2) * side + static_cast<size_t>(a + 2)]);
+    };
+    const int i = cell.i, j = cell.j;
+    const double south = at(i, j) + (at(i + 1, j) - at(i, j)) * cell.wx;
+    const double north = at(i, j + 1) + (at(i + 1, j + 1) - at(i, j + 1)) * cell.wx;
+    return south + (north - south) * cell.wy;
+}
 
 } // namespace pyramid

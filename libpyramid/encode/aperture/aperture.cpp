@@ -82,33 +82,30 @@ std::vector<SearchStep> searchSteps(const ApertureSearch& search, int finest) {
     return steps;
 }
 
-// A sector's horizon: the largest of 0 and atan2(rise, run) over the steps, where `slope(k,
-// rise, run)` gives step k's rise and run (run > 0). A step whose rise is not positive cannot
-// raise the horizon, nor one whose slope is clearly below the steepest so far (by a millionth,
-// far beyond atan2's rounding while the slope is below a million): atan2 is computed only for
-// the others, and the horizon is bit for bit the largest of every step's atan2.
-template <class Slope>
-double horizonOf(size_t steps, const Slope& slope) {
-    double horizon = 0.0, steepest = 0.0;
-    for (size_t k = 0; k < steps; ++k) {
-        double rise = 0.0, run = 1.0;
-        slope(k, rise, run);
+// A sector's horizon: the largest of 0 and atan2(rise, run) over its steps (run > 0), taken step
+// by step, nearest first. A step whose rise is not positive cannot raise the horizon, nor one
+// whose slope is clearly below the steepest so far (by a millionth, far beyond atan2's rounding
+// while the slope is below a million): atan2 is computed only for the others, and the horizon is
+// bit for bit the largest of every step's atan2.
+struct Horizon {
+    double angle = 0.0, steepest = 0.0;
+
+    void step(double rise, double run) {
         if (!(run > 0.0)) {
-            horizon = std::max(horizon, std::atan2(rise, run)); // beyond the slopes' rule: taken as it is
-            continue;
+            angle = std::max(angle, std::atan2(rise, run)); // beyond the slopes' rule: taken as it is
+            return;
         }
         if (!(rise > 0.0)) {
-            continue;
+            return;
         }
         const double ratio = rise / run;
         if (ratio < steepest * (1.0 - 1e-6) && steepest <= 1e6) {
-            continue;
+            return;
         }
-        horizon = std::max(horizon, std::atan2(rise, run));
+        angle = std::max(angle, std::atan2(rise, run));
         steepest = std::max(steepest, ratio);
     }
-    return horizon;
-}
+};
 
 // The heights of an elevation producer's levels, read bilinearly between vertices, with the
 // tiles last used kept at hand (one per reading thread: no lock for most samples).
@@ -124,15 +121,22 @@ public:
     }
 
 private:
+    // Most reads fall in the tile of the read before: that one is looked at first.
     const float* tile(int level, int tx, int ty) {
-        for (Kept& k : kept_) {
+        const Kept& last = kept_[last_];
+        if (last.tile && last.level == level && last.tx == tx && last.ty == ty) {
+            return last.tile->zf.data();
+        }
+        for (size_t i = 0; i < kept_.size(); ++i) {
+            const Kept& k = kept_[i];
             if (k.tile && k.level == level && k.tx == tx && k.ty == ty) {
+                last_ = i;
                 return k.tile->zf.data();
             }
         }
-        Kept& k = kept_[next_++ % kept_.size()];
-        k = {level, tx, ty, producer_.tile(level, tx, ty)};
-        return k.tile->zf.data();
+        last_ = next_++ % kept_.size();
+        kept_[last_] = {level, tx, ty, producer_.tile(level, tx, ty)};
+        return kept_[last_].tile->zf.data();
     }
 
     struct Kept {
@@ -142,7 +146,7 @@ private:
     ElevationProducer& producer_;
     int n_;
     std::array<Kept, 16> kept_{};
-    size_t next_ = 0;
+    size_t next_ = 0, last_ = 0;
 };
 
 // The finest level's aperture as the raster the ortho encoder reads: pixel (i, j), row 0 the
@@ -152,7 +156,7 @@ public:
     AperturePixels(std::shared_ptr<ElevationProducer> producer, int finest, double spacing, const ApertureSearch& search)
         : producer_(std::move(producer)), finest_(finest), spacing_(spacing), search_(search) {
         for (const SearchStep& step : searchSteps(search, finest)) {
-            steps_.push_back({step.level, step.distance, std::ldexp(1.0, finest_ - step.level), step.distance * spacing_});
+            steps_.push_back({step.level, step.distance, std::ldexp(1.0, step.level - finest_), step.distance * spacing_});
         }
         for (int k = 0; k < search.directions; ++k) {
             const double azimuth = 2.0 * std::numbers::pi * k / search.directions;
@@ -169,15 +173,16 @@ public:
             for (int i = x0; i < x1; ++i) {
                 const double x = i + 0.5, y = static_cast<double>(width_ - j) - 0.5;
                 const double z0 = heights.at(finest_, x, y);
-                for (int d = 0; d < search_.directions; ++d) {
-                    const double dx = cos_[static_cast<size_t>(d)], dy = sin_[static_cast<size_t>(d)];
-                    horizons[static_cast<size_t>(d)] = horizonOf(steps_.size(), [&](size_t k, double& rise, double& run) {
-                        const Step& step = steps_[k];
-                        const double z = heights.at(step.level, (x + step.distance * dx) / step.scale,
-                                                    (y + step.distance * dy) / step.scale);
-                        rise = z - z0;
-                        run = step.run;
-                    });
+                // Sector by sector, its steps outward: the reads of one sector follow each other
+                // through the same rows of the same tiles.
+                for (size_t d = 0; d < horizons.size(); ++d) {
+                    Horizon h;
+                    for (const Step& step : steps_) {
+                        const double z = heights.at(step.level, (x + step.distance * cos_[d]) * step.shrink,
+                                                    (y + step.distance * sin_[d]) * step.shrink);
+                        h.step(z - z0, step.run);
+                    }
+                    horizons[d] = h.angle;
                 }
                 const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
                 out = std::copy(pixel.begin() + c0, pixel.begin() + c1, out);
@@ -188,7 +193,9 @@ public:
 private:
     struct Step {
         int level;
-        double distance, scale, run; // scale: 2^(finest - level); run: the ground distance
+        // shrink: 2^(level - finest), exact, so that a product by it is the quotient by 2^(finest -
+        // level); run: the ground distance
+        double distance, shrink, run;
     };
     std::shared_ptr<ElevationProducer> producer_;
     int finest_;
@@ -237,7 +244,9 @@ public:
             const FacePoint p = facePointOf(d);
             return readers[static_cast<size_t>(p.face - 1)].at(level, (p.u + 1.0) / 2.0 * side, (p.v + 1.0) / 2.0 * side);
         };
-        std::vector<double> horizons(static_cast<size_t>(search_.directions));
+        std::vector<Horizon> sectors(static_cast<size_t>(search_.directions));
+        std::vector<double> horizons(sectors.size());
+        std::vector<std::array<double, 3>> tangents(sectors.size());
         for (size_t n = 0; n < count; ++n) {
             const std::array<double, 3> d0 = unit(directionOf(body_, points[n]));
             const double r0 = radius_ + heightAt(d0, finest_, finestSide_);
@@ -249,18 +258,25 @@ public:
             east = unit(east);
             const std::array<double, 3> north{d0[1] * east[2] - d0[2] * east[1], d0[2] * east[0] - d0[0] * east[2],
                                               d0[0] * east[1] - d0[1] * east[0]};
-            for (int k = 0; k < search_.directions; ++k) {
-                const auto K = static_cast<size_t>(k);
-                const std::array<double, 3> t{cos_[K] * east[0] + sin_[K] * north[0], cos_[K] * east[1] + sin_[K] * north[1],
-                                              cos_[K] * east[2] + sin_[K] * north[2]};
-                horizons[K] = horizonOf(steps_.size(), [&](size_t j, double& rise, double& run) {
-                    const Step& step = steps_[j];
-                    const double c = step.c, s = step.s;
-                    const std::array<double, 3> d{c * d0[0] + s * t[0], c * d0[1] + s * t[1], c * d0[2] + s * t[2]};
+            for (size_t k = 0; k < tangents.size(); ++k) {
+                tangents[k] = {cos_[k] * east[0] + sin_[k] * north[0], cos_[k] * east[1] + sin_[k] * north[1],
+                               cos_[k] * east[2] + sin_[k] * north[2]};
+            }
+            // Step by step, every sector at each: the sectors' reads are independent, and the face
+            // lookups and reads of one overlap the others'. Each sector still takes its steps
+            // outward, in order, so its horizon is the one it has alone.
+            std::fill(sectors.begin(), sectors.end(), Horizon{});
+            for (const Step& step : steps_) {
+                for (size_t k = 0; k < sectors.size(); ++k) {
+                    const std::array<double, 3>& t = tangents[k];
+                    const std::array<double, 3> d{step.c * d0[0] + step.s * t[0], step.c * d0[1] + step.s * t[1],
+                                                  step.c * d0[2] + step.s * t[2]};
                     const double r = radius_ + heightAt(d, step.level, step.side);
-                    rise = r * c - r0;
-                    run = r * s;
-                });
+                    sectors[k].step(r * step.c - r0, r * step.s);
+                }
+            }
+            for (size_t k = 0; k < sectors.size(); ++k) {
+                horizons[k] = sectors[k].angle;
             }
             const std::array<uint8_t, 3> pixel = encodeAperture(apertureOfHorizons(horizons.data(), search_.directions));
             for (size_t c = 0; c < 3; ++c) {
