@@ -69,6 +69,15 @@ EquirectSampler::EquirectSampler(const RasterSource& source, const MapPlacement&
 
 namespace {
 
+// i modulo W, in 0 .. W - 1 (W > 0): ((i % W) + W) % W, without a division for the columns a
+// sampler meets (within one width of the map), which are nearly all.
+int64_t wrapColumn(int64_t i, int64_t W) {
+    if (i >= 0) {
+        return i < W ? i : (i < 2 * W ? i - W : i % W);
+    }
+    return i >= -W ? i + W : (i % W + W) % W;
+}
+
 // The four pixels and weights of one point's bilinear interpolation.
 struct Taps {
     int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0; // columns and rows
@@ -76,8 +85,9 @@ struct Taps {
     bool inside = false;
 };
 
-// The taps around pixel-centre position (x, y) (columns wrapping around a global map).
-Taps tapsAt(Taps t, double x, double yUnclamped, bool global, int64_t W, int64_t H) {
+// The taps around pixel-centre position (x, y) (columns wrapping around a global map), set in
+// `t` (in place: a copy of the structure in and out stalls on its own stores).
+void tapsAt(Taps& t, double x, double yUnclamped, bool global, int64_t W, int64_t H) {
     const double y = std::clamp(yUnclamped, 0.0, static_cast<double>(H - 1));
     t.j0 = std::min(static_cast<int64_t>(y), H - 1);
     t.fy = y - static_cast<double>(t.j0);
@@ -85,42 +95,42 @@ Taps tapsAt(Taps t, double x, double yUnclamped, bool global, int64_t W, int64_t
     if (global) {
         const double fl = std::floor(x);
         t.fx = x - fl;
-        t.i0 = (static_cast<int64_t>(fl) % W + W) % W;
-        t.i1 = (t.i0 + 1) % W;
+        t.i0 = wrapColumn(static_cast<int64_t>(fl), W);
+        t.i1 = wrapColumn(t.i0 + 1, W);
     } else {
         const double cx = std::clamp(x, 0.0, static_cast<double>(W - 1));
         t.i0 = std::min(static_cast<int64_t>(cx), W - 1);
         t.fx = cx - static_cast<double>(t.i0);
         t.i1 = std::min(t.i0 + 1, W - 1);
     }
-    return t;
 }
 
-// The taps of a plate carree's point.
-Taps tapsOf(const GeodeticPoint& p, const GeoExtent& e, int64_t W, int64_t H) {
-    Taps t;
+// The taps of a plate carree's point, set in `t` (left as it is, outside, where the point is not
+// on the map).
+void tapsOf(const GeodeticPoint& p, const GeoExtent& e, int64_t W, int64_t H, Taps& t) {
     if (!(p.latitude >= e.south && p.latitude <= e.north)) {
-        return t;
+        return;
     }
     double lon = p.longitude;
     if (lon < e.west || lon >= e.west + 360.0) {
         lon = e.west + std::fmod(std::fmod(lon - e.west, 360.0) + 360.0, 360.0);
     }
     if (!e.global() && lon > e.east) {
-        return t;
+        return;
     }
     t.inside = true;
     const double x = (lon - e.west) * static_cast<double>(W) / (e.east - e.west) - 0.5;
     const double y = (e.north - p.latitude) * static_cast<double>(H) / (e.north - e.south) - 0.5;
-    return tapsAt(t, x, y, e.global(), W, H);
+    tapsAt(t, x, y, e.global(), W, H);
 }
 
 // The taps of a georeferenced map's point: never wrapping.
-Taps tapsOf(const GeodeticPoint& p, const GeoreferencedMap& map, int64_t W, int64_t H) {
-    Taps t;
+void tapsOf(const GeodeticPoint& p, const GeoreferencedMap& map, int64_t W, int64_t H, Taps& t) {
     double x = 0.0, y = 0.0;
     t.inside = map.pixelOf(p, x, y);
-    return t.inside ? tapsAt(t, x, y, false, W, H) : t;
+    if (t.inside) {
+        tapsAt(t, x, y, false, W, H);
+    }
 }
 
 // A block of pixels, columns [col, col + ncols) taken modulo the width, rows [row, row + nrows),
@@ -132,7 +142,7 @@ struct Block {
     std::vector<float> values;
 
     const float* at(int64_t i, int64_t j) const {
-        const int64_t c = ((i - col) % width + width) % width;
+        const int64_t c = wrapColumn(i - col, width);
         return &values[static_cast<size_t>((c + (j - row) * ncols) * channels)];
     }
 };
@@ -153,11 +163,15 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
         if (!wraps_) {
             return i;
         }
-        int64_t d = ((i - reference) % W + W) % W;
+        int64_t d = wrapColumn(i - reference, W);
         return d > W / 2 ? d - W : d;
     };
     for (size_t k = 0; k < count; ++k) {
-        taps[k] = map_ ? tapsOf(points[k], *map_, W, H) : tapsOf(points[k], extent_, W, H);
+        if (map_) {
+            tapsOf(points[k], *map_, W, H, taps[k]);
+        } else {
+            tapsOf(points[k], extent_, W, H, taps[k]);
+        }
         if (taps[k].inside) {
             rowMin = std::min(rowMin, taps[k].j0);
             rowMax = std::max(rowMax, taps[k].j1);
@@ -178,7 +192,7 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     }
     int64_t colStart = 0, colCount = W;
     if (!wraps_ || offsetMax - offsetMin < W / 2) {
-        colStart = ((reference + offsetMin) % W + W) % W;
+        colStart = wrapColumn(reference + offsetMin, W);
         colCount = offsetMax - offsetMin + 1;
     } else {
         // Points spread around the globe: the shortest circular run of columns holding every
