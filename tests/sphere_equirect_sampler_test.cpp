@@ -69,6 +69,38 @@ TEST(EquirectSampler, PixelCentresWrapAndPoles) {
     EXPECT_FLOAT_EQ(sampleOne(s, 82.5, -172.5).value, 250.25f);
 }
 
+// Points many turns of longitude apart, sampled in one call and alone, read the columns of their
+// longitude modulo 360: across the antimeridian (the last column's east neighbour is the first),
+// and for longitudes up to five turns away either way.
+TEST(EquirectSampler, LongitudesWrapByAnyNumberOfTurns) {
+    test::TempDir dir;
+    const auto src = RasterSource::open(writeRaster(dir, 36, 18)); // 10-degree pixels
+    const EquirectSampler s(*src, GeoExtent{}, 0, 1, SampleRead::Float, std::nullopt);
+    std::vector<GeodeticPoint> points;
+    std::vector<float> expected;
+    for (int turn = -5; turn <= 5; ++turn) {
+        for (int i = 0; i < 36; ++i) {
+            // Row 2's centres, a quarter of the way from column i to its east neighbour and to its
+            // west neighbour (wrapping).
+            const float here = static_cast<float>(2000 + i), east = static_cast<float>(2000 + (i + 1) % 36),
+                        west = static_cast<float>(2000 + (i + 35) % 36);
+            points.push_back({85.0 - 20.0, -175.0 + 10.0 * i + 2.5 + 360.0 * turn});
+            expected.push_back(here + (east - here) * 0.25f);
+            points.push_back({85.0 - 20.0, -175.0 + 10.0 * i - 2.5 + 360.0 * turn});
+            expected.push_back(west + (here - west) * 0.75f);
+        }
+    }
+    std::vector<float> batch(points.size(), -1.0f);
+    std::vector<uint8_t> valid(points.size(), 0);
+    s.sample(points.data(), points.size(), batch.data(), valid.data());
+    for (size_t k = 0; k < points.size(); ++k) {
+        SCOPED_TRACE(points[k].longitude);
+        EXPECT_EQ(valid[k], 1);
+        EXPECT_FLOAT_EQ(batch[k], expected[k]);
+        EXPECT_EQ(sampleOne(s, points[k].latitude, points[k].longitude).value, batch[k]);
+    }
+}
+
 TEST(EquirectSampler, PartialExtentIsNodataOutside) {
     test::TempDir dir;
     const auto src = RasterSource::open(writeRaster(dir, 20, 10));
