@@ -11,7 +11,8 @@
 //     north = z(i, j + 1) + (z(i + 1, j + 1) - z(i, j + 1)) * wx
 //     height = south + (north - south) * wy
 // A coordinate beyond the level is clamped to it (its edge continues); the east and north edges
-// belong to the last cells.
+// belong to the last cells. The functions are inline: the aperture's horizon search reads
+// through them hundreds of times per pixel.
 #pragma once
 #include <algorithm>
 #include <cmath>
