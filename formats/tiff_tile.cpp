@@ -505,6 +505,123 @@ std::vector<uint8_t> decodeOrthoTiff(std::span<const uint8_t> blob, int size, in
     return std::move(image.pixels);
 }
 
+namespace {
+
+// The tables (DQT) and the frame's components (SOF) of one JPEG stream, full or abbreviated
+// (tables only), read marker segment by marker segment up to the scan (JPEG, ITU T.81 B.2).
+struct JpegMarkers {
+    std::array<std::optional<std::array<uint16_t, 64>>, 4> tables;
+    std::vector<int> componentTables; // the table of each component of the frame
+    bool frame = false;
+};
+
+void readJpegMarkers(std::span<const uint8_t> bytes, JpegMarkers& m, const std::string& where) {
+    const auto damaged = [&](const std::string& what) { fail(where, "damaged JPEG stream: " + what); };
+    if (bytes.size() < 2 || bytes[0] != 0xFF || bytes[1] != 0xD8) {
+        damaged("no start of image");
+    }
+    size_t at = 2;
+    while (at < bytes.size()) {
+        if (bytes[at] != 0xFF) {
+            damaged("a byte where a marker belongs");
+        }
+        while (at < bytes.size() && bytes[at] == 0xFF) {
+            ++at; // fill bytes
+        }
+        if (at >= bytes.size()) {
+            break;
+        }
+        const uint8_t marker = bytes[at++];
+        if (marker == 0xD9 || marker == 0xDA) {
+            return; // end of image, or the scan: every table and the frame come before it
+        }
+        if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) {
+            continue; // markers without a segment
+        }
+        if (at + 2 > bytes.size()) {
+            damaged("a segment cut short");
+        }
+        const size_t length = (size_t{bytes[at]} << 8) | bytes[at + 1];
+        if (length < 2 || at + length > bytes.size()) {
+            damaged("a segment cut short");
+        }
+        const std::span<const uint8_t> body = bytes.subspan(at + 2, length - 2);
+        at += length;
+        if (marker == 0xDB) { // quantisation tables
+            size_t k = 0;
+            while (k < body.size()) {
+                const int precision = body[k] >> 4, id = body[k] & 15;
+                const size_t entry = precision ? 2 : 1;
+                if (precision > 1 || id > 3 || k + 1 + 64 * entry > body.size()) {
+                    damaged("a quantisation table cut short or of an unknown kind");
+                }
+                std::array<uint16_t, 64> table{};
+                for (size_t i = 0; i < 64; ++i) {
+                    const uint8_t* v = &body[k + 1 + i * entry];
+                    table[i] = precision ? static_cast<uint16_t>((v[0] << 8) | v[1]) : v[0];
+                }
+                m.tables[static_cast<size_t>(id)] = table;
+                k += 1 + 64 * entry;
+            }
+        } else if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
+            // A frame header: precision, height, width, then each component's id, sampling, table.
+            if (body.size() < 6 || body.size() < 6 + 3 * size_t{body[5]}) {
+                damaged("a frame header cut short");
+            }
+            m.componentTables.clear();
+            for (size_t c = 0; c < body[5]; ++c) {
+                m.componentTables.push_back(body[6 + 3 * c + 2]);
+            }
+            m.frame = true;
+        }
+    }
+}
+
+} // namespace
+
+std::optional<JpegTileTables> jpegTileTables(std::span<const uint8_t> blob, const std::string& where) {
+    MemoryStream stream;
+    stream.data = blob.data();
+    stream.size = blob.size();
+    TiffHandle tif(stream, "rm", 1 << 20);
+    if (!tif.get()) {
+        fail(where, withCause("not a TIFF", stream));
+    }
+    uint16_t compression = 0, photometric = 0;
+    TIFFGetFieldDefaulted(tif.get(), TIFFTAG_COMPRESSION, &compression);
+    if (compression != COMPRESSION_JPEG) {
+        return std::nullopt;
+    }
+    TIFFGetFieldDefaulted(tif.get(), TIFFTAG_PHOTOMETRIC, &photometric);
+    JpegMarkers markers;
+    uint32_t tablesSize = 0;
+    const void* tables = nullptr;
+    if (TIFFGetField(tif.get(), TIFFTAG_JPEGTABLES, &tablesSize, &tables) && tables && tablesSize > 0) {
+        readJpegMarkers({static_cast<const uint8_t*>(tables), tablesSize}, markers, where + ": JPEGTables");
+    }
+    const tmsize_t stripSize = TIFFNumberOfStrips(tif.get()) > 0 ? TIFFRawStripSize(tif.get(), 0) : -1;
+    if (stripSize <= 0 || static_cast<uint64_t>(stripSize) > blob.size()) {
+        fail(where, "JPEG tile without a strip");
+    }
+    std::vector<uint8_t> strip(static_cast<size_t>(stripSize));
+    if (TIFFReadRawStrip(tif.get(), 0, strip.data(), stripSize) != stripSize) {
+        fail(where, withCause("cannot read the JPEG strip", stream));
+    }
+    readJpegMarkers(strip, markers, where);
+    if (!markers.frame || markers.componentTables.empty()) {
+        fail(where, "damaged JPEG stream: no frame header");
+    }
+    JpegTileTables out;
+    out.ycbcr = photometric == PHOTOMETRIC_YCBCR;
+    for (const int id : markers.componentTables) {
+        if (id > 3 || !markers.tables[static_cast<size_t>(id)]) {
+            fail(where, "damaged JPEG stream: a component's quantisation table " + std::to_string(id) + " is missing");
+        }
+        out.components.push_back(*markers.tables[static_cast<size_t>(id)]);
+    }
+    return out;
+}
+
 std::string describeTiff(std::span<const uint8_t> blob) {
     MemoryStream stream;
     stream.data = blob.data();

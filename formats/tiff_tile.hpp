@@ -2,7 +2,9 @@
 // Pixel rows are in strip order: row 0 of the array is the first row of the strip, which
 // pyramid files use for the tile's bottom row (the tiles carry Orientation = bottom-left).
 #pragma once
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -61,6 +63,17 @@ std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size,
 // ExtraSamples tag are accepted, as the original tools write them).
 std::vector<uint8_t> decodeOrthoTiff(std::span<const uint8_t> blob, int size, int channels,
                                      const std::string& where);
+
+// The quantisation tables of a JPEG TIFF tile: for each component of its frame (the strip's
+// SOF), the 64 divisors of the table it uses (in the stream's zig-zag order), from the strip's
+// own stream or the JPEGTables tag; `ycbcr` when the tile is stored as YCbCr (Photometric).
+// nullopt for a tile of another compression. Throws Error (prefixed by `where`) for a damaged
+// stream or a component without its table.
+struct JpegTileTables {
+    bool ycbcr = false;
+    std::vector<std::array<uint16_t, 64>> components;
+};
+std::optional<JpegTileTables> jpegTileTables(std::span<const uint8_t> blob, const std::string& where);
 
 // The compression of a TIFF blob, for reports: "deflate", "deflate-legacy" (code 32946),
 // "lzw", "jpeg", "none", "packbits", "compression-N", or "invalid".

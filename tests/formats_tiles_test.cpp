@@ -232,6 +232,75 @@ TEST(OrthoTiff, YCbCrJpegTilesDecodeToRgb) {
               encodeTiff8(grey, size, size, 1, TiffCompression::Jpeg, 90));
 }
 
+// The quantisation tables of JPEG tiles, read back from the blob: at quality 50 libjpeg uses the
+// example tables of the JPEG standard (ITU T.81 Annex K, K.1 luminance and K.2 chrominance)
+// unscaled. RGB tiles code every component with table 0 (no colour transform); YCbCr tiles
+// code chroma with table 1. Other compressions have none; a cut blob is an error naming it.
+TEST(OrthoTiff, JpegTablesAreReadFromTheTile) {
+    // Natural (row-major) index of each zig-zag position, T.81 figure A.6.
+    const int zigzag[64] = {0,  1,  8,  16, 9,  2,  3,  10, 17, 24, 32, 25, 18, 11, 4,  5,  12, 19, 26, 33, 40, 48,
+                            41, 34, 27, 20, 13, 6,  7,  14, 21, 28, 35, 42, 49, 56, 57, 50, 43, 36, 29, 22, 15, 23,
+                            30, 37, 44, 51, 58, 59, 52, 45, 38, 31, 39, 46, 53, 60, 61, 54, 47, 55, 62, 63};
+    const int luminance[64] = {16, 11, 10, 16, 24,  40,  51,  61,  12, 12, 14, 19, 26,  58,  60,  55,
+                               14, 13, 16, 24, 40,  57,  69,  56,  14, 17, 22, 29, 51,  87,  80,  62,
+                               18, 22, 37, 56, 68,  109, 103, 77,  24, 35, 55, 64, 81,  104, 113, 92,
+                               49, 64, 78, 87, 103, 121, 120, 101, 72, 92, 95, 98, 112, 100, 103, 99};
+    int chrominance[64];
+    for (int k = 0; k < 64; ++k) {
+        const int row = k / 8, col = k % 8;
+        const int top[4][4] = {{17, 18, 24, 47}, {18, 21, 26, 66}, {24, 26, 56, 99}, {47, 66, 99, 99}};
+        chrominance[k] = row < 4 && col < 4 ? top[row][col] : 99;
+    }
+    const auto natural = [&](const std::array<uint16_t, 64>& table) {
+        std::array<int, 64> out{};
+        for (int k = 0; k < 64; ++k) {
+            out[static_cast<size_t>(zigzag[k])] = table[static_cast<size_t>(k)];
+        }
+        return out;
+    };
+    const int size = 32;
+    std::vector<uint8_t> pixels(size * size * 3);
+    for (size_t k = 0; k < pixels.size(); ++k) {
+        pixels[k] = static_cast<uint8_t>((k * 2654435761u) >> 24);
+    }
+    const auto rgb = jpegTileTables(encodeTiff8(pixels, size, size, 3, TiffCompression::Jpeg, 50), "t");
+    ASSERT_TRUE(rgb.has_value());
+    EXPECT_FALSE(rgb->ycbcr);
+    ASSERT_EQ(rgb->components.size(), 3u);
+    for (const auto& table : rgb->components) {
+        const std::array<int, 64> n = natural(table);
+        EXPECT_TRUE(std::equal(n.begin(), n.end(), luminance));
+    }
+    const auto ycbcr = jpegTileTables(encodeTiff8(pixels, size, size, 3, TiffCompression::JpegYCbCr, 50), "t");
+    ASSERT_TRUE(ycbcr.has_value());
+    EXPECT_TRUE(ycbcr->ycbcr);
+    ASSERT_EQ(ycbcr->components.size(), 3u);
+    const std::array<int, 64> y = natural(ycbcr->components[0]), cb = natural(ycbcr->components[1]);
+    EXPECT_TRUE(std::equal(y.begin(), y.end(), luminance));
+    EXPECT_TRUE(std::equal(cb.begin(), cb.end(), chrominance));
+    // Quality 100 divides by 1 everywhere; quality 90 by a fifth of the example table, rounded.
+    const auto best = jpegTileTables(encodeTiff8(pixels, size, size, 3, TiffCompression::Jpeg, 100), "t");
+    ASSERT_TRUE(best.has_value());
+    EXPECT_EQ(*std::max_element(best->components[0].begin(), best->components[0].end()), 1);
+    const auto q90 = jpegTileTables(encodeTiff8(pixels, size, size, 3, TiffCompression::Jpeg, 90), "t");
+    ASSERT_TRUE(q90.has_value());
+    EXPECT_EQ(natural(q90->components[0])[63], (99 * 20 + 50) / 100);
+    EXPECT_FALSE(jpegTileTables(encodeTiff8(pixels, size, size, 3, TiffCompression::Deflate), "t").has_value());
+    const std::vector<uint8_t> grey(size * size, 7);
+    const auto one = jpegTileTables(encodeTiff8(grey, size, size, 1, TiffCompression::Jpeg, 50), "t");
+    ASSERT_TRUE(one.has_value());
+    EXPECT_EQ(one->components.size(), 1u);
+    // The blob cut inside its strip: an error naming the tile.
+    std::vector<uint8_t> cut = encodeTiff8(pixels, size, size, 3, TiffCompression::Jpeg, 50);
+    cut.resize(cut.size() / 2);
+    try {
+        jpegTileTables(cut, "tile (3,1,2)");
+        ADD_FAILURE() << "a cut tile was read";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("tile (3,1,2)", 0), 0u) << e.what();
+    }
+}
+
 // encodeDxt must hand each quality level to its encoder: its bytes equal direct per-block
 // calls of the colour fit (levels 0 and 1: one and two refinements; DXT5 alpha blocks by
 // stb_compress_bc4_block) and a direct

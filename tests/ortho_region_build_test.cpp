@@ -257,8 +257,9 @@ TEST(OrthoRegionBuild, RefusesWhatCannotBeARegionOfThisBuild) {
 // (RGB.dat has the very header of residuals/RGB.dat), or the residuals of another input. The
 // rebuilt colours of the root's parent are not the input's, beyond the 1 the halved residuals
 // allow: refused, naming the file and what to name instead. Level 0 of the plain colours is
-// the residuals' (their root stores its colours), and a build with JPEG residuals is not
-// checked (JPEG's loss has no bound known ahead): both are taken.
+// the residuals' (their root stores its colours): taken. JPEG residuals are checked by the
+// parent's own quantisation tables: this input's are taken at any quality, another input's and
+// the plain colours are refused.
 TEST(OrthoRegionBuild, RefusesAParentThatDoesNotRebuildThisInputsColours) {
     Fixture f;
     std::vector<uint16_t> inverted = test::texturedColours(256, 256);
@@ -293,11 +294,37 @@ TEST(OrthoRegionBuild, RefusesAParentThatDoesNotRebuildThisInputsColours) {
     OrthoEncodeOptions jpeg = small();
     jpeg.residualCompression = TilePolicy::Jpeg;
     encodeOrtho(f.input, f.dir.file("jpeg"), jpeg);
+    encodeOrtho(f.dir.file("other.png"), f.dir.file("other-jpeg"), jpeg);
+    OrthoEncodeOptions coarse = jpeg;
+    coarse.jpegQuality = 20;
+    encodeOrtho(f.input, f.dir.file("jpeg20"), coarse);
+    const auto jpegRegion = [](OrthoEncodeOptions& o) { o.residualCompression = TilePolicy::Jpeg; };
     for (const RegionRoot& root : std::vector<RegionRoot>{{1, 1, 0}, {3, 5, 2}, {4, 9, 14}, {5, 31, 0}}) {
-        buildRegion(f, root, f.dir.file("j" + tileText(root)), f.dir.file("jpeg/residuals/RGB.dat"),
-                    [](OrthoEncodeOptions& o) { o.residualCompression = TilePolicy::Jpeg; });
+        buildRegion(f, root, f.dir.file("j" + tileText(root)), f.dir.file("jpeg/residuals/RGB.dat"), jpegRegion);
         expectRegionOfWhole(regionFilePath(f.dir.file("j" + tileText(root) + "/residuals/RGB.dat"), root),
                             f.dir.file("jpeg/residuals/RGB.dat"), root);
+        buildRegion(f, root, f.dir.file("q" + tileText(root)), f.dir.file("jpeg20/residuals/RGB.dat"), jpegRegion);
+        EXPECT_TRUE(fs::exists(regionFilePath(f.dir.file("q" + tileText(root) + "/residuals/RGB.dat"), root)));
+        for (const std::string& parent : {f.dir.file("other-jpeg/residuals/RGB.dat"), f.whole("RGB.dat")}) {
+            if (root.level == 1) {
+                // Level 0 (8 pixels of 32 x 32 averages) is about as grey in either input and in
+                // the plain colours: within JPEG's loss, as it is taken.
+                continue;
+            }
+            try {
+                buildRegion(f, root, f.dir.file("out"), parent, jpegRegion);
+                ADD_FAILURE() << "accepted " << tileText(root) << " " << parent;
+            } catch (const OptionError& e) {
+                const std::string expected = "parent: " + parent + " does not rebuild this input's colours at level " +
+                                             std::to_string(root.level - 1) + " (";
+                EXPECT_EQ(std::string(e.what()).rfind(expected, 0), 0u) << e.what();
+                const bool jpegParent = parent != f.whole("RGB.dat");
+                EXPECT_EQ(std::string(e.what()).find("in an 8 x 8 JPEG block, beyond the ") != std::string::npos,
+                          jpegParent)
+                    << e.what();
+            }
+            EXPECT_FALSE(fs::exists(f.dir.file("out")));
+        }
     }
 
     // The program: one line, a non-zero exit, nothing written.

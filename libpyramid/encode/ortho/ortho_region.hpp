@@ -31,7 +31,12 @@ struct OrthoRegionPlan {
         std::string expected;            // "residuals/RGB.dat": the build's colour residuals
         ColourSpace colourSpace = ColourSpace::Srgb;
         int tileSize = 0, channels = 0;
-        int maxError = 1;                // the residual coding's bound on a rebuilt colour
+        int maxError = 1;                // Deflate: the residual coding's bound on a rebuilt colour
+        // A parent whose tile is JPEG: its stored (decoded) tile, the rebuilt tile of its own
+        // parent (empty at level 0) and, for each channel, the bound its quantisation tables set
+        // on the error of the stored samples of one 8 x 8 block (the root of its sum of squares).
+        std::vector<uint8_t> jpegStored, jpegGrandparent;
+        std::vector<double> jpegBlockBound;
     } parent;
 
     // Whether the tile goes into the region's files.
@@ -40,10 +45,18 @@ struct OrthoRegionPlan {
     bool needed(int level, int tx, int ty) const;
     // The parent (parentRecon) must be this input's: its quarter over the root is the root's
     // true tile 2x2 averaged (levels are averages, ortho_levels.hpp), within the error the
-    // closed loop of the colour residuals leaves (doc/ortho-encoding.md, "Colour residuals").
+    // closed loop of the colour residuals leaves (doc/ortho-encoding.md, "Colour residuals"):
+    // with Deflate, its rebuilt colours within maxError; with JPEG, its stored residuals (the
+    // true tile's, against the prediction from its own parent's rebuilt colours) within the
+    // loss its quantisation tables allow, block by block.
     // Throws OptionError("parent") naming the parent file when it is not; nothing without a
     // parent. `root` is the root's true tile.
     void checkParent(const TrueTile& root) const;
+
+private:
+    // checkParent for a JPEG parent: `quarter` is the truth over the root, at (x0, y0) in the
+    // parent's tile.
+    void checkJpegParent(const Image8& quarter, int x0, int y0) const;
 };
 
 // Checks the request against the pyramid (one-line errors naming the option or the parent file)
