@@ -9,7 +9,7 @@
 # REPEAT (runs of each case compared with GDAL, default 3: the median wall time is reported;
 # the cases without a GDAL counterpart run once), INPUTS (the inputs to run, default all four),
 # LAYOUTS (the synthetic image's compressed copies whose default run is paired with GDAL too,
-# default "tiled-deflate lzw-strips bigtiff-tiled"; empty for none).
+# default "tiled-deflate lzw-strips bigtiff-tiled jpeg-tiled"; empty for none).
 #
 # Inputs: a deterministic synthetic SIZE x SIZE RGB image (bench/ortho_synthetic_image.cpp),
 # samples/bluemarble.png, a 5400x2700 upsampled copy of it, and a square 3072x3072 one (its
@@ -57,16 +57,18 @@ cp -f "$ROOT/samples/bluemarble.png" bluemarble.png
 
 INPUTS=${INPUTS:-synthetic-$SIZE.tif bluemarble.png bluemarble-5400.png bluemarble-3072.png}
 # The synthetic image in the layouts real imagery ships in, written by GDAL (the peer): 256 x 256
-# Deflate tiles with the horizontal predictor, LZW strips of 64 rows with it, and the tiles as a
-# BigTIFF. Both tools decode them; ours through its block cache (--cache-mb, 256 MB).
-LAYOUTS=${LAYOUTS-tiled-deflate lzw-strips bigtiff-tiled}
+# Deflate tiles with the horizontal predictor, LZW strips of 64 rows with it, the tiles as a
+# BigTIFF, and 256 x 256 JPEG tiles in YCbCr (quality 90, as aerial imagery ships). Both tools
+# decode them; ours through its block cache (--cache-mb, 256 MB).
+LAYOUTS=${LAYOUTS-tiled-deflate lzw-strips bigtiff-tiled jpeg-tiled}
 for layout in $LAYOUTS; do
     [ -f "synthetic-$SIZE-$layout.tif" ] && continue
     case $layout in
     tiled-deflate) options=(-co TILED=YES -co COMPRESS=DEFLATE -co PREDICTOR=2) ;;
     lzw-strips) options=(-co COMPRESS=LZW -co PREDICTOR=2 -co BLOCKYSIZE=64) ;;
     bigtiff-tiled) options=(-co BIGTIFF=YES -co TILED=YES -co COMPRESS=DEFLATE -co PREDICTOR=2) ;;
-    *) echo "LAYOUTS: unknown layout '$layout' (tiled-deflate, lzw-strips, bigtiff-tiled)" >&2; exit 2 ;;
+    jpeg-tiled) options=(-co TILED=YES -co COMPRESS=JPEG -co PHOTOMETRIC=YCBCR -co JPEG_QUALITY=90) ;;
+    *) echo "LAYOUTS: unknown layout '$layout' (tiled-deflate, lzw-strips, bigtiff-tiled, jpeg-tiled)" >&2; exit 2 ;;
     esac
     gdal_translate -q "${options[@]}" "synthetic-$SIZE.tif" "synthetic-$SIZE-$layout.part.tif"
     mv "synthetic-$SIZE-$layout.part.tif" "synthetic-$SIZE-$layout.tif"

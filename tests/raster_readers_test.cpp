@@ -12,12 +12,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <map>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "formats/error.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/input/tiff_block_reader.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {
@@ -105,12 +108,12 @@ std::vector<double> referenceSamples(const std::string& path, OIIO::ImageSpec& s
     return native;
 }
 
-void expectSameAsOpenImageIO(const std::string& path) {
+void expectSameAsOpenImageIO(const std::string& path, int cacheMegabytes = 256) {
     SCOPED_TRACE(path);
     OIIO::ImageSpec spec;
     std::string formatName;
     const std::vector<double> expected = referenceSamples(path, spec, formatName);
-    const auto source = RasterSource::open(path);
+    const auto source = RasterSource::open(path, cacheMegabytes);
     const RasterInfo& info = source->info();
     ASSERT_EQ(info.width, spec.width);
     ASSERT_EQ(info.height, spec.height);
@@ -204,6 +207,115 @@ TEST(RasterReaders, EveryLayoutReadsAsOpenImageIOReadsIt) {
             EXPECT_EQ(predictor, PREDICTOR_FLOATINGPOINT) << path;
         }
         expectSameAsOpenImageIO(path);
+    }
+}
+
+// A JPEG-compressed TIFF written with libtiff: 8-bit grey, RGB or YCbCr (2 x 2 chroma
+// subsampling, given as RGB and converted by libjpeg), in strips of `rows` or tiles of `tile`.
+void writeJpegTiff(const std::string& path, int w, int h, int channels, bool ycbcr, int tile, int rows) {
+    TIFF* tif = TIFFOpen(path.c_str(), "w");
+    ASSERT_TRUE(tif);
+    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, w);
+    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, h);
+    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, channels);
+    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 8);
+    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(tif, TIFFTAG_COMPRESSION, COMPRESSION_JPEG);
+    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC,
+                 channels == 1 ? PHOTOMETRIC_MINISBLACK : ycbcr ? PHOTOMETRIC_YCBCR : PHOTOMETRIC_RGB);
+    if (ycbcr) {
+        TIFFSetField(tif, TIFFTAG_YCBCRSUBSAMPLING, 2, 2);
+        TIFFSetField(tif, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
+    }
+    TIFFSetField(tif, TIFFTAG_JPEGQUALITY, 75);
+    const auto value = [&](int x, int y, int c) {
+        // Smooth colours with some detail, as photographs have.
+        return static_cast<uint8_t>((x * (3 + c) + y * (5 - c) + ((x * y + 7 * c) % 23) * 3) & 255);
+    };
+    if (tile) {
+        TIFFSetField(tif, TIFFTAG_TILEWIDTH, tile);
+        TIFFSetField(tif, TIFFTAG_TILELENGTH, tile);
+        std::vector<uint8_t> block(static_cast<size_t>(tile * tile * channels));
+        for (int ty = 0; ty < h; ty += tile) {
+            for (int tx = 0; tx < w; tx += tile) {
+                for (int y = 0; y < tile; ++y) {
+                    for (int x = 0; x < tile; ++x) {
+                        for (int c = 0; c < channels; ++c) {
+                            block[static_cast<size_t>((y * tile + x) * channels + c)] =
+                                value(std::min(tx + x, w - 1), std::min(ty + y, h - 1), c);
+                        }
+                    }
+                }
+                ASSERT_GE(TIFFWriteTile(tif, block.data(), static_cast<uint32_t>(tx), static_cast<uint32_t>(ty), 0, 0),
+                          0);
+            }
+        }
+    } else {
+        TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, rows);
+        for (int s = 0; s * rows < h; ++s) {
+            const int n = std::min(rows, h - s * rows);
+            std::vector<uint8_t> strip(static_cast<size_t>(n * w * channels));
+            for (int y = 0; y < n; ++y) {
+                for (int x = 0; x < w; ++x) {
+                    for (int c = 0; c < channels; ++c) {
+                        strip[static_cast<size_t>((y * w + x) * channels + c)] = value(x, s * rows + y, c);
+                    }
+                }
+            }
+            ASSERT_GE(TIFFWriteEncodedStrip(tif, static_cast<uint32_t>(s), strip.data(),
+                                            static_cast<tmsize_t>(strip.size())),
+                      0);
+        }
+    }
+    TIFFClose(tif);
+}
+
+// JPEG-compressed TIFFs are decoded by libtiff and libjpeg block by block (YCbCr converted to
+// RGB by libjpeg), the same samples as OpenImageIO's, without the module: tiles, strips, one
+// strip beyond the cache (decoded once, row by row), grey, RGB and YCbCr.
+TEST(RasterReaders, JpegTiffsAreReadBlockByBlockAsOpenImageIOReadsThem) {
+    test::TempDir dir;
+    struct Jpeg {
+        std::string name;
+        int w, h, channels;
+        bool ycbcr;
+        int tile, rows, cacheMegabytes;
+    };
+    for (const Jpeg& j : std::vector<Jpeg>{{"ycbcr-tiled.tif", 61, 37, 3, true, 16, 0, 256},
+                                           {"ycbcr-strips.tif", 61, 37, 3, true, 0, 16, 256},
+                                           {"rgb-strips.tif", 61, 37, 3, false, 0, 8, 256},
+                                           {"grey-tiled.tif", 61, 37, 1, false, 32, 0, 256},
+                                           {"ycbcr-one-strip.tif", 400, 300, 3, true, 0, 300, 1}}) {
+        const std::string path = dir.file(j.name);
+        writeJpegTiff(path, j.w, j.h, j.channels, j.ycbcr, j.tile, j.rows);
+        const RasterInfo info = RasterSource::describe(path);
+        EXPECT_EQ(info.channels, j.channels) << j.name;
+        EXPECT_NE(TiffBlockReader::open(path, info, j.cacheMegabytes), nullptr) << j.name;
+        expectSameAsOpenImageIO(path, j.cacheMegabytes);
+
+        // Its second block's entropy-coded data damaged: libjpeg decodes on, with a warning,
+        // which the reader makes an error naming the file and the block.
+        TIFF* tif = TIFFOpen(path.c_str(), "r");
+        ASSERT_TRUE(tif);
+        const uint32_t block = TIFFNumberOfStrips(tif) > 1 || TIFFIsTiled(tif) ? 1 : 0;
+        const uint64_t offset = TIFFGetStrileOffset(tif, block), count = TIFFGetStrileByteCount(tif, block);
+        TIFFClose(tif);
+        std::string bytes = test::readFile(path);
+        for (uint64_t k = offset + count / 2; k < offset + count / 2 + 12; ++k) {
+            bytes[static_cast<size_t>(k)] = static_cast<char>(k % 2 ? 0xFF : 0x00);
+        }
+        const std::string damaged = dir.file("damaged-" + j.name);
+        std::ofstream(damaged, std::ios::binary) << bytes;
+        const auto source = RasterSource::open(damaged, j.cacheMegabytes);
+        std::vector<uint8_t> pixels(static_cast<size_t>(j.w * j.h * j.channels));
+        try {
+            source->readUInt8(0, 0, j.w, j.h, 0, j.channels, pixels.data(), j.w * j.channels);
+            ADD_FAILURE() << "damaged " << j.name << " was read";
+        } catch (const Error& e) {
+            const std::string where = j.tile ? "tile 1" : block ? "strip 1" : "its strips";
+            EXPECT_EQ(std::string(e.what()).rfind(damaged + ": damaged JPEG data in " + where + ": ", 0), 0u)
+                << e.what();
+        }
     }
 }
 

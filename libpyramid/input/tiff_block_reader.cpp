@@ -49,15 +49,21 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
                           compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE ||
                           compression == COMPRESSION_PACKBITS || compression == COMPRESSION_ZSTD ||
                           compression == COMPRESSION_LZMA;
+    // JPEG (not the old-style JPEG of TIFF 6.0) of 8-bit samples: libjpeg decodes each block,
+    // YCbCr ones converted to RGB by libjpeg itself (JPEGCOLORMODE), as OpenImageIO reads them.
+    const bool jpeg = compression == COMPRESSION_JPEG && b->format_ == SAMPLEFORMAT_UINT && b->bits_ == 8;
+    b->jpeg_ = jpeg;
+    b->ycbcrJpeg_ = jpeg && photometric == PHOTOMETRIC_YCBCR && channels == 3;
     const bool integer = (b->format_ == SAMPLEFORMAT_INT || b->format_ == SAMPLEFORMAT_UINT) &&
                          (b->bits_ == 8 || b->bits_ == 16 || b->bits_ == 32);
     const bool real = b->format_ == SAMPLEFORMAT_IEEEFP && b->bits_ == 32;
-    // One band of grey, or several interleaved: grey with extra samples, RGB, RGBA (planes
-    // stored separately, palettes and YCbCr are left to the image I/O module).
+    // One band of grey, or several interleaved: grey with extra samples, RGB, RGBA, JPEG's YCbCr
+    // (planes stored separately, palettes and other YCbCr are left to the image I/O module).
     const bool layout = channels == static_cast<uint16_t>(info.channels) &&
-                        (photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3)) &&
+                        (photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3) ||
+                         b->ycbcrJpeg_) &&
                         (channels == 1 || planar == PLANARCONFIG_CONTIG);
-    const bool ok = lossless && (integer || real) && layout &&
+    const bool ok = (lossless || jpeg) && (integer || real) && layout &&
                     width == static_cast<uint32_t>(info.width) && height == static_cast<uint32_t>(info.height) &&
                     b->blockWidth_ > 0 && b->blockHeight_ > 0 && TIFFIsCODECConfigured(compression);
     if (!ok) {
@@ -95,6 +101,12 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
                                          std::to_string(b->blockHeight_) + " samples (" + std::to_string(megabytes) +
                                          " MB decoded) need a cache of at least " + std::to_string(4 * megabytes) +
                                          " MB, not " + std::to_string(cacheMegabytes));
+    }
+    if (b->jpeg_) {
+        TIFFClose(tif); // opened again as every JPEG handle is (openHandle)
+        if (!(tif = b->openHandle())) {
+            return nullptr;
+        }
     }
     b->idle_.push_back(tif);
     return b;
@@ -174,9 +186,11 @@ void TiffBlockReader::readAs(int x0, int y0, int x1, int y1, int c0, int c1, T* 
         } close{tif};
         auto rows = std::make_unique<ScratchFile>(path_);
         const size_t rowBytes = static_cast<size_t>(width_) * pixelBytes();
+        takeJpegWarning();
         streamTiffRows(tif, path_, [&](uint32_t y, const uint8_t* bytes) {
             rows->write(static_cast<uint64_t>(y) * rowBytes, bytes, rowBytes);
         });
+        failOnJpegWarning("its strips");
         rows_ = std::move(rows);
     });
     const size_t outWidth = static_cast<size_t>(x1 - x0);
@@ -240,7 +254,11 @@ void TiffBlockReader::readBlocks(int x0, int y0, int x1, int y1, int c0, int c1,
 // of the whole file, whose touched pages count against the process's memory as they stay
 // resident; read() copies each block into a buffer of its size instead.
 TIFF* TiffBlockReader::openHandle() const {
-    return openTiffQuietly(path_, "rm");
+    TIFF* tif = openTiffQuietly(path_, "rm", jpeg_);
+    if (tif && ycbcrJpeg_) {
+        TIFFSetField(tif, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB); // every handle decodes to RGB
+    }
+    return tif;
 }
 
 namespace {
@@ -301,11 +319,23 @@ void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& by
     }
     // Decoded in place, as libtiff gives the samples: host order, predictors undone.
     const auto size = static_cast<tmsize_t>(bytes.size());
+    takeJpegWarning();
     const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, bytes.data(), size)
                                 : TIFFReadEncodedStrip(tif, index, bytes.data(), size);
     // The last strip may hold fewer rows; missing rows are never read (outside the image).
     if (got < 0) {
         fail(path_, std::string("read failed: cannot decode ") + (tiled_ ? "tile " : "strip ") + std::to_string(index));
+    }
+    failOnJpegWarning(std::string(tiled_ ? "tile " : "strip ") + std::to_string(index));
+}
+
+// libjpeg decodes corrupt data on, warning once: the block is refused rather than used.
+void TiffBlockReader::failOnJpegWarning(const std::string& where) const {
+    if (jpeg_) {
+        const std::string warning = takeJpegWarning();
+        if (!warning.empty()) {
+            fail(path_, "damaged JPEG data in " + where + ": " + warning);
+        }
     }
 }
 

@@ -1,6 +1,7 @@
 // TIFF files of 8, 16 or 32-bit integers or float32, one band or several interleaved (grey,
 // grey and alpha, RGB, RGBA), compressed or not, striped or tiled, BigTIFF or not (whatever
-// libtiff decodes losslessly), in memory bounded by the cache budget whatever the file's size
+// libtiff decodes losslessly, and JPEG of 8-bit samples, YCbCr decoded to RGB by libjpeg as
+// OpenImageIO decodes it), in memory bounded by the cache budget whatever the file's size
 // and layout:
 // * strips and tiles up to a quarter of the budget are decoded one whole block at a time, in
 //   parallel (one TIFF handle per reading thread), into the shared block cache
@@ -64,6 +65,7 @@ private:
     template <typename T>
     void convertPixels(const uint8_t* from, size_t pixels, size_t c0, size_t wanted, T* to) const;
     void decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& bytes) const;
+    void failOnJpegWarning(const std::string& where) const;
     bool decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows, std::vector<uint8_t>& bytes) const;
     size_t pixelBytes() const { return static_cast<size_t>(channels_) * (bits_ / 8u); }
 
@@ -74,6 +76,8 @@ private:
     uint16_t bits_ = 0, format_ = 1; // SAMPLEFORMAT_UINT
     bool tiled_ = false;
     bool floatPredictorDeflate_ = false; // float32, Deflate, Predictor = 3: decoded here
+    bool jpeg_ = false;                  // JPEG: libjpeg's warnings are errors (failOnJpegWarning)
+    bool ycbcrJpeg_ = false;             // JPEG stored as YCbCr: decoded to RGB
     std::unique_ptr<BlockCache> cache_;   // blocks within the budget
     std::unique_ptr<ScratchFile> rows_;   // or the whole image's decoded rows, for huge strips
     std::once_flag spilled_;              // rows_ filled

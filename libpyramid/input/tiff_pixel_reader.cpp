@@ -9,7 +9,9 @@
 #include <bit>
 #include <cerrno>
 #include <cstdarg>
+#include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "formats/file_io.hpp"
 
@@ -18,6 +20,19 @@ namespace pyramid {
 namespace {
 
 int ignoreTiffMessage(TIFF*, void*, const char*, const char*, va_list) { return 1; }
+
+// The first libjpeg warning of this thread's decoding (libtiff names libjpeg "JPEGLib").
+thread_local std::string jpegWarning;
+
+int noteJpegWarning(TIFF*, void*, const char* module, const char* format, va_list arguments) {
+    if (module && std::strcmp(module, "JPEGLib") == 0 && jpegWarning.empty()) {
+        char text[256];
+        std::vsnprintf(text, sizeof text, format, arguments);
+        jpegWarning = text;
+        jpegWarning.erase(jpegWarning.find_last_not_of(" .\n") + 1);
+    }
+    return 1;
+}
 
 } // namespace
 
@@ -57,14 +72,16 @@ std::string tiffBlockBeyondTheFile(const std::string& path) {
     return problem;
 }
 
-TIFF* openTiffQuietly(const std::string& path, const char* mode) {
+TIFF* openTiffQuietly(const std::string& path, const char* mode, bool noteJpegWarnings) {
     TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
     TIFFOpenOptionsSetErrorHandlerExtR(options, ignoreTiffMessage, nullptr);
-    TIFFOpenOptionsSetWarningHandlerExtR(options, ignoreTiffMessage, nullptr);
+    TIFFOpenOptionsSetWarningHandlerExtR(options, noteJpegWarnings ? noteJpegWarning : ignoreTiffMessage, nullptr);
     TIFF* tif = TIFFOpenExt(path.c_str(), mode, options);
     TIFFOpenOptionsFree(options);
     return tif;
 }
+
+std::string takeJpegWarning() { return std::exchange(jpegWarning, std::string()); }
 
 std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, int width, int height, int channels,
                                                        int bytesPerSample, bool floatSamples) {

@@ -19,7 +19,11 @@ namespace pyramid {
 // Opens a TIFF input with libtiff in `mode` ("r", or "rm" without memory mapping), its errors
 // and warnings silenced: a file libtiff cannot read is left to OpenImageIO, whose message names
 // the problem, and GeoTIFF tags libtiff does not know are no concern. Null when it fails.
-TIFF* openTiffQuietly(const std::string& path, const char* mode);
+// With `noteJpegWarnings`, the warnings libjpeg gives through libtiff (corrupt JPEG data, which
+// libjpeg decodes on regardless) are kept instead, for takeJpegWarning.
+TIFF* openTiffQuietly(const std::string& path, const char* mode, bool noteJpegWarnings = false);
+// The first JPEG warning noted on this thread since the last call (empty if none), cleared.
+std::string takeJpegWarning();
 
 // Whether strip or tile `index` of `tif` (its offset and byte count) lies within the file, whose
 // size fstat gives. libtiff's own reading of a block that does not (an offset near 2^63 in a

@@ -26,7 +26,10 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     TIFFGetFieldDefaulted(tif, TIFFTAG_PLANARCONFIG, &planar);
     TIFFClose(tif);
 
-    const bool photometricOk = photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3);
+    // YCbCr only as JPEG stores it, which libjpeg decodes to RGB (tiff_block_reader.hpp).
+    const bool photometricOk = photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3) ||
+                               (photometric == PHOTOMETRIC_YCBCR && compression == COMPRESSION_JPEG && channels == 3 &&
+                                bits == 8 && format == SAMPLEFORMAT_UINT);
     const bool layoutOk = planar == PLANARCONFIG_CONTIG || channels == 1;
     SampleType type = SampleType::Other;
     if (format == SAMPLEFORMAT_UINT || format == SAMPLEFORMAT_INT) {
