@@ -18,7 +18,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
     auto heightScale = std::make_shared<std::string>("1");
     auto name = std::make_shared<std::string>("DEM");
     addDemOptions(app, args,
-                  "Elevation map: a GeoTIFF where its georeferencing places it, else equirectangular with column 0 "
+                  "Elevation map: a GeoTIFF (or SRTM .hgt) where its georeferencing places it, else equirectangular with column 0 "
                   "at longitude -180 (or the extent's west), row 0 at the north; pixel centres",
                   "Directory to write NAME1.dat .. NAME6.dat into",
                   "maxLevel of every face, counted from the root tile (default: the smallest whose faces are as fine as the "

@@ -91,17 +91,19 @@ TEST(InputList, MissingOrIrregularFilesAndEmptyInputsAreRefused) {
     EXPECT_EQ(errorOf({}), "no input file given");
 }
 
-TEST(InputList, DirectoryGivesItsTiffsSortedByName) {
+TEST(InputList, DirectoryGivesItsTiffsAndHeightFilesSortedByName) {
     test::TempDir dir;
     const std::string t = dir.file("tiles");
     touch({t + "/b.tif", t + "/A.TIFF", t + "/c.Tif", t + "/a.tif", t + "/notes.txt", t + "/x.png", t + "/tif",
-           t + "/a.tif.aux.xml", t + "/.hidden.tif", t + "/._b.tif", t + "/sub.tif/inner.tif", t + "/deeper/z.tif"});
+           t + "/a.tif.aux.xml", t + "/.hidden.tif", t + "/._b.tif", t + "/sub.tif/inner.tif", t + "/deeper/z.tif",
+           t + "/N46W122.hgt", t + "/N46W122.hgt.aux.xml"});
     // Byte order: capitals first, whatever the locale.
-    const Paths expected{t + "/A.TIFF", t + "/a.tif", t + "/b.tif", t + "/c.Tif"};
+    const Paths expected{t + "/A.TIFF", t + "/N46W122.hgt", t + "/a.tif", t + "/b.tif", t + "/c.Tif"};
     EXPECT_EQ(expandInputs({t}).paths, expected);
     EXPECT_EQ(expandInputs({t + "/"}).paths, expected);
     // A file named before the directory keeps its place; the directory does not repeat it.
-    EXPECT_EQ(expandInputs({t + "/b.tif", t}).paths, (Paths{t + "/b.tif", t + "/A.TIFF", t + "/a.tif", t + "/c.Tif"}));
+    EXPECT_EQ(expandInputs({t + "/b.tif", t}).paths,
+              (Paths{t + "/b.tif", t + "/A.TIFF", t + "/N46W122.hgt", t + "/a.tif", t + "/c.Tif"}));
 }
 
 TEST(InputList, DirectoryWithoutTiffsIsRefused) {
@@ -110,8 +112,8 @@ TEST(InputList, DirectoryWithoutTiffsIsRefused) {
     const std::string others = dir.file("others");
     fs::create_directories(empty);
     touch({others + "/x.png", others + "/.y.tif", others + "/sub/z.tif"});
-    EXPECT_EQ(errorOf({empty}), empty + ": the directory holds no .tif or .tiff file");
-    EXPECT_EQ(errorOf({others}), others + ": the directory holds no .tif or .tiff file");
+    EXPECT_EQ(errorOf({empty}), empty + ": the directory holds no .tif, .tiff or .hgt file");
+    EXPECT_EQ(errorOf({others}), others + ": the directory holds no .tif, .tiff or .hgt file");
 }
 
 TEST(InputList, GlobPatternsAreExpandedSorted) {

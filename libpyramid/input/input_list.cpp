@@ -451,7 +451,7 @@ private:
         }
     }
 
-    // The directory's .tif and .tiff entries (no hidden ones, no subdirectories), by name.
+    // The directory's .tif, .tiff and .hgt entries (no hidden ones, no subdirectories), by name.
     void addDirectory(const std::string& path, const std::string& origin) {
         const std::string where = within(origin, path);
         std::vector<std::string> names;
@@ -462,7 +462,8 @@ private:
         }
         for (; it != fs::directory_iterator(); it.increment(ec)) {
             const std::string name = it->path().filename().string();
-            if (name.empty() || name[0] == '.' || !(endsWithNoCase(name, ".tif") || endsWithNoCase(name, ".tiff"))) {
+            if (name.empty() || name[0] == '.' || !(endsWithNoCase(name, ".tif") || endsWithNoCase(name, ".tiff") ||
+                                                     endsWithNoCase(name, ".hgt"))) {
                 continue;
             }
             std::error_code typeError;
@@ -475,7 +476,7 @@ private:
             fail(where, "cannot list the directory: " + ec.message());
         }
         if (names.empty()) {
-            fail(where, "the directory holds no .tif or .tiff file");
+            fail(where, "the directory holds no .tif, .tiff or .hgt file");
         }
         std::sort(names.begin(), names.end());
         for (const std::string& name : names) {

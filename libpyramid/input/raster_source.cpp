@@ -12,6 +12,7 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "libpyramid/input/image_io_module.hpp"
+#include "libpyramid/input/hgt_raster_reader.hpp"
 #include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
@@ -27,6 +28,7 @@ struct RasterSource::Impl {
     std::unique_ptr<TiffPixelReader> floats; // uncompressed float32 TIFF: one pread per row
     std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block
     std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
+    std::unique_ptr<HgtRasterReader> hgt;    // SRTM .hgt heights: one pread per row
     std::unique_ptr<PngRasterReader> png;    // 8/16-bit PNG, decoded whole
     std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
     std::shared_ptr<const RasterPixels> computed; // or pixels a caller computes
@@ -132,6 +134,8 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
             impl.pixels = TiffPixelReader::open(path, info.width, info.height, info.channels,
                                                 info.type == SampleType::UInt8 ? 1 : 2);
         }
+    } else if ((impl.hgt = HgtRasterReader::open(path))) {
+        info = impl.hgt->info();
     } else if ((impl.png = PngRasterReader::open(path, cacheMegabytes))) {
         info = impl.png->info();
     } else {
@@ -250,6 +254,10 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
         impl.blocks->read(x0, y0, x1, y1, channel, channel + 1, out);
         return;
     }
+    if (impl.hgt) {
+        impl.hgt->readFloat(x0, y0, x1, y1, out);
+        return;
+    }
     if (impl.png) {
         impl.png->readFloat(x0, y0, x1, y1, channel, out);
         return;
@@ -323,6 +331,9 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
     if (impl.png) {
         impl.png->readUInt16(x0, y0, x1, y1, c0, c1, out);
         return;
+    }
+    if (impl.hgt) {
+        fail(path_, "holds signed 16-bit heights, not 8 or 16-bit colours");
     }
     const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0);
     if (impl.blocks && (info_.type == SampleType::UInt8 || info_.type == SampleType::UInt16)) {

@@ -1,0 +1,129 @@
+#include "libpyramid/input/hgt_raster_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+#include "formats/error.hpp"
+#include "formats/file_io.hpp"
+
+namespace pyramid {
+
+namespace {
+
+bool endsWithHgt(const std::string& name) {
+    if (name.size() < 4) {
+        return false;
+    }
+    std::string tail = name.substr(name.size() - 4);
+    for (char& ch : tail) {
+        ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    }
+    return tail == ".hgt";
+}
+
+// The south-west corner the name gives: N|S two digits, E|W three digits, at the start of the
+// stem and followed by its end or a dot. False when the name gives none.
+bool cellOf(const std::string& stem, int& latitude, int& longitude) {
+    if (stem.size() < 7 || (stem.size() > 7 && stem[7] != '.')) {
+        return false;
+    }
+    const char ns = static_cast<char>(std::toupper(static_cast<unsigned char>(stem[0])));
+    const char ew = static_cast<char>(std::toupper(static_cast<unsigned char>(stem[3])));
+    const auto digits = [&](size_t from, size_t count, int& value) {
+        value = 0;
+        for (size_t k = from; k < from + count; ++k) {
+            if (!std::isdigit(static_cast<unsigned char>(stem[k]))) {
+                return false;
+            }
+            value = value * 10 + (stem[k] - '0');
+        }
+        return true;
+    };
+    int lat = 0, lon = 0;
+    if ((ns != 'N' && ns != 'S') || (ew != 'E' && ew != 'W') || !digits(1, 2, lat) || !digits(4, 3, lon)) {
+        return false;
+    }
+    latitude = ns == 'N' ? lat : -lat;
+    longitude = ew == 'E' ? lon : -lon;
+    return latitude >= -90 && latitude <= 89 && longitude >= -180 && longitude <= 179;
+}
+
+} // namespace
+
+std::unique_ptr<HgtRasterReader> HgtRasterReader::open(const std::string& path) {
+    if (!endsWithHgt(path)) {
+        return nullptr;
+    }
+    const std::string name = std::filesystem::path(path).filename().string();
+    int latitude = 0, longitude = 0;
+    if (!cellOf(name.substr(0, name.size() - 4), latitude, longitude)) {
+        fail(path, "an SRTM height file's name must begin with its south-west corner, such as N46W122.hgt "
+                   "(latitude N or S 00-89, longitude E or W 000-179)");
+    }
+    std::unique_ptr<HgtRasterReader> r(new HgtRasterReader());
+    r->path_ = path;
+    r->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (r->fd_ < 0) {
+        fail(path, std::string("cannot open: ") + std::strerror(errno));
+    }
+    struct stat st {};
+    if (fstat(r->fd_, &st) != 0) {
+        fail(path, std::string("cannot read: ") + std::strerror(errno));
+    }
+    const auto bytes = static_cast<uint64_t>(st.st_size);
+    const auto side = static_cast<uint64_t>(std::llround(std::sqrt(static_cast<double>(bytes / 2))));
+    if (bytes < 8 || side * side * 2 != bytes || side > 0x7fffffffu) {
+        fail(path, "an SRTM height file holds a square of 16-bit heights (1201 x 1201 or 3601 x 3601): " +
+                       std::to_string(bytes) + " bytes is none");
+    }
+    RasterInfo& info = r->info_;
+    info.width = info.height = static_cast<int>(side);
+    info.channels = 1;
+    info.type = SampleType::Int16;
+    info.formatName = "hgt";
+    info.nodata = -32768.0;
+    Georeference g;
+    g.projected = false;
+    g.epsg = 4326;
+    g.name = "WGS 84";
+    g.semiMajorAxis = 6378137.0;
+    g.flattening = 1.0 / 298.257223563;
+    const double step = 1.0 / static_cast<double>(side - 1);
+    // PixelIsArea coordinates: sample (col, row) is the point (lon + col step, lat + 1 - row step).
+    g.pixelToCrs = {longitude - step / 2, step, 0.0, latitude + 1 + step / 2, 0.0, -step};
+    g.pixelIsPoint = true;
+    info.georeference = g;
+    return r;
+}
+
+HgtRasterReader::~HgtRasterReader() {
+    if (fd_ >= 0) {
+        ::close(fd_);
+    }
+}
+
+void HgtRasterReader::readFloat(int x0, int y0, int x1, int y1, float* out) const {
+    const auto width = static_cast<size_t>(x1 - x0);
+    thread_local std::vector<uint8_t> row;
+    row.resize(width * 2);
+    for (int y = y0; y < y1; ++y) {
+        const uint64_t offset = (static_cast<uint64_t>(y) * static_cast<uint64_t>(info_.width) + static_cast<uint64_t>(x0)) * 2;
+        if (!readFully(fd_, row.data(), row.size(), offset)) {
+            fail(path_, std::string("read failed: ") + (errno ? std::strerror(errno) : "file too short"));
+        }
+        float* to = out + static_cast<size_t>(y - y0) * width;
+        for (size_t x = 0; x < width; ++x) {
+            to[x] = static_cast<float>(static_cast<int16_t>(static_cast<uint16_t>((row[2 * x] << 8) | row[2 * x + 1])));
+        }
+    }
+}
+
+} // namespace pyramid
