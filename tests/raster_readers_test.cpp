@@ -227,6 +227,10 @@ void writeJpegTiff(const std::string& path, int w, int h, int channels, bool ycb
         TIFFSetField(tif, TIFFTAG_YCBCRSUBSAMPLING, 2, 2);
         TIFFSetField(tif, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
     }
+    if (channels == 4) {
+        const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
+        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, 1, &alpha);
+    }
     TIFFSetField(tif, TIFFTAG_JPEGQUALITY, 75);
     const auto value = [&](int x, int y, int c) {
         // Smooth colours with some detail, as photographs have.
@@ -317,6 +321,35 @@ TEST(RasterReaders, JpegTiffsAreReadBlockByBlockAsOpenImageIOReadsThem) {
                 << e.what();
         }
     }
+}
+
+// RGBA JPEG (unassociated alpha): the colours as stored, as libtiff decodes them, not multiplied
+// by alpha (which OpenImageIO does for these files whatever its unassociated-alpha setting).
+TEST(RasterReaders, RgbaJpegTiffsGiveTheirStoredColours) {
+    test::TempDir dir;
+    const std::string path = dir.file("rgba.tif");
+    const int w = 40, h = 24;
+    writeJpegTiff(path, w, h, 4, false, 16, 0);
+    TIFF* tif = TIFFOpen(path.c_str(), "r");
+    ASSERT_TRUE(tif);
+    std::vector<uint8_t> expected(static_cast<size_t>(w * h * 4)), block(static_cast<size_t>(TIFFTileSize(tif)));
+    for (int ty = 0; ty < h; ty += 16) {
+        for (int tx = 0; tx < w; tx += 16) {
+            ASSERT_GE(TIFFReadTile(tif, block.data(), static_cast<uint32_t>(tx), static_cast<uint32_t>(ty), 0, 0), 0);
+            for (int y = ty; y < std::min(h, ty + 16); ++y) {
+                for (int x = tx; x < std::min(w, tx + 16); ++x) {
+                    std::copy_n(&block[static_cast<size_t>(((y - ty) * 16 + (x - tx)) * 4)], 4,
+                                &expected[static_cast<size_t>((y * w + x) * 4)]);
+                }
+            }
+        }
+    }
+    TIFFClose(tif);
+    std::vector<uint8_t> got(expected.size());
+    RasterSource::open(path)->readUInt8(0, 0, w, h, 0, 4, got.data(), w * 4);
+    EXPECT_EQ(got, expected);
+    // The alpha of this pattern is not all opaque: multiplied colours would differ.
+    EXPECT_NE(*std::min_element(expected.begin(), expected.end()), 255);
 }
 
 // A palette PNG, and one with a transparency chunk, are left to OpenImageIO, which expands
