@@ -110,20 +110,21 @@ HgtRasterReader::~HgtRasterReader() {
     }
 }
 
-void HgtRasterReader::readFloat(int x0, int y0, int x1, int y1, float* out) const {
+bool HgtRasterReader::readFloat(int x0, int y0, int x1, int y1, float* out) const {
     const auto width = static_cast<size_t>(x1 - x0);
     thread_local std::vector<uint8_t> row;
     row.resize(width * 2);
     for (int y = y0; y < y1; ++y) {
         const uint64_t offset = (static_cast<uint64_t>(y) * static_cast<uint64_t>(info_.width) + static_cast<uint64_t>(x0)) * 2;
         if (!readFully(fd_, row.data(), row.size(), offset)) {
-            fail(path_, std::string("read failed: ") + (errno ? std::strerror(errno) : "file too short"));
+            return false;
         }
         float* to = out + static_cast<size_t>(y - y0) * width;
         for (size_t x = 0; x < width; ++x) {
             to[x] = static_cast<float>(static_cast<int16_t>(static_cast<uint16_t>((row[2 * x] << 8) | row[2 * x + 1])));
         }
     }
+    return true;
 }
 
 } // namespace pyramid

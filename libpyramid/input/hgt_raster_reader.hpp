@@ -25,8 +25,9 @@ public:
 
     const RasterInfo& info() const { return info_; }
     // Columns [x0, x1) of rows [y0, y1), row-major, north first, as float32 by value (the
-    // window is checked by the caller). Throws Error on a read error. Thread-safe.
-    void readFloat(int x0, int y0, int x1, int y1, float* out) const;
+    // window is checked by the caller). False on a read error or a short file (errno set, 0
+    // when short), as TiffPixelReader's reads. Thread-safe.
+    bool readFloat(int x0, int y0, int x1, int y1, float* out) const;
 
 private:
     HgtRasterReader() = default;

@@ -255,7 +255,9 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
         return;
     }
     if (impl.hgt) {
-        impl.hgt->readFloat(x0, y0, x1, y1, out);
+        if (!impl.hgt->readFloat(x0, y0, x1, y1, out)) {
+            failRead(path_);
+        }
         return;
     }
     if (impl.png) {

@@ -186,7 +186,9 @@ void TiffBlockReader::readAs(int x0, int y0, int x1, int y1, int c0, int c1, T* 
         } close{tif};
         auto rows = std::make_unique<ScratchFile>(path_);
         const size_t rowBytes = static_cast<size_t>(width_) * pixelBytes();
-        takeJpegWarning();
+        if (jpeg_) {
+            takeJpegWarning();
+        }
         streamTiffRows(tif, path_, [&](uint32_t y, const uint8_t* bytes) {
             rows->write(static_cast<uint64_t>(y) * rowBytes, bytes, rowBytes);
         });
@@ -319,7 +321,9 @@ void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& by
     }
     // Decoded in place, as libtiff gives the samples: host order, predictors undone.
     const auto size = static_cast<tmsize_t>(bytes.size());
-    takeJpegWarning();
+    if (jpeg_) {
+        takeJpegWarning(); // none of an earlier block's
+    }
     const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, bytes.data(), size)
                                 : TIFFReadEncodedStrip(tif, index, bytes.data(), size);
     // The last strip may hold fewer rows; missing rows are never read (outside the image).
