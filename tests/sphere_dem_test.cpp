@@ -256,6 +256,116 @@ TEST(SphericalDem, PartialExtentFillsTheRest) {
     EXPECT_FALSE(std::filesystem::exists(dir.file("out") + "/DEM1.dat"));
 }
 
+// A map of one region (longitudes -30..60, latitudes 10..70: faces 1, 3 and 4) holding heights
+// from 300 to 700: the rest of the planet is nodata, filled as one surface.
+std::string writeRegionMap(const test::TempDir& dir) {
+    const int W = 90, H = 60;
+    std::vector<float> v(static_cast<size_t>(W) * H);
+    for (int j = 0; j < H; ++j) {
+        for (int i = 0; i < W; ++i) {
+            const double lat = 70.0 - (j + 0.5), lon = -30.0 + (i + 0.5);
+            v[static_cast<size_t>(i + j * W)] =
+                static_cast<float>(500.0 + 150.0 * std::sin(lon * kPi / 45.0) + 50.0 * std::cos(lat * kPi / 30.0));
+        }
+    }
+    const std::string path = dir.file("region.tif");
+    test::writeFloatRaster(path, W, H, v);
+    return path;
+}
+
+SphericalDemOptions regionOptions() {
+    SphericalDemOptions o = smallOptions();
+    o.extent = GeoExtent::parse("-30,10,60,70");
+    return o;
+}
+
+// The largest difference between the values that faces' tiles of `level` hold at one cube point
+// (edges, corners, the borders beyond one edge); counts the points compared.
+double sharedPointSpread(const Recon& recon, int level, int64_t& compared) {
+    const int T = 8, minLevel = 1, R = 4;
+    const int64_t Nl = static_cast<int64_t>(R) << level;
+    const FaceGrid grid{Nl, FaceGridKind::Vertices};
+    const int side = level < minLevel ? 1 : 1 << (level - minLevel);
+    const int n = level < minLevel ? T >> (minLevel - level) : T;
+    std::map<std::tuple<int64_t, int64_t, int64_t>, std::pair<float, float>> range; // smallest, largest
+    for (int face = 1; face <= 6; ++face) {
+        for (int ty = 0; ty < side; ++ty) {
+            for (int tx = 0; tx < side; ++tx) {
+                const std::vector<float>& z = recon.at({face, level, tx, ty});
+                for (int j = 0; j < n + 5; ++j) {
+                    for (int i = 0; i < n + 5; ++i) {
+                        const int64_t x = static_cast<int64_t>(tx) * n + i - 2, y = static_cast<int64_t>(ty) * n + j - 2;
+                        if ((x < 0 || x > Nl) && (y < 0 || y > Nl)) {
+                            continue; // beyond a cube corner: the face's own
+                        }
+                        const CubePoint p = cubePoint(grid, FaceSample{face, x, y});
+                        const float v = z[static_cast<size_t>(i + j * (n + 5))];
+                        auto [it, fresh] = range.try_emplace({p.x, p.y, p.z}, v, v);
+                        if (!fresh) {
+                            it->second.first = std::min(it->second.first, v);
+                            it->second.second = std::max(it->second.second, v);
+                            ++compared;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    double spread = 0.0;
+    for (const auto& [key, r] : range) {
+        spread = std::max(spread, static_cast<double>(r.second - r.first));
+    }
+    return spread;
+}
+
+TEST(SphericalDem, NodataIsFilledAsOneSurfaceAcrossTheCube) {
+    test::TempDir dir;
+    const std::string map = writeRegionMap(dir);
+    SphericalDemOptions o = regionOptions();
+    Recon recon;
+    o.reconstruction = [&](int f, int l, int tx, int ty, const std::vector<float>& z) { recon[{f, l, tx, ty}] = z; };
+    const SphericalDemReport r = encodeSphericalDem(map, dir.file("out"), o);
+    ASSERT_EQ(r.faces.size(), 6u);
+    EXPECT_EQ(r.faces[5].dem.levels.back().samples, 0); // face 6 (south pole): no source height
+    // The root tiles: every cube point that several faces hold has one value in all of them.
+    int64_t compared = 0;
+    EXPECT_EQ(sharedPointSpread(recon, 0, compared), 0.0);
+    EXPECT_GT(compared, 6 * 4 * 4);
+    // The fill stays within the source heights (300 to 700) everywhere, faces without a source
+    // height included (not 0, not a constant of their own).
+    float low = 1e9f, high = -1e9f;
+    for (int face = 1; face <= 6; ++face) {
+        for (const float z : recon.at({face, 0, 0, 0})) {
+            low = std::min(low, z), high = std::max(high, z);
+        }
+    }
+    EXPECT_GT(low, 300.0f - 0.125f);
+    EXPECT_LT(high, 700.0f + 0.125f);
+    // Deeper levels predict the holes from these roots, each face with its own tiles: where
+    // faces meet, the filled heights meet too, but for a few metres where a cube corner lies
+    // next to the map's edge (each face unfolds the corner its own way). A fill of each face
+    // from its own samples left steps of 520 m here.
+    for (int level = 1; level <= 3; ++level) {
+        compared = 0;
+        EXPECT_LT(sharedPointSpread(recon, level, compared), 12.0) << "level " << level;
+        EXPECT_GT(compared, 0);
+    }
+}
+
+TEST(SphericalDem, AFaceBuiltAloneIsTheFaceOfTheWholePlanet) {
+    test::TempDir dir;
+    const std::string map = writeRegionMap(dir);
+    SphericalDemOptions o = regionOptions();
+    encodeSphericalDem(map, dir.file("all"), o);
+    for (const int face : {3, 6}) { // one the map reaches, one it does not
+        o.faces = {face};
+        const std::string alone = dir.file("face" + std::to_string(face));
+        encodeSphericalDem(map, alone, o);
+        const std::string name = "/DEM" + std::to_string(face) + ".dat";
+        EXPECT_EQ(test::readFile(alone + name), test::readFile(dir.file("all") + name)) << name;
+    }
+}
+
 TEST(SphericalDem, BadInputWritesNothing) {
     test::TempDir dir;
     const std::string map = writeGlobalMap(dir, 36, 18, smoothHeight);

@@ -1,6 +1,7 @@
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -8,6 +9,7 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_set.hpp"
 #include "formats/staging_directory.hpp"
+#include "libpyramid/encode/dem/sphere_root_fill.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
@@ -103,6 +105,11 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     if (!o.share) {
         staging = std::make_unique<StagingDirectory>(directory);
     }
+    // The faces' root nodata is one surface: solved before any face, for all six whatever
+    // options.faces holds, so that each face's bytes are those of a whole planet's build.
+    const int64_t R = static_cast<int64_t>(header.tileSize >> header.minLevel);
+    const std::array<GivenRootFill, kCubeFaceCount> rootFills =
+        solveSphereRootFill(map, body, options.heightScale, N, R, workerThreads(o.threads));
     const int64_t faceTiles = header.tileCount();
     const int64_t totalTiles = faceTiles * static_cast<int64_t>(options.faces.size());
     int64_t finished = 0; // tiles of the faces already done
@@ -114,7 +121,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         job.header = header;
         job.heights = &heights;
         job.edges = GridEdges::Folded;
-        job.emptyFill = 0.0f; // a face the map does not reach at all lies at height 0
+        job.rootFill = &rootFills[static_cast<size_t>(face - 1)];
         job.input = input;
         job.pyramid = static_cast<int>(report.faces.size());
         job.pyramids = static_cast<int>(options.faces.size());

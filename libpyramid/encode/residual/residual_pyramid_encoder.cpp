@@ -663,7 +663,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                 b0 = b1;
             }
         });
-        fillRootNodata(plan, grid, *job.heights, threads, job.emptyFill, job.input);
+        fillRootNodata(plan, grid, *job.heights, threads, job.emptyFill, job.rootFill, job.input);
     }
 
     double scale = options.scale;

@@ -104,6 +104,8 @@ struct ResidualPyramidReport {
     int threads = 0;
 };
 
+struct GivenRootFill; // root_fill.hpp
+
 struct ResidualPyramidJob {
     ResidualHeader header;           // minLevel, maxLevel and tileSize; the scale comes from the options
     const HeightSource* heights = nullptr;
@@ -111,6 +113,9 @@ struct ResidualPyramidJob {
     // The height given to every sample of a pyramid that has no valid sample at all (a cube face
     // outside a partial extent); none: such a pyramid is an error.
     std::optional<float> emptyFill;
+    // Root values solved with other pyramids' (a planet's faces, root_fill.hpp); none: the root's
+    // nodata is solved from this pyramid's own samples. Used in place of emptyFill.
+    const GivenRootFill* rootFill = nullptr;
     std::string input;               // names the input in messages
     // The files that go with the pyramid (its georeference sidecar), put in place together with
     // it (residual_output.hpp).

@@ -1,7 +1,9 @@
 #include "libpyramid/encode/residual/root_fill.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -58,7 +60,7 @@ std::pair<double, int64_t> finestValid(const ResidualPlan& plan, const HeightSou
 } // namespace
 
 void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSource& heights, int threads,
-                    std::optional<float> emptyFill, const std::string& input) {
+                    std::optional<float> emptyFill, const GivenRootFill* given, const std::string& input) {
     const int64_t border = plan.folded ? 2 : 0;
     const int64_t side = plan.R + 1 + 2 * border;
     const int64_t unit = int64_t{1} << plan.M;
@@ -78,7 +80,14 @@ void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSour
     if (valid == static_cast<int64_t>(idx.size())) {
         return;
     }
-    if (valid == 0) {
+    if (given && given->value.size() != idx.size()) {
+        fail(input, "internal error: a given root fill of " + std::to_string(given->value.size()) +
+                        " values for a root grid of " + std::to_string(idx.size()));
+    }
+    if (given) {
+        sum = given->start;
+        valid = 1;
+    } else if (valid == 0) {
         for (size_t s = 0; s < grid.valid.size(); ++s) {
             if (grid.valid[s]) {
                 sum += grid.height[s];
@@ -100,11 +109,19 @@ void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSour
     const float mean = static_cast<float>(sum / static_cast<double>(valid));
     std::vector<double> v(idx.size());
     std::vector<bool> fixed(idx.size());
+    std::vector<bool> filled(idx.size()); // nodata, given a value or solved here
+    bool sweeps = false;
     for (size_t k = 0; k < idx.size(); ++k) {
         fixed[k] = grid.valid[idx[k]] != 0;
+        filled[k] = !fixed[k];
         v[k] = fixed[k] ? grid.height[idx[k]] : mean;
+        if (!fixed[k] && given && !std::isnan(given->value[k])) {
+            v[k] = given->value[k];
+            fixed[k] = true;
+        }
+        sweeps = sweeps || !fixed[k];
     }
-    for (int sweep = 0; sweep < 500; ++sweep) {
+    for (int sweep = 0; sweeps && sweep < 500; ++sweep) {
         for (int64_t q = 0; q < side; ++q) {
             for (int64_t p = 0; p < side; ++p) {
                 const size_t k = static_cast<size_t>(p + q * side);
@@ -120,7 +137,7 @@ void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSour
         }
     }
     for (size_t k = 0; k < idx.size(); ++k) {
-        if (!fixed[k]) {
+        if (filled[k]) {
             grid.height[idx[k]] = static_cast<float>(v[k]);
             grid.valid[idx[k]] = 2;
         }

@@ -3,19 +3,31 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "libpyramid/encode/residual/height_source.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 
 namespace pyramid {
 
-// Root-level nodata: a fixed number of Gauss-Seidel sweeps of Laplace's equation over the
+// Root values solved for outside the pyramid (a planet's six faces as one surface,
+// encode/dem/sphere_root_fill.hpp): for each position of the root grid (side x side with side =
+// R + 1 + 2 x border, south row first, borders included), the height a nodata sample there takes,
+// or NaN where the pyramid solves it itself (Gauss-Seidel sweeps with every other position fixed,
+// from `start`).
+struct GivenRootFill {
+    std::vector<double> value;
+    double start = 0.0;
+};
+
+// Root-level nodata: with `given`, its values, and sweeps only for the positions it leaves NaN.
+// Without: a fixed number of Gauss-Seidel sweeps of Laplace's equation over the
 // level-0 positions (with folded edges, its border positions too), from the mean of the valid
 // ones (or of every valid grid sample when the root has none; or, when the grid has none
 // either, of every valid finest sample, read from `heights` block by block on `threads`; or
 // `emptyFill` when nothing is valid). Filled samples get valid = 2: encoded, but not counted as
 // source. Throws Error naming `input` when no finest sample is valid and there is no `emptyFill`.
 void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSource& heights, int threads,
-                    std::optional<float> emptyFill, const std::string& input);
+                    std::optional<float> emptyFill, const GivenRootFill* given, const std::string& input);
 
 } // namespace pyramid
