@@ -352,6 +352,32 @@ TEST(SphericalDem, NodataIsFilledAsOneSurfaceAcrossTheCube) {
     }
 }
 
+TEST(SphericalDem, AMapBetweenRootSamplesLeavesOneHeightEverywhere) {
+    test::TempDir dir;
+    // Heights 100 to 300 over 4 x 4 degrees, between the root samples (22.5 degrees apart).
+    std::vector<float> v(16 * 16);
+    for (size_t k = 0; k < v.size(); ++k) {
+        v[k] = 100.0f + 200.0f * static_cast<float>(k % 16) / 15.0f;
+    }
+    const std::string map = dir.file("patch.tif");
+    test::writeFloatRaster(map, 16, 16, v);
+    SphericalDemOptions o = smallOptions();
+    o.extent = GeoExtent::parse("5,44,9,48");
+    Recon recon;
+    o.reconstruction = [&](int f, int l, int tx, int ty, const std::vector<float>& z) { recon[{f, l, tx, ty}] = z; };
+    encodeSphericalDem(map, dir.file("out"), o);
+    // The six root tiles hold one height, from the map's samples: no face at 0, none at a
+    // height of its own.
+    const float first = recon.at({1, 0, 0, 0})[0];
+    EXPECT_GT(first, 100.0f);
+    EXPECT_LT(first, 300.0f);
+    for (int face = 1; face <= 6; ++face) {
+        for (const float z : recon.at({face, 0, 0, 0})) {
+            ASSERT_EQ(z, first) << "face " << face;
+        }
+    }
+}
+
 TEST(SphericalDem, AFaceBuiltAloneIsTheFaceOfTheWholePlanet) {
     test::TempDir dir;
     const std::string map = writeRegionMap(dir);

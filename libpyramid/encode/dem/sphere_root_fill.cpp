@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "libpyramid/sphere/face_sampler.hpp"
-#include "libpyramid/support/parallel.hpp"
 
 namespace pyramid {
 
@@ -20,48 +20,6 @@ using PointKey = std::tuple<int64_t, int64_t, int64_t>;
 
 PointKey keyOf(const CubePoint& p) {
     return {p.x, p.y, p.z};
-}
-
-// The sum and count of the valid samples of every face at level `level` (every `stride`-th
-// vertex of the N-interval grid): blocks of kBlock x kBlock samples, those the map cannot reach
-// skipped, summed in face, row-of-blocks and block order whatever the threads.
-std::pair<double, int64_t> levelValid(const std::vector<FaceSampler>& faces, int64_t N, int64_t stride,
-                                      int threads) {
-    constexpr int64_t kBlock = 256;
-    const int64_t samples = N / stride + 1;
-    const int64_t blocks = (samples + kBlock - 1) / kBlock;
-    double sum = 0.0;
-    int64_t count = 0;
-    std::vector<double> sums(static_cast<size_t>(blocks));
-    std::vector<int64_t> counts(static_cast<size_t>(blocks));
-    for (const FaceSampler& face : faces) {
-        for (int64_t by = 0; by < blocks; ++by) {
-            parallelFor(blocks, threads, [&](int64_t bx) {
-                const int64_t i0 = bx * kBlock, j0 = by * kBlock;
-                const int64_t nx = std::min(samples, i0 + kBlock) - i0, ny = std::min(samples, j0 + kBlock) - j0;
-                double s = 0.0;
-                int64_t c = 0;
-                if (face.mayHaveValues(i0 * stride, j0 * stride, (i0 + nx - 1) * stride, (j0 + ny - 1) * stride)) {
-                    std::vector<float> height(static_cast<size_t>(nx * ny));
-                    std::vector<uint8_t> valid(height.size());
-                    face.sample(i0 * stride, j0 * stride, stride, nx, ny, height.data(), valid.data());
-                    for (size_t k = 0; k < height.size(); ++k) {
-                        if (valid[k]) {
-                            s += height[k];
-                            ++c;
-                        }
-                    }
-                }
-                sums[static_cast<size_t>(bx)] = s;
-                counts[static_cast<size_t>(bx)] = c;
-            });
-            for (int64_t bx = 0; bx < blocks; ++bx) {
-                sum += sums[static_cast<size_t>(bx)];
-                count += counts[static_cast<size_t>(bx)];
-            }
-        }
-    }
-    return {sum, count};
 }
 
 // The distinct cube points of the six faces' grids of r intervals (every R / r-th root sample),
@@ -166,7 +124,11 @@ std::array<GivenRootFill, kCubeFaceCount> solveSphereRootFill(const GeodeticMap&
         }
     }
     for (int64_t stride = unit / 2; count == 0 && stride >= 1; stride /= 2) {
-        std::tie(sum, count) = levelValid(faces, N, stride, threads);
+        for (const FaceSampler& face : faces) {
+            const auto [s, c] = sumValidHeights(FaceHeights(face), N, stride, threads);
+            sum += s;
+            count += c;
+        }
     }
     const double mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
     const bool someFree = std::find(root.fixed.begin(), root.fixed.end(), uint8_t{0}) != root.fixed.end();

@@ -13,31 +13,29 @@
 
 namespace pyramid {
 
-namespace {
-
-// The sum and count of the valid finest samples [0, N]^2: blocks of kBlock x kBlock samples, one
-// row of blocks at a time (those no valid height can reach skipped), summed in block order
-// whatever the threads.
-std::pair<double, int64_t> finestValid(const ResidualPlan& plan, const HeightSource& heights, int threads) {
+std::pair<double, int64_t> sumValidHeights(const HeightSource& heights, int64_t N, int64_t stride, int threads) {
     constexpr int64_t kBlock = 256;
     double sum = 0.0;
     int64_t count = 0;
-    if (!heights.mayHaveHeights(0, 0, plan.N, plan.N)) {
+    if (!heights.mayHaveHeights(0, 0, N, N)) {
         return {sum, count};
     }
-    const int64_t blocks = plan.N / kBlock + 1;
+    const int64_t samples = N / stride + 1;
+    const int64_t blocks = (samples - 1) / kBlock + 1;
     std::vector<double> sums(static_cast<size_t>(blocks));
     std::vector<int64_t> counts(static_cast<size_t>(blocks));
     for (int64_t by = 0; by < blocks; ++by) {
         parallelFor(blocks, threads, [&](int64_t bx) {
             SourceGrid block;
-            block.x0 = bx * kBlock;
-            block.y0 = by * kBlock;
-            block.nx = std::min(plan.N + 1, block.x0 + kBlock) - block.x0;
-            block.ny = std::min(plan.N + 1, block.y0 + kBlock) - block.y0;
+            block.stride = stride;
+            block.x0 = bx * kBlock * stride;
+            block.y0 = by * kBlock * stride;
+            block.nx = std::min(samples, (bx + 1) * kBlock) - bx * kBlock;
+            block.ny = std::min(samples, (by + 1) * kBlock) - by * kBlock;
             double s = 0.0;
             int64_t c = 0;
-            if (heights.mayHaveHeights(block.x0, block.y0, block.x0 + block.nx - 1, block.y0 + block.ny - 1)) {
+            if (heights.mayHaveHeights(block.x0, block.y0, block.x0 + (block.nx - 1) * stride,
+                                       block.y0 + (block.ny - 1) * stride)) {
                 heights.sample(block);
                 for (size_t k = 0; k < block.valid.size(); ++k) {
                     if (block.valid[k]) {
@@ -56,8 +54,6 @@ std::pair<double, int64_t> finestValid(const ResidualPlan& plan, const HeightSou
     }
     return {sum, count};
 }
-
-} // namespace
 
 void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSource& heights, int threads,
                     std::optional<float> emptyFill, const GivenRootFill* given, const std::string& input) {
@@ -96,7 +92,7 @@ void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSour
         }
         if (valid == 0 && grid.stride > 1) {
             // The grid holds every stride-th sample: valid heights between them count too.
-            std::tie(sum, valid) = finestValid(plan, heights, threads);
+            std::tie(sum, valid) = sumValidHeights(heights, plan.N, 1, threads);
         }
         if (valid == 0 && !emptyFill) {
             fail(input, "no valid height anywhere (everything is nodata)");

@@ -3,12 +3,18 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libpyramid/encode/residual/height_source.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 
 namespace pyramid {
+
+// The sum and count of the valid heights at positions (i x stride, j x stride) of [0, N]^2:
+// blocks of 256 x 256 of them, those no valid height can reach (mayHaveHeights) skipped, one
+// row of blocks at a time on `threads`, summed in block order whatever the threads.
+std::pair<double, int64_t> sumValidHeights(const HeightSource& heights, int64_t N, int64_t stride, int threads);
 
 // Root values solved for outside the pyramid (a planet's six faces as one surface,
 // encode/dem/sphere_root_fill.hpp): for each position of the root grid (side x side with side =
