@@ -9,6 +9,7 @@
 #include "cli/dem_options.hpp"
 #include "cli/sphere_options.hpp"
 #include "libpyramid/api/encoders.hpp"
+#include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid::cli {
 
@@ -17,6 +18,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
     auto sphere = std::make_shared<SphereArgs>();
     auto heightScale = std::make_shared<std::string>("1");
     auto name = std::make_shared<std::string>("DEM");
+    auto fill = std::make_shared<std::string>("smooth");
     addDemOptions(app, args,
                   "Elevation map: a GeoTIFF (or SRTM .hgt) where its georeferencing places it, else equirectangular with column 0 "
                   "at longitude -180 (or the extent's west), row 0 at the north; pixel centres",
@@ -27,8 +29,13 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
     app.add_option("--height-scale", *heightScale,
                    "Multiply every sample by this number or ratio (e.g. 10000/255 for heights stored as 8-bit red)")
         ->capture_default_str();
+    app.add_option("--fill", *fill,
+                   "Height of the nodata the root holds (beyond the map, or its holes): smooth (from the map's heights "
+                   "by Laplace's equation across the cube's edges) or a height after --height-scale, e.g. 0 for sea "
+                   "level; deeper levels blend it with the map's heights")
+        ->capture_default_str();
     app.add_option("--name", *name, "Base name of the files")->capture_default_str();
-    return [args, sphere, heightScale, name]() {
+    return [args, sphere, heightScale, fill, name]() {
         SphericalDemOptions options;
         options.dem = resolveDemOptions(*args);
         const SphereChoice choice = resolveSphereOptions(*sphere);
@@ -36,6 +43,9 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         options.body = choice.body;
         options.faces = choice.faces;
         options.heightScale = parseRatio(*heightScale, "--height-scale");
+        if (*fill != "smooth") {
+            options.fillHeight = parseNumber(*fill, "--fill", "a height or 'smooth'");
+        }
         options.name = *name;
         const bool quiet = args->quiet;
         options.warning = [quiet](const std::string& what) { warn(quiet, what); };

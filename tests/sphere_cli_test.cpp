@@ -157,6 +157,30 @@ TEST(SphereDemCli, FacesBodyExtentAndQuiet) {
     }
 }
 
+TEST(SphereDemCli, FillGivesTheHeightOfWhatTheMapDoesNotHold) {
+    test::TempDir dir;
+    // The sample map placed over the north-western quarter of the globe: the south pole's face
+    // holds none of it.
+    const std::string base = programPath("preprocessSphericalDem") + " " + test::samplePath("srtm.png") +
+                             " --extent -180,0,0,90 --height-scale 10000/255 --faces 6 --max-level 3 -q --report - -o ";
+    const std::string height = programPath("pyramid") + " height --lonlat 30,-70 ";
+    auto r = run(base + dir.file("sea") + " --fill -12");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["fill"], -12.0);
+    r = run(height + dir.file("sea"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out, "-12\n");
+    // By default the face takes the heights the map leads to across the cube: the sample map's
+    // heights (1 to 6000 m), not 0 and not the given height.
+    r = run(base + dir.file("smooth"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["fill"], "smooth");
+    r = run(height + dir.file("smooth"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_GT(std::stod(r.out), 1.0) << r.out;
+    EXPECT_LT(std::stod(r.out), 6000.0) << r.out;
+}
+
 TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
     test::TempDir dir;
     const std::string out = dir.file("out");
@@ -169,6 +193,8 @@ TEST(SphereDemCli, BadInputIsOneLineAndWritesNothing) {
         {srtm + " -o " + out + " --extent 10,20,5,30", 1, "--extent"},
         {srtm + " -o " + out + " --height-scale 1/0", 1, "--height-scale"},
         {srtm + " -o " + out + " --height-scale x", 1, "--height-scale"},
+        {srtm + " -o " + out + " --fill sea", 1, "--fill"},
+        {srtm + " -o " + out + " --fill nan", 1, "--fill"},
         {srtm + " -o " + out + " --band 4", 1, "--band"},
         {srtm + " -o " + out + " --tile-size 8 --root-tile-size 1", 1, "--root-tile-size"},
         {srtm + " -o " + out + " --scale 0.001", 1, "overflow"}, // fails at the first face

@@ -378,6 +378,45 @@ TEST(SphericalDem, AMapBetweenRootSamplesLeavesOneHeightEverywhere) {
     }
 }
 
+TEST(SphericalDem, AFillHeightIsTheHeightOfTheRootsNodata) {
+    test::TempDir dir;
+    const std::string map = writeRegionMap(dir);
+    SphericalDemOptions o = regionOptions();
+    o.fillHeight = -20.0;
+    Recon recon;
+    o.reconstruction = [&](int f, int l, int tx, int ty, const std::vector<float>& z) { recon[{f, l, tx, ty}] = z; };
+    const SphericalDemReport r = encodeSphericalDem(map, dir.file("out"), o);
+    EXPECT_EQ(r.fillHeight, -20.0);
+    // Every root sample on the cube is the map's (300 to 700) or the given height, on every face
+    // (those beyond a cube corner, each face's own, lie between); the south pole's face holds
+    // none of the map.
+    int64_t given = 0;
+    for (int face = 1; face <= 6; ++face) {
+        const std::vector<float>& root = recon.at({face, 0, 0, 0});
+        for (int k = 0; k < 81; ++k) {
+            const int x = k % 9 - 2, y = k / 9 - 2;
+            if ((x < 0 || x > 4) && (y < 0 || y > 4)) {
+                continue;
+            }
+            const float z = root[static_cast<size_t>(k)];
+            if (z == -20.0f) {
+                ++given;
+            } else {
+                EXPECT_GT(z, 300.0f - 0.125f) << "face " << face;
+                EXPECT_LT(z, 700.0f + 0.125f) << "face " << face;
+            }
+        }
+    }
+    for (const float z : recon.at({6, 0, 0, 0})) {
+        ASSERT_EQ(z, -20.0f);
+    }
+    EXPECT_GT(given, 2 * 9 * 9);
+    int64_t compared = 0;
+    EXPECT_EQ(sharedPointSpread(recon, 0, compared), 0.0);
+    o.fillHeight = std::nan("");
+    EXPECT_THROW(encodeSphericalDem(map, dir.file("bad"), o), OptionError);
+}
+
 TEST(SphericalDem, AFaceBuiltAloneIsTheFaceOfTheWholePlanet) {
     test::TempDir dir;
     const std::string map = writeRegionMap(dir);

@@ -43,6 +43,9 @@ void checkSphericalDemOptions(const SphericalDemOptions& options) {
     if (!std::isfinite(options.heightScale) || options.heightScale == 0.0) {
         failOption("heightScale", "must be a finite non-zero number, not " + numberText(options.heightScale));
     }
+    if (options.fillHeight && !std::isfinite(*options.fillHeight)) {
+        failOption("fillHeight", "must be a finite height, not " + numberText(*options.fillHeight));
+    }
     checkFaceList(options.faces);
     if (o.region && options.faces.size() != 1) {
         failOption("faces", "a region build encodes one face: give a single face, not " +
@@ -78,6 +81,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     report.inputInfo = sources.info;
     report.band = o.band;
     report.heightScale = options.heightScale;
+    report.fillHeight = options.fillHeight;
     report.body = body.describe();
     report.extent = placement.extent;
     report.crs = placement.crs;
@@ -109,7 +113,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     // options.faces holds, so that each face's bytes are those of a whole planet's build.
     const int64_t R = static_cast<int64_t>(header.tileSize >> header.minLevel);
     const std::array<GivenRootFill, kCubeFaceCount> rootFills =
-        solveSphereRootFill(map, body, options.heightScale, N, R, workerThreads(o.threads));
+        solveSphereRootFill(map, body, options.heightScale, N, R, options.fillHeight, workerThreads(o.threads));
     const int64_t faceTiles = header.tileCount();
     const int64_t totalTiles = faceTiles * static_cast<int64_t>(options.faces.size());
     int64_t finished = 0; // tiles of the faces already done
@@ -220,6 +224,7 @@ nlohmann::json toJson(const SphericalDemReport& r) {
             {"extent", {{"west", r.extent.west}, {"south", r.extent.south}, {"east", r.extent.east},
                         {"north", r.extent.north}}},
             {"body", r.body},
+            {"fill", r.fillHeight ? nlohmann::json(*r.fillHeight) : nlohmann::json("smooth")},
             {"crs", r.crs.empty() ? nlohmann::json() : nlohmann::json(r.crs)}, // null: not georeferenced
             {"faces", faces},
             {"warnings", r.warnings},

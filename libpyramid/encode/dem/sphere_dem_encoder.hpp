@@ -42,6 +42,10 @@ struct SphericalDemOptions {
     std::optional<GeoExtent> extent;
     std::string body = "wgs84";   // PlanetBody::parse
     double heightScale = 1.0;     // height = sample value x heightScale (e.g. 10000/255)
+    // The height of the root's nodata (beyond the map, or its holes), in the pyramid's height
+    // units, e.g. 0 for sea level; none: filled smoothly from the map's heights, across the cube
+    // (encode/dem/sphere_root_fill.hpp). Deeper levels predict either from the root.
+    std::optional<double> fillHeight;
     std::string name = "DEM";     // files NAME1.dat .. NAME6.dat
     std::vector<int> faces{1, 2, 3, 4, 5, 6};
     // Called, before any face is encoded, with each of the inputs' warnings (MapSources).
@@ -64,6 +68,7 @@ struct SphericalDemReport {
     int band = 0;                 // 0-based
     std::optional<double> nodata; // used, if any
     double heightScale = 1.0;
+    std::optional<double> fillHeight; // SphericalDemOptions::fillHeight
     std::string body;             // PlanetBody::describe()
     GeoExtent extent;             // the map's (a projected map: a geographic box around it)
     std::string crs;              // the input's CRS, if georeferenced

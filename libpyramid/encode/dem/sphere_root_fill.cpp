@@ -98,7 +98,7 @@ void relax(CubeGrid& g, int sweeps) {
 
 std::array<GivenRootFill, kCubeFaceCount> solveSphereRootFill(const GeodeticMap& map, const PlanetBody& body,
                                                               double heightScale, int64_t N, int64_t R,
-                                                              int threads) {
+                                                              std::optional<double> fillHeight, int threads) {
     const FaceGrid grid{N, FaceGridKind::Vertices};
     const int64_t unit = N / R;
     constexpr int64_t kBorder = 2;
@@ -123,19 +123,21 @@ std::array<GivenRootFill, kCubeFaceCount> solveSphereRootFill(const GeodeticMap&
             ++count;
         }
     }
-    for (int64_t stride = unit / 2; count == 0 && stride >= 1; stride /= 2) {
+    for (int64_t stride = unit / 2; count == 0 && !fillHeight && stride >= 1; stride /= 2) {
         for (const FaceSampler& face : faces) {
             const auto [s, c] = sumValidHeights(FaceHeights(face), N, stride, threads);
             sum += s;
             count += c;
         }
     }
-    const double mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
+    const double mean = fillHeight ? *fillHeight : count > 0 ? sum / static_cast<double>(count) : 0.0;
     const bool someFree = std::find(root.fixed.begin(), root.fixed.end(), uint8_t{0}) != root.fixed.end();
     const bool someFixed = std::find(root.fixed.begin(), root.fixed.end(), uint8_t{1}) != root.fixed.end();
-    if (someFree && !someFixed) {
+    if (someFree && (!someFixed || fillHeight)) {
         for (size_t k = 0; k < root.value.size(); ++k) {
-            root.value[k] = mean; // nothing to lead it elsewhere: the mean stays
+            if (!root.fixed[k]) {
+                root.value[k] = mean; // the given height, or nothing to lead it elsewhere
+            }
         }
     } else if (someFree) {
         // Coarse to fine: grids of R, R / 2, ... intervals while they halve evenly down to 2;

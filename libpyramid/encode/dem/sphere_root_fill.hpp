@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <optional>
 
 #include "libpyramid/encode/residual/root_fill.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
@@ -34,10 +35,11 @@ inline constexpr int64_t kMostSweeps = 512;
 // the converged fill of a continent-sized map. The start value is the mean of the valid root
 // samples; when none is valid, the mean of the valid samples of the coarsest level that has any
 // (every face's samples at that level, sampled in blocks of 256 x 256 on `threads`, summed in
-// a fixed order), which then stays everywhere; when no level has any, 0. Deterministic: the
-// same values for any thread count and face subset.
+// a fixed order), which then stays everywhere; when no level has any, 0. With `fillHeight`,
+// every nodata root sample takes that height instead (no solve). Deterministic: the same values
+// for any thread count and face subset.
 std::array<GivenRootFill, kCubeFaceCount> solveSphereRootFill(const GeodeticMap& map, const PlanetBody& body,
                                                               double heightScale, int64_t N, int64_t R,
-                                                              int threads);
+                                                              std::optional<double> fillHeight, int threads);
 
 } // namespace pyramid
