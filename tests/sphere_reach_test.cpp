@@ -85,6 +85,29 @@ TEST(SphericalReach, MayHaveValuesNeverMissesAValue) {
     EXPECT_GT(refused, 1000);
 }
 
+TEST(SphericalReach, AFaceBeyondTheMapsLongitudesIsRefusedWhole) {
+    test::TempDir dir;
+    const PlanetBody body = PlanetBody::parse("wgs84");
+    // Longitudes -90 to 90, latitudes -22.5 to 67.5: face 5 (longitude 180, 135 E to 135 W at
+    // the equator) shares its latitudes but none of its longitudes.
+    const std::string path = dir.file("half.tif");
+    test::writeGeoTiff(path, 64, 32, std::vector<float>(64 * 32, 1.0f), test::geographicTags(4326, -90.0, 67.5, 2.8125));
+    const auto source = RasterSource::open(path);
+    const MapPlacement placement = placeMap(source->info(), path, std::nullopt, body);
+    const EquirectSampler map(*source, placement, 0, 1, SampleRead::Float, std::nullopt);
+    constexpr int64_t N = 512;
+    const FaceSampler face5(map, body, 5, FaceGrid{N, FaceGridKind::Vertices});
+    EXPECT_FALSE(face5.mayHaveValues(0, 0, N, N));
+    for (int64_t y = 0; y < N; y += 64) {
+        for (int64_t x = 0; x < N; x += 64) {
+            EXPECT_FALSE(face5.mayHaveValues(x, y, x + 64, y + 64)) << x << "," << y;
+        }
+    }
+    // Face 3 (longitude 0) holds the map, face 4 (90 E) its eastern edge.
+    EXPECT_TRUE(FaceSampler(map, body, 3, FaceGrid{N, FaceGridKind::Vertices}).mayHaveValues(0, 0, N, N));
+    EXPECT_TRUE(FaceSampler(map, body, 4, FaceGrid{N, FaceGridKind::Vertices}).mayHaveValues(0, 0, N, N));
+}
+
 TEST(SphericalReach, SkippedSubtreesAreTheTilesEncodingWouldWrite) {
     test::TempDir dir;
     // 2 x 2 degrees near Mount Rainier, heights varying in both directions.

@@ -66,8 +66,8 @@ bool FaceSampler::mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) 
     for (int k = 0; k < kSide; ++k) outline.push_back(geodeticOf(x1, along(y0, y1, k)));
     for (int k = 0; k < kSide; ++k) outline.push_back(geodeticOf(along(x1, x0, k), y1));
     for (int k = 0; k < kSide; ++k) outline.push_back(geodeticOf(x0, along(y1, y0, k)));
-    double south = 90.0, north = -90.0, west = 0.0, east = 0.0;
     double longitude = outline[0].longitude; // unwrapped along the outline
+    double south = 90.0, north = -90.0, west = longitude, east = longitude;
     double latitudeStep = 0.0, longitudeStep = 0.0; // the largest steps between neighbours
     for (size_t k = 0; k < outline.size(); ++k) {
         const GeodeticPoint& p = outline[k];
