@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "formats/error.hpp"
 #include "formats/pyramid_set.hpp"
@@ -109,11 +110,11 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     if (!o.share) {
         staging = std::make_unique<StagingDirectory>(directory);
     }
-    // The faces' root nodata is one surface: solved before any face, for all six whatever
-    // options.faces holds, so that each face's bytes are those of a whole planet's build.
+    // The faces' root nodata is one surface: solved for all six whatever options.faces holds, so
+    // that each face's bytes are those of a whole planet's build; once, when a face first has
+    // nodata at its root (never for a region encoded from its parent's tiles).
     const int64_t R = static_cast<int64_t>(header.tileSize >> header.minLevel);
-    const std::array<GivenRootFill, kCubeFaceCount> rootFills =
-        solveSphereRootFill(map, body, options.heightScale, N, R, options.fillHeight, workerThreads(o.threads));
+    std::optional<std::array<GivenRootFill, kCubeFaceCount>> rootFills;
     const int64_t faceTiles = header.tileCount();
     const int64_t totalTiles = faceTiles * static_cast<int64_t>(options.faces.size());
     int64_t finished = 0; // tiles of the faces already done
@@ -125,7 +126,13 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
         job.header = header;
         job.heights = &heights;
         job.edges = GridEdges::Folded;
-        job.rootFill = &rootFills[static_cast<size_t>(face - 1)];
+        job.rootFill = [&, face]() -> const GivenRootFill& {
+            if (!rootFills) {
+                rootFills = solveSphereRootFill(map, body, options.heightScale, N, R, options.fillHeight,
+                                                workerThreads(o.threads));
+            }
+            return (*rootFills)[static_cast<size_t>(face - 1)];
+        };
         job.input = input;
         job.pyramid = static_cast<int>(report.faces.size());
         job.pyramids = static_cast<int>(options.faces.size());

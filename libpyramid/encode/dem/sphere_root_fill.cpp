@@ -101,8 +101,7 @@ std::array<GivenRootFill, kCubeFaceCount> solveSphereRootFill(const GeodeticMap&
                                                               std::optional<double> fillHeight, int threads) {
     const FaceGrid grid{N, FaceGridKind::Vertices};
     const int64_t unit = N / R;
-    constexpr int64_t kBorder = 2;
-    const int64_t side = R + 1 + 2 * kBorder;
+    const int64_t side = R + 1 + 2 * kFoldedRootBorder;
     std::vector<FaceSampler> faces;
     std::vector<std::vector<float>> height(kCubeFaceCount);
     std::vector<std::vector<uint8_t>> valid(kCubeFaceCount);
@@ -186,7 +185,7 @@ std::array<GivenRootFill, kCubeFaceCount> solveSphereRootFill(const GeodeticMap&
         fill.value.assign(static_cast<size_t>(side * side), std::numeric_limits<double>::quiet_NaN());
         for (int64_t q = 0; q < side; ++q) {
             for (int64_t p = 0; p < side; ++p) {
-                const FaceSample s{f, (p - kBorder) * unit, (q - kBorder) * unit};
+                const FaceSample s{f, (p - kFoldedRootBorder) * unit, (q - kFoldedRootBorder) * unit};
                 const FaceSample c = canonicalSample(grid, s);
                 if (c.x < 0 || c.x > N || c.y < 0 || c.y > N) {
                     continue; // beyond a cube corner: the face's own

@@ -19,8 +19,8 @@ inline constexpr int64_t kSweepsPerInterval = 16;
 inline constexpr int64_t kMostSweeps = 512;
 
 // For each face (index face - 1), the root values of its nodata samples: the vertex grid of N
-// intervals per face, root samples every N / R of them, borders of 2 root intervals beyond
-// every edge. Every root sample on the cube (a face's own, or a border sample beyond one edge,
+// intervals per face, root samples every N / R of them, borders of kFoldedRootBorder root
+// intervals beyond every edge. Every root sample on the cube (a face's own, or a border sample beyond one edge,
 // which is the neighbour's own) takes the joint solution; border samples beyond a cube corner
 // are left NaN for the face to solve with its other samples fixed.
 //

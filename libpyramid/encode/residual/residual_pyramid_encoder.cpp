@@ -623,7 +623,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         // reads two input rows at most), in row order, so the input streams through once.
         // With folded edges the grid reaches the root tile's borders, 2 level-0 intervals beyond.
         grid.stride = int64_t{1} << (plan.M - plan.C);
-        const int64_t margin = plan.folded ? int64_t{2} << plan.M : 0;
+        const int64_t margin = plan.rootBorder() << plan.M;
         grid.x0 = grid.y0 = -margin;
         grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
         grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
@@ -663,7 +663,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                 b0 = b1;
             }
         });
-        fillRootNodata(plan, grid, *job.heights, threads, job.emptyFill, job.rootFill, job.input);
+        fillRootNodata(plan, grid, *job.heights, threads, job.rootFill, job.input);
     }
 
     double scale = options.scale;

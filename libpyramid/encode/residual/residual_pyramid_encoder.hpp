@@ -110,12 +110,10 @@ struct ResidualPyramidJob {
     ResidualHeader header;           // minLevel, maxLevel and tileSize; the scale comes from the options
     const HeightSource* heights = nullptr;
     GridEdges edges = GridEdges::Clamped;
-    // The height given to every sample of a pyramid that has no valid sample at all (a cube face
-    // outside a partial extent); none: such a pyramid is an error.
-    std::optional<float> emptyFill;
-    // Root values solved with other pyramids' (a planet's faces, root_fill.hpp); none: the root's
-    // nodata is solved from this pyramid's own samples. Used in place of emptyFill.
-    const GivenRootFill* rootFill = nullptr;
+    // Root values solved with other pyramids' (a planet's faces, root_fill.hpp), asked for only
+    // when the root has nodata; none: the root's nodata is solved from this pyramid's own
+    // samples, and a pyramid without any valid sample is an error.
+    std::function<const GivenRootFill&()> rootFill;
     std::string input;               // names the input in messages
     // The files that go with the pyramid (its georeference sidecar), put in place together with
     // it (residual_output.hpp).

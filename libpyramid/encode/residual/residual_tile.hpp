@@ -13,6 +13,10 @@
 
 namespace pyramid {
 
+// A folded pyramid's root tile reaches 2 level-0 intervals beyond every edge (its borders of 2
+// samples), and so do the root grids given to it (root_fill.hpp).
+inline constexpr int64_t kFoldedRootBorder = 2;
+
 // The shape of a residual pyramid as the encoder walks it.
 struct ResidualPlan {
     ResidualHeader header;
@@ -27,6 +31,9 @@ struct ResidualPlan {
     ResidualTileCoding coding;           // how tiles are stored (formats/residual_codec.hpp)
 
     int64_t levelIntervals(int l) const { return static_cast<int64_t>(R) << l; }
+    // Level-0 intervals the root tile's grid reaches beyond [0, R] on every side: its borders,
+    // real samples where edges are folded (kFoldedRootBorder), clamped copies otherwise (0).
+    int64_t rootBorder() const { return folded ? kFoldedRootBorder : 0; }
     int tileIntervals(int l) const { return l < minLevel ? T >> (minLevel - l) : T; }
     int tilesPerSide(int l) const { return l < minLevel ? 1 : 1 << (l - minLevel); }
 };

@@ -56,8 +56,8 @@ std::pair<double, int64_t> sumValidHeights(const HeightSource& heights, int64_t 
 }
 
 void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSource& heights, int threads,
-                    std::optional<float> emptyFill, const GivenRootFill* given, const std::string& input) {
-    const int64_t border = plan.folded ? 2 : 0;
+                    const std::function<const GivenRootFill&()>& givenFill, const std::string& input) {
+    const int64_t border = plan.rootBorder();
     const int64_t side = plan.R + 1 + 2 * border;
     const int64_t unit = int64_t{1} << plan.M;
     std::vector<size_t> idx(static_cast<size_t>(side * side));
@@ -76,6 +76,7 @@ void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSour
     if (valid == static_cast<int64_t>(idx.size())) {
         return;
     }
+    const GivenRootFill* given = givenFill ? &givenFill() : nullptr;
     if (given && given->value.size() != idx.size()) {
         fail(input, "internal error: a given root fill of " + std::to_string(given->value.size()) +
                         " values for a root grid of " + std::to_string(idx.size()));
@@ -94,12 +95,8 @@ void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSour
             // The grid holds every stride-th sample: valid heights between them count too.
             std::tie(sum, valid) = sumValidHeights(heights, plan.N, 1, threads);
         }
-        if (valid == 0 && !emptyFill) {
-            fail(input, "no valid height anywhere (everything is nodata)");
-        }
         if (valid == 0) {
-            sum = *emptyFill;
-            valid = 1;
+            fail(input, "no valid height anywhere (everything is nodata)");
         }
     }
     const float mean = static_cast<float>(sum / static_cast<double>(valid));

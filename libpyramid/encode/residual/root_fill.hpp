@@ -1,7 +1,7 @@
 // The root level's missing heights, filled before the residual pyramid is encoded, so that
 // every tile has a prediction to start from (doc/dem-encoding.md, "Nodata").
 #pragma once
-#include <optional>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,7 +18,7 @@ std::pair<double, int64_t> sumValidHeights(const HeightSource& heights, int64_t 
 
 // Root values solved for outside the pyramid (a planet's six faces as one surface,
 // encode/dem/sphere_root_fill.hpp): for each position of the root grid (side x side with side =
-// R + 1 + 2 x border, south row first, borders included), the height a nodata sample there takes,
+// R + 1 + 2 x ResidualPlan::rootBorder(), south row first, borders included), the height a nodata sample there takes,
 // or NaN where the pyramid solves it itself (Gauss-Seidel sweeps with every other position fixed,
 // from `start`).
 struct GivenRootFill {
@@ -26,14 +26,14 @@ struct GivenRootFill {
     double start = 0.0;
 };
 
-// Root-level nodata: with `given`, its values, and sweeps only for the positions it leaves NaN.
-// Without: a fixed number of Gauss-Seidel sweeps of Laplace's equation over the
-// level-0 positions (with folded edges, its border positions too), from the mean of the valid
-// ones (or of every valid grid sample when the root has none; or, when the grid has none
-// either, of every valid finest sample, read from `heights` block by block on `threads`; or
-// `emptyFill` when nothing is valid). Filled samples get valid = 2: encoded, but not counted as
-// source. Throws Error naming `input` when no finest sample is valid and there is no `emptyFill`.
+// Root-level nodata: with `given` (asked for only when the root has nodata), its values, and
+// sweeps only for the positions it leaves NaN. Without: a fixed number of Gauss-Seidel sweeps of
+// Laplace's equation over the level-0 positions (with folded edges, its border positions too),
+// from the mean of the valid ones (or of every valid grid sample when the root has none; or,
+// when the grid has none either, of every valid finest sample, read from `heights` block by
+// block on `threads`). Filled samples get valid = 2: encoded, but not counted as source. Throws
+// Error naming `input` when, without `given`, no finest sample is valid.
 void fillRootNodata(const ResidualPlan& plan, SourceGrid& grid, const HeightSource& heights, int threads,
-                    std::optional<float> emptyFill, const GivenRootFill* given, const std::string& input);
+                    const std::function<const GivenRootFill&()>& given, const std::string& input);
 
 } // namespace pyramid
