@@ -244,6 +244,51 @@ pyramid_status tooSmall(size_t size, size_t bytes) {
                     "buffer of " + std::to_string(size) + " bytes, " + std::to_string(bytes) + " needed");
 }
 
+// pyramid_read_tile (decoded samples) and pyramid_read_tile_bytes (the stored blob): the size
+// needed comes from the header, the existence from the offset table, so a size query or a
+// buffer too small reads nothing.
+pyramid_status readTileInto(const pyramid_file* file, int level, int tx, int ty, void* buffer, size_t size,
+                            size_t* written, const char* function, bool stored) {
+    if (!file) {
+        return failWith(PYRAMID_ERROR_ARGUMENT, std::string(function) + ": null file");
+    }
+    if (!inside(file, level, tx, ty)) {
+        if (written) {
+            *written = 0;
+        }
+        return outside(level, tx, ty);
+    }
+    return guarded([&] {
+        const pyramid_tile_info t = tileInfo(file, level, tx, ty);
+        if (!t.exists) {
+            return absent(level, tx, ty, written);
+        }
+        const size_t bytes = stored ? t.stored_bytes : t.decoded_bytes;
+        if (written) {
+            *written = bytes;
+        }
+        if (!buffer) {
+            return PYRAMID_OK;
+        }
+        if (size < bytes) {
+            return tooSmall(size, bytes);
+        }
+        const bool residual = file->kind == pyramid::PyramidKind::Residual;
+        if (stored) {
+            const std::vector<uint8_t> b =
+                residual ? file->residual->readTileBytes(level, tx, ty) : file->ortho->readTileBytes(level, tx, ty);
+            return copyOut(b.data(), b.size(), buffer, size, written);
+        }
+        if (residual) {
+            const std::vector<int16_t> r = file->residual->readTile(level, tx, ty);
+            return copyOut(r.data(), r.size() * sizeof(int16_t), buffer, size, written);
+        }
+        const std::vector<uint8_t> p = file->ortho->readTile(level, tx, ty);
+        return copyOut(p.data(), p.size(), buffer, size, written);
+    });
+}
+
+
 // The region paths of an *_open_regions call as path sources; false when the array or one of
 // its paths is null.
 bool regionList(const char* const* paths, size_t count, std::vector<pyramid_source>& sources,
@@ -618,70 +663,12 @@ pyramid_status pyramid_tile_stat(const pyramid_file* file, int level, int tx, in
 
 pyramid_status pyramid_read_tile(const pyramid_file* file, int level, int tx, int ty, void* buffer, size_t size,
                                  size_t* written) {
-    if (!file) {
-        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_read_tile: null file");
-    }
-    if (!inside(file, level, tx, ty)) {
-        if (written) {
-            *written = 0;
-        }
-        return outside(level, tx, ty);
-    }
-    return guarded([&] {
-        // The size needed comes from the header, the existence from the offset table: a size
-        // query or a buffer too small reads nothing.
-        const pyramid_tile_info t = tileInfo(file, level, tx, ty);
-        if (!t.exists) {
-            return absent(level, tx, ty, written);
-        }
-        if (written) {
-            *written = t.decoded_bytes;
-        }
-        if (!buffer) {
-            return PYRAMID_OK;
-        }
-        if (size < t.decoded_bytes) {
-            return tooSmall(size, t.decoded_bytes);
-        }
-        if (file->kind == pyramid::PyramidKind::Residual) {
-            const std::vector<int16_t> r = file->residual->readTile(level, tx, ty);
-            return copyOut(r.data(), r.size() * sizeof(int16_t), buffer, size, written);
-        }
-        const std::vector<uint8_t> p = file->ortho->readTile(level, tx, ty);
-        return copyOut(p.data(), p.size(), buffer, size, written);
-    });
+    return readTileInto(file, level, tx, ty, buffer, size, written, "pyramid_read_tile", false);
 }
 
 pyramid_status pyramid_read_tile_bytes(const pyramid_file* file, int level, int tx, int ty, void* buffer,
                                        size_t size, size_t* written) {
-    if (!file) {
-        return failWith(PYRAMID_ERROR_ARGUMENT, "pyramid_read_tile_bytes: null file");
-    }
-    if (!inside(file, level, tx, ty)) {
-        if (written) {
-            *written = 0;
-        }
-        return outside(level, tx, ty);
-    }
-    return guarded([&] {
-        const pyramid_tile_info t = tileInfo(file, level, tx, ty);
-        if (!t.exists) {
-            return absent(level, tx, ty, written);
-        }
-        if (written) {
-            *written = t.stored_bytes;
-        }
-        if (!buffer) {
-            return PYRAMID_OK;
-        }
-        if (size < t.stored_bytes) {
-            return tooSmall(size, t.stored_bytes);
-        }
-        const std::vector<uint8_t> b = file->kind == pyramid::PyramidKind::Residual
-                                           ? file->residual->readTileBytes(level, tx, ty)
-                                           : file->ortho->readTileBytes(level, tx, ty);
-        return copyOut(b.data(), b.size(), buffer, size, written);
-    });
+    return readTileInto(file, level, tx, ty, buffer, size, written, "pyramid_read_tile_bytes", true);
 }
 
 pyramid_status pyramid_elevation_open(const char* residual_path, int tile_size, int grid_size, size_t cache_tiles,
