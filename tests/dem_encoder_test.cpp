@@ -150,6 +150,30 @@ TEST(DemEncoder, OverflowIsAnErrorOrChoosesAScale) {
     EXPECT_TRUE(verifyDem(dir.file("DEM.dat"), dir.file("high.tif"), {}).ok());
 }
 
+// The automatic scale's first guess comes from the in-memory grid of levels 0..C, which misses
+// spikes at odd samples: the subtrees overflow, and the next attempt encodes levels 0..C again
+// from the grid sampled again (it is released while the subtrees are encoded).
+TEST(DemEncoder, AnAttemptAfterASubtreesOverflowIsTheBuildAtItsScale) {
+    test::TempDir dir;
+    const int w = 257;
+    std::vector<float> heights = test::syntheticHeights(w, w, 500.0f);
+    for (int k = 0; k < 4; ++k) {
+        heights[static_cast<size_t>((w - 6 - 2 * k) + (3 + 2 * k) * w)] = 4.0e5f * static_cast<float>(k + 1);
+    }
+    test::writeFloatRaster(dir.file("spikes.tif"), w, w, heights);
+    DemEncodeOptions o = smallOptions();
+    o.threads = 2;
+    o.autoScale = true;
+    const DemReport report = encodeDem(dir.file("spikes.tif"), dir.file("auto.dat"), o);
+    ASSERT_GT(report.scalesTried.size(), 1u);
+    EXPECT_TRUE(verifyDem(dir.file("auto.dat"), dir.file("spikes.tif"), {}).ok());
+    o.autoScale = false;
+    o.scale = report.header.scale;
+    const DemReport given = encodeDem(dir.file("spikes.tif"), dir.file("given.dat"), o);
+    EXPECT_EQ(given.scalesTried.size(), 1u);
+    EXPECT_EQ(test::readFile(dir.file("auto.dat")), test::readFile(dir.file("given.dat")));
+}
+
 TEST(DemEncoder, NonSquareInputKeepsItsAspectRatio) {
     test::TempDir dir;
     const int w = 130, h = 70;

@@ -108,7 +108,7 @@ public:
     // With `region`, only the region's tiles are recorded (the range then holds the subtrees
     // that reach it); with `regionParent` as well (the reconstruction of the root's parent, a
     // root below level C), the region is encoded from it alone, without the top levels.
-    Encoder(const ResidualPlan& plan, const HeightSource& sampler, const SourceGrid& grid, const ResidualEncodeOptions& options,
+    Encoder(const ResidualPlan& plan, const HeightSource& sampler, SourceGrid& grid, const ResidualEncodeOptions& options,
             int threads, const std::string& input, const ShareRange& range, const RegionRoot* region = nullptr,
             const std::vector<float>* regionParent = nullptr)
         : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads), input_(input), range_(range),
@@ -153,7 +153,15 @@ public:
                     parent = l <= plan_.minLevel ? &previous[0]
                                                  : &previous[static_cast<size_t>((ty / 2) * pside + tx / 2)];
                 }
-                tiles[static_cast<size_t>(m)] = encodeResidualTile(plan_, l, static_cast<int>(tx), static_cast<int>(ty), parent, grid_);
+                EncodedTile& t = tiles[static_cast<size_t>(m)];
+                t = encodeResidualTile(plan_, l, static_cast<int>(tx), static_cast<int>(ty), parent, grid_);
+                if (l == plan_.C && plan_.C < plan_.M && !options_.reconstruction &&
+                    !parentOfSubtrees(static_cast<int>(tx), static_cast<int>(ty))) {
+                    // Level C's reconstructions are held through every subtree: only the parents
+                    // of subtrees encoded from their samples.
+                    t.recon.clear();
+                    t.recon.shrink_to_fit();
+                }
             });
             std::vector<std::vector<float>> current(static_cast<size_t>(count));
             int64_t overflow = 0;
@@ -181,6 +189,9 @@ public:
             }
             return std::nullopt;
         }
+        // The subtrees read their own footprints: the grid's memory goes back before theirs is
+        // taken (the caller samples it again for another attempt).
+        grid_ = SourceGrid{};
         return runSubtrees(sink, stats, previous, nodataFilled);
     }
 
@@ -216,6 +227,45 @@ private:
         b.x1 += b.x1 == plan_.N ? 1 : 0;
         b.y1 += b.y1 == plan_.N ? 1 : 0;
         return b;
+    }
+
+    // The finest samples subtree (l, tx, ty) is encoded from: its root tile with 2 border samples
+    // of level l beyond each edge; clamped to the map unless edges are folded.
+    SampleBox footprintBox(int l, int tx, int ty) const {
+        const int64_t T = plan_.T;
+        const int64_t unit = int64_t{1} << (plan_.M - l);
+        const int64_t lo = plan_.folded ? std::numeric_limits<int64_t>::min() : 0;
+        const int64_t hi = plan_.folded ? std::numeric_limits<int64_t>::max() : plan_.N;
+        return SampleBox{std::max<int64_t>(lo, (static_cast<int64_t>(tx) * T - 2) * unit),
+                         std::max<int64_t>(lo, (static_cast<int64_t>(ty) * T - 2) * unit),
+                         std::min<int64_t>(hi, (static_cast<int64_t>(tx) * T + T + 2) * unit) + 1,
+                         std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit) + 1};
+    }
+
+    // Whether subtree (l, tx, ty) (l > C) is encoded from its samples and its parent's
+    // reconstruction. A subtree no valid height can reach (a face beyond a small map) is all
+    // residual 0, exactly what encoding its all-nodata samples gives, without sampling it or
+    // its parent. With the reconstruction hook every tile is encoded, as the hook wants each one.
+    bool encodesSamples(int l, int tx, int ty) const {
+        if (options_.reconstruction) {
+            return true;
+        }
+        const SampleBox f = footprintBox(l, tx, ty);
+        return sampler_.mayHaveHeights(f.x0, f.y0, f.x1 - 1, f.y1 - 1);
+    }
+
+    // Whether the reconstruction of level-C tile (tx, ty) is a parent the range's subtrees need.
+    bool parentOfSubtrees(int tx, int ty) const {
+        for (int c = 0; c < 4; ++c) {
+            const uint32_t cx = 2 * static_cast<uint32_t>(tx) + static_cast<uint32_t>(c & 1);
+            const uint32_t cy = 2 * static_cast<uint32_t>(ty) + static_cast<uint32_t>(c >> 1);
+            const auto m = static_cast<int64_t>(mortonEncode(cx, cy));
+            if (m >= range_.begin && m < range_.end &&
+                encodesSamples(plan_.C + 1, static_cast<int>(cx), static_cast<int>(cy))) {
+                return true;
+            }
+        }
+        return false;
     }
 
     void write(const TileSink& sink, const EncodedTile& t, std::vector<LevelStats>& stats) {
@@ -332,25 +382,15 @@ private:
     // with its borders), sampled into `footprint`; with the owned samples that were filled.
     Subtree encodeRooted(int l, int tx, int ty, const std::vector<float>& parent, SourceGrid& footprint) {
         Subtree result;
-        const int d = plan_.M - l;
-        const int64_t T = plan_.T;
+        const SampleBox f = footprintBox(l, tx, ty);
         footprint.stride = 1;
-        // The subtree's tiles with their borders; clamped to the map unless edges are folded.
-        const int64_t unit = int64_t{1} << d;
-        const int64_t lo = plan_.folded ? std::numeric_limits<int64_t>::min() : 0;
-        const int64_t hi = plan_.folded ? std::numeric_limits<int64_t>::max() : plan_.N;
-        footprint.x0 = std::max<int64_t>(lo, (static_cast<int64_t>(tx) * T - 2) * unit);
-        footprint.y0 = std::max<int64_t>(lo, (static_cast<int64_t>(ty) * T - 2) * unit);
-        const int64_t x1 = std::min<int64_t>(hi, (static_cast<int64_t>(tx) * T + T + 2) * unit);
-        const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit);
-        footprint.nx = x1 - footprint.x0 + 1;
-        footprint.ny = y1 - footprint.y0 + 1;
+        footprint.x0 = f.x0;
+        footprint.y0 = f.y0;
+        footprint.nx = f.x1 - f.x0;
+        footprint.ny = f.y1 - f.y0;
         // Finest samples this subtree owns (of the region's, with one).
         const SampleBox box = owned(l, tx, ty);
-        // A subtree no valid height can reach (a face beyond a small map) is all residual
-        // 0, exactly what encoding its all-nodata samples gives, without sampling it. With
-        // the reconstruction hook every tile is encoded, as the hook wants each one.
-        if (!options_.reconstruction && !sampler_.mayHaveHeights(footprint.x0, footprint.y0, x1, y1)) {
+        if (!encodesSamples(l, tx, ty)) {
             result.filled = (box.y1 - box.y0) * (box.x1 - box.x0);
             emptySubtree(l, tx, ty, result.tiles);
             return result;
@@ -444,7 +484,7 @@ private:
 
     const ResidualPlan& plan_;
     const HeightSource& sampler_;
-    const SourceGrid& grid_;
+    SourceGrid& grid_; // released once levels 0..C are encoded, when subtrees follow
     const ResidualEncodeOptions& options_;
     int threads_;
     const std::string& input_;
@@ -576,6 +616,58 @@ RegionBuild planRegion(const ResidualPlan& plan, const ResidualEncodeOptions& op
     return r;
 }
 
+// Pass 1: the in-memory grid of levels 0..C (every 2^(M-C)-th finest sample), its root's nodata
+// filled.
+SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& job, int threads) {
+    SourceGrid grid;
+    // One level-C row of samples at a time (each reads two input rows at most), in row order,
+    // so the input streams through once.
+    // With folded edges the grid reaches the root tile's borders, 2 level-0 intervals beyond.
+    grid.stride = int64_t{1} << (plan.M - plan.C);
+    const int64_t margin = plan.rootBorder() << plan.M;
+    grid.x0 = grid.y0 = -margin;
+    grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
+    grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
+    grid.valid.resize(grid.height.size());
+    // Blocks of kBlock x kBlock grid samples that no valid height can reach are left nodata
+    // without sampling (what sampling them gives); each row samples its other runs of blocks.
+    constexpr int64_t kBlock = 64;
+    const int64_t blocksAcross = (grid.nx + kBlock - 1) / kBlock;
+    const int64_t blocksDown = (grid.ny + kBlock - 1) / kBlock;
+    std::vector<uint8_t> reachable(static_cast<size_t>(blocksAcross * blocksDown));
+    parallelFor(blocksAcross * blocksDown, threads, [&](int64_t b) {
+        const int64_t bx = b % blocksAcross, by = b / blocksAcross;
+        const int64_t x0 = grid.x0 + bx * kBlock * grid.stride, y0 = grid.y0 + by * kBlock * grid.stride;
+        const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kBlock - 1) * grid.stride;
+        const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kBlock - 1) * grid.stride;
+        reachable[static_cast<size_t>(b)] = job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
+    });
+    parallelFor(grid.ny, threads, [&](int64_t row) {
+        const uint8_t* blocks = reachable.data() + (row / kBlock) * blocksAcross;
+        for (int64_t b0 = 0; b0 < blocksAcross;) {
+            int64_t b1 = b0;
+            while (b1 < blocksAcross && blocks[b1] == blocks[b0]) {
+                ++b1;
+            }
+            const int64_t c0 = b0 * kBlock, c1 = std::min(grid.nx, b1 * kBlock);
+            if (blocks[b0]) {
+                SourceGrid line;
+                line.stride = grid.stride;
+                line.x0 = grid.x0 + c0 * grid.stride;
+                line.y0 = grid.y0 + row * grid.stride;
+                line.nx = c1 - c0;
+                line.ny = 1;
+                job.heights->sample(line);
+                std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx + c0);
+                std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx + c0);
+            }
+            b0 = b1;
+        }
+    });
+    fillRootNodata(plan, grid, *job.heights, threads, job.rootFill, job.input);
+    return grid;
+}
+
 } // namespace
 
 void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output,
@@ -617,53 +709,12 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     }
 
     // A region encoded from its parent's reconstruction reads only its own subtree's samples.
+    // The grid is released once levels 0..C are encoded (Encoder::run): an attempt at another
+    // scale samples it again.
+    const bool gridNeeded = !region || !region->fromParent;
     SourceGrid grid;
-    if (!region || !region->fromParent) {
-        // Pass 1: the in-memory grid of levels 0..C, one level-C row of samples at a time (each
-        // reads two input rows at most), in row order, so the input streams through once.
-        // With folded edges the grid reaches the root tile's borders, 2 level-0 intervals beyond.
-        grid.stride = int64_t{1} << (plan.M - plan.C);
-        const int64_t margin = plan.rootBorder() << plan.M;
-        grid.x0 = grid.y0 = -margin;
-        grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
-        grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
-        grid.valid.resize(grid.height.size());
-        // Blocks of kBlock x kBlock grid samples that no valid height can reach are left nodata
-        // without sampling (what sampling them gives); each row samples its other runs of blocks.
-        constexpr int64_t kBlock = 64;
-        const int64_t blocksAcross = (grid.nx + kBlock - 1) / kBlock;
-        const int64_t blocksDown = (grid.ny + kBlock - 1) / kBlock;
-        std::vector<uint8_t> reachable(static_cast<size_t>(blocksAcross * blocksDown));
-        parallelFor(blocksAcross * blocksDown, threads, [&](int64_t b) {
-            const int64_t bx = b % blocksAcross, by = b / blocksAcross;
-            const int64_t x0 = grid.x0 + bx * kBlock * grid.stride, y0 = grid.y0 + by * kBlock * grid.stride;
-            const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kBlock - 1) * grid.stride;
-            const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kBlock - 1) * grid.stride;
-            reachable[static_cast<size_t>(b)] = job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
-        });
-        parallelFor(grid.ny, threads, [&](int64_t row) {
-            const uint8_t* blocks = reachable.data() + (row / kBlock) * blocksAcross;
-            for (int64_t b0 = 0; b0 < blocksAcross;) {
-                int64_t b1 = b0;
-                while (b1 < blocksAcross && blocks[b1] == blocks[b0]) {
-                    ++b1;
-                }
-                const int64_t c0 = b0 * kBlock, c1 = std::min(grid.nx, b1 * kBlock);
-                if (blocks[b0]) {
-                    SourceGrid line;
-                    line.stride = grid.stride;
-                    line.x0 = grid.x0 + c0 * grid.stride;
-                    line.y0 = grid.y0 + row * grid.stride;
-                    line.nx = c1 - c0;
-                    line.ny = 1;
-                    job.heights->sample(line);
-                    std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx + c0);
-                    std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx + c0);
-                }
-                b0 = b1;
-            }
-        });
-        fillRootNodata(plan, grid, *job.heights, threads, job.rootFill, job.input);
+    if (gridNeeded) {
+        grid = sampleLevelGrid(plan, job, threads);
     }
 
     double scale = options.scale;
@@ -699,6 +750,9 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         } else {
             out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes);
             sink.writer = &out->writer();
+        }
+        if (gridNeeded && grid.height.empty()) {
+            grid = sampleLevelGrid(plan, job, threads); // released by the attempt before
         }
         Encoder encoder(plan, *job.heights, grid, options, threads, job.input, range, region ? &region->root : nullptr,
                         region && region->fromParent ? &region->parentRecon : nullptr);
