@@ -1,6 +1,7 @@
 // preprocessDem as a library: closed-loop reconstruction equals the CPU producer bit for bit,
 // the error bound holds at every level, output is identical for any thread count, overflow is
-// detected, non-square and nodata inputs are handled.
+// detected, non-square and nodata inputs are handled; what the encoder skips beyond a partial
+// source's heights gives the file that encoding every sample gives.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
+#include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/verify/dem_verify.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "tests/support/paths.hpp"
@@ -172,6 +174,66 @@ TEST(DemEncoder, AnAttemptAfterASubtreesOverflowIsTheBuildAtItsScale) {
     const DemReport given = encodeDem(dir.file("spikes.tif"), dir.file("given.dat"), o);
     EXPECT_EQ(given.scalesTried.size(), 1u);
     EXPECT_EQ(test::readFile(dir.file("auto.dat")), test::readFile(dir.file("given.dat")));
+}
+
+// Heights on a rectangle of finest positions, nodata elsewhere; with `exact`, it tells the
+// encoder where heights can be, so that the encoder skips the rest (rows of its grid and of its
+// footprints not stored, subtrees not sampled, level-C reconstructions not kept).
+class Patch final : public HeightSource {
+public:
+    Patch(int64_t x0, int64_t y0, int64_t x1, int64_t y1, bool exact) : x0_(x0), y0_(y0), x1_(x1), y1_(y1), exact_(exact) {}
+    void sample(SourceGrid& g) const override {
+        g.height.assign(static_cast<size_t>(g.nx * g.ny), 0.0f);
+        g.valid.assign(g.height.size(), 0);
+        for (int64_t j = 0; j < g.ny; ++j) {
+            for (int64_t i = 0; i < g.nx; ++i) {
+                const int64_t x = g.x0 + i * g.stride, y = g.y0 + j * g.stride;
+                if (x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_) {
+                    const size_t k = static_cast<size_t>(i + j * g.nx);
+                    g.height[k] = 100.0f + 0.37f * static_cast<float>(x) - 0.21f * static_cast<float>(y) +
+                                  ((x * y) % 7 == 0 ? 25.0f : 0.0f);
+                    g.valid[k] = 1;
+                }
+            }
+        }
+    }
+    bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override {
+        return !exact_ || (x1 >= x0_ && x0 <= x1_ && y1 >= y0_ && y0 <= y1_);
+    }
+
+private:
+    int64_t x0_, y0_, x1_, y1_;
+    bool exact_;
+};
+
+TEST(ResidualEncoder, WhatNoHeightReachesIsSkippedIntoTheFileOfEverySample) {
+    test::TempDir dir;
+    ResidualPyramidJob job;
+    job.header.tileSize = 32;
+    job.header.minLevel = 3; // root tile of 4 intervals
+    job.header.maxLevel = 10; // N = 4096; the grid holds every 16th sample (C = 6), in 5 bands of 64 rows
+    job.input = "patch";
+    ResidualEncodeOptions o;
+    o.scale = 0.25;
+    o.threads = 2;
+    // Across a band of the grid (rows 1024 apart) and footprints' blocks; a patch near a corner.
+    const int64_t patches[][4] = {{1500, 900, 1800, 1200}, {3900, 3950, 4096, 4096}};
+    for (const auto& p : patches) {
+        for (const GridEdges edges : {GridEdges::Clamped, GridEdges::Folded}) {
+            std::string files[2];
+            for (const bool exact : {true, false}) {
+                const Patch heights(p[0], p[1], p[2], p[3], exact);
+                job.heights = &heights;
+                job.edges = edges;
+                files[exact ? 0 : 1] = dir.file(exact ? "exact.dat" : "every.dat");
+                ResidualPyramidReport report;
+                encodeResidualPyramid(job, files[exact ? 0 : 1], o, report);
+                EXPECT_GT(report.nodataFilled, 4000 * 4000);
+            }
+            EXPECT_TRUE(test::readFile(files[0]) == test::readFile(files[1]))
+                << "patch at " << p[0] << "," << p[1] << (edges == GridEdges::Folded ? ", folded" : "");
+        }
+    }
 }
 
 TEST(DemEncoder, NonSquareInputKeepsItsAspectRatio) {

@@ -15,10 +15,18 @@ struct SourceGrid {
     int64_t nx = 0, ny = 0;
     std::vector<float> height;
     std::vector<uint8_t> valid;
+    // Where each row starts in height and valid: empty when the rows lie one after another, as in
+    // every grid a HeightSource fills. Else one offset per row: the encoder's in-memory grid of a
+    // map that covers a part of it stores only the rows valid heights can reach (and the root's),
+    // the others sharing one row of nodata that is never written.
+    std::vector<size_t> rows;
 
-    size_t index(int64_t fx, int64_t fy) const {
-        return static_cast<size_t>((fx - x0) / stride) + static_cast<size_t>((fy - y0) / stride) * static_cast<size_t>(nx);
+    size_t rowStart(int64_t fy) const {
+        const auto j = static_cast<size_t>((fy - y0) / stride);
+        return rows.empty() ? j * static_cast<size_t>(nx) : rows[j];
     }
+    size_t column(int64_t fx) const { return static_cast<size_t>((fx - x0) / stride); }
+    size_t index(int64_t fx, int64_t fy) const { return rowStart(fy) + column(fx); }
 };
 
 // Where a residual pyramid's heights come from: fills grid.height and grid.valid for the

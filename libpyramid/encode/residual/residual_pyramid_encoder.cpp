@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -102,6 +104,32 @@ struct TileSink {
 struct SampleBox {
     int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
+
+// Allocates grid's samples, nodata, for the rows that cross a block of `block` x `block` samples
+// marked in `reachable` (blocks across, then down) and for every `keep`-th row (0: none); the
+// other rows share one row of nodata (SourceGrid::rows). When every row is stored they lie one
+// after another, without a table.
+void allocateReachableRows(SourceGrid& grid, const std::vector<uint8_t>& reachable, int64_t block, int64_t keep) {
+    const int64_t across = (grid.nx + block - 1) / block;
+    std::vector<size_t> rows(static_cast<size_t>(grid.ny));
+    const auto width = static_cast<size_t>(grid.nx);
+    size_t stored = 0;
+    for (int64_t row = 0; row < grid.ny; ++row) {
+        const uint8_t* blocks = reachable.data() + (row / block) * across;
+        const bool kept = (keep > 0 && row % keep == 0) || std::find(blocks, blocks + across, uint8_t{1}) != blocks + across;
+        rows[static_cast<size_t>(row)] = kept ? stored++ * width : SIZE_MAX;
+    }
+    grid.rows.clear();
+    if (stored < rows.size()) {
+        for (size_t& r : rows) {
+            r = r == SIZE_MAX ? stored * width : r;
+        }
+        grid.rows = std::move(rows);
+        ++stored;
+    }
+    grid.height.assign(stored * width, 0.0f);
+    grid.valid.assign(stored * width, 0);
+}
 
 class Encoder {
 public:
@@ -309,9 +337,9 @@ private:
         }
     }
 
-    // Samples `footprint` where valid heights can be: in one call when they can be anywhere;
-    // else block by block, the blocks no valid height reaches left nodata (what sampling them
-    // gives).
+    // Samples `footprint` where valid heights can be: in one call when they can be anywhere (or
+    // with the reconstruction hook); else block by block, the blocks no valid height reaches left
+    // nodata (what sampling them gives), their rows not stored where no block of theirs is.
     void sampleReachable(SourceGrid& footprint) const {
         constexpr int64_t kBlock = 64;
         const int64_t across = (footprint.nx + kBlock - 1) / kBlock, down = (footprint.ny + kBlock - 1) / kBlock;
@@ -320,18 +348,17 @@ private:
         const auto atY = [&](int64_t j) { return footprint.y0 + j * footprint.stride; };
         for (int64_t by = 0; by < down; ++by) {
             for (int64_t bx = 0; bx < across; ++bx) {
-                reachable[static_cast<size_t>(by * across + bx)] = sampler_.mayHaveHeights(
+                reachable[static_cast<size_t>(by * across + bx)] = options_.reconstruction || sampler_.mayHaveHeights(
                     at(bx * kBlock), atY(by * kBlock), at(std::min(footprint.nx, (bx + 1) * kBlock) - 1),
                     atY(std::min(footprint.ny, (by + 1) * kBlock) - 1));
             }
         }
         if (std::all_of(reachable.begin(), reachable.end(), [](uint8_t r) { return r != 0; })) {
+            footprint.rows.clear();
             sampler_.sample(footprint);
             return;
         }
-        const size_t count = static_cast<size_t>(footprint.nx * footprint.ny);
-        footprint.height.assign(count, 0.0f);
-        footprint.valid.assign(count, 0);
+        allocateReachableRows(footprint, reachable, kBlock, 0);
         SourceGrid block;
         block.stride = footprint.stride;
         for (int64_t by = 0; by < down; ++by) {
@@ -618,7 +645,8 @@ RegionBuild planRegion(const ResidualPlan& plan, const ResidualEncodeOptions& op
 
 // Pass 1: the in-memory grid of levels 0..C (every 2^(M-C)-th finest sample), its root's nodata
 // filled.
-SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& job, int threads) {
+SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& job, const ResidualEncodeOptions& options,
+                           int threads) {
     SourceGrid grid;
     // One level-C row of samples at a time (each reads two input rows at most), in row order,
     // so the input streams through once.
@@ -627,10 +655,10 @@ SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& j
     const int64_t margin = plan.rootBorder() << plan.M;
     grid.x0 = grid.y0 = -margin;
     grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
-    grid.height.resize(static_cast<size_t>(grid.nx * grid.ny));
-    grid.valid.resize(grid.height.size());
     // Blocks of kBlock x kBlock grid samples that no valid height can reach are left nodata
     // without sampling (what sampling them gives); each row samples its other runs of blocks.
+    // With the reconstruction hook every block is sampled and every row stored: the encoding
+    // without any skip, which the skips must give byte for byte.
     constexpr int64_t kBlock = 64;
     const int64_t blocksAcross = (grid.nx + kBlock - 1) / kBlock;
     const int64_t blocksDown = (grid.ny + kBlock - 1) / kBlock;
@@ -640,8 +668,10 @@ SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& j
         const int64_t x0 = grid.x0 + bx * kBlock * grid.stride, y0 = grid.y0 + by * kBlock * grid.stride;
         const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kBlock - 1) * grid.stride;
         const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kBlock - 1) * grid.stride;
-        reachable[static_cast<size_t>(b)] = job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
+        reachable[static_cast<size_t>(b)] = options.reconstruction || job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
     });
+    // The root's rows (every 2^C-th) are stored whatever they reach: their nodata is filled.
+    allocateReachableRows(grid, reachable, kBlock, int64_t{1} << plan.C);
     parallelFor(grid.ny, threads, [&](int64_t row) {
         const uint8_t* blocks = reachable.data() + (row / kBlock) * blocksAcross;
         for (int64_t b0 = 0; b0 < blocksAcross;) {
@@ -658,8 +688,9 @@ SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& j
                 line.nx = c1 - c0;
                 line.ny = 1;
                 job.heights->sample(line);
-                std::copy(line.height.begin(), line.height.end(), grid.height.begin() + row * grid.nx + c0);
-                std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + row * grid.nx + c0);
+                const auto at = static_cast<std::ptrdiff_t>(grid.rowStart(line.y0) + static_cast<size_t>(c0));
+                std::copy(line.height.begin(), line.height.end(), grid.height.begin() + at);
+                std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + at);
             }
             b0 = b1;
         }
@@ -714,7 +745,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     const bool gridNeeded = !region || !region->fromParent;
     SourceGrid grid;
     if (gridNeeded) {
-        grid = sampleLevelGrid(plan, job, threads);
+        grid = sampleLevelGrid(plan, job, options, threads);
     }
 
     double scale = options.scale;
@@ -752,7 +783,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
             sink.writer = &out->writer();
         }
         if (gridNeeded && grid.height.empty()) {
-            grid = sampleLevelGrid(plan, job, threads); // released by the attempt before
+            grid = sampleLevelGrid(plan, job, options, threads); // released by the attempt before
         }
         Encoder encoder(plan, *job.heights, grid, options, threads, job.input, range, region ? &region->root : nullptr,
                         region && region->fromParent ? &region->parentRecon : nullptr);

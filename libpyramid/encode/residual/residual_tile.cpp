@@ -160,7 +160,7 @@ EncodedTile encodeResidualTile(const ResidualPlan& plan, int l, int tx, int ty, 
     const auto finest = [&](int64_t q) { return (plan.folded ? q : std::clamp<int64_t>(q, 0, Nl)) * (int64_t{1} << shift); };
     // Offsets in `src` of each column's sample, computed once per tile.
     for (int i = 0; i < S; ++i) {
-        column[static_cast<size_t>(i)] = src.index(finest(ownX0 + i - 2), src.y0);
+        column[static_cast<size_t>(i)] = src.column(finest(ownX0 + i - 2));
     }
     // Column of the map's last samples (at i >= n + 2 if the tile reaches them).
     const int64_t edgeColumn = Nl - ownX0 + 2;
@@ -178,7 +178,7 @@ EncodedTile encodeResidualTile(const ResidualPlan& plan, int l, int tx, int ty, 
     const RowCoding coding{powerOfTwo, inverse, step, plan.scale};
     for (int j = 0; j < S; ++j) {
         const int64_t q = ownY0 + j - 2;
-        const size_t row = src.index(src.x0, finest(q));
+        const size_t row = src.rowStart(finest(q));
         const float* height = src.height.data() + row;
         const uint8_t* valid = src.valid.data() + row;
         float* z = out.recon.data() + static_cast<size_t>(j) * static_cast<size_t>(S);
