@@ -105,18 +105,42 @@ struct SampleBox {
     int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
-// Allocates grid's samples, nodata, for the rows that cross a block of `block` x `block` samples
-// marked in `reachable` (blocks across, then down) and for every `keep`-th row (0: none); the
-// other rows share one row of nodata (SourceGrid::rows). When every row is stored they lie one
-// after another, without a table.
-void allocateReachableRows(SourceGrid& grid, const std::vector<uint8_t>& reachable, int64_t block, int64_t keep) {
-    const int64_t across = (grid.nx + block - 1) / block;
+// The side, in samples, of the blocks a grid is sampled and stored by where valid heights can be.
+constexpr int64_t kReachBlock = 64;
+
+// For each block of kReachBlock x kReachBlock samples of `grid` (blocks across, then down: the
+// blocks a row of samples crosses are those of its row / kReachBlock-th row of blocks), 1 where
+// `heights` may have a valid height, 0 where it has none; 1 everywhere with `everywhere`.
+std::vector<uint8_t> reachableBlocks(const SourceGrid& grid, const HeightSource& heights, bool everywhere, int threads) {
+    const int64_t across = (grid.nx + kReachBlock - 1) / kReachBlock;
+    const int64_t down = (grid.ny + kReachBlock - 1) / kReachBlock;
+    std::vector<uint8_t> reachable(static_cast<size_t>(across * down), 1);
+    if (everywhere) {
+        return reachable;
+    }
+    parallelFor(across * down, threads, [&](int64_t b) {
+        const int64_t bx = b % across, by = b / across;
+        const int64_t x0 = grid.x0 + bx * kReachBlock * grid.stride, y0 = grid.y0 + by * kReachBlock * grid.stride;
+        const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kReachBlock - 1) * grid.stride;
+        const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kReachBlock - 1) * grid.stride;
+        reachable[static_cast<size_t>(b)] = heights.mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
+    });
+    return reachable;
+}
+
+// Allocates grid's samples, nodata, for the rows that cross a block marked in `reachable`
+// (reachableBlocks) and for every `keep`-th row (0: none); the other rows share one row of
+// nodata (SourceGrid::rows). When every row is stored they lie one after another, without a
+// table.
+void allocateReachableRows(SourceGrid& grid, const std::vector<uint8_t>& reachable, int64_t keep) {
+    const int64_t across = (grid.nx + kReachBlock - 1) / kReachBlock;
     std::vector<size_t> rows(static_cast<size_t>(grid.ny));
     const auto width = static_cast<size_t>(grid.nx);
     size_t stored = 0;
     for (int64_t row = 0; row < grid.ny; ++row) {
-        const uint8_t* blocks = reachable.data() + (row / block) * across;
-        const bool kept = (keep > 0 && row % keep == 0) || std::find(blocks, blocks + across, uint8_t{1}) != blocks + across;
+        const uint8_t* blocks = reachable.data() + (row / kReachBlock) * across;
+        const bool kept =
+            (keep > 0 && row % keep == 0) || std::find(blocks, blocks + across, uint8_t{1}) != blocks + across;
         rows[static_cast<size_t>(row)] = kept ? stored++ * width : SIZE_MAX;
     }
     grid.rows.clear();
@@ -341,24 +365,19 @@ private:
     // with the reconstruction hook); else block by block, the blocks no valid height reaches left
     // nodata (what sampling them gives), their rows not stored where no block of theirs is.
     void sampleReachable(SourceGrid& footprint) const {
-        constexpr int64_t kBlock = 64;
-        const int64_t across = (footprint.nx + kBlock - 1) / kBlock, down = (footprint.ny + kBlock - 1) / kBlock;
-        std::vector<uint8_t> reachable(static_cast<size_t>(across * down));
+        const int64_t across = (footprint.nx + kReachBlock - 1) / kReachBlock;
+        const int64_t down = (footprint.ny + kReachBlock - 1) / kReachBlock;
+        // One thread: this runs on a subtree's thread.
+        const std::vector<uint8_t> reachable =
+            reachableBlocks(footprint, sampler_, static_cast<bool>(options_.reconstruction), 1);
         const auto at = [&](int64_t i) { return footprint.x0 + i * footprint.stride; };
         const auto atY = [&](int64_t j) { return footprint.y0 + j * footprint.stride; };
-        for (int64_t by = 0; by < down; ++by) {
-            for (int64_t bx = 0; bx < across; ++bx) {
-                reachable[static_cast<size_t>(by * across + bx)] = options_.reconstruction || sampler_.mayHaveHeights(
-                    at(bx * kBlock), atY(by * kBlock), at(std::min(footprint.nx, (bx + 1) * kBlock) - 1),
-                    atY(std::min(footprint.ny, (by + 1) * kBlock) - 1));
-            }
-        }
         if (std::all_of(reachable.begin(), reachable.end(), [](uint8_t r) { return r != 0; })) {
             footprint.rows.clear();
             sampler_.sample(footprint);
             return;
         }
-        allocateReachableRows(footprint, reachable, kBlock, 0);
+        allocateReachableRows(footprint, reachable, 0);
         SourceGrid block;
         block.stride = footprint.stride;
         for (int64_t by = 0; by < down; ++by) {
@@ -366,10 +385,10 @@ private:
                 if (!reachable[static_cast<size_t>(by * across + bx)]) {
                     continue;
                 }
-                block.x0 = at(bx * kBlock);
-                block.y0 = atY(by * kBlock);
-                block.nx = std::min(footprint.nx, (bx + 1) * kBlock) - bx * kBlock;
-                block.ny = std::min(footprint.ny, (by + 1) * kBlock) - by * kBlock;
+                block.x0 = at(bx * kReachBlock);
+                block.y0 = atY(by * kReachBlock);
+                block.nx = std::min(footprint.nx, (bx + 1) * kReachBlock) - bx * kReachBlock;
+                block.ny = std::min(footprint.ny, (by + 1) * kReachBlock) - by * kReachBlock;
                 sampler_.sample(block);
                 for (int64_t j = 0; j < block.ny; ++j) {
                     const size_t to = footprint.index(block.x0, block.y0 + j * block.stride);
@@ -655,31 +674,23 @@ SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& j
     const int64_t margin = plan.rootBorder() << plan.M;
     grid.x0 = grid.y0 = -margin;
     grid.nx = grid.ny = (plan.N + 2 * margin) / grid.stride + 1;
-    // Blocks of kBlock x kBlock grid samples that no valid height can reach are left nodata
+    // Blocks of kReachBlock x kReachBlock grid samples that no valid height can reach are left nodata
     // without sampling (what sampling them gives); each row samples its other runs of blocks.
     // With the reconstruction hook every block is sampled and every row stored: the encoding
     // without any skip, which the skips must give byte for byte.
-    constexpr int64_t kBlock = 64;
-    const int64_t blocksAcross = (grid.nx + kBlock - 1) / kBlock;
-    const int64_t blocksDown = (grid.ny + kBlock - 1) / kBlock;
-    std::vector<uint8_t> reachable(static_cast<size_t>(blocksAcross * blocksDown));
-    parallelFor(blocksAcross * blocksDown, threads, [&](int64_t b) {
-        const int64_t bx = b % blocksAcross, by = b / blocksAcross;
-        const int64_t x0 = grid.x0 + bx * kBlock * grid.stride, y0 = grid.y0 + by * kBlock * grid.stride;
-        const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kBlock - 1) * grid.stride;
-        const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kBlock - 1) * grid.stride;
-        reachable[static_cast<size_t>(b)] = options.reconstruction || job.heights->mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
-    });
+    const int64_t blocksAcross = (grid.nx + kReachBlock - 1) / kReachBlock;
+    const std::vector<uint8_t> reachable =
+        reachableBlocks(grid, *job.heights, static_cast<bool>(options.reconstruction), threads);
     // The root's rows (every 2^C-th) are stored whatever they reach: their nodata is filled.
-    allocateReachableRows(grid, reachable, kBlock, int64_t{1} << plan.C);
+    allocateReachableRows(grid, reachable, int64_t{1} << plan.C);
     parallelFor(grid.ny, threads, [&](int64_t row) {
-        const uint8_t* blocks = reachable.data() + (row / kBlock) * blocksAcross;
+        const uint8_t* blocks = reachable.data() + (row / kReachBlock) * blocksAcross;
         for (int64_t b0 = 0; b0 < blocksAcross;) {
             int64_t b1 = b0;
             while (b1 < blocksAcross && blocks[b1] == blocks[b0]) {
                 ++b1;
             }
-            const int64_t c0 = b0 * kBlock, c1 = std::min(grid.nx, b1 * kBlock);
+            const int64_t c0 = b0 * kReachBlock, c1 = std::min(grid.nx, b1 * kReachBlock);
             if (blocks[b0]) {
                 SourceGrid line;
                 line.stride = grid.stride;
