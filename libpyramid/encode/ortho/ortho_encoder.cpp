@@ -101,13 +101,13 @@ public:
             t = regionRelativeTile(*region_, e.level, e.tx, e.ty);
         }
         if (tiff_ && made.tiff) {
-            tiff_->writeTileBytes(t.level, t.tx, t.ty, e.tiff);
+            tiff_->writeTileBytes(t.level, t.tx, t.ty, bytesOf(e.tiff));
         }
         if (dxt_ && made.dxt) {
-            dxt_->writeTileBytes(t.level, t.tx, t.ty, e.dxt);
+            dxt_->writeTileBytes(t.level, t.tx, t.ty, bytesOf(e.dxt));
         }
         if (residual_ && made.residual) {
-            residual_->writeTileBytes(t.level, t.tx, t.ty, e.residual);
+            residual_->writeTileBytes(t.level, t.tx, t.ty, bytesOf(e.residual));
         }
     }
 
@@ -175,7 +175,9 @@ public:
         subtreeResiduals_ = subtrees.writeResiduals;
     }
     // The colour reconstruction of a tile this walk does not encode (a region's parent).
-    void seed(int level, int tx, int ty, std::vector<uint8_t> recon) { shallowRecon_[{level, tx, ty}] = std::move(recon); }
+    void seed(int level, int tx, int ty, std::vector<uint8_t> recon) {
+        shallowRecon_[{level, tx, ty}] = std::make_shared<const std::vector<uint8_t>>(std::move(recon));
+    }
 
     // A whole level of 0..C, from the walk's calling thread: its tiles in parallel, independent
     // given the previous level's reconstruction.
@@ -183,7 +185,7 @@ public:
         EncodedItem level(batch.size());
         parallelFor(static_cast<int64_t>(batch.size()), threads_, [&](int64_t i) {
             const TrueTile& t = batch[static_cast<size_t>(i)];
-            const std::vector<uint8_t>* parent = t.level && topResiduals_ ? &shallowRecon_.at(parentOf(t)) : nullptr;
+            const std::vector<uint8_t>* parent = t.level && topResiduals_ ? shallowRecon_.at(parentOf(t)).get() : nullptr;
             level[static_cast<size_t>(i)] = top_.encode(t, parent);
         });
         if (topResiduals_) {
@@ -191,7 +193,7 @@ public:
             // written. Moved rather than copied unless they are handed out too: a level's rebuilt
             // colours are held once (at planet scale, level C's are most of a gigabyte).
             for (EncodedOrthoTile& e : level) {
-                std::vector<uint8_t>& kept = shallowRecon_[{e.level, e.tx, e.ty}];
+                SharedBytes& kept = shallowRecon_[{e.level, e.tx, e.ty}];
                 kept = handOutRecon_ ? e.recon : std::move(e.recon);
             }
         }
@@ -211,13 +213,13 @@ public:
             }
             const auto key = parentOf(t);
             const auto it = local.find(key);
-            const std::vector<uint8_t>* parent = it != local.end() ? it->second : &shallowRecon_.at(key);
+            const std::vector<uint8_t>* parent = it != local.end() ? it->second : shallowRecon_.at(key).get();
             out.push_back(subtree_->encode(t, parent));
-            local[{t.level, t.tx, t.ty}] = &out.back().recon;
+            local[{t.level, t.tx, t.ty}] = out.back().recon.get();
         }
         if (!handOutRecon_) {
             for (EncodedOrthoTile& e : out) {
-                std::vector<uint8_t>().swap(e.recon); // not held while the item waits to be written
+                e.recon.reset(); // not held while the item waits to be written
             }
         }
         return out;
@@ -234,7 +236,7 @@ private:
     std::unique_ptr<OrthoTileEncoder> subtree_;
     bool subtreeResiduals_ = false;
     const int threads_;
-    std::map<TileKey, std::vector<uint8_t>> shallowRecon_; // levels 0..C
+    std::map<TileKey, SharedBytes> shallowRecon_; // levels 0..C
 };
 
 // The outputs' headers and names, as part files record them.
@@ -360,7 +362,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             if (!(k == 0 ? made.tiff : k == 1 ? made.dxt : made.residual)) {
                 continue;
             }
-            const std::vector<uint8_t>& blob = k == 0 ? e.tiff : k == 1 ? e.dxt : e.residual;
+            const std::vector<uint8_t>& blob = bytesOf(k == 0 ? e.tiff : k == 1 ? e.dxt : e.residual);
             file.add(static_cast<uint32_t>(o.pyramid * 3 + k), e.level, e.tx, e.ty,
                      first ? packOrthoTileStats(e.stats) : std::vector<uint8_t>{}, blob);
             first = false;
@@ -398,8 +400,8 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             if (share && !range.top && e.level <= topLevel) {
                 continue; // another share's
             }
-            if (o.colourReconstruction && !e.recon.empty()) {
-                o.colourReconstruction(e.level, e.tx, e.ty, e.recon);
+            if (o.colourReconstruction && e.recon) {
+                o.colourReconstruction(e.level, e.tx, e.ty, *e.recon);
             }
             if (second) {
                 e.stats.tiles = 0; // counted with its TIFF or DXT tile

@@ -89,6 +89,7 @@ EncodedOrthoTile OrthoTileEncoder::encode(const TrueTile& t, const std::vector<u
     // input, sea, snow) encode to the same bytes wherever they are: encoded once per colour
     // and compression, then copied. At most kUniformTilesKept colours are kept (memory
     // stays bounded on a map of many flat colours; later ones are encoded as any tile).
+    // The copies share the bytes (SharedBytes).
     std::optional<UniformKey> key = uniformKey(t, parentRecon);
     if (key) {
         {
@@ -100,12 +101,17 @@ EncodedOrthoTile OrthoTileEncoder::encode(const TrueTile& t, const std::vector<u
         }
         EncodedOrthoTile e = encodeNew(t, parentRecon);
         const std::lock_guard<std::mutex> lock(uniformMutex_);
-        if (uniform_.size() < kUniformTilesKept) {
-            uniform_.emplace(*key, e);
+        if (uniform_.size() < kUniformTilesKept && uniform_.emplace(*key, e).second && e.recon) {
+            uniformRecons_.push_back(e.recon.get());
         }
         return e;
     }
     return encodeNew(t, parentRecon);
+}
+
+bool OrthoTileEncoder::knownUniform(const std::vector<uint8_t>* recon) const {
+    const std::lock_guard<std::mutex> lock(uniformMutex_);
+    return std::find(uniformRecons_.begin(), uniformRecons_.end(), recon) != uniformRecons_.end();
 }
 
 std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const TrueTile& t,
@@ -121,7 +127,8 @@ std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const T
         return v.size() >= c && std::memcmp(v.data(), v.data() + c, v.size() - c) == 0;
     };
     const auto sameColourAsTile = [&](const std::vector<uint8_t>* parent) {
-        return parent != nullptr && uniform(*parent) && std::memcmp(parent->data(), p.data(), c) == 0;
+        return parent != nullptr && (knownUniform(parent) || uniform(*parent)) &&
+               std::memcmp(parent->data(), p.data(), c) == 0;
     };
     if (!(t.blank || uniform(p)) || (o_.writeResiduals && !sameColourAsTile(parentRecon))) {
         return std::nullopt;
@@ -160,10 +167,10 @@ EncodedOrthoTile OrthoTileEncoder::encodeNew(const TrueTile& t, const std::vecto
     if (o_.writeTiff) {
         const TiffCompression c = tiffCompressionOf(t);
         // Deflate with the horizontal predictor, which readers undo inside libtiff.
-        e.tiff = encodeTiff8(plain, outSide, outSide, channels_, c, o_.jpegQuality, o_.deflateLevel, true);
+        std::vector<uint8_t> tiff = encodeTiff8(plain, outSide, outSide, channels_, c, o_.jpegQuality, o_.deflateLevel, true);
         e.stats.jpegTiles += isJpeg(c);
         if (isJpeg(c) && o_.measureJpegError) {
-            const std::vector<uint8_t> back = decodeOrthoTiff(e.tiff, outSide, channels_, "JPEG tile");
+            const std::vector<uint8_t> back = decodeOrthoTiff(tiff, outSide, channels_, "JPEG tile");
             // A local maximum (not the member, which the byte loads might alias) vectorises.
             int maxError = 0;
             for (size_t k = 0; k < back.size(); ++k) {
@@ -172,6 +179,7 @@ EncodedOrthoTile OrthoTileEncoder::encodeNew(const TrueTile& t, const std::vecto
             }
             e.stats.tiffMaxError = maxError;
         }
+        e.tiff = std::make_shared<const std::vector<uint8_t>>(std::move(tiff));
     }
     if (o_.writeDxt) {
         const DxtFormat format = channels_ == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1;
@@ -179,7 +187,8 @@ EncodedOrthoTile OrthoTileEncoder::encodeNew(const TrueTile& t, const std::vecto
         // block by block as they are encoded. An integer sum: the same total as adding the
         // squares one by one in double precision (a tile's stay far below 2^53).
         int64_t squares = 0;
-        e.dxt = encodeDxt(plain, outSide, outSide, channels_, format, o_.dxtQuality, &squares);
+        e.dxt = std::make_shared<const std::vector<uint8_t>>(
+            encodeDxt(plain, outSide, outSide, channels_, format, o_.dxtQuality, &squares));
         e.stats.dxtSquares += static_cast<double>(squares);
         e.stats.dxtSamples += static_cast<int64_t>(outSide) * outSide * (format == DxtFormat::Dxt5 ? 4 : 3);
     }
@@ -205,8 +214,8 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
     thread_local std::vector<uint8_t> storedBuffer;
     storedBuffer.resize(count);
     uint8_t* const stored = storedBuffer.data();
-    e.recon.resize(count);
-    uint8_t* const recon = e.recon.data();
+    std::vector<uint8_t> reconBuffer(count);
+    uint8_t* const recon = reconBuffer.data();
     int maxError = 0;
     int64_t squares = 0, clampedCount = 0;
     const auto measure = [&](const uint8_t* rebuilt, const uint8_t* original, size_t n) {
@@ -232,10 +241,11 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
         e.stats.clamped += clampedCount;
     }
     const std::span<const uint8_t> storedTile(t.level == 0 ? truth.data() : stored, count);
-    e.residual = encodeTiff8(storedTile, side, side, channels_, jpeg ? TiffCompression::Jpeg : TiffCompression::Deflate,
-                             o_.jpegQuality, o_.residualDeflateLevel);
+    std::vector<uint8_t> residual = encodeTiff8(storedTile, side, side, channels_,
+                                                jpeg ? TiffCompression::Jpeg : TiffCompression::Deflate, o_.jpegQuality,
+                                                o_.residualDeflateLevel);
     if (jpeg) {
-        const std::vector<uint8_t> decoded = decodeOrthoTiff(e.residual, side, channels_, "JPEG residual tile");
+        const std::vector<uint8_t> decoded = decodeOrthoTiff(residual, side, channels_, "JPEG residual tile");
         if (t.level == 0) {
             std::copy_n(decoded.data(), count, recon);
         } else {
@@ -248,6 +258,8 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
     e.stats.residualMaxError = std::max(e.stats.residualMaxError, maxError);
     e.stats.residualSquares += static_cast<double>(squares);
     e.stats.residualSamples += static_cast<int64_t>(count);
+    e.residual = std::make_shared<const std::vector<uint8_t>>(std::move(residual));
+    e.recon = std::make_shared<const std::vector<uint8_t>>(std::move(reconBuffer));
 }
 
 } // namespace pyramid

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <tuple>
@@ -27,11 +28,22 @@ struct OrthoTileStats {
     int64_t clamped = 0;
 };
 
-// A tile's bytes in each output (empty for an output not written).
+// Bytes that never change once made: a uniform tile's are shared by every tile of its colour
+// (OrthoTileEncoder::encode), so that the hundreds of thousands of blank tiles of a face a small
+// map barely touches cost a pointer each, not a copy.
+using SharedBytes = std::shared_ptr<const std::vector<uint8_t>>;
+
+// `bytes`, or no bytes when null.
+inline const std::vector<uint8_t>& bytesOf(const SharedBytes& bytes) {
+    static const std::vector<uint8_t> none;
+    return bytes ? *bytes : none;
+}
+
+// A tile's bytes in each output (null for an output not written).
 struct EncodedOrthoTile {
     int level = 0, tx = 0, ty = 0;
-    std::vector<uint8_t> tiff, dxt, residual;
-    std::vector<uint8_t> recon; // colour-residual reconstruction, for the children
+    SharedBytes tiff, dxt, residual;
+    SharedBytes recon; // colour-residual reconstruction, for the children
     OrthoTileStats stats;
 };
 
@@ -53,6 +65,8 @@ private:
 
     std::optional<UniformKey> uniformKey(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
     static EncodedOrthoTile placed(const EncodedOrthoTile& shared, const TrueTile& t);
+    // Whether `recon` is known to be uniform without looking: a shared uniform tile's.
+    bool knownUniform(const std::vector<uint8_t>* recon) const;
     TiffCompression tiffCompressionOf(const TrueTile& t) const;
     EncodedOrthoTile encodeNew(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
     void encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedOrthoTile& e) const;
@@ -61,6 +75,7 @@ private:
     int channels_ = 0, tileSize_ = 0;
     mutable std::mutex uniformMutex_;
     mutable std::map<UniformKey, EncodedOrthoTile> uniform_;
+    mutable std::vector<const std::vector<uint8_t>*> uniformRecons_; // of uniform_'s tiles, which keep them alive
 };
 
 } // namespace pyramid
