@@ -3,15 +3,21 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <mutex>
 #include <random>
+#include <stdexcept>
+#include <utility>
 #include <tuple>
 
 #include "libpyramid/encode/ortho/ortho_levels.hpp"
 #include "libpyramid/encode/ortho/planar_pixels.hpp"
+#include "libpyramid/encode/ortho/sparse_level.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
+#include "tests/support/box_map.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -39,6 +45,7 @@ std::vector<uint16_t> texture(int w, int h, int channels, int maxValue) {
 struct Walked {
     std::map<Key, std::vector<uint8_t>> tiles;
     std::vector<Key> order;
+    std::vector<Key> blank; // the tiles given as blank (TrueTile::blank)
 };
 
 Walked walk(const OrthoLevels& levels, OrthoLevels::WalkOrder order) {
@@ -62,6 +69,9 @@ Walked walk(const OrthoLevels& levels, OrthoLevels::WalkOrder order) {
             std::vector<uint8_t> pixels(t.image().pixels.begin(), t.image().pixels.end());
             EXPECT_TRUE(w.tiles.emplace(k, std::move(pixels)).second) << "tile given twice";
             w.order.push_back(k);
+            if (t.blank) {
+                w.blank.push_back(k);
+            }
         }
     }
     return w;
@@ -215,6 +225,51 @@ TEST(OrthoLevels, BothOrdersGiveTheSameFaceTiles) {
     }
 }
 
+// The levels held whole (0..C) keep only the blocks a map may reach (sparse_level.hpp): a face
+// that a small map barely touches gives, in both orders, the tiles of the same map saying that
+// it may have values anywhere, those of levels 0..C that no stored block meets as blank tiles
+// (tiles away from the map; none when the map may be anywhere).
+TEST(OrthoLevels, LevelsHeldWholeAreBlankWhereTheMapCannotReach) {
+    const PlanetBody body = PlanetBody::parse("wgs84");
+    std::map<bool, std::map<OrthoLevels::WalkOrder, Walked>> walks;
+    for (const bool everywhere : {true, false}) {
+        std::atomic<int64_t> points{0};
+        const MapSources sources =
+            globalMapSources("box", std::make_unique<test::BoxMap>(GeoExtent::parse("40,10,55,30"), everywhere, points), 3,
+                             1024, SampleType::UInt8);
+        OrthoLevelsOptions o;
+        o.tileSize = 16;
+        o.maxLevel = 7; // level C 3 blocks across (coarse first), 10 (single pass)
+        o.threads = 2;
+        const OrthoLevels levels(*sources.source, sources.placement, body, 3, o, sources.map.get());
+        for (const auto order : {OrthoLevels::WalkOrder::CoarseFirst, OrthoLevels::WalkOrder::SinglePass}) {
+            SCOPED_TRACE(std::string(everywhere ? "everywhere" : "box") +
+                         (order == OrthoLevels::WalkOrder::CoarseFirst ? ", coarse first" : ", single pass"));
+            Walked w = walk(levels, order);
+            const int top = levels.topLevels(order);
+            ASSERT_GE(top, 3);
+            int64_t blankTop = 0;
+            for (const Key& k : w.blank) {
+                const auto& pixels = w.tiles.at(k);
+                EXPECT_TRUE(std::all_of(pixels.begin(), pixels.end(), [](uint8_t v) { return v == 0; }));
+                blankTop += std::get<0>(k) <= top;
+            }
+            if (everywhere) {
+                EXPECT_TRUE(w.blank.empty());
+            } else {
+                // Level `top` has 4^top tiles; the box covers a corner of a few of them.
+                EXPECT_GT(blankTop, (int64_t{1} << (2 * top)) / 2);
+            }
+            walks[everywhere][order] = std::move(w);
+        }
+    }
+    for (const auto order : {OrthoLevels::WalkOrder::CoarseFirst, OrthoLevels::WalkOrder::SinglePass}) {
+        EXPECT_TRUE(walks[false][order].tiles == walks[true][order].tiles);
+    }
+    EXPECT_TRUE(walks[false][OrthoLevels::WalkOrder::CoarseFirst].tiles ==
+                walks[false][OrthoLevels::WalkOrder::SinglePass].tiles);
+}
+
 // Beyond a wide input the square's lower part is black and transparent at every level, and
 // tiles straddling the input's edge are not.
 TEST(OrthoLevels, BeyondTheInputTilesAreBlack) {
@@ -240,6 +295,76 @@ TEST(OrthoLevels, BeyondTheInputTilesAreBlack) {
             EXPECT_FALSE(black) << "tile " << l << "," << tx << "," << ty;
         }
     }
+}
+
+// A level stored in blocks: reducing it is reducing the whole image (0 where no block is stored),
+// block by block, and it reads back what was written, 0 elsewhere. A level 2.5 blocks across
+// and odd block counts check the far edges; colour written where no block is stored is refused.
+TEST(SparseLevel, ReducesAndReadsAsTheWholeImage) {
+    constexpr int64_t B = kSparseBlock;
+    const int64_t side = 5 * B / 2 * 2; // 5 blocks across; the reduced level 2.5
+    const int channels = 3;
+    const int64_t across = SparseLevel::blocks(side);
+    ASSERT_EQ(across, 5);
+    std::mt19937 random(7);
+    std::vector<uint8_t> stored(static_cast<size_t>(across * across));
+    for (uint8_t& s : stored) {
+        s = random() % 3 == 0 ? 1 : 0;
+    }
+    stored[0] = 1;
+    stored[stored.size() - 1] = 1;
+    SparseLevel level(side, channels, stored);
+    Image8 dense(static_cast<int>(side), static_cast<int>(side), channels);
+    for (int64_t y = 0; y < side; ++y) {
+        for (int64_t x = 0; x < side; ++x) {
+            if (!level.stored(x / B, y / B)) {
+                continue;
+            }
+            for (int c = 0; c < channels; ++c) {
+                dense.at(static_cast<int>(x), static_cast<int>(y))[c] = static_cast<uint8_t>(1 + random() % 255);
+            }
+        }
+    }
+    // Written in rows of uneven pieces that cross blocks, stored or not.
+    for (int64_t y = 0; y < side; ++y) {
+        for (int64_t x = 0; x < side;) {
+            const int64_t n = std::min<int64_t>(side - x, 1 + static_cast<int64_t>(random() % (2 * B)));
+            Image8 piece(static_cast<int>(n), 1, channels);
+            std::copy_n(dense.at(static_cast<int>(x), static_cast<int>(y)), n * channels, piece.at(0, 0));
+            level.write(piece, x, y);
+            x += n;
+        }
+    }
+    const ColourAverager averager(ColourSpace::Srgb, channels);
+    const Image8 half = averager.reduce(dense);
+    const SparseLevel reduced = level.reduced(averager, 2);
+    ASSERT_EQ(reduced.side(), side / 2);
+    for (const auto& [lvl, want] : {std::pair<const SparseLevel*, const Image8*>{&level, &dense}, {&reduced, &half}}) {
+        std::vector<uint8_t> row(static_cast<size_t>(lvl->side()) * channels);
+        for (int64_t y = 0; y < lvl->side(); ++y) {
+            lvl->read(0, y, lvl->side(), row.data());
+            ASSERT_TRUE(std::equal(row.begin(), row.end(), want->at(0, static_cast<int>(y)))) << "row " << y;
+        }
+    }
+    EXPECT_FALSE(reduced.blank(0, 0, 0, 0));
+    // A block of four unstored blocks stays unstored, and reads 0.
+    for (int64_t by = 0; by < SparseLevel::blocks(reduced.side()); ++by) {
+        for (int64_t bx = 0; bx < SparseLevel::blocks(reduced.side()); ++bx) {
+            bool any = false;
+            for (int q = 0; q < 4; ++q) {
+                any = any || level.stored(2 * bx + (q & 1), 2 * by + (q >> 1));
+            }
+            EXPECT_EQ(reduced.stored(bx, by), any) << bx << "," << by;
+            EXPECT_EQ(reduced.blank(bx * B, by * B, bx * B + B - 1, by * B + B - 1), !any);
+        }
+    }
+    const auto unstored = std::find(stored.begin(), stored.end(), uint8_t{0});
+    ASSERT_NE(unstored, stored.end());
+    const int64_t b = unstored - stored.begin();
+    Image8 colour(2, 1, channels);
+    colour.at(1, 0)[2] = 9;
+    EXPECT_THROW(level.write(colour, (b % across) * B, (b / across) * B), std::logic_error);
+    EXPECT_NO_THROW(level.write(Image8(2, 1, channels), (b % across) * B, (b / across) * B));
 }
 
 } // namespace

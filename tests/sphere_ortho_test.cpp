@@ -3,6 +3,8 @@
 // input, determinism, colour residuals rebuilt by the CPU producer, bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -14,8 +16,10 @@
 #include "formats/ortho_file.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
+#include "libpyramid/sphere/map_sources.hpp"
 #include "libpyramid/sphere/planet_body.hpp"
 #include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
+#include "tests/support/box_map.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -307,6 +311,67 @@ TEST(SphereOrtho, PixelsOutsideThePartialExtentAreZero) {
     }
     EXPECT_GT(inside, 100);
     EXPECT_GT(outside, 32 * 32); // all of face 1, and the rest of face 3
+}
+
+// Every file under `dir`, by its path relative to it.
+std::map<std::string, std::string> filesUnder(const std::string& dir) {
+    std::map<std::string, std::string> files;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) {
+            files[std::filesystem::relative(e.path(), dir).string()] = test::readFile(e.path().string());
+        }
+    }
+    return files;
+}
+
+// Levels 0..C of a face are stored only in the blocks the map may reach (sparse_level.hpp), and
+// a tile no stored block meets is blank: a map over a box across the edge of faces 3 and 4
+// gives, with every output, residuals alone (the coarse-first walk), TIFF alone (one single-pass
+// walk) and a region build, the files of the same map saying that it may have values anywhere,
+// byte for byte, while asking for a fraction of the points (the subtrees and the bands of
+// levels 0..C sample only where the map may reach).
+TEST(SphereOrtho, AMapThatSaysWhereItReachesGivesTheFilesOfOneThatMayReachEverywhere) {
+    test::TempDir dir;
+    const GeoExtent box = GeoExtent::parse("35,5,55,30");
+    struct Case {
+        const char* name;
+        bool tiff, dxt, residuals;
+        std::optional<RegionRoot> region;
+    };
+    for (const Case& c : {Case{"every output", true, true, true, std::nullopt},
+                          Case{"residuals", false, false, true, std::nullopt},
+                          Case{"tiff", true, false, false, std::nullopt},
+                          Case{"region", true, true, true, RegionRoot{3, 7, 5}}}) {
+        SCOPED_TRACE(c.name);
+        std::map<std::string, std::string> files[2];
+        int64_t asked[2] = {0, 0};
+        for (const bool everywhere : {true, false}) {
+            std::atomic<int64_t> points{0};
+            SphericalOrthoOptions o = small(16, 6); // levels 0..2 (coarse first) or 0..4 (single pass) held
+            o.ortho.writeTiff = c.tiff;
+            o.ortho.writeDxt = c.dxt;
+            o.ortho.writeResiduals = c.residuals;
+            o.ortho.dxtQuality = 0;
+            o.faces = {3, 4};
+            if (c.region) {
+                o.faces = {3};
+                o.ortho.region = RegionRequest{*c.region, ""};
+            }
+            const std::string out = dir.file(std::string(c.name) + (everywhere ? "-everywhere" : "-box"));
+            encodeSphericalOrtho(globalMapSources("box", std::make_unique<test::BoxMap>(box, everywhere, points), 3, 1024,
+                                                 SampleType::UInt8),
+                                 out, o);
+            files[everywhere] = filesUnder(out);
+            asked[everywhere] = points;
+        }
+        ASSERT_FALSE(files[0].empty());
+        for (const auto& [name, bytes] : files[1]) {
+            ASSERT_TRUE(files[0].count(name)) << name;
+            EXPECT_TRUE(files[0].at(name) == bytes) << name << " differs";
+        }
+        EXPECT_EQ(files[0].size(), files[1].size());
+        EXPECT_LT(asked[0] * 2, asked[1]) << asked[0] << " points asked of the box, " << asked[1] << " of everywhere";
+    }
 }
 
 TEST(SphereOrtho, BadInputWritesNothing) {

@@ -7,6 +7,7 @@
 #include "formats/error.hpp"
 #include "libpyramid/encode/ortho/face_pixels.hpp"
 #include "libpyramid/encode/ortho/planar_pixels.hpp"
+#include "libpyramid/encode/ortho/sparse_level.hpp"
 #include "libpyramid/encode/tile_size_rule.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
 #include "libpyramid/support/morton.hpp"
@@ -57,6 +58,35 @@ struct OrthoLevels::Impl {
 
     // Tile (l, tx, ty) with its border from `img`, whose pixel (0, 0) is level-l pixel (ox, oy).
     TrueTile extract(const Image8& img, int64_t ox, int64_t oy, int l, int tx, int ty) const {
+        return cut(l, tx, ty, ox, oy, [&](int64_t x, int64_t y, int n, uint8_t* out) {
+            std::copy_n(img.at(static_cast<int>(x), static_cast<int>(y)), static_cast<size_t>(n) * channels, out);
+        });
+    }
+    // The same from a level of 0..C, whose pixel (0, 0) is level-l pixel (-margin(l), -margin(l)):
+    // a blank tile when no block of the level under it is stored.
+    TrueTile extract(const SparseLevel& level, int l, int tx, int ty) const {
+        const int64_t o = -margin(l), width = levelWidth(l);
+        const int64_t first = static_cast<int64_t>(T) * tx - kTileBorder, last = static_cast<int64_t>(T) * (tx + 1) + kTileBorder - 1;
+        const int64_t bottom = static_cast<int64_t>(T) * ty - kTileBorder, top = static_cast<int64_t>(T) * (ty + 1) + kTileBorder - 1;
+        if (level.blank(pixels->borderPixel(first, width) - o, pixels->borderPixel(bottom, width) - o,
+                        pixels->borderPixel(last, width) - o, pixels->borderPixel(top, width) - o)) {
+            return blankTile(l, tx, ty);
+        }
+        return cut(l, tx, ty, o, o, [&](int64_t x, int64_t y, int n, uint8_t* out) { level.read(x, y, n, out); });
+    }
+    TrueTile blankTile(int l, int tx, int ty) const {
+        TrueTile t;
+        t.level = l;
+        t.tx = tx;
+        t.ty = ty;
+        t.blank = true;
+        t.zero = &zeroTile; // not a tile of 0s each: a face a small map barely touches has hundreds of thousands
+        return t;
+    }
+    // Tile (l, tx, ty) with its border, from `read(x, y, n, out)`, which gives n pixels from
+    // (x, y) of an image whose pixel (0, 0) is level-l pixel (ox, oy).
+    template <class Read>
+    TrueTile cut(int l, int tx, int ty, int64_t ox, int64_t oy, const Read& read) const {
         TrueTile t;
         t.level = l;
         t.tx = tx;
@@ -77,8 +107,7 @@ struct OrthoLevels::Impl {
                 while (x + run < side && gx[static_cast<size_t>(x + run)] == gx[static_cast<size_t>(x)] + run) {
                     ++run;
                 }
-                std::copy_n(img.at(static_cast<int>(gx[static_cast<size_t>(x)]), static_cast<int>(gy)),
-                            static_cast<size_t>(run) * channels, t.pixels.at(x, y));
+                read(gx[static_cast<size_t>(x)], gy, run, t.pixels.at(x, y));
                 x += run;
             }
         }
@@ -97,13 +126,15 @@ struct OrthoLevels::Impl {
         return img;
     }
 
-    std::vector<Image8> coarseLevelsFromBands(int c) const;
-    void reduceCoarserLevels(std::vector<Image8>& levels) const;
-    bool handLevels(const std::vector<Image8>& levels, const Sink& sink, int64_t index0) const;
+    SparseLevel emptyLevel(int c) const;
+    void bandInto(SparseLevel& level, int c, int64_t row, int64_t x0, int64_t x1) const;
+    std::vector<SparseLevel> coarseLevelsFromBands(int c) const;
+    void reduceCoarserLevels(std::vector<SparseLevel>& levels) const;
+    bool handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0) const;
     bool handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0, bool zOrder,
-                      Image8* levelC) const;
-    void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, Image8* levelC) const;
-    void marginFromBands(int c, Image8& levelC) const;
+                      SparseLevel* levelC) const;
+    void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, SparseLevel* levelC) const;
+    void marginFromBands(int c, SparseLevel& levelC) const;
     void blankSubtree(int l, int tx, int ty, TileBatch& out) const;
 
     void subtree(int top, int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
@@ -217,41 +248,97 @@ const std::string& OrthoLevels::sampling() const { return impl_->pixels->samplin
 int OrthoLevels::threads() const { return impl_->threads; }
 int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M + 1))) - 1) / 3; }
 
-// Levels 0..C as images, from bands of 2^(M-C) finest rows, a face's margin included; northern
-// rows first, so that an input still being decoded from its first row (PNG) is worked on as it
-// arrives.
-std::vector<Image8> OrthoLevels::Impl::coarseLevelsFromBands(int c) const {
+// Level c whole (a face's margin included), 0 everywhere, storing the blocks whose finest
+// pixels the input may reach (SparseLevel): every block unless the average of 0s is 0. Found by
+// halving the level's blocks as long as a part is not known blank, so that a face a small map
+// barely touches asks its pixel source a few hundred times, not once per block.
+SparseLevel OrthoLevels::Impl::emptyLevel(int c) const {
     const int k = M - c;
-    const int64_t marginC = margin(c);
-    const int64_t sideC = levelWidth(c) + 2 * marginC;
-    std::vector<Image8> levels(static_cast<size_t>(c) + 1);
-    Image8& levelC = levels[static_cast<size_t>(c)];
-    levelC = Image8(static_cast<int>(sideC), static_cast<int>(sideC), channels);
-    parallelFor(sideC, threads, [&](int64_t i) {
-        const int64_t row = sideC - 1 - i;
-        const Image8 band = reducedFinest(-(marginC << k), (row - marginC) << k, static_cast<int>(sideC << k), 1 << k, k);
-        std::copy(band.pixels.begin(), band.pixels.end(), levelC.at(0, static_cast<int>(row)));
-    });
+    const int64_t mc = margin(c);
+    const int64_t side = levelWidth(c) + 2 * mc;
+    const int64_t across = SparseLevel::blocks(side);
+    std::vector<uint8_t> stored(static_cast<size_t>(across * across), blankStaysBlank ? 0 : 1);
+    if (blankStaysBlank) {
+        const auto mark = [&](const auto& self, int64_t bx0, int64_t by0, int64_t bx1, int64_t by1) -> void {
+            const int64_t x0 = bx0 * kSparseBlock, y0 = by0 * kSparseBlock;
+            const int64_t x1 = std::min(side, bx1 * kSparseBlock), y1 = std::min(side, by1 * kSparseBlock);
+            if (pixels->knownBlank((x0 - mc) << k, (y0 - mc) << k, (x1 - x0) << k, (y1 - y0) << k)) {
+                return;
+            }
+            if (bx1 - bx0 == 1 && by1 - by0 == 1) {
+                stored[static_cast<size_t>(by0 * across + bx0)] = 1;
+                return;
+            }
+            const int64_t bxm = bx1 - bx0 > 1 ? (bx0 + bx1) / 2 : bx1, bym = by1 - by0 > 1 ? (by0 + by1) / 2 : by1;
+            self(self, bx0, by0, bxm, bym);
+            if (bxm < bx1) {
+                self(self, bxm, by0, bx1, bym);
+            }
+            if (bym < by1) {
+                self(self, bx0, bym, bxm, by1);
+                if (bxm < bx1) {
+                    self(self, bxm, bym, bx1, by1);
+                }
+            }
+        };
+        mark(mark, 0, 0, across, across);
+    }
+    return SparseLevel(side, channels, stored);
+}
+
+// Row `row` of level c between columns [x0, x1) (the level's pixels, a face's margin from 0),
+// each pixel the reduction of its 2^(M-c) x 2^(M-c) finest block, written into `level`: only
+// its stored blocks are sampled, in runs of neighbouring ones.
+void OrthoLevels::Impl::bandInto(SparseLevel& level, int c, int64_t row, int64_t x0, int64_t x1) const {
+    const int k = M - c;
+    const int64_t mc = margin(c);
+    const int64_t by = row / kSparseBlock;
+    int64_t bx = x0 / kSparseBlock;
+    while (bx * kSparseBlock < x1) {
+        if (!level.stored(bx, by)) {
+            ++bx;
+            continue;
+        }
+        int64_t end = bx + 1;
+        while (end * kSparseBlock < x1 && level.stored(end, by)) {
+            ++end;
+        }
+        const int64_t from = std::max(x0, bx * kSparseBlock), to = std::min(x1, end * kSparseBlock);
+        level.write(reducedFinest((from - mc) << k, (row - mc) << k, static_cast<int>((to - from) << k), 1 << k, k),
+                    from, row);
+        bx = end;
+    }
+}
+
+// Levels 0..C, from bands of 2^(M-C) finest rows, a face's margin included; northern rows
+// first, so that an input still being decoded from its first row (PNG) is worked on as it
+// arrives.
+std::vector<SparseLevel> OrthoLevels::Impl::coarseLevelsFromBands(int c) const {
+    std::vector<SparseLevel> levels(static_cast<size_t>(c) + 1);
+    SparseLevel& levelC = levels[static_cast<size_t>(c)];
+    levelC = emptyLevel(c);
+    const int64_t sideC = levelC.side();
+    parallelFor(sideC, threads, [&](int64_t i) { bandInto(levelC, c, sideC - 1 - i, 0, sideC); });
     reduceCoarserLevels(levels);
     return levels;
 }
 
-void OrthoLevels::Impl::reduceCoarserLevels(std::vector<Image8>& levels) const {
+void OrthoLevels::Impl::reduceCoarserLevels(std::vector<SparseLevel>& levels) const {
     for (int l = static_cast<int>(levels.size()) - 2; l >= 0; --l) {
-        levels[static_cast<size_t>(l)] = averager.reduce(levels[static_cast<size_t>(l) + 1]);
+        levels[static_cast<size_t>(l)] = levels[static_cast<size_t>(l) + 1].reduced(averager, threads);
     }
 }
 
 // One item per level 0..C, each level's tiles in Z order, numbered from `index0`. False when
 // the sink stops the walk.
-bool OrthoLevels::Impl::handLevels(const std::vector<Image8>& levels, const Sink& sink, int64_t index0) const {
+bool OrthoLevels::Impl::handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0) const {
     for (int l = 0; l < static_cast<int>(levels.size()); ++l) {
         const int side = 1 << l;
         TileBatch batch(static_cast<size_t>(side) * side);
         parallelFor(static_cast<int64_t>(batch.size()), threads, [&](int64_t i) {
             const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(i));
             batch[static_cast<size_t>(i)] =
-                extract(levels[static_cast<size_t>(l)], -margin(l), -margin(l), l, static_cast<int>(tx), static_cast<int>(ty));
+                extract(levels[static_cast<size_t>(l)], l, static_cast<int>(tx), static_cast<int>(ty));
         });
         if (!sink.level(index0 + l, batch)) {
             return false;
@@ -264,7 +351,7 @@ bool OrthoLevels::Impl::handLevels(const std::vector<Image8>& levels, const Sink
 // Z order), numbered from `index0`, each sampled and handed to the sink by a free thread, in
 // order. False when the sink stops the walk.
 bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0,
-                                     bool zOrder, Image8* levelC) const {
+                                     bool zOrder, SparseLevel* levelC) const {
     const int side = 1 << top;
     std::atomic<bool> stop{false};
     parallelFor(end - begin, threads, [&](int64_t i) {
@@ -297,7 +384,7 @@ bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, i
 
 // The subtree of level-(C+1) tile (tx, ty), from its own footprint of the input. With `levelC`,
 // also the level-C pixels under the tile (its interior reduced once more) are stored there.
-void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, Image8* levelC) const {
+void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, SparseLevel* levelC) const {
     const int d = M - top;
     // The tile and its border, within the pixels the source has at level `top`: a plane's
     // footprint stops at the map's edge (whose pixels repeat), a face's reaches into its margin
@@ -337,12 +424,8 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
             std::copy_n(imgs[0].at(static_cast<int>(int64_t{tx} * T - x0), static_cast<int>(int64_t{ty} * T - y0 + y)),
                         rowBytes, interior.at(0, y));
         }
-        const Image8 half = averager.reduce(interior);
-        const size_t halfRow = rowBytes / 2;
-        const auto mc = static_cast<int>(margin(top - 1)); // a face's level C starts beyond it
-        for (int y = 0; y < T / 2; ++y) {
-            std::copy_n(half.at(0, y), halfRow, levelC->at(mc + tx * (T / 2), mc + ty * (T / 2) + y));
-        }
+        const int64_t mc = margin(top - 1); // a face's level C starts beyond it
+        levelC->write(averager.reduce(interior), mc + int64_t{tx} * (T / 2), mc + int64_t{ty} * (T / 2));
     }
 }
 
@@ -350,35 +433,22 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
 // side), each the reduction of its 2^k x 2^k finest block as in coarseLevelsFromBands: the rows
 // wholly in the margin from bands across the whole width, the other rows' margin columns from
 // bands as wide as the margin. The pixels over the map itself come from the subtrees.
-void OrthoLevels::Impl::marginFromBands(int c, Image8& levelC) const {
-    const int k = M - c;
+void OrthoLevels::Impl::marginFromBands(int c, SparseLevel& levelC) const {
     const int64_t mc = margin(c);
     const int64_t inner = levelWidth(c);
     const int64_t sideC = inner + 2 * mc;
     parallelFor(sideC, threads, [&](int64_t row) {
-        const auto reduced = [&](int64_t x0, int64_t w) {
-            return reducedFinest(x0 << k, (row - mc) << k, static_cast<int>(w << k), 1 << k, k);
-        };
-        const auto put = [&](const Image8& part, int64_t x) {
-            std::copy(part.pixels.begin(), part.pixels.end(), levelC.at(static_cast<int>(x), static_cast<int>(row)));
-        };
         if (row < mc || row >= sideC - mc) {
-            put(reduced(-mc, sideC), 0);
+            bandInto(levelC, c, row, 0, sideC);
         } else {
-            put(reduced(-mc, mc), 0);
-            put(reduced(inner, mc), mc + inner);
+            bandInto(levelC, c, row, 0, mc);
+            bandInto(levelC, c, row, mc + inner, sideC);
         }
     });
 }
 
 void OrthoLevels::Impl::blankSubtree(int l, int tx, int ty, TileBatch& out) const {
-    TrueTile t;
-    t.level = l;
-    t.tx = tx;
-    t.ty = ty;
-    t.blank = true;
-    t.zero = &zeroTile; // not a tile of 0s each: a face a small map barely touches has hundreds of thousands
-    out.push_back(std::move(t));
+    out.push_back(blankTile(l, tx, ty));
     if (l < M) {
         for (int c = 0; c < 4; ++c) {
             blankSubtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), out);
@@ -418,11 +488,10 @@ int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range)
         // them does not assemble level C.
         const int64_t count = int64_t{1} << (2 * (c + 1));
         const bool whole = begin == 0 && end == count && (!range || range->top);
-        std::vector<Image8> levels(static_cast<size_t>(c) + 1);
-        Image8& levelC = levels[static_cast<size_t>(c)];
+        std::vector<SparseLevel> levels(static_cast<size_t>(c) + 1);
+        SparseLevel& levelC = levels[static_cast<size_t>(c)];
         if (whole) {
-            const auto sideC = static_cast<int>(m.levelWidth(c) + 2 * m.margin(c));
-            levelC = Image8(sideC, sideC, m.channels);
+            levelC = m.emptyLevel(c);
         }
         if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, whole ? &levelC : nullptr) || (range && !range->top)) {
             return subtrees;
