@@ -25,7 +25,9 @@
 //
 // Order and memory. Deeper tiles come in subtrees: for each tile of level C + 1
 // (C = max(0, M - 4)), its footprint is read from the input, reduced level by level, and its
-// subtree's tiles are produced depth first (pre-order). Levels 0..C are held in memory whole:
+// subtree's tiles are produced depth first (pre-order). Levels 0..C are held in memory whole,
+// in blocks of which only those the input may reach are stored (sparse_level.hpp; a tile no
+// stored block meets is handed out blank, as a subtree wholly beyond the input is):
 // either built first in a streaming pass over the input (bands of 2^(M-C) rows reduced as they
 // are read), when every tile must come after its parent, or assembled from the subtrees'
 // level-(C+1) tiles, reduced once more (and, for a face, its margin from bands of its own),
