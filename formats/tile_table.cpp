@@ -239,13 +239,20 @@ void TileTableWriter::finish() {
         fail(w.file.path(), "tile data passes " + std::to_string(w.maxOffset) +
                                 " bytes, the limit of this file's offsets (split the pyramid into region files)");
     }
-    std::vector<uint8_t> table(w.ranges.size() * 2u * static_cast<size_t>(w.offsetBytes));
-    for (size_t i = 0; i < w.ranges.size(); ++i) {
-        uint8_t* p = table.data() + i * 2u * static_cast<size_t>(w.offsetBytes);
-        storeLittleEndian(p, w.ranges[i].begin, w.offsetBytes);
-        storeLittleEndian(p + w.offsetBytes, w.ranges[i].end, w.offsetBytes);
+    // In pieces of 64 Ki entries: a pyramid of millions of tiles does not hold its table twice.
+    constexpr size_t kEntries = size_t{1} << 16;
+    const size_t entry = 2u * static_cast<size_t>(w.offsetBytes);
+    std::vector<uint8_t> piece;
+    for (size_t first = 0; first < w.ranges.size(); first += kEntries) {
+        const size_t count = std::min(kEntries, w.ranges.size() - first);
+        piece.resize(count * entry);
+        for (size_t i = 0; i < count; ++i) {
+            uint8_t* p = piece.data() + i * entry;
+            storeLittleEndian(p, w.ranges[first + i].begin, w.offsetBytes);
+            storeLittleEndian(p + w.offsetBytes, w.ranges[first + i].end, w.offsetBytes);
+        }
+        w.file.writeAt(w.tableStart + first * entry, piece.data(), piece.size());
     }
-    w.file.writeAt(w.tableStart, table.data(), table.size());
     w.file.flush();
     w.finished = true;
 }

@@ -440,6 +440,44 @@ TEST(WriterGuarantees, IdenticalTilesShareOneByteRange) {
     EXPECT_EQ(reader->readTile(0, 0, 0), other);
 }
 
+// The offset table is written in pieces of 65536 entries: every entry of a table of several
+// pieces, the last one partial, is the range of its own tile's bytes.
+TEST(WriterGuarantees, ATableOfManyPiecesHoldsEveryTilesRange) {
+    test::TempDir dir;
+    OrthoHeader h;
+    h.maxLevel = 8; // 87381 tiles: one piece of the table and part of a second
+    h.tileSize = 4;
+    h.channels = 1;
+    const std::string path = dir.file("many.dat");
+    {
+        OrthoFileWriter writer(path, h);
+        for (int level = h.maxLevel; level >= 0; --level) { // every tile's bytes its own index, finest first
+            for (int ty = 0; ty < (1 << level); ++ty) {
+                for (int tx = 0; tx < (1 << level); ++tx) {
+                    const auto i = static_cast<uint64_t>(h.tileIndex(level, tx, ty));
+                    std::vector<uint8_t> blob(8);
+                    for (int b = 0; b < 8; ++b) {
+                        blob[static_cast<size_t>(b)] = static_cast<uint8_t>(i >> (8 * b));
+                    }
+                    writer.writeTileBytes(level, tx, ty, blob);
+                }
+            }
+        }
+        writer.commit();
+    }
+    const auto reader = OrthoFileReader::open(path);
+    ASSERT_EQ(reader->table().tileCount(), 87381);
+    for (int64_t i = 0; i < reader->table().tileCount(); ++i) {
+        const std::vector<uint8_t> blob = reader->table().read(i);
+        ASSERT_EQ(blob.size(), 8u) << "tile " << i;
+        uint64_t value = 0;
+        for (int b = 0; b < 8; ++b) {
+            value |= static_cast<uint64_t>(blob[static_cast<size_t>(b)]) << (8 * b);
+        }
+        ASSERT_EQ(value, static_cast<uint64_t>(i)) << "tile " << i;
+    }
+}
+
 TEST(WriterGuarantees, ResidualTilesShareToo) {
     test::TempDir dir;
     ResidualHeader h;
