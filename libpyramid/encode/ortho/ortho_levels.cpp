@@ -126,14 +126,16 @@ struct OrthoLevels::Impl {
         return img;
     }
 
-    SparseLevel emptyLevel(int c) const;
+    int64_t sideWithMargin(int c) const { return levelWidth(c) + 2 * margin(c); }
+    BlockMask reachOf(int c) const;
     void bandInto(SparseLevel& level, int c, int64_t row, int64_t x0, int64_t x1) const;
-    std::vector<SparseLevel> coarseLevelsFromBands(int c) const;
+    std::vector<SparseLevel> coarseLevelsFromBands(int c, const BlockMask& reach) const;
     void reduceCoarserLevels(std::vector<SparseLevel>& levels) const;
     bool handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0) const;
     bool handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0, bool zOrder,
-                      SparseLevel* levelC) const;
-    void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, SparseLevel* levelC) const;
+                      const BlockMask& reachC, SparseLevel* levelC) const;
+    void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, const BlockMask& reachC,
+                              SparseLevel* levelC) const;
     void marginFromBands(int c, SparseLevel& levelC) const;
     void blankSubtree(int l, int tx, int ty, TileBatch& out) const;
 
@@ -248,16 +250,16 @@ const std::string& OrthoLevels::sampling() const { return impl_->pixels->samplin
 int OrthoLevels::threads() const { return impl_->threads; }
 int64_t OrthoLevels::tileCount() const { return ((int64_t{1} << (2 * (impl_->M + 1))) - 1) / 3; }
 
-// Level c whole (a face's margin included), 0 everywhere, storing the blocks whose finest
-// pixels the input may reach (SparseLevel): every block unless the average of 0s is 0. Found by
+// The blocks of level c whole (a face's margin included) whose finest pixels the input may
+// reach, those a SparseLevel of it stores: every block unless the average of 0s is 0. Found by
 // halving the level's blocks as long as a part is not known blank, so that a face a small map
 // barely touches asks its pixel source a few hundred times, not once per block.
-SparseLevel OrthoLevels::Impl::emptyLevel(int c) const {
+BlockMask OrthoLevels::Impl::reachOf(int c) const {
     const int k = M - c;
     const int64_t mc = margin(c);
-    const int64_t side = levelWidth(c) + 2 * mc;
-    const int64_t across = SparseLevel::blocks(side);
-    std::vector<uint8_t> stored(static_cast<size_t>(across * across), blankStaysBlank ? 0 : 1);
+    const int64_t side = sideWithMargin(c);
+    const int64_t across = BlockMask::blocks(side);
+    BlockMask stored(side, blankStaysBlank ? 0 : 1);
     if (blankStaysBlank) {
         const auto mark = [&](const auto& self, int64_t bx0, int64_t by0, int64_t bx1, int64_t by1) -> void {
             const int64_t x0 = bx0 * kSparseBlock, y0 = by0 * kSparseBlock;
@@ -266,7 +268,7 @@ SparseLevel OrthoLevels::Impl::emptyLevel(int c) const {
                 return;
             }
             if (bx1 - bx0 == 1 && by1 - by0 == 1) {
-                stored[static_cast<size_t>(by0 * across + bx0)] = 1;
+                stored.store(bx0, by0);
                 return;
             }
             const int64_t bxm = bx1 - bx0 > 1 ? (bx0 + bx1) / 2 : bx1, bym = by1 - by0 > 1 ? (by0 + by1) / 2 : by1;
@@ -283,7 +285,7 @@ SparseLevel OrthoLevels::Impl::emptyLevel(int c) const {
         };
         mark(mark, 0, 0, across, across);
     }
-    return SparseLevel(side, channels, stored);
+    return stored;
 }
 
 // Row `row` of level c between columns [x0, x1) (the level's pixels, a face's margin from 0),
@@ -313,10 +315,10 @@ void OrthoLevels::Impl::bandInto(SparseLevel& level, int c, int64_t row, int64_t
 // Levels 0..C, from bands of 2^(M-C) finest rows, a face's margin included; northern rows
 // first, so that an input still being decoded from its first row (PNG) is worked on as it
 // arrives.
-std::vector<SparseLevel> OrthoLevels::Impl::coarseLevelsFromBands(int c) const {
+std::vector<SparseLevel> OrthoLevels::Impl::coarseLevelsFromBands(int c, const BlockMask& reach) const {
     std::vector<SparseLevel> levels(static_cast<size_t>(c) + 1);
     SparseLevel& levelC = levels[static_cast<size_t>(c)];
-    levelC = emptyLevel(c);
+    levelC = SparseLevel(sideWithMargin(c), channels, reach);
     const int64_t sideC = levelC.side();
     parallelFor(sideC, threads, [&](int64_t i) { bandInto(levelC, c, sideC - 1 - i, 0, sideC); });
     reduceCoarserLevels(levels);
@@ -351,7 +353,7 @@ bool OrthoLevels::Impl::handLevels(const std::vector<SparseLevel>& levels, const
 // Z order), numbered from `index0`, each sampled and handed to the sink by a free thread, in
 // order. False when the sink stops the walk.
 bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0,
-                                     bool zOrder, SparseLevel* levelC) const {
+                                     bool zOrder, const BlockMask& reachC, SparseLevel* levelC) const {
     const int side = 1 << top;
     std::atomic<bool> stop{false};
     parallelFor(end - begin, threads, [&](int64_t i) {
@@ -367,7 +369,7 @@ bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, i
         }
         try {
             TileBatch item;
-            subtreeFromFootprint(top, tx, ty, item, levelC);
+            subtreeFromFootprint(top, tx, ty, item, reachC, levelC);
             if (!sink.subtree(index0 + i, item)) {
                 stop = true;
             }
@@ -382,9 +384,11 @@ bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, i
     return !stop;
 }
 
-// The subtree of level-(C+1) tile (tx, ty), from its own footprint of the input. With `levelC`,
-// also the level-C pixels under the tile (its interior reduced once more) are stored there.
-void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, SparseLevel* levelC) const {
+// The subtree of level-(C+1) tile (tx, ty), from its own footprint of the input; `reachC`, the
+// blocks of level C the input may reach (reachOf). With `levelC`, also the level-C pixels under
+// the tile (its interior reduced once more) are stored there.
+void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, const BlockMask& reachC,
+                                             SparseLevel* levelC) const {
     const int d = M - top;
     // The tile and its border, within the pixels the source has at level `top`: a plane's
     // footprint stops at the map's edge (whose pixels repeat), a face's reaches into its margin
@@ -395,7 +399,11 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
     const int64_t y0 = std::max<int64_t>(lo, static_cast<int64_t>(ty) * T - kTileBorder);
     const int64_t x1 = std::min<int64_t>(hi, (static_cast<int64_t>(tx) + 1) * T + kTileBorder);
     const int64_t y1 = std::min<int64_t>(hi, (static_cast<int64_t>(ty) + 1) * T + kTileBorder);
-    if (blankStaysBlank && pixels->knownBlank(x0 << d, y0 << d, (x1 - x0) << d, (y1 - y0) << d)) {
+    // Wholly beyond the input: under level-C blocks it cannot reach (the footprint's level-C
+    // pixels, a face's margin from 0), or found so by the pixel source for the footprint itself.
+    const int64_t mc = margin(top - 1);
+    const bool unreached = !reachC.meets((x0 >> 1) + mc, (y0 >> 1) + mc, ((x1 - 1) >> 1) + mc, ((y1 - 1) >> 1) + mc);
+    if (blankStaysBlank && (unreached || pixels->knownBlank(x0 << d, y0 << d, (x1 - x0) << d, (y1 - y0) << d))) {
         // Wholly beyond the input: every pixel of every level is 0 (and so is levelC, as
         // created). No sampling, no reduction.
         blankSubtree(top, tx, ty, out);
@@ -424,7 +432,6 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
             std::copy_n(imgs[0].at(static_cast<int>(int64_t{tx} * T - x0), static_cast<int>(int64_t{ty} * T - y0 + y)),
                         rowBytes, interior.at(0, y));
         }
-        const int64_t mc = margin(top - 1); // a face's level C starts beyond it
         levelC->write(averager.reduce(interior), mc + int64_t{tx} * (T / 2), mc + int64_t{ty} * (T / 2));
     }
 }
@@ -488,12 +495,14 @@ int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range)
         // them does not assemble level C.
         const int64_t count = int64_t{1} << (2 * (c + 1));
         const bool whole = begin == 0 && end == count && (!range || range->top);
+        const BlockMask reach = m.reachOf(c);
         std::vector<SparseLevel> levels(static_cast<size_t>(c) + 1);
         SparseLevel& levelC = levels[static_cast<size_t>(c)];
         if (whole) {
-            levelC = m.emptyLevel(c);
+            levelC = SparseLevel(m.sideWithMargin(c), m.channels, reach);
         }
-        if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, whole ? &levelC : nullptr) || (range && !range->top)) {
+        if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, reach, whole ? &levelC : nullptr) ||
+            (range && !range->top)) {
             return subtrees;
         }
         if (whole) {
@@ -502,15 +511,16 @@ int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range)
             }
             m.reduceCoarserLevels(levels);
         } else {
-            levels = m.coarseLevelsFromBands(c);
+            levels = m.coarseLevelsFromBands(c, reach);
         }
         m.handLevels(levels, sink, subtrees);
         return subtrees + c + 1;
     }
     // Levels 0..C from one pass over the input, then the subtrees of level C + 1 in Z order,
     // each from its own footprint: every tile comes after its parent.
-    if (m.handLevels(m.coarseLevelsFromBands(m.C), sink, 0) && m.C < m.M) {
-        m.handSubtrees(sink, m.C + 1, begin, end, m.C + 1, true, nullptr);
+    const BlockMask reach = m.reachOf(m.C);
+    if (m.handLevels(m.coarseLevelsFromBands(m.C, reach), sink, 0) && m.C < m.M) {
+        m.handSubtrees(sink, m.C + 1, begin, end, m.C + 1, true, reach, nullptr);
     }
     return m.C + 1 + subtrees;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "libpyramid/support/parallel.hpp"
 
@@ -13,31 +14,30 @@ constexpr int64_t B = kSparseBlock;
 
 } // namespace
 
-SparseLevel::SparseLevel(int64_t side, int channels, const std::vector<uint8_t>& stored)
-    : side_(side), across_(blocks(side)), channels_(channels), blocks_(static_cast<size_t>(across_ * across_)) {
-    if (stored.size() != blocks_.size()) {
-        throw std::logic_error("SparseLevel: a block mask of the wrong size");
-    }
-    for (size_t b = 0; b < blocks_.size(); ++b) {
-        if (stored[b]) {
-            blocks_[b].assign(static_cast<size_t>(B * B * channels), 0);
-        }
-    }
-}
-
-bool SparseLevel::stored(int64_t bx, int64_t by) const {
-    return bx >= 0 && by >= 0 && bx < across_ && by < across_ && !blocks_[static_cast<size_t>(by * across_ + bx)].empty();
-}
-
-bool SparseLevel::blank(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+bool BlockMask::meets(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
     for (int64_t by = std::max<int64_t>(0, y0 / B); by <= std::min(across_ - 1, y1 / B); ++by) {
         for (int64_t bx = std::max<int64_t>(0, x0 / B); bx <= std::min(across_ - 1, x1 / B); ++bx) {
             if (stored(bx, by)) {
-                return false;
+                return true;
             }
         }
     }
-    return true;
+    return false;
+}
+
+SparseLevel::SparseLevel(int64_t side, int channels, BlockMask stored)
+    : side_(side), across_(blocks(side)), channels_(channels), mask_(std::move(stored)),
+      blocks_(static_cast<size_t>(across_ * across_)) {
+    if (mask_.across() != across_) {
+        throw std::logic_error("SparseLevel: a block mask of the wrong size");
+    }
+    for (int64_t by = 0; by < across_; ++by) {
+        for (int64_t bx = 0; bx < across_; ++bx) {
+            if (mask_.stored(bx, by)) {
+                blocks_[static_cast<size_t>(by * across_ + bx)].assign(static_cast<size_t>(B * B * channels), 0);
+            }
+        }
+    }
 }
 
 uint8_t* SparseLevel::pixel(int64_t x, int64_t y) {
@@ -85,15 +85,21 @@ SparseLevel SparseLevel::reduced(const ColourAverager& averager, int threads) co
     out.side_ = side_ / 2;
     out.across_ = blocks(out.side_);
     out.channels_ = channels_;
+    out.mask_ = BlockMask(out.side_, 0);
     out.blocks_.resize(static_cast<size_t>(out.across_ * out.across_));
+    for (int64_t by = 0; by < out.across_; ++by) {
+        for (int64_t bx = 0; bx < out.across_; ++bx) {
+            for (int q = 0; q < 4; ++q) {
+                if (stored(2 * bx + (q & 1), 2 * by + (q >> 1))) {
+                    out.mask_.store(bx, by);
+                }
+            }
+        }
+    }
     const auto c = static_cast<size_t>(channels_);
     parallelFor(out.across_ * out.across_, threads, [&](int64_t b) {
         const int64_t bx = b % out.across_, by = b / out.across_;
-        bool any = false;
-        for (int q = 0; q < 4; ++q) {
-            any = any || stored(2 * bx + (q & 1), 2 * by + (q >> 1));
-        }
-        if (!any) {
+        if (!out.stored(bx, by)) {
             return;
         }
         // The four blocks under it as one image of 2B x 2B (0 where not stored), halved.
