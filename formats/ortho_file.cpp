@@ -127,6 +127,15 @@ void OrthoFileWriter::writeTileBytes(int level, int tx, int ty, std::span<const 
     table_->write(header_.tileIndex(level, tx, ty), blob);
 }
 
+void OrthoFileWriter::writeTileSameAs(int level, int tx, int ty, const std::array<int, 3>& earlier) {
+    for (const auto& [l, x, y] : {std::array<int, 3>{level, tx, ty}, earlier}) {
+        if (!header_.contains(l, x, y)) {
+            fail(path_, "no tile " + tileCoordinates(l, x, y) + " in this pyramid");
+        }
+    }
+    table_->writeSameAs(header_.tileIndex(level, tx, ty), header_.tileIndex(earlier[0], earlier[1], earlier[2]));
+}
+
 void OrthoFileWriter::commit() {
     finish();
     table_->commit();

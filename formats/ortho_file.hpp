@@ -7,6 +7,7 @@
 // flags bit 0: DXT tiles. flags bit 1: tiles have NO border (the original tools' meaning,
 // which is the opposite of their documentation); clear = a 2-pixel border on every side.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -101,6 +102,9 @@ public:
     void writeTile(int level, int tx, int ty, std::span<const uint8_t> pixels,
                    const OrthoTileEncoding& encoding = {});
     void writeTileBytes(int level, int tx, int ty, std::span<const uint8_t> blob);
+    // Tile (level, tx, ty) takes the bytes of tile `earlier` (level, tx, ty), already written
+    // (TileTableWriter::writeSameAs).
+    void writeTileSameAs(int level, int tx, int ty, const std::array<int, 3>& earlier);
     // Fails if any tile is missing. finish() does everything but the rename (the file complete
     // and on disk); commit() does what is left.
     void finish();

@@ -224,6 +224,26 @@ bool TileTableWriter::written(int64_t index) const {
            impl_->written[static_cast<size_t>(index)];
 }
 
+void TileTableWriter::writeSameAs(int64_t index, int64_t earlier) {
+    Impl& w = *impl_;
+    std::lock_guard<std::mutex> lock(w.mutex);
+    const auto count = static_cast<int64_t>(w.ranges.size());
+    if (index < 0 || index >= count || earlier < 0 || earlier >= count) {
+        fail(w.file.path(), "tile index " + std::to_string(index < 0 || index >= count ? index : earlier) +
+                                " out of range");
+    }
+    if (w.written[static_cast<size_t>(index)]) {
+        fail(w.file.path(), "tile " + std::to_string(index) + " written twice");
+    }
+    if (!w.written[static_cast<size_t>(earlier)]) {
+        fail(w.file.path(), "tile " + std::to_string(index) + " given the bytes of tile " + std::to_string(earlier) +
+                                ", which is not written");
+    }
+    w.ranges[static_cast<size_t>(index)] = w.ranges[static_cast<size_t>(earlier)];
+    w.written[static_cast<size_t>(index)] = true;
+    ++w.shared;
+}
+
 void TileTableWriter::finish() {
     Impl& w = *impl_;
     std::lock_guard<std::mutex> lock(w.mutex);

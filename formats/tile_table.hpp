@@ -82,6 +82,10 @@ public:
     TileTableWriter& operator=(const TileTableWriter&) = delete;
 
     void write(int64_t index, std::span<const uint8_t> blob);
+    // Tile `index` takes the bytes of tile `earlier`, already written (as write() of the same
+    // bytes would, without comparing them): for a caller that knows the two tiles alike, such as
+    // the many blank tiles of a pyramid of millions.
+    void writeSameAs(int64_t index, int64_t earlier);
     bool written(int64_t index) const;
     // Everything but the rename: checks every tile, writes the table, flushes the file.
     void finish();

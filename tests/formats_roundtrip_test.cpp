@@ -10,8 +10,10 @@
 #include <tiffio.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <random>
 
 #include "formats/error.hpp"
@@ -476,6 +478,49 @@ TEST(WriterGuarantees, ATableOfManyPiecesHoldsEveryTilesRange) {
         }
         ASSERT_EQ(value, static_cast<uint64_t>(i)) << "tile " << i;
     }
+}
+
+// A tile given an earlier tile's bytes (writeTileSameAs) shares its range, as writing the same
+// bytes does: the file is byte for byte the one written with the bytes every time. A tile not
+// yet written cannot lend its bytes, and a tile is still written once.
+TEST(WriterGuarantees, ATileGivenAnEarlierTilesBytesIsTheFileOfItsBytes) {
+    test::TempDir dir;
+    OrthoHeader h;
+    h.maxLevel = 2; // 21 tiles
+    h.tileSize = 8;
+    h.channels = 3;
+    const auto same = smoothPixels(h.tilePixels(), 3, {9, 9, 9});
+    const auto blob = encodeTiff8(same, h.tilePixels(), h.tilePixels(), 3, TiffCompression::Deflate);
+    for (const bool byReference : {false, true}) {
+        OrthoFileWriter writer(dir.file(byReference ? "reference.dat" : "bytes.dat"), h);
+        std::optional<std::array<int, 3>> first;
+        for (const TileId& t : orthoTiles(h, 5)) {
+            if (t.level == 1) {
+                writer.writeTile(t.level, t.tx, t.ty, smoothPixels(h.tilePixels(), 3, t)); // tiles of their own
+            } else if (byReference && first) {
+                writer.writeTileSameAs(t.level, t.tx, t.ty, *first);
+            } else {
+                writer.writeTileBytes(t.level, t.tx, t.ty, blob);
+                first = std::array<int, 3>{t.level, t.tx, t.ty};
+            }
+        }
+        EXPECT_EQ(writer.sharedTiles(), 16); // 17 alike, stored once
+        if (byReference) {
+            EXPECT_THROW(writer.writeTileSameAs(2, 0, 0, *first), Error); // written twice
+        }
+        writer.commit();
+    }
+    EXPECT_EQ(test::readFile(dir.file("reference.dat")), test::readFile(dir.file("bytes.dat")));
+    OrthoFileWriter writer(dir.file("unwritten.dat"), h);
+    writer.writeTileBytes(0, 0, 0, blob);
+    try {
+        writer.writeTileSameAs(1, 0, 0, {2, 1, 1});
+        ADD_FAILURE() << "a tile took the bytes of one not written";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("unwritten.dat"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("not written"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(writer.writeTileSameAs(1, 0, 0, {3, 0, 0}), Error); // no such tile
 }
 
 TEST(WriterGuarantees, ResidualTilesShareToo) {

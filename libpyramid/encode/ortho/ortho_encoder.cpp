@@ -1,6 +1,7 @@
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -101,13 +102,13 @@ public:
             t = regionRelativeTile(*region_, e.level, e.tx, e.ty);
         }
         if (tiff_ && made.tiff) {
-            tiff_->writeTileBytes(t.level, t.tx, t.ty, bytesOf(e.tiff));
+            writeOne(*tiff_, firstWith_[0], t, e.tiff, e.uniform);
         }
         if (dxt_ && made.dxt) {
-            dxt_->writeTileBytes(t.level, t.tx, t.ty, bytesOf(e.dxt));
+            writeOne(*dxt_, firstWith_[1], t, e.dxt, e.uniform);
         }
         if (residual_ && made.residual) {
-            residual_->writeTileBytes(t.level, t.tx, t.ty, bytesOf(e.residual));
+            writeOne(*residual_, firstWith_[2], t, e.residual, e.uniform);
         }
     }
 
@@ -125,6 +126,25 @@ public:
     }
 
 private:
+    // The tile that first took each uniform tile's shared bytes, by their address (the bytes held
+    // here, so that the address stays theirs): a writer's tiles of bytes it was given once.
+    using FirstWith = std::map<const std::vector<uint8_t>*, std::pair<SharedBytes, std::array<int, 3>>>;
+
+    // Tile t's bytes: a uniform tile's bytes given before are not compared again, byte for byte,
+    // with those the writer stored (a face that a small map barely touches has millions).
+    static void writeOne(OrthoFileWriter& writer, FirstWith& firstWith, const RegionRoot& t, const SharedBytes& bytes,
+                         bool uniform) {
+        if (uniform && bytes) {
+            const auto it = firstWith.find(bytes.get());
+            if (it != firstWith.end()) {
+                writer.writeTileSameAs(t.level, t.tx, t.ty, it->second.second);
+                return;
+            }
+            firstWith.emplace(bytes.get(), std::make_pair(bytes, std::array<int, 3>{t.level, t.tx, t.ty}));
+        }
+        writer.writeTileBytes(t.level, t.tx, t.ty, bytesOf(bytes));
+    }
+
     void commitOne(std::unique_ptr<OrthoFileWriter> writer, const std::string& name, const std::string& output,
                    OrthoReport& report) {
         if (region_) {
@@ -150,6 +170,7 @@ private:
     const uint64_t maxFileBytes_;
     const RegionRoot* region_;
     std::unique_ptr<OrthoFileWriter> tiff_, dxt_, residual_;
+    FirstWith firstWith_[3]; // of tiff_, dxt_, residual_
     std::vector<std::string> names_; // each output's path relative to the directory and the staging directory
 };
 

@@ -100,9 +100,14 @@ EncodedOrthoTile OrthoTileEncoder::encode(const TrueTile& t, const std::vector<u
             }
         }
         EncodedOrthoTile e = encodeNew(t, parentRecon);
+        e.uniform = true;
         const std::lock_guard<std::mutex> lock(uniformMutex_);
-        if (uniform_.size() < kUniformTilesKept && uniform_.emplace(*key, e).second && e.recon) {
-            uniformRecons_.push_back(e.recon.get());
+        if (uniform_.size() < kUniformTilesKept && uniform_.emplace(*key, e).second) {
+            if (e.recon) {
+                uniformRecons_.push_back(e.recon.get());
+            }
+        } else {
+            e.uniform = false; // not kept: its bytes are its own
         }
         return e;
     }

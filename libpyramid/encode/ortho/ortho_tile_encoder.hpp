@@ -45,6 +45,9 @@ struct EncodedOrthoTile {
     SharedBytes tiff, dxt, residual;
     SharedBytes recon; // colour-residual reconstruction, for the children
     OrthoTileStats stats;
+    // The bytes are a uniform tile's, shared by every tile of its colour, and stay alive as long
+    // as the encoder: a writer may store them once and give the other tiles the same range.
+    bool uniform = false;
 };
 
 class OrthoTileEncoder {
