@@ -9,24 +9,16 @@ namespace pyramid {
 
 namespace {
 
-// The loops over samples below run in chunks of kChunk, then one by one: GCC at -O2 (the
-// default RelWithDebInfo build) vectorises only loops it needs no scalar remainder for, so a
-// plain loop over a row of unknown length would stay scalar; the fixed-length inner loop is
-// vectorised, and the arithmetic is the same per sample.
-constexpr size_t kChunk = 16;
+// The loops over samples below are plain loops, which GCC vectorises at -O2 and -O3 alike under
+// the build's dynamic cost model (CMakeLists.txt). Loops cut into fixed chunks of 16 were fully
+// unrolled at -O3 before the vectoriser saw them, and stayed scalar in a Release build.
 
 // The parent rows by and by + 1 blended with weights wy0 and wy1 (at most 4 x 255 x 4 = 4080):
 // `count` samples.
 PYRAMID_VECTOR_CLONES
 void blendRows(const uint8_t* __restrict r0, const uint8_t* __restrict r1, unsigned wy0, unsigned wy1, size_t count,
                uint16_t* __restrict out) {
-    size_t k = 0;
-    for (; k + kChunk <= count; k += kChunk) {
-        for (size_t i = k; i < k + kChunk; ++i) {
-            out[i] = static_cast<uint16_t>(wy0 * r0[i] + wy1 * r1[i]);
-        }
-    }
-    for (; k < count; ++k) {
+    for (size_t k = 0; k < count; ++k) {
         out[k] = static_cast<uint16_t>(wy0 * r0[k] + wy1 * r1[k]);
     }
 }
@@ -34,13 +26,7 @@ void blendRows(const uint8_t* __restrict r0, const uint8_t* __restrict r1, unsig
 // out[s] = (a p[s] + b p[s + step]) >> 4 for s < count: `count` predictions from a blended row.
 void weightedRun(const uint16_t* __restrict p, size_t step, unsigned a, unsigned b, size_t count,
                  uint8_t* __restrict out) {
-    size_t s = 0;
-    for (; s + kChunk <= count; s += kChunk) {
-        for (size_t i = s; i < s + kChunk; ++i) {
-            out[i] = static_cast<uint8_t>((a * p[i] + b * p[i + step]) >> 4);
-        }
-    }
-    for (; s < count; ++s) {
+    for (size_t s = 0; s < count; ++s) {
         out[s] = static_cast<uint8_t>((a * p[s] + b * p[s + step]) >> 4);
     }
 }
@@ -81,28 +67,14 @@ int64_t encodeColourResiduals(const uint8_t* __restrict value, const uint8_t* __
         return static_cast<int>(clamped);
     };
     int64_t clamped = 0;
-    size_t k = 0;
-    for (; k + kChunk <= count; k += kChunk) {
-        int chunk = 0;
-        for (size_t i = k; i < k + kChunk; ++i) {
-            chunk += one(i);
-        }
-        clamped += chunk;
-    }
-    for (; k < count; ++k) {
+    for (size_t k = 0; k < count; ++k) {
         clamped += one(k);
     }
     return clamped;
 }
 
 void applyColourResiduals(uint8_t* __restrict values, const uint8_t* __restrict stored, size_t count) {
-    size_t k = 0;
-    for (; k + kChunk <= count; k += kChunk) {
-        for (size_t i = k; i < k + kChunk; ++i) {
-            values[i] = applyColourResidual(values[i], stored[i]);
-        }
-    }
-    for (; k < count; ++k) {
+    for (size_t k = 0; k < count; ++k) {
         values[k] = applyColourResidual(values[k], stored[k]);
     }
 }
