@@ -14,7 +14,11 @@
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
+#include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/encode/ortho/ortho_levels.hpp"
+#include "libpyramid/encode/ortho/ortho_tile_encoder.hpp"
+#include "libpyramid/filters/colour_upsample.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/verify/ortho_verify.hpp"
 #include "libpyramid/input/raster_source.hpp"
@@ -172,6 +176,57 @@ TEST(OrthoEncoder, ColourResidualsRebuildBitForBit) {
                 EXPECT_LE(l.residualMaxError, 1); // residuals are stored in steps of 2
             }
         }
+    }
+}
+
+// A tile of one colour is encoded once per colour and its bytes are shared, but only under a
+// parent whose rebuilt colours are that colour too (its residuals are then 128 everywhere).
+// Under a parent of another colour, whether the parent is itself a shared tile or not, the tile
+// is encoded as itself, and its stored residuals rebuild it from that parent.
+TEST(OrthoEncoder, AOneColourTileIsSharedOnlyUnderAParentOfItsColour) {
+    test::TempDir dir;
+    test::writeImage(dir.file("in.png"), 32, 32, 3, std::vector<uint16_t>(32 * 32 * 3, 100), false);
+    OrthoEncodeOptions o = small();
+    o.levels.tileSize = 8;
+    const OrthoLevels levels(dir.file("in.png"), o.levels);
+    const OrthoTileEncoder encoder(levels, o);
+    const int side = 8 + 4;
+    const size_t bytes = static_cast<size_t>(side) * side * 3;
+    const auto tileOf = [&](uint8_t colour, int tx, int ty) {
+        TrueTile t;
+        t.level = 2;
+        t.tx = tx;
+        t.ty = ty;
+        t.pixels = Image8(side, side, 3);
+        std::fill(t.pixels.pixels.begin(), t.pixels.pixels.end(), colour);
+        return t;
+    };
+    // What a reader rebuilds from the tile's stored residuals and its parent.
+    const auto rebuilt = [&](const EncodedOrthoTile& e, const std::vector<uint8_t>& parent, int tx, int ty) {
+        const std::vector<uint8_t> residual = decodeOrthoTiff(*e.residual, side, 3, "residual tile");
+        std::vector<uint8_t> out(bytes);
+        upsampleColour(parent.data(), 8, 3, tx, ty, residual.data(), out.data());
+        return out;
+    };
+    const std::vector<uint8_t> hundred(bytes, 100), ninetyEight(bytes, 98);
+    const EncodedOrthoTile first = encoder.encode(tileOf(100, 0, 0), &hundred);
+    const EncodedOrthoTile other = encoder.encode(tileOf(98, 1, 0), &ninetyEight);
+    ASSERT_TRUE(first.uniform && other.uniform);
+    EXPECT_EQ(*first.recon, hundred);
+
+    // Under a shared tile of its colour: the first tile's bytes, shared.
+    const EncodedOrthoTile shared = encoder.encode(tileOf(100, 1, 1), first.recon.get());
+    EXPECT_EQ(shared.residual, first.residual);
+    EXPECT_EQ(shared.tiff, first.tiff);
+    EXPECT_EQ(rebuilt(shared, *first.recon, 1, 1), hundred);
+
+    // Under a shared tile of 98 and under a parent of 98 that is not shared: its own residuals.
+    for (const std::vector<uint8_t>* parent : {other.recon.get(), &ninetyEight}) {
+        const EncodedOrthoTile own = encoder.encode(tileOf(100, 2, 3), parent);
+        EXPECT_NE(*own.residual, *first.residual);
+        EXPECT_EQ(*own.recon, hundred);
+        EXPECT_EQ(rebuilt(own, *parent, 2, 3), hundred);
+        EXPECT_EQ(*own.tiff, *first.tiff); // the same TIFF tile, which does not depend on the parent
     }
 }
 

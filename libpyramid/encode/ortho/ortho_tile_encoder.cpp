@@ -82,6 +82,12 @@ ErrorTotals errorTotals(const uint8_t* __restrict a, const uint8_t* __restrict b
     return totals;
 }
 
+// Every pixel of `v` is its first one: every byte equals the one a pixel earlier (one memcmp,
+// which stops at the first difference).
+bool uniformPixels(std::span<const uint8_t> v, size_t channels) {
+    return v.size() >= channels && std::memcmp(v.data(), v.data() + channels, v.size() - channels) == 0;
+}
+
 } // namespace
 
 EncodedOrthoTile OrthoTileEncoder::encode(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const {
@@ -90,52 +96,68 @@ EncodedOrthoTile OrthoTileEncoder::encode(const TrueTile& t, const std::vector<u
     // and compression, then copied. At most kUniformTilesKept colours are kept (memory
     // stays bounded on a map of many flat colours; later ones are encoded as any tile).
     // The copies share the bytes (SharedBytes).
-    std::optional<UniformKey> key = uniformKey(t, parentRecon);
-    if (key) {
-        {
-            const std::lock_guard<std::mutex> lock(uniformMutex_);
-            const auto it = uniform_.find(*key);
-            if (it != uniform_.end()) {
-                return placed(it->second, t);
-            }
-        }
-        EncodedOrthoTile e = encodeNew(t, parentRecon);
-        e.uniform = true;
-        const std::lock_guard<std::mutex> lock(uniformMutex_);
-        if (uniform_.size() < kUniformTilesKept && uniform_.emplace(*key, e).second) {
-            if (e.recon) {
-                uniformRecons_.push_back(e.recon.get());
-            }
-        } else {
-            e.uniform = false; // not kept: its bytes are its own
-        }
-        return e;
+    const std::optional<UniformKey> key = uniformKey(t);
+    if (!key) {
+        return encodeNew(t, parentRecon);
     }
-    return encodeNew(t, parentRecon);
-}
-
-bool OrthoTileEncoder::knownUniform(const std::vector<uint8_t>* recon) const {
+    const auto c = static_cast<size_t>(channels_);
+    // With residuals, the parent's rebuilt colours must be the tile's colour too. A parent that
+    // is a kept uniform tile's is known to be uniform without looking, so that test and the
+    // lookup take one lock (an empty face's millions of tiles go this way); another parent is
+    // looked at outside the lock.
+    const auto parentOfColour = [&] { return std::memcmp(parentRecon->data(), t.image().pixels.data(), c) == 0; };
+    const auto kept = [&]() -> const EncodedOrthoTile* {
+        const auto it = uniform_.find(*key);
+        return it == uniform_.end() ? nullptr : &it->second;
+    };
+    enum class Parent { Fits, Unknown, Differs };
+    Parent parent = Parent::Fits;
+    {
+        const std::lock_guard<std::mutex> lock(uniformMutex_);
+        if (o_.writeResiduals) {
+            if (parentRecon == nullptr) {
+                parent = Parent::Differs;
+            } else if (std::find(uniformRecons_.begin(), uniformRecons_.end(), parentRecon) == uniformRecons_.end()) {
+                parent = Parent::Unknown;
+            } else {
+                parent = parentOfColour() ? Parent::Fits : Parent::Differs;
+            }
+        }
+        if (parent == Parent::Fits) {
+            if (const EncodedOrthoTile* shared = kept()) {
+                return placed(*shared, t);
+            }
+        }
+    }
+    if (parent == Parent::Differs || (parent == Parent::Unknown && !(uniformPixels(*parentRecon, c) && parentOfColour()))) {
+        return encodeNew(t, parentRecon);
+    }
+    if (parent == Parent::Unknown) {
+        const std::lock_guard<std::mutex> lock(uniformMutex_);
+        if (const EncodedOrthoTile* shared = kept()) {
+            return placed(*shared, t);
+        }
+    }
+    EncodedOrthoTile e = encodeNew(t, parentRecon);
+    e.uniform = true;
     const std::lock_guard<std::mutex> lock(uniformMutex_);
-    return std::find(uniformRecons_.begin(), uniformRecons_.end(), recon) != uniformRecons_.end();
+    if (uniform_.size() < kUniformTilesKept && uniform_.emplace(*key, e).second) {
+        if (e.recon) {
+            uniformRecons_.push_back(e.recon.get());
+        }
+    } else {
+        e.uniform = false; // not kept: its bytes are its own
+    }
+    return e;
 }
 
-std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const TrueTile& t,
-                                                                      const std::vector<uint8_t>* parentRecon) const {
+std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const TrueTile& t) const {
     if (t.level == 0) {
         return std::nullopt; // the root's residual tile holds the colours themselves
     }
     const PixelBytes& p = t.image().pixels;
     const auto c = static_cast<size_t>(channels_);
-    // Every pixel is the first one when every byte equals the one a pixel earlier (one
-    // memcmp, which stops at the first difference).
-    const auto uniform = [c](const auto& v) {
-        return v.size() >= c && std::memcmp(v.data(), v.data() + c, v.size() - c) == 0;
-    };
-    const auto sameColourAsTile = [&](const std::vector<uint8_t>* parent) {
-        return parent != nullptr && (knownUniform(parent) || uniform(*parent)) &&
-               std::memcmp(parent->data(), p.data(), c) == 0;
-    };
-    if (!(t.blank || uniform(p)) || (o_.writeResiduals && !sameColourAsTile(parentRecon))) {
+    if (!(t.blank || uniformPixels(p, c))) {
         return std::nullopt;
     }
     uint32_t colour = 0;

@@ -66,10 +66,9 @@ private:
     // depend on the tile's place).
     using UniformKey = std::tuple<uint32_t, TiffCompression>;
 
-    std::optional<UniformKey> uniformKey(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
+    // The key of a tile of level > 0 whose pixels are all of one colour, else nothing.
+    std::optional<UniformKey> uniformKey(const TrueTile& t) const;
     static EncodedOrthoTile placed(const EncodedOrthoTile& shared, const TrueTile& t);
-    // Whether `recon` is known to be uniform without looking: a shared uniform tile's.
-    bool knownUniform(const std::vector<uint8_t>* recon) const;
     TiffCompression tiffCompressionOf(const TrueTile& t) const;
     EncodedOrthoTile encodeNew(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
     void encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedOrthoTile& e) const;
