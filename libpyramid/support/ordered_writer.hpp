@@ -8,6 +8,11 @@
 // memory the delivered items hold. A failure stops the run: a producer that fails calls
 // stopAt(its index); a write that throws stops the writer; admit() then answers false for every
 // item at or beyond the end, and finish() rethrows the writer's error.
+//
+// A thread is woken only when what it waits for may have come: the writer when the item it
+// writes next is delivered (or the run ends), a producer waiting in admit() when the writer has
+// moved on. Items may be small (a blank subtree of a face the map does not reach): waking every
+// thread at every delivery and every write made the futex calls most of such a run's time.
 #pragma once
 #include <condition_variable>
 #include <cstdint>
@@ -41,7 +46,12 @@ public:
     // has stopped before m: the item must not be computed.
     bool admit(int64_t m) {
         std::unique_lock<std::mutex> lock(mutex_);
-        changed_.wait(lock, [&] { return m < next_ + window_ || m >= end_; });
+        const auto admitted = [&] { return m < next_ + window_ || m >= end_; };
+        if (!admitted()) {
+            ++admitting_;
+            moved_.wait(lock, admitted);
+            --admitting_;
+        }
         return m < end_;
     }
 
@@ -50,7 +60,9 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         if (m < end_) {
             ready_.emplace(m, std::move(item));
-            changed_.notify_all();
+            if (m == next_) {
+                delivered_.notify_one(); // the writer waits for no other item
+            }
         }
     }
 
@@ -60,7 +72,8 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         if (end < end_) {
             end_ = end;
-            changed_.notify_all();
+            delivered_.notify_one();
+            moved_.notify_all();
         }
     }
 
@@ -84,7 +97,7 @@ private:
     void run() {
         std::unique_lock<std::mutex> lock(mutex_);
         for (;;) {
-            changed_.wait(lock, [&] { return next_ >= end_ || ready_.count(next_) != 0; });
+            delivered_.wait(lock, [&] { return next_ >= end_ || ready_.count(next_) != 0; });
             if (next_ >= end_) {
                 return;
             }
@@ -97,12 +110,14 @@ private:
                 error_ = std::current_exception();
                 end_ = next_;
                 ready_.clear();
-                changed_.notify_all();
+                moved_.notify_all();
                 return;
             }
             lock.lock();
             ++next_;
-            changed_.notify_all();
+            if (admitting_ > 0) {
+                moved_.notify_all();
+            }
         }
     }
 
@@ -115,7 +130,9 @@ private:
     const int64_t window_;
     std::function<void(int64_t, Item&)> write_;
     mutable std::mutex mutex_;
-    std::condition_variable changed_;
+    std::condition_variable delivered_; // the writer's: item next_ has come, or the end
+    std::condition_variable moved_;     // the producers': next_ or the end has moved
+    int admitting_ = 0;                 // producers waiting in admit()
     std::map<int64_t, Item> ready_;
     int64_t next_ = 0;                                    // the oldest unwritten item
     int64_t end_ = std::numeric_limits<int64_t>::max();   // items from here on are not written

@@ -13,9 +13,6 @@ namespace pyramid {
 
 namespace {
 
-// The encoded uniform tiles kept for reuse (OrthoTileEncoder::encode): a few hundred KB each.
-constexpr size_t kUniformTilesKept = 64;
-
 TiffCompression tiffCompression(TilePolicy p, bool edge, int channels) {
     switch (p) {
     case TilePolicy::Deflate:
@@ -101,54 +98,49 @@ EncodedOrthoTile OrthoTileEncoder::encode(const TrueTile& t, const std::vector<u
         return encodeNew(t, parentRecon);
     }
     const auto c = static_cast<size_t>(channels_);
-    // With residuals, the parent's rebuilt colours must be the tile's colour too. A parent that
-    // is a kept uniform tile's is known to be uniform without looking, so that test and the
-    // lookup take one lock (an empty face's millions of tiles go this way); another parent is
-    // looked at outside the lock.
-    const auto parentOfColour = [&] { return std::memcmp(parentRecon->data(), t.image().pixels.data(), c) == 0; };
-    const auto kept = [&]() -> const EncodedOrthoTile* {
-        const auto it = uniform_.find(*key);
-        return it == uniform_.end() ? nullptr : &it->second;
-    };
-    enum class Parent { Fits, Unknown, Differs };
-    Parent parent = Parent::Fits;
-    {
-        const std::lock_guard<std::mutex> lock(uniformMutex_);
-        if (o_.writeResiduals) {
-            if (parentRecon == nullptr) {
-                parent = Parent::Differs;
-            } else if (std::find(uniformRecons_.begin(), uniformRecons_.end(), parentRecon) == uniformRecons_.end()) {
-                parent = Parent::Unknown;
-            } else {
-                parent = parentOfColour() ? Parent::Fits : Parent::Differs;
-            }
-        }
-        if (parent == Parent::Fits) {
-            if (const EncodedOrthoTile* shared = kept()) {
-                return placed(*shared, t);
-            }
+    // With residuals, the parent's rebuilt colours must be the tile's colour too: known without
+    // looking for a kept tile's, else looked at.
+    if (o_.writeResiduals) {
+        if (parentRecon == nullptr ||
+            !((keptRecon(parentRecon) || uniformPixels(*parentRecon, c)) &&
+              std::memcmp(parentRecon->data(), t.image().pixels.data(), c) == 0)) {
+            return encodeNew(t, parentRecon);
         }
     }
-    if (parent == Parent::Differs || (parent == Parent::Unknown && !(uniformPixels(*parentRecon, c) && parentOfColour()))) {
-        return encodeNew(t, parentRecon);
-    }
-    if (parent == Parent::Unknown) {
-        const std::lock_guard<std::mutex> lock(uniformMutex_);
-        if (const EncodedOrthoTile* shared = kept()) {
-            return placed(*shared, t);
-        }
+    if (const Kept* shared = findKept(*key)) {
+        return placed(shared->tile, t);
     }
     EncodedOrthoTile e = encodeNew(t, parentRecon);
     e.uniform = true;
-    const std::lock_guard<std::mutex> lock(uniformMutex_);
-    if (uniform_.size() < kUniformTilesKept && uniform_.emplace(*key, e).second) {
-        if (e.recon) {
-            uniformRecons_.push_back(e.recon.get());
-        }
+    const std::lock_guard<std::mutex> lock(keepMutex_);
+    const size_t n = keptCount_.load(std::memory_order_relaxed);
+    if (n < kUniformTilesKept && findKept(*key) == nullptr) {
+        kept_[n] = Kept{*key, e};
+        keptCount_.store(n + 1, std::memory_order_release); // published whole
     } else {
         e.uniform = false; // not kept: its bytes are its own
     }
     return e;
+}
+
+const OrthoTileEncoder::Kept* OrthoTileEncoder::findKept(const UniformKey& key) const {
+    const size_t n = keptCount_.load(std::memory_order_acquire);
+    for (size_t k = 0; k < n; ++k) {
+        if (kept_[k].key == key) {
+            return &kept_[k];
+        }
+    }
+    return nullptr;
+}
+
+bool OrthoTileEncoder::keptRecon(const std::vector<uint8_t>* recon) const {
+    const size_t n = keptCount_.load(std::memory_order_acquire);
+    for (size_t k = 0; k < n; ++k) {
+        if (kept_[k].tile.recon.get() == recon) {
+            return true;
+        }
+    }
+    return false;
 }
 
 std::optional<OrthoTileEncoder::UniformKey> OrthoTileEncoder::uniformKey(const TrueTile& t) const {

@@ -2,8 +2,9 @@
 // its DXT tile and its colour residual tile (closed loop), with the statistics of their errors.
 // Thread-safe: the tiles of a group are encoded in parallel.
 #pragma once
+#include <array>
+#include <atomic>
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -73,11 +74,22 @@ private:
     EncodedOrthoTile encodeNew(const TrueTile& t, const std::vector<uint8_t>* parentRecon) const;
     void encodeResidual(const TrueTile& t, const std::vector<uint8_t>* parent, EncodedOrthoTile& e) const;
 
+    // The uniform tiles kept for reuse (kUniformTilesKept at most): kept_[0 .. keptCount_) are
+    // published and never change, so that a lookup takes no lock (an empty face's millions of
+    // tiles are lookups); new ones are added under keepMutex_.
+    struct Kept {
+        UniformKey key;
+        EncodedOrthoTile tile;
+    };
+    static constexpr size_t kUniformTilesKept = 64;
+    const Kept* findKept(const UniformKey& key) const;
+    bool keptRecon(const std::vector<uint8_t>* recon) const;
+
     const OrthoEncodeOptions& o_;
     int channels_ = 0, tileSize_ = 0;
-    mutable std::mutex uniformMutex_;
-    mutable std::map<UniformKey, EncodedOrthoTile> uniform_;
-    mutable std::vector<const std::vector<uint8_t>*> uniformRecons_; // of uniform_'s tiles, which keep them alive
+    mutable std::mutex keepMutex_;
+    mutable std::array<Kept, kUniformTilesKept> kept_;
+    mutable std::atomic<size_t> keptCount_{0};
 };
 
 } // namespace pyramid
