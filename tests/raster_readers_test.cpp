@@ -10,8 +10,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <string>
@@ -548,5 +550,151 @@ TEST(RasterReaders, ComputedBytesReadAlike) {
                 }
             }
         }
+    }
+}
+
+// Uncompressed striped TIFFs: narrow, tall windows (a pyramid's footprints) are copied from blocks
+// of rows kept between reads, wide ones read row by row; both give the file's samples. Windows
+// walk the image as a pyramid's subtrees do, north to south and west to east, on two threads at
+// once, across the blocks' edges: rows long enough to be cut into columns (whose blocks pass the
+// cache and are recycled), rows kept whole with strips stored in reverse order (so that rows
+// following each other in the image do not in the file), 16-bit and float samples.
+TEST(RasterReaders, UncompressedWindowsReadThroughBlocksGiveTheFilesSamples) {
+    struct File {
+        std::string name;
+        int width, height, channels, bits;
+        bool isFloat;
+        int rowsPerStrip;
+        bool reversed; // strips written last first
+    };
+    const std::vector<File> files = {
+        {"wide-rgb8.tif", 12000, 720, 3, 8, false, 5, false},
+        {"rgba16-reversed.tif", 700, 300, 4, 16, false, 3, true},
+        {"f32x2.tif", 3000, 120, 2, 32, true, 7, false},
+    };
+    const auto value = [](const File& f, int x, int y, int c) -> uint32_t {
+        const uint32_t v = static_cast<uint32_t>(x * 31 + y * 17 + c * 89 + (x * y) % 7);
+        return f.bits == 8 ? v & 0xFFu : v & 0xFFFFu;
+    };
+    pyramid::test::TempDir dir;
+    for (const File& f : files) {
+        SCOPED_TRACE(f.name);
+        const std::string path = dir.file(f.name);
+        TIFF* tif = TIFFOpen(path.c_str(), "w");
+        ASSERT_TRUE(tif);
+        TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, f.width);
+        TIFFSetField(tif, TIFFTAG_IMAGELENGTH, f.height);
+        TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, f.channels);
+        TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, f.bits);
+        TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, f.isFloat ? SAMPLEFORMAT_IEEEFP : SAMPLEFORMAT_UINT);
+        TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+        TIFFSetField(tif, TIFFTAG_COMPRESSION, COMPRESSION_NONE);
+        TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, f.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+        if (f.channels == 4 || f.channels == 2) {
+            const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
+            TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, 1, &alpha);
+        }
+        TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, f.rowsPerStrip);
+        const int strips = (f.height + f.rowsPerStrip - 1) / f.rowsPerStrip;
+        const size_t sampleBytes = static_cast<size_t>(f.bits / 8);
+        for (int k = 0; k < strips; ++k) {
+            const int s = f.reversed ? strips - 1 - k : k;
+            const int rows = std::min(f.rowsPerStrip, f.height - s * f.rowsPerStrip);
+            std::vector<uint8_t> strip(static_cast<size_t>(rows) * f.width * f.channels * sampleBytes);
+            for (int y = 0; y < rows; ++y) {
+                for (int x = 0; x < f.width; ++x) {
+                    for (int c = 0; c < f.channels; ++c) {
+                        const size_t at = ((static_cast<size_t>(y) * f.width + x) * f.channels + c) * sampleBytes;
+                        const uint32_t v = value(f, x, s * f.rowsPerStrip + y, c);
+                        if (f.isFloat) {
+                            const float g = static_cast<float>(v);
+                            std::memcpy(&strip[at], &g, 4);
+                        } else if (f.bits == 16) {
+                            const auto g = static_cast<uint16_t>(v);
+                            std::memcpy(&strip[at], &g, 2);
+                        } else {
+                            strip[at] = static_cast<uint8_t>(v);
+                        }
+                    }
+                }
+            }
+            ASSERT_GE(TIFFWriteEncodedStrip(tif, static_cast<uint32_t>(s), strip.data(),
+                                            static_cast<tmsize_t>(strip.size())),
+                      0);
+        }
+        TIFFClose(tif);
+        const auto source = pyramid::RasterSource::open(path, 256);
+        // Footprints (through blocks): 392 x 392 samples every 384 columns and rows in the wide
+        // file, 97 x 97 every 90 in the others. Then a wide, short window and a narrow, short
+        // one (row by row).
+        const bool footprints = f.name == "wide-rgb8.tif";
+        const int side = footprints ? 392 : 97, step = footprints ? 384 : 90;
+        std::vector<std::array<int, 4>> windows;
+        for (int y = 0; y < f.height; y += step) {
+            for (int x = 0; x < f.width; x += step) {
+                windows.push_back({x, y, std::min(f.width, x + side), std::min(f.height, y + side)});
+            }
+        }
+        windows.push_back({5, 7, f.width - 3, 19}); // wide and short: row by row
+        windows.push_back({1, 3, 40, 15});           // narrow but short: row by row
+        std::atomic<int> wrong{0};
+        const auto check = [&](size_t first) {
+            for (size_t k = first; k < windows.size(); k += 2) {
+                const auto [x0, y0, x1, y1] = windows[k];
+                const int w = x1 - x0, h = y1 - y0, n = f.channels;
+                if (f.isFloat) {
+                    std::vector<float> got(static_cast<size_t>(w) * h);
+                    source->readFloat(x0, y0, x1, y1, 1, got.data());
+                    for (int y = 0; y < h; ++y) {
+                        for (int x = 0; x < w; ++x) {
+                            wrong += got[static_cast<size_t>(y) * w + x] != static_cast<float>(value(f, x0 + x, y0 + y, 1));
+                        }
+                    }
+                    continue;
+                }
+                // Every channel, and the last alone.
+                std::vector<uint16_t> all(static_cast<size_t>(w) * h * n), last(static_cast<size_t>(w) * h);
+                source->readUInt16(x0, y0, x1, y1, 0, n, all.data());
+                source->readUInt16(x0, y0, x1, y1, n - 1, n, last.data());
+                for (int y = 0; y < h; ++y) {
+                    for (int x = 0; x < w; ++x) {
+                        const size_t p = static_cast<size_t>(y) * w + x;
+                        for (int c = 0; c < n; ++c) {
+                            wrong += all[p * n + c] != value(f, x0 + x, y0 + y, c);
+                        }
+                        wrong += last[p] != value(f, x0 + x, y0 + y, n - 1);
+                    }
+                }
+                if (f.bits == 8) {
+                    // Bottom up through a negative stride, every channel and the middle one alone.
+                    std::vector<uint8_t> bytes(static_cast<size_t>(w) * h * n), middle(static_cast<size_t>(w) * h);
+                    source->readUInt8(x0, y0, x1, y1, 0, n, bytes.data() + static_cast<size_t>(h - 1) * w * n, -w * n);
+                    source->readUInt8(x0, y0, x1, y1, 1, 2, middle.data() + static_cast<size_t>(h - 1) * w, -w);
+                    for (int y = 0; y < h; ++y) {
+                        for (int x = 0; x < w; ++x) {
+                            const size_t up = static_cast<size_t>(h - 1 - y) * w + x;
+                            for (int c = 0; c < n; ++c) {
+                                wrong += bytes[up * n + c] != value(f, x0 + x, y0 + y, c);
+                            }
+                            wrong += middle[up] != value(f, x0 + x, y0 + y, 1);
+                        }
+                    }
+                }
+            }
+        };
+        std::atomic<int> failed{0};
+        const auto run = [&](size_t first) {
+            try {
+                check(first);
+            } catch (const std::exception& e) {
+                ADD_FAILURE() << e.what();
+                ++failed;
+            }
+        };
+        std::thread other(run, 1);
+        run(0);
+        other.join();
+        EXPECT_EQ(failed.load(), 0);
+        EXPECT_EQ(wrong.load(), 0);
     }
 }

@@ -124,15 +124,16 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
     RasterInfo& info = source->info_;
     if (std::optional<RasterInfo> tiff = tiffInfo ? std::optional<RasterInfo>(*tiffInfo) : readPlainTiffInfo(path)) {
         info = *tiff;
+        const size_t cacheBytes = static_cast<size_t>(std::max(cacheMegabytes, 0)) << 20;
         if (info.type == SampleType::Float32) {
-            impl.floats = TiffPixelReader::open(path, info.width, info.height, info.channels, 4, true);
+            impl.floats = TiffPixelReader::open(path, info.width, info.height, info.channels, 4, true, cacheBytes);
         }
         if (!impl.floats) {
             impl.blocks = TiffBlockReader::open(path, info, cacheMegabytes);
         }
         if (info.type == SampleType::UInt8 || info.type == SampleType::UInt16) {
             impl.pixels = TiffPixelReader::open(path, info.width, info.height, info.channels,
-                                                info.type == SampleType::UInt8 ? 1 : 2);
+                                                info.type == SampleType::UInt8 ? 1 : 2, false, cacheBytes);
         }
     } else if ((impl.hgt = HgtRasterReader::open(path))) {
         info = impl.hgt->info();

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <utility>
+#include <vector>
 
 #include "formats/file_io.hpp"
 
@@ -84,7 +85,7 @@ TIFF* openTiffQuietly(const std::string& path, const char* mode, bool noteJpegWa
 std::string takeJpegWarning() { return std::exchange(jpegWarning, std::string()); }
 
 std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, int width, int height, int channels,
-                                                       int bytesPerSample, bool floatSamples) {
+                                                       int bytesPerSample, bool floatSamples, size_t cacheBytes) {
     // Multi-byte samples are read as stored: only in the host's byte order.
     const bool supported = floatSamples ? bytesPerSample == 4 : (bytesPerSample == 1 || bytesPerSample == 2);
     if (!supported || (bytesPerSample > 1 && std::endian::native != std::endian::little)) {
@@ -124,6 +125,10 @@ std::unique_ptr<TiffPixelReader> TiffPixelReader::open(const std::string& path, 
         reader->bytesPerSample_ = bytesPerSample;
         reader->float_ = floatSamples;
         reader->rowsPerStrip_ = rowsPerStrip;
+        reader->height_ = height;
+        reader->pixelBytes_ = static_cast<size_t>(channels) * static_cast<size_t>(bytesPerSample);
+        reader->rowBytes_ = rowBytes;
+        reader->cacheBytes_ = std::min(kCacheBytes, cacheBytes);
         const uint32_t strips = TIFFNumberOfStrips(tif);
         for (uint32_t s = 0; s < strips && reader; ++s) {
             const uint32_t rows = std::min(rowsPerStrip, h - s * rowsPerStrip);
@@ -152,40 +157,148 @@ TiffPixelReader::~TiffPixelReader() {
     }
 }
 
-bool TiffPixelReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
-    const size_t pixels = static_cast<size_t>(x1 - x0);
-    const size_t pixelBytes = static_cast<size_t>(channels_) * static_cast<size_t>(bytesPerSample_);
-    const uint64_t rowBytes = static_cast<uint64_t>(width_) * pixelBytes;
-    const size_t wanted = static_cast<size_t>(c1 - c0);
-    std::vector<uint8_t> row(pixels * pixelBytes);
-    for (int y = y0; y < y1; ++y) {
-        const auto r = static_cast<uint32_t>(y);
-        const uint64_t offset = stripOffsets_[r / rowsPerStrip_] + (r % rowsPerStrip_) * rowBytes +
-                                static_cast<uint64_t>(x0) * pixelBytes;
-        if (!readFully(fd_, reinterpret_cast<char*>(row.data()), row.size(), offset)) {
-            return false;
+uint64_t TiffPixelReader::rowOffset(int y) const {
+    const auto r = static_cast<uint32_t>(y);
+    return stripOffsets_[r / rowsPerStrip_] + (r % rowsPerStrip_) * rowBytes_;
+}
+
+void TiffPixelReader::shapeBlocks(int windowRows) const {
+    // The blocks under a window of whole rows (the windows of a row of footprints share them):
+    const auto rowBands = static_cast<size_t>(windowRows / kBlockRows + 2);
+    const bool wholeRows = 2 * rowBands * kBlockRows * rowBytes_ <= cacheBytes_;
+    blockColumns_ = wholeRows ? width_ : std::max(1, static_cast<int>(kChunkBytes / pixelBytes_));
+    blocksAcross_ = (width_ + blockColumns_ - 1) / blockColumns_;
+    blockBytes_ = static_cast<size_t>(kBlockRows) * static_cast<size_t>(blockColumns_) * pixelBytes_;
+}
+
+bool TiffPixelReader::throughBlocks(int x0, int y0, int x1, int y1) const {
+    if (static_cast<uint64_t>(x1 - x0) * pixelBytes_ > kNarrowRowBytes || y1 - y0 < kBlockRows) {
+        return false;
+    }
+    std::call_once(shaped_, [&] { shapeBlocks(y1 - y0); });
+    const auto blocks = static_cast<size_t>((y1 - 1) / kBlockRows - y0 / kBlockRows + 1) *
+                        static_cast<size_t>((x1 - 1) / blockColumns_ - x0 / blockColumns_ + 1);
+    return 2 * blocks * blockBytes_ <= cacheBytes_;
+}
+
+std::shared_ptr<TiffPixelReader::Block> TiffPixelReader::block(int by, int bx) const {
+    const uint64_t key = static_cast<uint64_t>(by) * static_cast<uint64_t>(blocksAcross_) + static_cast<uint64_t>(bx);
+    std::lock_guard lock(cacheMutex_);
+    if (const auto found = cache_.find(key); found != cache_.end()) {
+        recent_.splice(recent_.begin(), recent_, found->second.second);
+        return found->second.first;
+    }
+    auto made = std::make_shared<Block>();
+    if (spare_.empty()) {
+        made->bytes.reset(new uint8_t[blockBytes_]); // not cleared: every byte is read into
+    } else {
+        made->bytes = std::move(spare_.back());
+        spare_.pop_back();
+    }
+    recent_.push_front(key);
+    cache_.emplace(key, std::make_pair(made, recent_.begin()));
+    cachedBytes_ += blockBytes_;
+    // The least recently used go; a reader still copying from one keeps it until it is done.
+    while (cachedBytes_ > cacheBytes_ && recent_.size() > 1) {
+        const auto gone = cache_.find(recent_.back());
+        if (gone->second.first.use_count() == 1) {
+            spare_.push_back(std::move(gone->second.first->bytes));
         }
-        uint16_t* o = out + static_cast<size_t>(y - y0) * pixels * wanted;
-        if (bytesPerSample_ == 1) {
-            if (c0 == 0 && c1 == channels_) {
-                std::copy(row.begin(), row.end(), o); // widened by value
-                continue;
+        cache_.erase(gone);
+        recent_.pop_back();
+        cachedBytes_ -= blockBytes_;
+    }
+    return made;
+}
+
+void TiffPixelReader::load(Block& b, int by, int bx) const {
+    const int r0 = by * kBlockRows, r1 = std::min(height_, r0 + kBlockRows);
+    const int c0 = bx * blockColumns_, c1 = std::min(width_, c0 + blockColumns_);
+    const size_t pieceBytes = static_cast<size_t>(c1 - c0) * pixelBytes_;
+    b.stride = pieceBytes;
+    for (int y = r0; y < r1;) {
+        // Whole rows that follow each other in the file are read in one call.
+        int last = y + 1;
+        if (c1 - c0 == width_) {
+            while (last < r1 && rowOffset(last) == rowOffset(last - 1) + rowBytes_) {
+                ++last;
             }
-            for (size_t i = 0; i < pixels; ++i) {
-                for (size_t c = 0; c < wanted; ++c) {
-                    o[i * wanted + c] = row[i * static_cast<size_t>(channels_) + static_cast<size_t>(c0) + c];
-                }
+        }
+        const uint64_t offset = rowOffset(y) + static_cast<uint64_t>(c0) * pixelBytes_;
+        if (!readFully(fd_, b.bytes.get() + static_cast<size_t>(y - r0) * pieceBytes,
+                       static_cast<size_t>(last - y) * pieceBytes, offset)) {
+            b.error = errno;
+            return;
+        }
+        y = last;
+    }
+    b.ok = true;
+}
+
+bool TiffPixelReader::forEachPiece(int x0, int y0, int x1, int y1,
+                                   const std::function<void(int, int, const uint8_t*, size_t)>& take) const {
+    for (int by = y0 / kBlockRows; by <= (y1 - 1) / kBlockRows; ++by) {
+        for (int bx = x0 / blockColumns_; bx <= (x1 - 1) / blockColumns_; ++bx) {
+            const std::shared_ptr<Block> b = block(by, bx);
+            std::call_once(b->once, [&] { load(*b, by, bx); });
+            if (!b->ok) {
+                errno = b->error;
+                return false;
             }
-        } else {
-            for (size_t i = 0; i < pixels; ++i) {
-                for (size_t c = 0; c < wanted; ++c) {
-                    std::memcpy(&o[i * wanted + c],
-                                &row[(i * static_cast<size_t>(channels_) + static_cast<size_t>(c0) + c) * 2u], 2);
-                }
+            const int c0 = bx * blockColumns_;
+            const int xs = std::max(x0, c0), xe = std::min(x1, c0 + blockColumns_);
+            const int ys = std::max(y0, by * kBlockRows), ye = std::min(y1, (by + 1) * kBlockRows);
+            for (int y = ys; y < ye; ++y) {
+                take(y, xs,
+                     b->bytes.get() + static_cast<size_t>(y - by * kBlockRows) * b->stride +
+                         static_cast<size_t>(xs - c0) * pixelBytes_,
+                     static_cast<size_t>(xe - xs));
             }
         }
     }
     return true;
+}
+
+bool TiffPixelReader::forEachRow(int x0, int y0, int x1, int y1,
+                                 const std::function<void(int, int, const uint8_t*, size_t)>& take) const {
+    if (throughBlocks(x0, y0, x1, y1)) {
+        return forEachPiece(x0, y0, x1, y1, take);
+    }
+    const size_t pixels = static_cast<size_t>(x1 - x0);
+    std::vector<uint8_t> row(pixels * pixelBytes_);
+    for (int y = y0; y < y1; ++y) {
+        if (!readFully(fd_, row.data(), row.size(), rowOffset(y) + static_cast<uint64_t>(x0) * pixelBytes_)) {
+            return false;
+        }
+        take(y, x0, row.data(), pixels);
+    }
+    return true;
+}
+
+bool TiffPixelReader::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    const size_t pixels = static_cast<size_t>(x1 - x0);
+    const size_t channels = static_cast<size_t>(channels_);
+    const size_t wanted = static_cast<size_t>(c1 - c0);
+    return forEachRow(x0, y0, x1, y1, [&](int y, int x, const uint8_t* row, size_t n) {
+        uint16_t* o = out + (static_cast<size_t>(y - y0) * pixels + static_cast<size_t>(x - x0)) * wanted;
+        if (bytesPerSample_ == 1) {
+            if (wanted == channels) {
+                std::copy_n(row, n * channels, o); // widened by value
+                return;
+            }
+            for (size_t i = 0; i < n; ++i) {
+                for (size_t c = 0; c < wanted; ++c) {
+                    o[i * wanted + c] = row[i * channels + static_cast<size_t>(c0) + c];
+                }
+            }
+        } else {
+            for (size_t i = 0; i < n; ++i) {
+                for (size_t c = 0; c < wanted; ++c) {
+                    std::memcpy(&o[i * wanted + c], &row[(i * channels + static_cast<size_t>(c0) + c) * 2u], 2);
+                }
+            }
+        }
+    });
 }
 
 bool TiffPixelReader::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
@@ -194,24 +307,12 @@ bool TiffPixelReader::readFloat(int x0, int y0, int x1, int y1, int channel, flo
     }
     const size_t pixels = static_cast<size_t>(x1 - x0);
     const size_t channels = static_cast<size_t>(channels_);
-    const uint64_t rowBytes = static_cast<uint64_t>(width_) * channels * 4u;
-    std::vector<float> row(channels == 1 ? 0 : pixels * channels);
-    for (int y = y0; y < y1; ++y) {
-        const auto r = static_cast<uint32_t>(y);
-        const uint64_t offset = stripOffsets_[r / rowsPerStrip_] + (r % rowsPerStrip_) * rowBytes +
-                                static_cast<uint64_t>(x0) * channels * 4u;
-        float* o = out + static_cast<size_t>(y - y0) * pixels;
-        // One band: straight into place.
-        if (!readFully(fd_, reinterpret_cast<char*>(channels == 1 ? o : row.data()), pixels * channels * 4u, offset)) {
-            return false;
+    return forEachRow(x0, y0, x1, y1, [&](int y, int x, const uint8_t* row, size_t n) {
+        float* o = out + static_cast<size_t>(y - y0) * pixels + static_cast<size_t>(x - x0);
+        for (size_t i = 0; i < n; ++i) {
+            std::memcpy(&o[i], row + (i * channels + static_cast<size_t>(channel)) * 4u, 4);
         }
-        if (channels > 1) {
-            for (size_t i = 0; i < pixels; ++i) {
-                o[i] = row[i * channels + static_cast<size_t>(channel)];
-            }
-        }
-    }
-    return true;
+    });
 }
 
 bool TiffPixelReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
@@ -219,28 +320,31 @@ bool TiffPixelReader::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, 
     if (bytesPerSample_ != 1) {
         return false;
     }
-    const size_t pixels = static_cast<size_t>(x1 - x0);
     const size_t channels = static_cast<size_t>(channels_);
-    const uint64_t rowBytes = static_cast<uint64_t>(width_) * channels;
     const size_t wanted = static_cast<size_t>(c1 - c0);
-    const bool whole = c0 == 0 && c1 == channels_;
-    std::vector<uint8_t> row(whole ? 0 : pixels * channels);
-    for (int y = y0; y < y1; ++y) {
-        const auto r = static_cast<uint32_t>(y);
-        const uint64_t offset = stripOffsets_[r / rowsPerStrip_] + (r % rowsPerStrip_) * rowBytes +
-                                static_cast<uint64_t>(x0) * channels;
-        uint8_t* o = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride;
-        // All channels: straight into place, no intermediate copy.
-        if (!readFully(fd_, reinterpret_cast<char*>(whole ? o : row.data()), pixels * channels, offset)) {
-            return false;
-        }
-        if (!whole) {
-            for (size_t i = 0; i < pixels; ++i) {
-                std::copy_n(&row[i * channels + static_cast<size_t>(c0)], wanted, &o[i * wanted]);
+    const bool whole = wanted == channels;
+    if (whole && !throughBlocks(x0, y0, x1, y1)) {
+        // All channels of wide windows: each row straight into place, no intermediate copy.
+        const size_t bytes = static_cast<size_t>(x1 - x0) * channels;
+        for (int y = y0; y < y1; ++y) {
+            if (!readFully(fd_, reinterpret_cast<char*>(out + static_cast<std::ptrdiff_t>(y - y0) * rowStride), bytes,
+                           rowOffset(y) + static_cast<uint64_t>(x0) * channels)) {
+                return false;
             }
         }
+        return true;
     }
-    return true;
+    return forEachRow(x0, y0, x1, y1, [&](int y, int x, const uint8_t* row, size_t n) {
+        uint8_t* o = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride + static_cast<std::ptrdiff_t>(x - x0) *
+                                                                                static_cast<std::ptrdiff_t>(wanted);
+        if (whole) {
+            std::copy_n(row, n * channels, o);
+            return;
+        }
+        for (size_t i = 0; i < n; ++i) {
+            std::copy_n(&row[i * channels + static_cast<size_t>(c0)], wanted, &o[i * wanted]);
+        }
+    });
 }
 
 } // namespace pyramid
