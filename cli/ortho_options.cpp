@@ -1,6 +1,7 @@
 #include "cli/ortho_options.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <utility>
@@ -71,8 +72,9 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
         ->capture_default_str();
     app.add_option("--residual-compression", a->residualCompression, "Colour residual tiles: deflate or jpeg")
         ->capture_default_str();
-    app.add_option("--residual-deflate-level", o.residualDeflateLevel,
-                   "Deflate colour residual tiles: 1 (fastest) to 12 (smallest); the residuals are the same")
+    app.add_option("--residual-deflate-level", a->residualDeflateLevel,
+                   "Deflate colour residual tiles: auto (per tile 1 or 2, the faster for its residuals), or 1 "
+                   "(fastest) to 12 (smallest); the residuals are the same")
         ->capture_default_str();
     app.add_option("--colour-space", a->colourSpace,
                    "Averaging for coarser levels: srgb (decode sRGB, average light, encode) or linear (as stored)")
@@ -106,6 +108,15 @@ OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     // Colour residual tiles are Deflate or JPEG (OrthoEncodeOptions::validate()).
     options.residualCompression = parsePolicy("--residual-compression", a.residualCompression,
                                               {{"deflate", TilePolicy::Deflate}, {"jpeg", TilePolicy::Jpeg}});
+    if (a.residualDeflateLevel == "auto") {
+        options.residualDeflateLevel = 0;
+    } else {
+        const double level = parseNumber(a.residualDeflateLevel, "--residual-deflate-level", "auto or 1..12");
+        if (!(level >= 1 && level <= 12) || level != std::floor(level)) {
+            fail("--residual-deflate-level", "'" + a.residualDeflateLevel + "' is not auto or 1..12");
+        }
+        options.residualDeflateLevel = static_cast<int>(level);
+    }
     if (a.colourSpace == "srgb") {
         options.levels.colourSpace = ColourSpace::Srgb;
     } else if (a.colourSpace == "linear" || a.colourSpace == "none") {

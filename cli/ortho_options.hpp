@@ -19,7 +19,8 @@ namespace pyramid::cli {
 struct OrthoArgs {
     InputArgs input;
     std::string output, outputs = "tiff,dxt,residuals", compression = "deflate",
-                               residualCompression = "deflate", colourSpace = "srgb", report;
+                               residualCompression = "deflate", residualDeflateLevel = "auto", colourSpace = "srgb",
+                               report;
     bool quiet = false;
     std::string part; // --part I/N
     RegionArgs region; // --region LEVEL,TX,TY, --parent FILE

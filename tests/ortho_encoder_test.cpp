@@ -498,9 +498,62 @@ TEST(OrthoEncoder, ResidualDeflateLevelsDecodeToTheSameResiduals) {
         EXPECT_EQ(reports[0].levels[static_cast<size_t>(l)].residualRmsError,
                   reports[2].levels[static_cast<size_t>(l)].residualRmsError);
     }
-    o.residualDeflateLevel = 0;
-    EXPECT_THROW(encodeOrtho(dir.file("in.png"), dir.file("r0"), o), Error);
-    EXPECT_FALSE(std::filesystem::exists(dir.file("r0")));
+    for (const int level : {-1, 13}) {
+        o.residualDeflateLevel = level;
+        EXPECT_THROW(encodeOrtho(dir.file("in.png"), dir.file("bad"), o), Error);
+        EXPECT_FALSE(std::filesystem::exists(dir.file("bad")));
+    }
+}
+
+// The default residual Deflate level (0) is chosen per tile: level 2 where the stored residuals
+// are smooth (mean distance from 128 below 1/2) and for the root's colours, level 1 where they
+// are grainy. Each tile is the very blob that level would give.
+TEST(OrthoEncoder, DefaultResidualDeflateLevelIsChosenPerTileFromItsResiduals) {
+    test::TempDir dir;
+    const int W = 64;
+    // West half a gentle gradient (residuals 128), east half grain: both kinds of tile.
+    std::vector<uint16_t> px(static_cast<size_t>(W) * W * 3);
+    uint32_t state = 12345;
+    for (int y = 0; y < W; ++y) {
+        for (int x = 0; x < W; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                state = state * 1664525u + 1013904223u;
+                px[(static_cast<size_t>(y) * W + x) * 3 + c] =
+                    static_cast<uint16_t>(x < W / 2 ? 60 + x + 2 * c : 40 + (state >> 24) % 160);
+            }
+        }
+    }
+    test::writeImage(dir.file("in.png"), W, W, 3, px, false);
+    OrthoEncodeOptions o = small();
+    o.writeDxt = o.writeTiff = false;
+    for (const int level : {0, 1, 2}) {
+        o.residualDeflateLevel = level;
+        encodeOrtho(dir.file("in.png"), dir.file("r" + std::to_string(level)), o);
+    }
+    const auto chosen = OrthoFileReader::open(dir.file("r0/residuals/RGB.dat"));
+    const auto one = OrthoFileReader::open(dir.file("r1/residuals/RGB.dat"));
+    const auto two = OrthoFileReader::open(dir.file("r2/residuals/RGB.dat"));
+    int smooth = 0, grainy = 0;
+    for (int l = 0; l <= chosen->header().maxLevel; ++l) {
+        for (int ty = 0; ty < (1 << l); ++ty) {
+            for (int tx = 0; tx < (1 << l); ++tx) {
+                const std::vector<uint8_t> stored = chosen->readTile(l, tx, ty);
+                uint64_t distance = 0;
+                for (const uint8_t v : stored) {
+                    distance += static_cast<uint64_t>(std::abs(static_cast<int>(v) - 128));
+                }
+                const bool levelTwo = l == 0 || 2 * distance < stored.size();
+                const auto blob1 = one->readTileBytes(l, tx, ty);
+                const auto blob2 = two->readTileBytes(l, tx, ty);
+                EXPECT_EQ(chosen->readTileBytes(l, tx, ty), levelTwo ? blob2 : blob1) << l << "," << tx << "," << ty;
+                if (l > 0 && blob1 != blob2) {
+                    ++(levelTwo ? smooth : grainy);
+                }
+            }
+        }
+    }
+    EXPECT_GT(smooth, 0);
+    EXPECT_GT(grainy, 0);
 }
 
 TEST(OrthoEncoder, BadInputWritesNothing) {

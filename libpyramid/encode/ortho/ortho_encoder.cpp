@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <future>
 #include <limits>
 #include <map>
 #include <memory>
@@ -109,6 +110,21 @@ public:
         }
         if (residual_ && made.residual) {
             writeOne(*residual_, firstWith_[2], t, e.residual, e.uniform);
+        }
+    }
+
+    // Completes the TIFF and DXT files (their tables written, their bytes on disk) but for the
+    // rename, once every tile of theirs is written: in the two walks, while the second walk
+    // encodes the residual tiles, rather than after it (a file system commits its journal at
+    // the first fsync: tens of milliseconds). Not for a region's files, which are put in order
+    // when complete, nor for region sets, which are split from the files as they are read.
+    void finishPictures() {
+        if (!region_ && maxFileBytes_ == 0) {
+            for (auto* w : {&tiff_, &dxt_}) {
+                if (*w) {
+                    (*w)->finish();
+                }
+            }
         }
     }
 
@@ -412,8 +428,14 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     // on are the second walk's. Declared after everything its writes use (its destructor stops
     // it).
     std::atomic<int64_t> secondWalk{std::numeric_limits<int64_t>::max()};
+    // The TIFF and DXT files, complete once the writer reaches the second walk (before `writer`:
+    // the writer's thread starts it, and it is awaited before `outputs` goes).
+    std::future<void> picturesFinished;
     OrderedWriter<EncodedItem> writer(levels.itemWindow(), [&](int64_t index, EncodedItem& item) {
         const bool second = index >= secondWalk.load(std::memory_order_acquire);
+        if (second && outputs && !picturesFinished.valid()) {
+            picturesFinished = std::async(std::launch::async, [&outputs] { outputs->finishPictures(); });
+        }
         for (EncodedOrthoTile& e : item) {
             if (region && !region->holds(e.level, e.tx, e.ty)) {
                 continue; // an ancestor of the root, encoded for its reconstruction
@@ -528,6 +550,9 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                                 {"max_file_bytes", o.maxFileBytes},
                                 {"companions", companionJson}});
     } else {
+        if (picturesFinished.valid()) {
+            picturesFinished.get(); // rethrows its error
+        }
         outputs->commit(report);
         for (const auto& [name, text] : companions) {
             AtomicFile file(staging->path(name));
@@ -559,8 +584,8 @@ void OrthoEncodeOptions::validate() const {
     if (deflateLevel < 1 || deflateLevel > 12) {
         failOption("deflateLevel", std::to_string(deflateLevel) + " is not 1..12");
     }
-    if (residualDeflateLevel < 1 || residualDeflateLevel > 12) {
-        failOption("residualDeflateLevel", std::to_string(residualDeflateLevel) + " is not 1..12");
+    if (residualDeflateLevel < 0 || residualDeflateLevel > 12) {
+        failOption("residualDeflateLevel", std::to_string(residualDeflateLevel) + " is not 0 (per tile) or 1..12");
     }
     if (dxtQuality < 0 || dxtQuality >= kDxtQualityLevels) {
         failOption("dxtQuality", std::to_string(dxtQuality) + " is not 0, 1, 2 or 3");

@@ -60,10 +60,10 @@ struct OrthoEncodeOptions {
     int dxtQuality = 1;              // 0 fastest .. 3 best (formats/dxt_codec.hpp)
     TilePolicy residualCompression = TilePolicy::Deflate; // Deflate or Jpeg
     // Deflate colour residual tiles (no predictor: residuals hover around 128, they are not
-    // smooth): libdeflate's level, 1 to 12. Level 2 (doc/ortho-encoding.md, "Colour residuals"):
-    // against level 4, 30 % less time on textured imagery for 0.9 % more bytes, and 20 % less on
-    // smooth imagery for 3.6 % more; level 1 is no faster on smooth imagery.
-    int residualDeflateLevel = 2;
+    // smooth): libdeflate's level, 1 to 12, or 0 to choose per tile the faster of levels 1 and
+    // 2 from the tile's residuals (doc/ortho-encoding.md, "Compression policy of TIFF tiles"):
+    // level 2 where they are smooth, level 1 where they are grainy.
+    int residualDeflateLevel = 0;
     // 0: each output one file (ortho files have 64-bit offsets: no size limit). Otherwise each
     // output is a region set of files of at most this many bytes each, with its index
     // (formats/ortho_set.hpp, doc/planet-scale.md); an output that fits is the one file a build

@@ -47,6 +47,28 @@ std::vector<uint8_t> crop(const Image8& tile, int border) {
     return out;
 }
 
+// The Deflate level of a colour residual tile under the default (`residualDeflateLevel` 0,
+// doc/ortho-encoding.md, "Compression policy of TIFF tiles"). Residuals that are smooth (their
+// mean distance from 128 below 1/2: most are 128) compress fastest and smallest at level 2;
+// grainy residuals take about half again as long at level 2 as at level 1, for 5 to 8 % fewer
+// bytes, and get level 1. The root tile stores colours, not residuals: level 2.
+int autoResidualDeflateLevel(std::span<const uint8_t> stored, int level) {
+    if (level == 0) {
+        return 2;
+    }
+    // Summed in 32 bits over pieces of 2^16 samples (at most 2^23 each), which vectorises well.
+    uint64_t distance = 0;
+    for (size_t first = 0; first < stored.size(); first += size_t{1} << 16) {
+        const size_t last = std::min(stored.size(), first + (size_t{1} << 16));
+        uint32_t piece = 0;
+        for (size_t k = first; k < last; ++k) {
+            piece += static_cast<uint32_t>(stored[k] >= 128 ? stored[k] - 128 : 128 - stored[k]);
+        }
+        distance += piece;
+    }
+    return 2 * distance < stored.size() ? 2 : 1;
+}
+
 // The largest absolute difference between two runs of samples and the sum of its squares.
 // Integers summed exactly (a tile's squares stay far below 2^53): the same total as adding
 // them one by one in double precision. In chunks of 16 samples, which GCC vectorises at -O2
@@ -260,9 +282,11 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
         e.stats.clamped += clampedCount;
     }
     const std::span<const uint8_t> storedTile(t.level == 0 ? truth.data() : stored, count);
+    const int deflateLevel =
+        o_.residualDeflateLevel != 0 ? o_.residualDeflateLevel : autoResidualDeflateLevel(storedTile, t.level);
     std::vector<uint8_t> residual = encodeTiff8(storedTile, side, side, channels_,
                                                 jpeg ? TiffCompression::Jpeg : TiffCompression::Deflate, o_.jpegQuality,
-                                                o_.residualDeflateLevel);
+                                                deflateLevel);
     if (jpeg) {
         const std::vector<uint8_t> decoded = decodeOrthoTiff(residual, side, channels_, "JPEG residual tile");
         if (t.level == 0) {
