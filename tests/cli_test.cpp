@@ -13,6 +13,7 @@
 #include <tiffio.h>
 #include <zlib.h>
 
+#include "formats/ortho_file.hpp"
 #include "libpyramid/capi/pyramid.h"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
@@ -447,6 +448,45 @@ TEST(PreprocessOrthoCli, BuildsVerifiesAndFailsCleanly) {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << r.err;
         EXPECT_FALSE(test::fileExists(dir.file("bad"))) << args;
     }
+}
+
+// --residual-deflate-level reaches the encoder: auto (the default) keeps level 2 for the root's
+// colours and takes level 1 for these grainy residuals, tile for tile the blobs of those levels;
+// 1, 2 and 12 each give their own file.
+TEST(PreprocessOrthoCli, ResidualDeflateLevelReachesTheEncoder) {
+    test::TempDir dir;
+    std::vector<uint16_t> px(64 * 64 * 3);
+    for (size_t k = 0; k < px.size(); ++k) {
+        px[k] = static_cast<uint16_t>((k * 37) % 251);
+    }
+    test::writeImage(dir.file("in.png"), 64, 64, 3, px, false);
+    for (const std::string level : {"", "auto", "1", "2", "12"}) {
+        const auto r = test::run(test::programPath("preprocessOrtho") + " '" + dir.file("in.png") + "' -o '" +
+                                 dir.file("l" + level) + "' --tile-size 16 --outputs residuals --quiet" +
+                                 (level.empty() ? "" : " --residual-deflate-level " + level));
+        ASSERT_EQ(r.exitCode, 0) << level << r.err;
+    }
+    const auto bytes = [&](const std::string& level) {
+        return test::readFile(dir.file("l" + level + "/residuals/RGB.dat"));
+    };
+    EXPECT_EQ(bytes(""), bytes("auto"));
+    EXPECT_NE(bytes("1"), bytes("2"));
+    EXPECT_LT(bytes("12").size(), bytes("2").size());
+    const auto chosen = OrthoFileReader::open(dir.file("lauto/residuals/RGB.dat"));
+    const auto one = OrthoFileReader::open(dir.file("l1/residuals/RGB.dat"));
+    const auto two = OrthoFileReader::open(dir.file("l2/residuals/RGB.dat"));
+    EXPECT_EQ(chosen->readTileBytes(0, 0, 0), two->readTileBytes(0, 0, 0));
+    int differing = 0;
+    for (int l = 1; l <= chosen->header().maxLevel; ++l) {
+        for (int ty = 0; ty < (1 << l); ++ty) {
+            for (int tx = 0; tx < (1 << l); ++tx) {
+                EXPECT_EQ(chosen->readTileBytes(l, tx, ty), one->readTileBytes(l, tx, ty))
+                    << l << "," << tx << "," << ty;
+                differing += one->readTileBytes(l, tx, ty) != two->readTileBytes(l, tx, ty);
+            }
+        }
+    }
+    EXPECT_GT(differing, 0);
 }
 
 // An input whose tiles a cache of --cache-mb cannot hold: the error names that flag and what

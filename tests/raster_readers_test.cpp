@@ -647,7 +647,8 @@ TEST(RasterReaders, UncompressedWindowsReadThroughBlocksGiveTheFilesSamples) {
                     source->readFloat(x0, y0, x1, y1, 1, got.data());
                     for (int y = 0; y < h; ++y) {
                         for (int x = 0; x < w; ++x) {
-                            wrong += got[static_cast<size_t>(y) * w + x] != static_cast<float>(value(f, x0 + x, y0 + y, 1));
+                            const float want = static_cast<float>(value(f, x0 + x, y0 + y, 1));
+                            wrong += got[static_cast<size_t>(y) * w + x] != want;
                         }
                     }
                     continue;
