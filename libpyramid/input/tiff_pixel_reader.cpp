@@ -172,7 +172,7 @@ void TiffPixelReader::shapeBlocks(int windowRows) const {
 }
 
 bool TiffPixelReader::throughBlocks(int x0, int y0, int x1, int y1) const {
-    if (static_cast<uint64_t>(x1 - x0) * pixelBytes_ > kNarrowRowBytes || y1 - y0 < kBlockRows) {
+    if (x1 <= x0 || static_cast<uint64_t>(x1 - x0) * pixelBytes_ > kNarrowRowBytes || y1 - y0 < kBlockRows) {
         return false;
     }
     std::call_once(shaped_, [&] { shapeBlocks(y1 - y0); });
@@ -307,6 +307,16 @@ bool TiffPixelReader::readFloat(int x0, int y0, int x1, int y1, int channel, flo
     }
     const size_t pixels = static_cast<size_t>(x1 - x0);
     const size_t channels = static_cast<size_t>(channels_);
+    if (channels == 1 && !throughBlocks(x0, y0, x1, y1)) {
+        // One band of a wide window: each row straight into place.
+        for (int y = y0; y < y1; ++y) {
+            if (!readFully(fd_, out + static_cast<size_t>(y - y0) * pixels, pixels * 4u,
+                           rowOffset(y) + static_cast<uint64_t>(x0) * 4u)) {
+                return false;
+            }
+        }
+        return true;
+    }
     return forEachRow(x0, y0, x1, y1, [&](int y, int x, const uint8_t* row, size_t n) {
         float* o = out + static_cast<size_t>(y - y0) * pixels + static_cast<size_t>(x - x0);
         for (size_t i = 0; i < n; ++i) {
