@@ -76,6 +76,12 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
     addThreadsOption(app, o.threads);
     addCacheOption(app, o.cacheMegabytes);
     addMaxFileBytesOption(app, args->maxFileBytes, "a region set");
+    app.add_option("--layout", args->layout,
+                   "sparse: where the input reaches only part of the pyramid, files only there (a main file of the "
+                   "top levels and region files nested where the data is, each no deeper than its data; "
+                   "doc/format.md 1.5); dense: every tile of every level in one file (or a --max-file-bytes set)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"sparse", "dense"}));
     CLI::Option* part = addPartOption(app, args->part);
     addProgressOption(app);
     addRegionOptions(app, args->region, part, "one region file (name it as a set does, e.g. DEM-L6-12-40.dat)",
@@ -98,6 +104,7 @@ DemEncodeOptions resolveDemOptions(const DemArgs& args) {
     }
     options.tiles = args.coding.resolve(args.quiet);
     options.maxFileBytes = args.maxFileBytes.resolve();
+    options.layout = args.layout == "dense" ? PyramidLayout::Dense : PyramidLayout::Sparse;
     options.region = args.region.resolve();
     options.band = args.band - 1;
     const NodataChoice nodata = parseNodataChoice(args.nodata, "--nodata");

@@ -32,6 +32,7 @@ struct DemArgs {
     ResidualCodingArgs coding; // --compression, --deflate-level
     bool quiet = false;
     MaxFileBytesArgs maxFileBytes;
+    std::string layout = "sparse"; // --layout sparse|dense
     std::string part;         // --part I/N
     RegionArgs region;        // --region LEVEL,TX,TY, --parent FILE
     DemEncodeOptions options;

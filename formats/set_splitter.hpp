@@ -34,6 +34,7 @@ struct SplitFile {
     RegionRoot root;
     int last = 0;
     uint64_t bytes = 0; // header, offset table and tile data
+    int64_t sharedTiles = 0; // tiles that took another tile's bytes (a sparse set's files: sparse_set.hpp)
 };
 
 // The header bytes of one file of the set (the main file: root (0, 0, 0)); throws Error naming

@@ -18,6 +18,7 @@
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
+#include "tests/support/sparse_sets.hpp"
 
 namespace pyramid {
 namespace {
@@ -227,6 +228,7 @@ TEST(ResidualEncoder, WhatNoHeightReachesIsSkippedIntoTheFileOfEverySample) {
                 job.edges = edges;
                 files[exact ? 0 : 1] = dir.file(exact ? "exact.dat" : "every.dat");
                 ResidualPyramidReport report;
+                o.layout = PyramidLayout::Dense; // one file of every tile, to compare byte for byte
                 encodeResidualPyramid(job, files[exact ? 0 : 1], o, report);
                 EXPECT_GT(report.nodataFilled, 4000 * 4000);
             }
@@ -234,6 +236,74 @@ TEST(ResidualEncoder, WhatNoHeightReachesIsSkippedIntoTheFileOfEverySample) {
                 << "patch at " << p[0] << "," << p[1] << (edges == GridEdges::Folded ? ", folded" : "");
         }
     }
+}
+
+TEST(ResidualEncoder, SparseLayoutStoresWhatTheHeightsReachAndTheDenseFilesTiles) {
+    test::TempDir dir;
+    ResidualPyramidJob job;
+    job.header.tileSize = 32;
+    job.header.minLevel = 3;
+    job.header.maxLevel = 10; // N = 4096, 21848 tiles
+    job.input = "patch";
+    ResidualEncodeOptions o;
+    o.scale = 0.25;
+    o.threads = 2;
+    const Patch heights(1500, 900, 1800, 1200, true);
+    job.heights = &heights;
+    for (const GridEdges edges : {GridEdges::Clamped, GridEdges::Folded}) {
+        job.edges = edges;
+        ResidualPyramidReport dense, sparse;
+        o.layout = PyramidLayout::Dense;
+        encodeResidualPyramid(job, dir.file("dense.dat"), o, dense);
+        o.layout = PyramidLayout::Sparse;
+        encodeResidualPyramid(job, dir.file("sparse.dat"), o, sparse);
+        // Files only where the patch is: a main file of the top levels and regions nested in it.
+        ASSERT_GE(sparse.files.size(), 2u);
+        EXPECT_EQ(sparse.files[0].first, "sparse.dat");
+        EXPECT_LT(sparse.bytes * 2, dense.bytes);
+        EXPECT_LT(sparse.tiles * 5, dense.tiles);
+        EXPECT_TRUE(std::filesystem::exists(dir.file("sparse.dat.regions.json")));
+        const int64_t beyond = test::expectSparseSetOfDense(dir.file("dense.dat"), dir.file("sparse.dat"));
+        EXPECT_GT(beyond, 15000);
+        // The same statistics: the tiles left out hold no source sample.
+        ASSERT_EQ(sparse.levels.size(), dense.levels.size());
+        for (size_t l = 0; l < dense.levels.size(); ++l) {
+            EXPECT_EQ(sparse.levels[l].samples, dense.levels[l].samples) << "level " << l;
+            EXPECT_EQ(sparse.levels[l].maxError, dense.levels[l].maxError) << "level " << l;
+        }
+        // Any thread count, the same files.
+        const std::string main = test::readFile(dir.file("sparse.dat"));
+        o.threads = 1;
+        ResidualPyramidReport again;
+        encodeResidualPyramid(job, dir.file("sparse.dat"), o, again);
+        EXPECT_EQ(test::readFile(dir.file("sparse.dat")), main);
+        ASSERT_EQ(again.files, sparse.files);
+        for (const auto& [name, bytes] : sparse.files) {
+            EXPECT_EQ(std::filesystem::file_size(dir.file(name)), bytes) << name;
+        }
+        o.threads = 2;
+    }
+}
+
+TEST(ResidualEncoder, SparseLayoutOfHeightsThatFillThePyramidIsTheDenseFile) {
+    test::TempDir dir;
+    ResidualPyramidJob job;
+    job.header.tileSize = 32;
+    job.header.minLevel = 3;
+    job.header.maxLevel = 7;
+    job.input = "patch";
+    ResidualEncodeOptions o;
+    o.scale = 0.25;
+    const Patch heights(0, 0, 512, 512, false); // may have heights everywhere
+    job.heights = &heights;
+    ResidualPyramidReport dense, sparse;
+    o.layout = PyramidLayout::Dense;
+    encodeResidualPyramid(job, dir.file("dense.dat"), o, dense);
+    o.layout = PyramidLayout::Sparse;
+    encodeResidualPyramid(job, dir.file("sparse.dat"), o, sparse);
+    EXPECT_TRUE(sparse.files.empty());
+    EXPECT_FALSE(std::filesystem::exists(dir.file("sparse.dat.regions.json")));
+    EXPECT_EQ(test::readFile(dir.file("sparse.dat")), test::readFile(dir.file("dense.dat")));
 }
 
 TEST(DemEncoder, NonSquareInputKeepsItsAspectRatio) {

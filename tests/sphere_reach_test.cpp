@@ -22,8 +22,10 @@
 #include "libpyramid/sphere/face_locate.hpp"
 #include "libpyramid/sphere/face_sampler.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
+#include "libpyramid/verify/dem_verify.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/sparse_sets.hpp"
 
 namespace pyramid {
 namespace {
@@ -126,6 +128,7 @@ TEST(SphericalReach, SkippedSubtreesAreTheTilesEncodingWouldWrite) {
     o.dem.rootTileSize = 4;
     o.dem.maxLevel = 8; // subtrees below level 5: most of them beyond the map
     o.dem.scale = 0.25;
+    o.dem.layout = PyramidLayout::Dense; // one file of every tile per face, to compare byte for byte
     const SphericalDemReport skipped = encodeSphericalDem(map, dir.file("skipped"), o);
     int64_t tiles = 0;
     o.reconstruction = [&](int, int, int, int, const std::vector<float>&) { ++tiles; };
@@ -149,6 +152,34 @@ TEST(SphericalReach, SkippedSubtreesAreTheTilesEncodingWouldWrite) {
     }
     // The map reached face 1 (47 N): its finest level compared source samples.
     EXPECT_GT(skipped.faces[0].dem.levels.back().samples, 100);
+    // The sparse default at a finer level: face 1 is the dense file where the map is and nothing
+    // elsewhere; face 2, which the map does not reach, is its top levels alone (levels 0..minLevel).
+    o.reconstruction = nullptr;
+    o.faces = {1, 2};
+    o.dem.maxLevel = 11;
+    o.dem.layout = PyramidLayout::Sparse;
+    const SphericalDemReport sparse = encodeSphericalDem(map, dir.file("sparse"), o);
+    o.dem.layout = PyramidLayout::Dense;
+    const SphericalDemReport dense = encodeSphericalDem(map, dir.file("dense"), o);
+    for (int f = 1; f <= 2; ++f) {
+        const std::string name = "/DEM" + std::to_string(f) + ".dat";
+        const int64_t beyond = test::expectSparseSetOfDense(dir.file("dense") + name, dir.file("sparse") + name);
+        const auto& s = sparse.faces[static_cast<size_t>(f - 1)].dem;
+        const auto& d = dense.faces[static_cast<size_t>(f - 1)].dem;
+        EXPECT_LT(s.bytes * 10, d.bytes) << "face " << f;
+        if (f == 1) {
+            EXPECT_GE(s.files.size(), 2u);
+        } else {
+            EXPECT_EQ(s.tiles, 4);
+            EXPECT_EQ(beyond, d.tiles - 4);
+        }
+    }
+    SphericalDemVerifyOptions vo;
+    vo.faces = {1, 2};
+    for (const DemVerifyReport& r : verifySphericalDem(dir.file("sparse"), std::vector<std::string>{map}, vo)) {
+        EXPECT_TRUE(r.ok()) << r.file;
+    }
+    EXPECT_EQ(verifySphericalDem(dir.file("sparse"), std::vector<std::string>{map}, vo).front().levels.size(), 12u);
 }
 
 TEST(SphericalReach, FineImageryAtItsDefaultLevel) {

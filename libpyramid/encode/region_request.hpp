@@ -10,6 +10,13 @@
 
 namespace pyramid {
 
+// How a preprocessor lays its pyramid out in files (doc/format.md 1.5, "Sparse sets").
+// Sparse: where the data reaches only part of the plane or face, the files hold that part alone
+// (a main file of the top levels and region files nested where the data is, each no deeper than
+// its data); a pyramid the data fills is one file (or a --max-file-bytes set), as Dense writes it.
+// Dense: every tile of every level, in one file (or a --max-file-bytes set).
+enum class PyramidLayout { Sparse, Dense };
+
 struct RegionRequest {
     RegionRoot root;
     // An existing main file or set of the same build (empty: none): the residual pyramid whose

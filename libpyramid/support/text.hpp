@@ -3,9 +3,12 @@
 #pragma once
 #include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace pyramid {
 
@@ -21,6 +24,36 @@ inline std::string exactNumberText(double x) {
     char text[32];
     const auto end = std::to_chars(text, text + sizeof text, x).ptr;
     return std::string(text, end);
+}
+
+// Bytes as lowercase hexadecimal ("0aff"), and back; nullopt for text that is not such.
+inline std::string hexText(const std::vector<uint8_t>& bytes) {
+    static constexpr char digits[] = "0123456789abcdef";
+    std::string text;
+    text.reserve(2 * bytes.size());
+    for (const uint8_t b : bytes) {
+        text += digits[b >> 4];
+        text += digits[b & 15];
+    }
+    return text;
+}
+
+inline std::optional<std::vector<uint8_t>> bytesOfHex(std::string_view text) {
+    const auto digit = [](char c) {
+        return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+    };
+    if (text.size() % 2) {
+        return std::nullopt;
+    }
+    std::vector<uint8_t> bytes(text.size() / 2);
+    for (size_t k = 0; k < bytes.size(); ++k) {
+        const int hi = digit(text[2 * k]), lo = digit(text[2 * k + 1]);
+        if (hi < 0 || lo < 0) {
+            return std::nullopt;
+        }
+        bytes[k] = static_cast<uint8_t>(hi * 16 + lo);
+    }
+    return bytes;
 }
 
 // ASCII letters lowered; every other byte as it is (no locale).

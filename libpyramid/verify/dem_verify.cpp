@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 
 #include "formats/error.hpp"
 #include "formats/pyramid_set.hpp"
@@ -55,6 +56,62 @@ WholePyramid wholePyramid(const std::string& file) {
     return w;
 }
 
+// The tiles of each level that are compared (x + y * side), each level's found from the level
+// above: every tile of the levels the main file holds (nullopt: all of them); below, a tile some
+// file stores or whose samples the source may have heights at. A sparse set (formats/sparse_set.hpp)
+// stores nothing where the source has no heights, and the source's heights stay under its files:
+// both are checked, without visiting the empty face beyond them.
+std::vector<std::optional<std::vector<int64_t>>> comparedTiles(const WholePyramid& whole,
+                                                               const std::vector<FileLevelProducer>& producers,
+                                                               const HeightSource& sampler) {
+    const ResidualHeader& h = whole.header;
+    const int M = h.maxLevel;
+    const int mainLast = ResidualFileReader::readHeader(whole.set.main).maxLevel;
+    const std::shared_ptr<ResidualProducer> residuals = openResidualSet(whole.set);
+    const int64_t R = h.tileSize >> h.minLevel;
+    std::vector<std::optional<std::vector<int64_t>>> levels;
+    for (int l = 0; l <= M; ++l) {
+        if (l <= mainLast || l <= h.minLevel) {
+            levels.emplace_back(std::nullopt);
+            continue;
+        }
+        const int side = 1 << (l - producers[static_cast<size_t>(l)].delta);
+        const int above = 1 << (l - 1 - producers[static_cast<size_t>(l) - 1].delta);
+        const int n = producers[static_cast<size_t>(l)].n;
+        const int64_t stride = int64_t{1} << (M - l);
+        const auto wanted = [&](int tx, int ty) {
+            if (residuals->hasTile(l - residuals->delta(), tx, ty)) {
+                return true;
+            }
+            const int64_t x0 = static_cast<int64_t>(tx) * n * stride, y0 = static_cast<int64_t>(ty) * n * stride;
+            const int64_t last = (R << M);
+            return sampler.mayHaveHeights(x0, y0, std::min(last, x0 + n * stride), std::min(last, y0 + n * stride));
+        };
+        std::vector<int64_t> tiles;
+        const auto visit = [&](int64_t parent) {
+            const int px = static_cast<int>(parent % above), py = static_cast<int>(parent / above);
+            for (int c = 0; c < 4; ++c) {
+                const int tx = 2 * px + (c & 1), ty = 2 * py + (c >> 1);
+                if (wanted(tx, ty)) {
+                    tiles.push_back(tx + static_cast<int64_t>(ty) * side);
+                }
+            }
+        };
+        if (levels.back()) {
+            for (const int64_t parent : *levels.back()) {
+                visit(parent);
+            }
+        } else {
+            for (int64_t parent = 0; parent < static_cast<int64_t>(above) * above; ++parent) {
+                visit(parent);
+            }
+        }
+        std::sort(tiles.begin(), tiles.end());
+        levels.emplace_back(std::move(tiles));
+    }
+    return levels;
+}
+
 // Every level of `file` (of header `h`) rebuilt and compared with the finest-grid heights
 // `sampler` gives, subsampled to each level.
 DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole, const std::string& sourceName,
@@ -70,25 +127,31 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
     report.scale = h.scale;
     report.bound = h.scale / 2.0;
     std::vector<FileLevelProducer> producers;
-    int64_t total = 0;
     for (int l = 0; l <= M; ++l) {
         producers.push_back(makeSetLevelProducer(whole.set, l));
-        const int64_t side = int64_t{1} << (l - producers.back().delta);
-        total += side * side;
+    }
+    const std::vector<std::optional<std::vector<int64_t>>> compared = comparedTiles(whole, producers, sampler);
+    int64_t total = 0;
+    for (int l = 0; l <= M; ++l) {
+        const int64_t side = int64_t{1} << (l - producers[static_cast<size_t>(l)].delta);
+        const auto& list = compared[static_cast<size_t>(l)];
+        total += list ? static_cast<int64_t>(list->size()) : side * side;
     }
     int64_t done = 0;
     std::mutex progressMutex;
     for (int l = 0; l <= M; ++l) {
         const FileLevelProducer& lp = producers[static_cast<size_t>(l)];
         const int side = 1 << (l - lp.delta);
-        const int64_t count = static_cast<int64_t>(side) * side;
+        const auto& list = compared[static_cast<size_t>(l)];
+        const int64_t count = list ? static_cast<int64_t>(list->size()) : static_cast<int64_t>(side) * side;
         const int64_t Nl = R << l;
         struct TileResult {
             int64_t samples = 0, beyond = 0, nonFinite = 0;
             double maxError = 0.0, sumSquares = 0.0;
         };
         std::vector<TileResult> results(static_cast<size_t>(count));
-        parallelFor(count, threads, [&](int64_t k) {
+        parallelFor(count, threads, [&](int64_t at) {
+            const int64_t k = list ? (*list)[static_cast<size_t>(at)] : at;
             const int tx = static_cast<int>(k % side), ty = static_cast<int>(k / side);
             const auto tile = lp.fileTile(l, tx, ty);
             const int S = lp.n + 5;
@@ -101,7 +164,7 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
             grid.x0 = px0 * grid.stride;
             grid.y0 = py0 * grid.stride;
             sampler.sample(grid);
-            TileResult& r = results[static_cast<size_t>(k)];
+            TileResult& r = results[static_cast<size_t>(at)];
             for (int64_t j = 0; j < grid.ny; ++j) {
                 for (int64_t i = 0; i < grid.nx; ++i) {
                     const size_t g = static_cast<size_t>(i + j * grid.nx);

@@ -20,7 +20,6 @@ namespace {
 
 // The most tiles one file may get. With the default 192-tiles and 24-sample root that allows
 // maxLevel 16: 1572864 intervals per side, the Earth's circumference at 25 m.
-constexpr int64_t kMaxTiles = int64_t{1} << 28;
 
 int log2Exact(int v) {
     int k = 0;
@@ -109,10 +108,12 @@ ResidualHeader planDemPyramid(const RasterInfo& input, const DemEncodeOptions& o
     h.tileSize = o.tileSize;
     h.scale = static_cast<float>(o.scale);
     // Every tile needs at least a shared blob's offsets and a hash in memory: a bound that keeps
-    // a mistyped maxLevel from exhausting memory (8193 x 8193 samples make 5461 tiles).
-    if (h.tileCount() > kMaxTiles) {
+    // a mistyped maxLevel from exhausting memory (8193 x 8193 samples make 5461 tiles). A sparse
+    // layout stores only the tiles the data reaches: the encoder bounds a pyramid the data fills
+    // (residual_pyramid_encoder.hpp, kMaxDenseTiles).
+    if (o.layout == PyramidLayout::Dense && h.tileCount() > kMaxDenseTiles) {
         const std::string what = "maxLevel " + std::to_string(maxLevel) + " makes " + std::to_string(h.tileCount()) +
-                                 " tiles, more than " + std::to_string(kMaxTiles) + " in one file";
+                                 " tiles, more than " + std::to_string(kMaxDenseTiles) + " in one file";
         if (given) {
             failOption(o.dstMaxLevel ? "dstMaxLevel" : "maxLevel", what);
         }

@@ -5,6 +5,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_set.hpp"
+#include "formats/sparse_set.hpp"
 #include "formats/staging_directory.hpp"
 #include "formats/temporaries.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
@@ -35,15 +36,88 @@ ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& 
     }
 }
 
+ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes,
+                               Sparse sparse)
+    : output_(output), header_(header), maxFileBytes_(maxFileBytes) {
+    const std::filesystem::path parent = std::filesystem::path(output).parent_path();
+    staging_ = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
+    // The blobs wait beside the output, in a temporary that is never put in place.
+    log_ = std::make_unique<SparseTileLog>(output + ".tiles", std::move(sparse.zeroBlob));
+}
+
 ResidualOutput::~ResidualOutput() = default;
+
+void ResidualOutput::placeStaged(const std::vector<std::pair<std::string, uint64_t>>& files,
+                                 const std::vector<RegionRoot>& roots, bool index,
+                                 const std::vector<CompanionFile>& companions, ResidualPyramidReport& report) {
+    const std::string fileName = std::filesystem::path(output_).filename().string();
+    if (index) {
+        writeRegionIndex(regionIndexPath(staging_->path(fileName)),
+                         makeRegionIndex(staging_->path(fileName), PyramidKind::Residual, roots));
+    }
+    for (const CompanionFile& c : companions) {
+        AtomicFile file(staging_->path(c.name));
+        file.writeAt(0, c.text.data(), c.text.size());
+        file.commit();
+    }
+    {
+        auto lock = lockTemporaries();
+        staging_->commit();
+    }
+    report.bytes = 0;
+    for (const auto& [name, bytes] : files) {
+        if (index) { // a set lists its files; one file reports its bytes only
+            report.files.emplace_back(name, bytes);
+        }
+        report.bytes += bytes;
+    }
+}
+
+void ResidualOutput::placeSparse(const std::vector<CompanionFile>& companions, ResidualPyramidReport& report) {
+    const std::string fileName = std::filesystem::path(output_).filename().string();
+    SparseShape shape;
+    shape.minLevel = header_.minLevel;
+    shape.maxLevel = header_.maxLevel;
+    shape.headerBytes = ResidualHeader::kBytes;
+    shape.offsetBytes = 4;
+    shape.maxOffset = UINT32_MAX;
+    shape.maxFileBytes = maxFileBytes_;
+    std::vector<SplitFile> files = chooseSparseFiles(*log_, shape, output_);
+    files = writeSparseSet(
+        *log_, shape, std::move(files), fileName,
+        [&](const std::string& path, const SplitFile& f) {
+            const ResidualHeader r = residualRegionHeader(header_, f.root, f.last);
+            r.validate(path);
+            return packResidualHeader(r);
+        },
+        [&](const std::string& name) { return staging_->path(name); });
+    log_.reset(); // the spooled blobs go
+    std::vector<std::pair<std::string, uint64_t>> named;
+    int64_t tiles = 0;
+    report.sharedTiles = 0;
+    for (const SplitFile& f : files) {
+        named.emplace_back(f.name, f.bytes);
+        report.sharedTiles += f.sharedTiles;
+        tiles += residualRegionHeader(header_, f.root, f.last).tileCount();
+    }
+    // One file holding every level is the pyramid a dense output writes (in its order): no index
+    // unless a size cap asked for a set.
+    const bool whole = files.size() == 1 && files[0].last == header_.maxLevel;
+    placeStaged(named, splitRegionRoots(files), !whole || maxFileBytes_ > 0, companions, report);
+    report.tiles = tiles;
+}
 
 void ResidualOutput::place(const std::vector<CompanionFile>& companions, ResidualPyramidReport& report) {
     const std::filesystem::path outputPath(output_);
     const std::filesystem::path directory = outputPath.parent_path();
     const std::string fileName = outputPath.filename().string();
     report.header = header_;
-    report.sharedTiles = writer_->sharedTiles();
     report.files.clear();
+    if (log_) {
+        placeSparse(companions, report);
+        return;
+    }
+    report.sharedTiles = writer_->sharedTiles();
     if (levelOrder_) {
         const std::string target = staging_ ? staging_->path(fileName) : output_;
         auto ordered = std::make_unique<ResidualFileWriter>(target, header_);
@@ -72,28 +146,16 @@ void ResidualOutput::place(const std::vector<CompanionFile>& companions, Residua
                                      [&](const std::string& name) { return staging_->path(name); });
         }
         writer_.reset(); // its temporary (a split pyramid's) is not staged
-        if (maxFileBytes_ > 0) { // a set's index, even of the main file alone
-            std::vector<RegionRoot> roots;
-            for (size_t k = 1; k < files.size(); ++k) {
+        std::vector<std::pair<std::string, uint64_t>> named;
+        std::vector<RegionRoot> roots;
+        for (size_t k = 0; k < files.size(); ++k) {
+            named.emplace_back(files[k].name, files[k].bytes);
+            if (k > 0) {
                 roots.push_back(RegionRoot{files[k].header.rootLevel, files[k].header.rootTx, files[k].header.rootTy});
             }
-            writeRegionIndex(regionIndexPath(staging_->path(fileName)),
-                             makeRegionIndex(staging_->path(fileName), PyramidKind::Residual, roots));
         }
-        for (const CompanionFile& c : companions) {
-            AtomicFile file(staging_->path(c.name));
-            file.writeAt(0, c.text.data(), c.text.size());
-            file.commit();
-        }
-        auto lock = lockTemporaries();
-        staging_->commit();
-        report.bytes = 0;
-        for (const ResidualSetFile& f : files) {
-            if (maxFileBytes_ > 0) { // a set lists its files; one file reports its bytes only
-                report.files.emplace_back(f.name, f.bytes);
-            }
-            report.bytes += f.bytes;
-        }
+        // A set's index, even of the main file alone.
+        placeStaged(named, roots, maxFileBytes_ > 0, companions, report);
         return;
     }
     writer_->finish(); // complete and on disk: only the renames are left

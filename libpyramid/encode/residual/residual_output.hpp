@@ -8,10 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
 
 namespace pyramid {
 
+class SparseTileLog;
 class StagingDirectory;
 struct ResidualPyramidReport;
 
@@ -32,23 +34,36 @@ public:
     // (options.region) is byte for byte the file of a set.
     ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes,
                    bool levelOrder = false);
+    // A sparse output (formats/sparse_set.hpp): the tiles and empty subtrees go to log(), and
+    // place() writes the files that hold the data (at most `maxFileBytes` each, when not 0) and
+    // the set's index; `zeroBlob` is a full-size tile of residual 0.
+    struct Sparse {
+        std::vector<uint8_t> zeroBlob;
+    };
+    ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes, Sparse sparse);
     ~ResidualOutput();
     ResidualOutput(const ResidualOutput&) = delete;
     ResidualOutput& operator=(const ResidualOutput&) = delete;
 
     ResidualFileWriter& writer() { return *writer_; }
+    SparseTileLog* log() { return log_.get(); }
     // Every tile written: puts the pyramid and `companions` in place under the temporaries' lock
     // (formats/temporaries.hpp), so that a signal finds all old or all new, and fills the report's
     // header, sharedTiles, bytes and files.
     void place(const std::vector<CompanionFile>& companions, ResidualPyramidReport& report);
 
 private:
+    void placeSparse(const std::vector<CompanionFile>& companions, ResidualPyramidReport& report);
+    void placeStaged(const std::vector<std::pair<std::string, uint64_t>>& files, const std::vector<RegionRoot>& roots,
+                     bool index, const std::vector<CompanionFile>& companions, ResidualPyramidReport& report);
+
     std::string output_;
     ResidualHeader header_;
     uint64_t maxFileBytes_ = 0;
     bool levelOrder_ = false;
     std::unique_ptr<StagingDirectory> staging_;
     std::unique_ptr<ResidualFileWriter> writer_;
+    std::unique_ptr<SparseTileLog> log_;
 };
 
 } // namespace pyramid

@@ -10,7 +10,9 @@
 #include "formats/error.hpp"
 #include "formats/output_paths.hpp"
 #include "formats/staging_directory.hpp"
+#include "formats/sparse_set.hpp"
 #include "libpyramid/encode/residual/residual_output.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -132,7 +134,21 @@ ResidualMergeReport mergeResidualParts(const std::vector<std::string>& paths, co
         const std::string name = top.at("name").get<std::string>();
         const ResidualHeader header = headerOf(top.at("header"), topPath);
         const std::string output = staging ? staging->path(name) : (std::filesystem::path(directory) / name).string();
-        ResidualOutput out(output, header, top.at("max_file_bytes").get<uint64_t>());
+        const uint64_t maxFileBytes = top.at("max_file_bytes").get<uint64_t>();
+        // A sparse build's parts: their empty subtrees are records without statistics, and the
+        // files hold only what its log chooses (formats/sparse_set.hpp).
+        const bool sparse = top.value("sparse", false);
+        std::unique_ptr<ResidualOutput> sparseOut, denseOut;
+        if (sparse) {
+            const std::optional<std::vector<uint8_t>> empty = bytesOfHex(top.value("empty_tile", std::string()));
+            if (!empty || empty->empty()) {
+                fail(topPath, "corrupt part file (a sparse pyramid without its empty tile)");
+            }
+            sparseOut = std::make_unique<ResidualOutput>(output, header, maxFileBytes, ResidualOutput::Sparse{*empty});
+        } else {
+            denseOut = std::make_unique<ResidualOutput>(output, header, maxFileBytes);
+        }
+        ResidualOutput& out = sparse ? *sparseOut : *denseOut;
         std::vector<LevelStats> stats(static_cast<size_t>(header.maxLevel) + 1);
         ResidualPyramidReport pr;
         for (const PartSet::Share& r : list) {
@@ -146,8 +162,16 @@ ResidualMergeReport mergeResidualParts(const std::vector<std::string>& paths, co
                                             " for tile " + std::to_string(record.level) + "/" + std::to_string(record.tx) +
                                             "/" + std::to_string(record.ty) + " among " + name + "'s)");
                 }
-                out.writer().writeTileBytes(record.level, record.tx, record.ty, record.blob);
-                stats[static_cast<size_t>(record.level)].merge(unpackLevelStats(record.extra, reader.path()));
+                if (sparse && record.extra.empty()) {
+                    out.log()->addEmptySubtree(record.level, record.tx, record.ty);
+                } else if (sparse) {
+                    out.log()->add(record.level, record.tx, record.ty, record.blob);
+                } else {
+                    out.writer().writeTileBytes(record.level, record.tx, record.ty, record.blob);
+                }
+                if (!record.extra.empty() || !sparse) {
+                    stats[static_cast<size_t>(record.level)].merge(unpackLevelStats(record.extra, reader.path()));
+                }
                 ++done;
                 if (progress) {
                     progress(done, totalTiles);
@@ -159,8 +183,8 @@ ResidualMergeReport mergeResidualParts(const std::vector<std::string>& paths, co
         for (const auto& [file, text] : top.at("companions").items()) {
             companions.push_back(CompanionFile{file, text.get<std::string>()});
         }
-        out.place(companions, pr);
         pr.tiles = header.tileCount();
+        out.place(companions, pr); // a sparse set's tiles: those of its files
         pr.finestSamples = top.at("finest_samples").get<int64_t>();
         pr.scalesTried = top.at("scales_tried").get<std::vector<double>>();
         pr.levels = residualLevelReports(header, stats);

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +14,7 @@
 
 #include "formats/error.hpp"
 #include "formats/residual_set.hpp"
+#include "formats/sparse_set.hpp"
 #include "libpyramid/encode/residual/residual_parts.hpp"
 #include "libpyramid/encode/residual/residual_tile.hpp"
 #include "libpyramid/encode/residual/root_fill.hpp"
@@ -87,9 +89,20 @@ struct TileSink {
     PartFileWriter* part = nullptr;
     uint32_t stream = 0;
     const RegionRoot* region = nullptr;
+    SparseTileLog* log = nullptr; // a sparse output: stored tiles and empty subtrees, logged
+    // A sparse build's part: an empty subtree is a record of this blob without statistics.
+    const std::vector<uint8_t>* partEmpty = nullptr;
 
     void put(const EncodedTile& t) const {
-        if (part) {
+        if (log) {
+            if (t.emptySubtree) {
+                log->addEmptySubtree(t.level, t.tx, t.ty);
+            } else {
+                log->add(t.level, t.tx, t.ty, t.blob);
+            }
+        } else if (part && t.emptySubtree) {
+            part->add(stream, t.level, t.tx, t.ty, {}, *partEmpty);
+        } else if (part) {
             part->add(stream, t.level, t.tx, t.ty, packLevelStats(t.stats), t.blob);
         } else if (region) {
             const RegionRoot r = regionRelativeTile(*region, t.level, t.tx, t.ty);
@@ -104,6 +117,28 @@ struct TileSink {
 struct SampleBox {
     int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
+
+// The finest samples subtree (l, tx, ty) (l >= minLevel) is encoded from: its root tile with 2
+// border samples of level l beyond each edge; clamped to the map unless edges are folded.
+SampleBox footprintBox(const ResidualPlan& plan, int l, int tx, int ty) {
+    const int64_t T = plan.T;
+    const int64_t unit = int64_t{1} << (plan.M - l);
+    const int64_t lo = plan.folded ? std::numeric_limits<int64_t>::min() : 0;
+    const int64_t hi = plan.folded ? std::numeric_limits<int64_t>::max() : plan.N;
+    return SampleBox{std::max<int64_t>(lo, (static_cast<int64_t>(tx) * T - 2) * unit),
+                     std::max<int64_t>(lo, (static_cast<int64_t>(ty) * T - 2) * unit),
+                     std::min<int64_t>(hi, (static_cast<int64_t>(tx) * T + T + 2) * unit) + 1,
+                     std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit) + 1};
+}
+
+// Whether valid heights may reach tile (l, tx, ty) (l >= minLevel) or its borders.
+bool tileReached(const ResidualPlan& plan, const HeightSource& heights, int l, int tx, int ty) {
+    const SampleBox f = footprintBox(plan, l, tx, ty);
+    return heights.mayHaveHeights(f.x0, f.y0, f.x1 - 1, f.y1 - 1);
+}
+
+// Tiles in a subtree rooted at level l, down to level M.
+int64_t subtreeTiles(int M, int l) { return ((int64_t{1} << (2 * (M - l + 1))) - 1) / 3; }
 
 // The side, in samples, of the blocks a grid is sampled and stored by where valid heights can be.
 constexpr int64_t kReachBlock = 64;
@@ -162,9 +197,9 @@ public:
     // root below level C), the region is encoded from it alone, without the top levels.
     Encoder(const ResidualPlan& plan, const HeightSource& sampler, SourceGrid& grid, const ResidualEncodeOptions& options,
             int threads, const std::string& input, const ShareRange& range, const RegionRoot* region = nullptr,
-            const std::vector<float>* regionParent = nullptr)
+            const std::vector<float>* regionParent = nullptr, bool sparse = false)
         : plan_(plan), sampler_(sampler), grid_(grid), options_(options), threads_(threads), input_(input), range_(range),
-          region_(region), regionParent_(regionParent) {}
+          region_(region), regionParent_(regionParent), sparse_(sparse) {}
 
     // The tiles the range records.
     int64_t tiles() const {
@@ -193,19 +228,39 @@ public:
             return runRegion(sink, stats, nodataFilled);
         }
         std::vector<std::vector<float>> previous;
+        // A sparse output's tiles no valid height reaches (row by row per level): the highest of
+        // them is given as an empty subtree, the ones below it not at all.
+        std::vector<uint8_t> unreachedAbove;
         for (int l = 0; l <= plan_.C; ++l) {
             const int side = plan_.tilesPerSide(l);
             const int64_t count = static_cast<int64_t>(side) * side;
             std::vector<EncodedTile> tiles(static_cast<size_t>(count));
+            std::vector<uint8_t> unreached(sparse_ ? static_cast<size_t>(count) : 0, 0);
             parallelFor(count, threads_, [&](int64_t m) {
                 const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
                 const std::vector<float>* parent = nullptr;
+                const int pside = l > 0 ? plan_.tilesPerSide(l - 1) : 1;
+                const size_t parentAt = l <= plan_.minLevel ? 0 : static_cast<size_t>((ty / 2) * pside + tx / 2);
                 if (l > 0) {
-                    const int pside = plan_.tilesPerSide(l - 1);
-                    parent = l <= plan_.minLevel ? &previous[0]
-                                                 : &previous[static_cast<size_t>((ty / 2) * pside + tx / 2)];
+                    parent = &previous[parentAt];
                 }
                 EncodedTile& t = tiles[static_cast<size_t>(m)];
+                t.level = l;
+                t.tx = static_cast<int>(tx);
+                t.ty = static_cast<int>(ty);
+                if (sparse_ && l >= std::max(1, plan_.minLevel)) {
+                    const size_t at = static_cast<size_t>(ty * side + tx);
+                    if (l > plan_.minLevel && unreachedAbove[parentAt]) {
+                        t.skipped = true;
+                        unreached[at] = 1;
+                        return;
+                    }
+                    if (!tileReached(plan_, sampler_, l, t.tx, t.ty)) {
+                        t.emptySubtree = true;
+                        unreached[at] = 1;
+                        return;
+                    }
+                }
                 t = encodeResidualTile(plan_, l, static_cast<int>(tx), static_cast<int>(ty), parent, grid_);
                 if (l == plan_.C && plan_.C < plan_.M && !options_.reconstruction &&
                     !parentOfSubtrees(static_cast<int>(tx), static_cast<int>(ty))) {
@@ -218,6 +273,9 @@ public:
             std::vector<std::vector<float>> current(static_cast<size_t>(count));
             int64_t overflow = 0;
             for (EncodedTile& t : tiles) {
+                if (t.skipped) {
+                    continue;
+                }
                 if (range_.top && holds(t.level, t.tx, t.ty)) {
                     write(sink, t, stats);
                 }
@@ -228,6 +286,7 @@ public:
                 return Overflow{plan_.scale, overflow, l, -1};
             }
             previous = std::move(current);
+            unreachedAbove = std::move(unreached);
         }
         if (plan_.C == plan_.M) {
             if (!range_.top) {
@@ -244,6 +303,7 @@ public:
         // The subtrees read their own footprints: the grid's memory goes back before theirs is
         // taken (the caller samples it again for another attempt).
         grid_ = SourceGrid{};
+        unreachedC_ = std::move(unreachedAbove);
         return runSubtrees(sink, stats, previous, nodataFilled);
     }
 
@@ -283,27 +343,14 @@ private:
 
     // The finest samples subtree (l, tx, ty) is encoded from: its root tile with 2 border samples
     // of level l beyond each edge; clamped to the map unless edges are folded.
-    SampleBox footprintBox(int l, int tx, int ty) const {
-        const int64_t T = plan_.T;
-        const int64_t unit = int64_t{1} << (plan_.M - l);
-        const int64_t lo = plan_.folded ? std::numeric_limits<int64_t>::min() : 0;
-        const int64_t hi = plan_.folded ? std::numeric_limits<int64_t>::max() : plan_.N;
-        return SampleBox{std::max<int64_t>(lo, (static_cast<int64_t>(tx) * T - 2) * unit),
-                         std::max<int64_t>(lo, (static_cast<int64_t>(ty) * T - 2) * unit),
-                         std::min<int64_t>(hi, (static_cast<int64_t>(tx) * T + T + 2) * unit) + 1,
-                         std::min<int64_t>(hi, (static_cast<int64_t>(ty) * T + T + 2) * unit) + 1};
-    }
+    SampleBox footprintBox(int l, int tx, int ty) const { return pyramid::footprintBox(plan_, l, tx, ty); }
 
     // Whether subtree (l, tx, ty) (l > C) is encoded from its samples and its parent's
     // reconstruction. A subtree no valid height can reach (a face beyond a small map) is all
     // residual 0, exactly what encoding its all-nodata samples gives, without sampling it or
     // its parent. With the reconstruction hook every tile is encoded, as the hook wants each one.
     bool encodesSamples(int l, int tx, int ty) const {
-        if (options_.reconstruction) {
-            return true;
-        }
-        const SampleBox f = footprintBox(l, tx, ty);
-        return sampler_.mayHaveHeights(f.x0, f.y0, f.x1 - 1, f.y1 - 1);
+        return options_.reconstruction || tileReached(plan_, sampler_, l, tx, ty);
     }
 
     // Whether the reconstruction of level-C tile (tx, ty) is a parent the range's subtrees need.
@@ -326,7 +373,7 @@ private:
             options_.reconstruction(t.level, t.tx, t.ty, t.recon);
         }
         stats[static_cast<size_t>(t.level)].merge(t.stats);
-        ++done_;
+        done_ += t.emptySubtree ? subtreeTiles(plan_.M, t.level) : 1;
         if (options_.progress) {
             options_.progress(done_, total_);
         }
@@ -356,7 +403,13 @@ private:
         }
         if (l < plan_.M) {
             for (int c = 0; c < 4; ++c) {
-                encodeSubtree(l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), recon, footprint, out);
+                const int cx = 2 * tx + (c & 1), cy = 2 * ty + (c >> 1);
+                if (!encodesSamples(l + 1, cx, cy)) {
+                    // All residual 0, as its all-nodata samples would give: not encoded.
+                    emptySubtree(l + 1, cx, cy, out);
+                } else {
+                    encodeSubtree(l + 1, cx, cy, recon, footprint, out);
+                }
             }
         }
     }
@@ -405,6 +458,15 @@ private:
     // The tiles of a subtree without valid heights, in encodeSubtree's order: residuals 0.
     void emptySubtree(int l, int tx, int ty, std::vector<EncodedTile>& out) {
         if (region_ && !needed(l, tx, ty)) {
+            return;
+        }
+        if (sparse_) {
+            EncodedTile marker;
+            marker.level = l;
+            marker.tx = tx;
+            marker.ty = ty;
+            marker.emptySubtree = true;
+            out.push_back(std::move(marker));
             return;
         }
         std::call_once(zeroBlobOnce_, [this] { zeroBlob_ = zeroResidualBlob(plan_.T + 5, plan_.coding); });
@@ -513,7 +575,15 @@ private:
                 // Each thread reuses its footprint's buffers from subtree to subtree: no fresh
                 // pages (faults, zeroing) per subtree.
                 SourceGrid& footprint = footprints[static_cast<size_t>(omp_get_thread_num())];
-                const std::vector<float>& parent = levelC[static_cast<size_t>((ty / 2) * cside + tx / 2)];
+                const size_t parentAt = static_cast<size_t>((ty / 2) * cside + tx / 2);
+                const std::vector<float>& parent = levelC[parentAt];
+                if (sparse_ && unreachedC_[parentAt]) {
+                    // Under an empty subtree given above: no tile of its own.
+                    const SampleBox box = owned(top, static_cast<int>(tx), static_cast<int>(ty));
+                    result.filled = (box.y1 - box.y0) * (box.x1 - box.x0);
+                    ordered.deliver(i, std::move(result));
+                    return;
+                }
                 result = encodeRooted(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint);
             } catch (...) {
                 ordered.stopAt(i);
@@ -537,6 +607,8 @@ private:
     ShareRange range_;
     const RegionRoot* region_;
     const std::vector<float>* regionParent_;
+    bool sparse_ = false;
+    std::vector<uint8_t> unreachedC_; // a sparse output's level-C tiles under or at an empty subtree
     int64_t total_ = 0;
     int64_t done_ = 0;
     std::once_flag zeroBlobOnce_;
@@ -710,6 +782,24 @@ SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& j
     return grid;
 }
 
+// Whether valid heights may reach every tile of the level the subtrees start at (level C + 1, or
+// M when every level is held in memory): a pyramid they fill, which a sparse output writes as one
+// file like a dense one.
+bool reachesEverywhere(const ResidualPlan& plan, const HeightSource& heights, int threads) {
+    const int level = std::max(std::min(plan.C + 1, plan.M), plan.minLevel);
+    const int64_t side = plan.tilesPerSide(level);
+    std::atomic<bool> everywhere{true};
+    parallelFor(side * side, threads, [&](int64_t m) {
+        if (everywhere.load(std::memory_order_relaxed)) {
+            const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
+            if (!tileReached(plan, heights, level, static_cast<int>(tx), static_cast<int>(ty))) {
+                everywhere.store(false, std::memory_order_relaxed);
+            }
+        }
+    });
+    return everywhere.load();
+}
+
 } // namespace
 
 void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& output,
@@ -754,6 +844,16 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     // The grid is released once levels 0..C are encoded (Encoder::run): an attempt at another
     // scale samples it again.
     const bool gridNeeded = !region || !region->fromParent;
+    // Sparse files where the heights leave part of the pyramid empty (formats/sparse_set.hpp).
+    const bool sparse = options.layout == PyramidLayout::Sparse && !region && !options.reconstruction &&
+                        !reachesEverywhere(plan, *job.heights, threads);
+    if (!sparse && !region && plan.header.tileCount() > kMaxDenseTiles) {
+        // Every tile of a dense file holds offsets and a hash in memory: a bound that keeps a
+        // mistyped maxLevel from exhausting it.
+        failOption("maxLevel", "maxLevel " + std::to_string(plan.M) + " makes " +
+                                   std::to_string(plan.header.tileCount()) + " tiles, more than " +
+                                   std::to_string(kMaxDenseTiles) + " in one file, and the heights reach all of them");
+    }
     SourceGrid grid;
     if (gridNeeded) {
         grid = sampleLevelGrid(plan, job, options, threads);
@@ -772,6 +872,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
         scale = std::max(niceCeil(maxAbs / 32767.0), 0.001);
     }
     const uint64_t partStart = share ? share->out->file().position() : 0;
+    std::vector<uint8_t> partEmpty;
     for (int attempt = 0;; ++attempt) {
         plan.scale = static_cast<float>(scale);
         plan.header.scale = plan.scale;
@@ -784,11 +885,19 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
             share->out->file().rewind(partStart);
             sink.part = &share->out->file();
             sink.stream = static_cast<uint32_t>(job.pyramid);
+            if (sparse) {
+                partEmpty = zeroResidualBlob(plan.T + 5, plan.coding);
+                sink.partEmpty = &partEmpty;
+            }
         } else if (region) {
             region->header.scale = plan.scale;
             out = std::make_unique<ResidualOutput>(output, region->header, 0, true);
             sink.writer = &out->writer();
             sink.region = &region->root;
+        } else if (sparse) {
+            out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes,
+                                                   ResidualOutput::Sparse{zeroResidualBlob(plan.T + 5, plan.coding)});
+            sink.log = out->log();
         } else {
             out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes);
             sink.writer = &out->writer();
@@ -797,7 +906,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
             grid = sampleLevelGrid(plan, job, options, threads); // released by the attempt before
         }
         Encoder encoder(plan, *job.heights, grid, options, threads, job.input, range, region ? &region->root : nullptr,
-                        region && region->fromParent ? &region->parentRecon : nullptr);
+                        region && region->fromParent ? &region->parentRecon : nullptr, sparse);
         std::optional<Overflow> overflow = encoder.run(sink, stats, nodataFilled);
         if (share && share->agree) {
             overflow = share->agree(overflow);
@@ -845,6 +954,8 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                                     {"finest_samples", report.finestSamples},
                                     {"scales_tried", report.scalesTried},
                                     {"max_file_bytes", options.maxFileBytes},
+                                    {"sparse", sparse},
+                                    {"empty_tile", sparse ? hexText(partEmpty) : std::string()},
                                     {"companions", companions}});
             report.bytes = share->out->file().position() - partStart;
         } else {

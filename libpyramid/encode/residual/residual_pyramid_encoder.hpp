@@ -25,6 +25,10 @@ namespace pyramid {
 
 enum class GridEdges { Clamped, Folded };
 
+// The most tiles a pyramid written whole (one file, or a --max-file-bytes set) may have: each holds
+// offsets and a hash in memory. A sparse output holds only the tiles its heights reach.
+inline constexpr int64_t kMaxDenseTiles = int64_t{1} << 28;
+
 class PartOutput;
 
 // An attempt's int16 overflow: the largest |residual| beyond int16 where the encoding stops, at
@@ -63,6 +67,10 @@ struct ResidualEncodeOptions {
     // 0: one file (its tile data at most 4 GiB). Otherwise a region set of files of at most
     // this many bytes each, and its index (formats/residual_set.hpp, doc/format.md 1.6).
     uint64_t maxFileBytes = 0;
+    // Sparse (the default): a pyramid the heights reach only part of is written as the files that
+    // hold that part (formats/sparse_set.hpp). Not for a share or a region build, which write
+    // every tile of theirs.
+    PyramidLayout layout = PyramidLayout::Sparse;
     // Set in each process of a split build: encode only this share, into its part file.
     const ResidualShare* share = nullptr;
     // Set: encode only this region, into one region file (neither a share nor a set of files).

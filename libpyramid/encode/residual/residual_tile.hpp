@@ -59,6 +59,11 @@ struct LevelStats {
 // = bottom), which its children are predicted from.
 struct EncodedTile {
     int level = 0, tx = 0, ty = 0;
+    // The whole subtree rooted here is residual 0, given as this one item (a sparse output's log
+    // takes it so; blob and recon are empty).
+    bool emptySubtree = false;
+    // Neither stored nor encoded: under an empty subtree given above it.
+    bool skipped = false;
     std::vector<float> recon;
     std::vector<uint8_t> blob;
     LevelStats stats;
