@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -153,12 +154,42 @@ std::vector<uint8_t> reachableBlocks(const SourceGrid& grid, const HeightSource&
     if (everywhere) {
         return reachable;
     }
-    parallelFor(across * down, threads, [&](int64_t b) {
-        const int64_t bx = b % across, by = b / across;
-        const int64_t x0 = grid.x0 + bx * kReachBlock * grid.stride, y0 = grid.y0 + by * kReachBlock * grid.stride;
-        const int64_t x1 = grid.x0 + std::min(grid.nx - 1, (bx + 1) * kReachBlock - 1) * grid.stride;
-        const int64_t y1 = grid.y0 + std::min(grid.ny - 1, (by + 1) * kReachBlock - 1) * grid.stride;
-        reachable[static_cast<size_t>(b)] = heights.mayHaveHeights(x0, y0, x1, y1) ? 1 : 0;
+    // Asked of boxes of blocks, halved where they may have heights: a box no valid height can
+    // reach leaves every block in it 0 without asking for each (mayHaveHeights claims nothing it
+    // cannot; a block's own answer decides it). Rows of boxes of 8 x 8 blocks go to the threads.
+    const auto mayHave = [&](int64_t bx0, int64_t by0, int64_t bx1, int64_t by1) { // blocks [bx0, bx1) x [by0, by1)
+        const int64_t x0 = grid.x0 + bx0 * kReachBlock * grid.stride, y0 = grid.y0 + by0 * kReachBlock * grid.stride;
+        const int64_t x1 = grid.x0 + std::min(grid.nx - 1, bx1 * kReachBlock - 1) * grid.stride;
+        const int64_t y1 = grid.y0 + std::min(grid.ny - 1, by1 * kReachBlock - 1) * grid.stride;
+        return heights.mayHaveHeights(x0, y0, x1, y1);
+    };
+    const std::function<void(int64_t, int64_t, int64_t, int64_t)> mark = [&](int64_t bx0, int64_t by0, int64_t bx1,
+                                                                              int64_t by1) {
+        const bool may = mayHave(bx0, by0, bx1, by1);
+        if (!may || (bx1 - bx0 == 1 && by1 - by0 == 1)) {
+            for (int64_t by = by0; by < by1; ++by) {
+                std::fill_n(reachable.begin() + static_cast<std::ptrdiff_t>(by * across + bx0), bx1 - bx0,
+                            static_cast<uint8_t>(may ? 1 : 0));
+            }
+            return;
+        }
+        const int64_t mx = bx1 - bx0 > 1 ? (bx0 + bx1) / 2 : bx1, my = by1 - by0 > 1 ? (by0 + by1) / 2 : by1;
+        mark(bx0, by0, mx, my);
+        if (mx < bx1) {
+            mark(mx, by0, bx1, my);
+        }
+        if (my < by1) {
+            mark(bx0, my, mx, by1);
+            if (mx < bx1) {
+                mark(mx, my, bx1, by1);
+            }
+        }
+    };
+    constexpr int64_t kBox = 8;
+    const int64_t boxesAcross = (across + kBox - 1) / kBox, boxesDown = (down + kBox - 1) / kBox;
+    parallelFor(boxesAcross * boxesDown, threads, [&](int64_t b) {
+        const int64_t bx = (b % boxesAcross) * kBox, by = (b / boxesAcross) * kBox;
+        mark(bx, by, std::min(across, bx + kBox), std::min(down, by + kBox));
     });
     return reachable;
 }
@@ -540,13 +571,28 @@ private:
         const int top = plan_.C + 1;
         const int cside = plan_.tilesPerSide(plan_.C);
         const int64_t first = range_.begin;
-        const int64_t count = range_.end - range_.begin;
+        // A sparse output visits only the subtrees under reached level-C tiles (whole groups of 4
+        // siblings): the others are under an empty subtree given above, their samples nodata.
+        std::vector<int64_t> active;
+        if (sparse_) {
+            for (int64_t m = range_.begin; m < range_.end; ++m) {
+                const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
+                if (!unreachedC_[static_cast<size_t>((ty / 2) * cside + tx / 2)]) {
+                    active.push_back(m);
+                } else {
+                    const SampleBox box = owned(top, static_cast<int>(tx), static_cast<int>(ty));
+                    nodataFilled += (box.y1 - box.y0) * (box.x1 - box.x0);
+                }
+            }
+        }
+        const int64_t count = sparse_ ? static_cast<int64_t>(active.size()) : range_.end - range_.begin;
+        const auto subtreeAt = [&](int64_t i) { return sparse_ ? active[static_cast<size_t>(i)] : first + i; };
         int64_t overflow = 0; // the writer's: the largest |residual| beyond int16 so far
         int overflowLevel = 0;
         int64_t overflowEnd = 0;
         OrderedWriter<Subtree> ordered(
             std::max<int64_t>(kSubtreesInFlight, 2 * threads_), [&](int64_t i, Subtree& subtree) {
-                const int64_t m = first + i;
+                const int64_t m = subtreeAt(i);
                 nodataFilled += subtree.filled;
                 for (const EncodedTile& t : subtree.tiles) {
                     write(sink, t, stats);
@@ -568,22 +614,14 @@ private:
             if (!ordered.admit(i)) {
                 return;
             }
-            const int64_t m = first + i;
+            const int64_t m = subtreeAt(i);
             Subtree result;
             try {
                 const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(m));
                 // Each thread reuses its footprint's buffers from subtree to subtree: no fresh
                 // pages (faults, zeroing) per subtree.
                 SourceGrid& footprint = footprints[static_cast<size_t>(omp_get_thread_num())];
-                const size_t parentAt = static_cast<size_t>((ty / 2) * cside + tx / 2);
-                const std::vector<float>& parent = levelC[parentAt];
-                if (sparse_ && unreachedC_[parentAt]) {
-                    // Under an empty subtree given above: no tile of its own.
-                    const SampleBox box = owned(top, static_cast<int>(tx), static_cast<int>(ty));
-                    result.filled = (box.y1 - box.y0) * (box.x1 - box.x0);
-                    ordered.deliver(i, std::move(result));
-                    return;
-                }
+                const std::vector<float>& parent = levelC[static_cast<size_t>((ty / 2) * cside + tx / 2)];
                 result = encodeRooted(top, static_cast<int>(tx), static_cast<int>(ty), parent, footprint);
             } catch (...) {
                 ordered.stopAt(i);
