@@ -16,6 +16,7 @@
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/verify/dem_verify.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 #include "tests/support/sparse_sets.hpp"
@@ -265,6 +266,12 @@ TEST(ResidualEncoder, SparseLayoutStoresWhatTheHeightsReachAndTheDenseFilesTiles
         EXPECT_TRUE(std::filesystem::exists(dir.file("sparse.dat.regions.json")));
         const int64_t beyond = test::expectSparseSetOfDense(dir.file("dense.dat"), dir.file("sparse.dat"));
         EXPECT_GT(beyond, 15000);
+        // Heights at points come from the deepest file holding them: the finest level in the
+        // patch, the same height as the dense file's; a coarser one beyond it.
+        const PointHeight in = setHeightAt(dir.file("sparse.dat"), 1650.0 / 4096, 1050.0 / 4096);
+        EXPECT_EQ(in.level, 10);
+        EXPECT_EQ(in.height, setHeightAt(dir.file("dense.dat"), 1650.0 / 4096, 1050.0 / 4096).height);
+        EXPECT_LT(setHeightAt(dir.file("sparse.dat"), 0.9, 0.1).level, 10);
         // The same statistics: the tiles left out hold no source sample.
         ASSERT_EQ(sparse.levels.size(), dense.levels.size());
         for (size_t l = 0; l < dense.levels.size(); ++l) {

@@ -50,7 +50,8 @@ StoredResidualTile storedResidualTile(const PyramidSet& set, int level, int tx, 
 // True when a file of the residual set holds absolute tile (level, tx, ty) (headers only).
 bool residualSetHolds(const PyramidSet& set, int level, int tx, int ty);
 
-// fileHeightAt over a set: the height at (u, v) at the set's deepest level.
+// fileHeightAt over a set: the height at (u, v) at the deepest level a file of the set holds the
+// point's tile at (the set's deepest level where the set is dense; a sparse set's where it is not).
 PointHeight setHeightAt(const std::string& path, double u, double v);
 
 } // namespace pyramid
