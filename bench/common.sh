@@ -36,3 +36,13 @@ timed_runs() {
     WALL_S=$(printf '%s\n' "${walls[@]}" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}')
     PEAK_RSS_MB=$rss
 }
+
+# build_programs TARGET...: configures $BUILD as a Release build without GL if it is not configured
+# yet, and builds the TARGETs in it. program_path NAME: the path of the built program NAME.
+build_programs() {
+    if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+        cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPYRAMID_WITH_GL=OFF >/dev/null
+    fi
+    cmake --build "$BUILD" -j"$(nproc)" --target "$@" >/dev/null
+}
+program_path() { find "$BUILD" -name "$1" -type f -perm -u+x | head -n 1; }

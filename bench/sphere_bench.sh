@@ -36,12 +36,9 @@ source "$ROOT/bench/common.sh"
 need_bench_tools
 need_package gdalwarp gdal-bin
 
-if [ ! -f "$BUILD/CMakeCache.txt" ]; then
-    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPYRAMID_WITH_GL=OFF >/dev/null
-fi
-cmake --build "$BUILD" -j"$(nproc)" --target preprocessSphericalDem preprocessSphericalOrtho >/dev/null
-SDEM=$(find "$BUILD" -name preprocessSphericalDem -type f -perm -u+x | head -n 1)
-SORTHO=$(find "$BUILD" -name preprocessSphericalOrtho -type f -perm -u+x | head -n 1)
+build_programs preprocessSphericalDem preprocessSphericalOrtho
+SDEM=$(program_path preprocessSphericalDem)
+SORTHO=$(program_path preprocessSphericalOrtho)
 
 mkdir -p "$WORK"
 cd "$WORK"

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# Sparse sets against the dense layout (doc/format.md 1.5, "Sparse sets"): bytes written, wall
+# time and peak RSS of preprocessSphericalDem on small, fine maps that reach a little of the
+# planet. A benchmark, run on demand (never a test). The inputs are made here with GDAL's Python
+# bindings (a benchmark's peer tools, not a dependency), deterministic, besides the real SRTM tile
+# of ../shared/fixtures (or tests/data).
+#
+#   bench/sparse_bench.sh          results in $WORK (default /tmp/pyramid-sparse-bench)
+#
+# Environment: BUILD (a Release build directory, configured here if missing; default
+# build-release), WORK, THREADS (default: all cores), DENSE (1: also run --layout dense, which
+# writes gigabytes for the first input; default 1).
+#
+# Inputs:
+#   elev-512.tif   512 x 512 float32 heights, EPSG:3857, 9 m pixels at 47.6 N (6 m on the ground):
+#                  level 16 of the default 192-tiles
+#   island.tif     1201 x 1201 int16, EPSG:4326, 1/1200 degree (an SRTM 1-degree tile of sea
+#                  (0) with an island of a few pixels, at 10 N 110 W): level 13
+#   rainier.tif    the real SRTM tile of Mount Rainier (1201 x 1201 int16, 90 m): level 13
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+BUILD=$(realpath -m "${BUILD:-$ROOT/build-release}")
+WORK=${WORK:-/tmp/pyramid-sparse-bench}
+THREADS=${THREADS:-$(nproc)}
+DENSE=${DENSE:-1}
+
+# shellcheck source=bench/common.sh
+source "$ROOT/bench/common.sh"
+need_bench_tools
+/usr/bin/python3 -c 'import numpy, osgeo' 2>/dev/null || { as_root apt-get install -y python3-numpy python3-gdal >/dev/null; }
+
+build_programs preprocessSphericalDem pyramid
+SDEM=$(program_path preprocessSphericalDem)
+PYR=$(program_path pyramid)
+
+mkdir -p "$WORK"
+cd "$WORK"
+rainier="$ROOT/../shared/fixtures/inputs/mt_rainier_90m.tif"
+[ -f "$rainier" ] || rainier="$ROOT/tests/data/mt_rainier_90m.tif"
+cp "$rainier" rainier.tif
+/usr/bin/python3 - <<'PY'
+import numpy as np
+from osgeo import gdal, osr
+
+def write(path, arr, gt, epsg, dtype, nodata=None):
+    h, w = arr.shape
+    ds = gdal.GetDriverByName('GTiff').Create(path, w, h, 1, dtype, options=['COMPRESS=DEFLATE', 'TILED=YES'])
+    ds.SetGeoTransform(gt)
+    s = osr.SpatialReference()
+    s.ImportFromEPSG(epsg)
+    ds.SetProjection(s.ExportToWkt())
+    band = ds.GetRasterBand(1)
+    if nodata is not None:
+        band.SetNoDataValue(nodata)
+    band.WriteArray(arr)
+    ds = None
+
+rng = np.random.default_rng(1)
+y, x = np.mgrid[0:512, 0:512].astype(np.float32)
+z = 300 + 80 * np.sin(x / 37.0) * np.cos(y / 53.0) + 0.02 * (x - 256) ** 2 + rng.normal(0, 1.5, (512, 512))
+write('elev-512.tif', z.astype(np.float32), (-13610000, 9.0, 0, 6040000, 0, -9.0), 3857, gdal.GDT_Float32)
+y, x = np.mgrid[0:1201, 0:1201]
+r2 = (x - 700.0) ** 2 + (y - 400.0) ** 2
+island = np.where(r2 < 16, (400 - 20 * r2).clip(1, None), 0).astype(np.int16)
+write('island.tif', island, (-110.0004167, 1 / 1200, 0, 10.0004167, 0, -1 / 1200), 4326, gdal.GDT_Int16)
+PY
+
+printf '| input | layout | bytes | files | wall s | peak RSS MB | verify (sparse) |\n|---|---|---|---|---|---|---|\n'
+for input in elev-512.tif island.tif rainier.tif; do
+    for layout in sparse dense; do
+        [ "$layout" = dense ] && [ "$DENSE" != 1 ] && continue
+        out="out-${input%.tif}-$layout"
+        BEFORE_RUN="rm -rf $out" timed_runs 1 "$SDEM" "$input" -o "$out" --layout "$layout" --threads "$THREADS" -q
+        bytes=$(du -cb "$out"/*.dat | tail -n 1 | cut -f1)
+        files=$(find "$out" -name '*.dat' | wc -l)
+        verdict=-
+        if [ "$layout" = sparse ]; then # a dense face of millions of empty tiles takes long to verify
+            verdict=$("$PYR" verify "$out" --source "$input" >/dev/null 2>&1 && echo ok || echo FAILED)
+        fi
+        printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$input" "$layout" "$bytes" "$files" "$WALL_S" "$PEAK_RSS_MB" "$verdict"
+        [ "$layout" = dense ] && rm -rf "$out"
+    done
+done
