@@ -37,7 +37,7 @@ PYR=$(program_path pyramid)
 mkdir -p "$WORK"
 cd "$WORK"
 rainier="$ROOT/../shared/fixtures/inputs/mt_rainier_90m.tif"
-[ -f "$rainier" ] || rainier="$ROOT/tests/data/mt_rainier_90m.tif"
+[ -f "$rainier" ] || { echo "sparse_bench.sh: $rainier is missing" >&2; exit 1; }
 cp "$rainier" rainier.tif
 /usr/bin/python3 - <<'PY'
 import numpy as np
