@@ -130,11 +130,11 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
     for (int l = 0; l <= M; ++l) {
         producers.push_back(makeSetLevelProducer(whole.set, l));
     }
-    const std::vector<std::optional<std::vector<int64_t>>> compared = comparedTiles(whole, producers, sampler);
+    const std::vector<std::optional<std::vector<int64_t>>> toCompare = comparedTiles(whole, producers, sampler);
     int64_t total = 0;
     for (int l = 0; l <= M; ++l) {
         const int64_t side = int64_t{1} << (l - producers[static_cast<size_t>(l)].delta);
-        const auto& list = compared[static_cast<size_t>(l)];
+        const auto& list = toCompare[static_cast<size_t>(l)];
         total += list ? static_cast<int64_t>(list->size()) : side * side;
     }
     int64_t done = 0;
@@ -142,7 +142,7 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
     for (int l = 0; l <= M; ++l) {
         const FileLevelProducer& lp = producers[static_cast<size_t>(l)];
         const int side = 1 << (l - lp.delta);
-        const auto& list = compared[static_cast<size_t>(l)];
+        const auto& list = toCompare[static_cast<size_t>(l)];
         const int64_t count = list ? static_cast<int64_t>(list->size()) : static_cast<int64_t>(side) * side;
         const int64_t Nl = R << l;
         struct TileResult {
