@@ -141,6 +141,9 @@ FileLevelProducer makeFileLevelProducer(const std::string& file, int fileLevel, 
 int ElevationProducer::tileSize() const { return impl_->n; }
 int ElevationProducer::gridSize() const { return impl_->gridSize; }
 int ElevationProducer::maxLevel() const { return impl_->residuals->maxLevel(); }
+bool ElevationProducer::hasResiduals(int level, int tx, int ty) const {
+    return impl_->residuals->hasTile(level, tx >> impl_->k, ty >> impl_->k);
+}
 const std::string& ElevationProducer::path() const { return impl_->residuals->path(); }
 
 std::shared_ptr<const ElevationTile> ElevationProducer::tile(int level, int tx, int ty) {

@@ -34,6 +34,9 @@ public:
     int tileSize() const; // n
     int gridSize() const; // the render grid of zc
     int maxLevel() const; // deepest level with residuals
+    // Whether tile (level, tx, ty) has residuals of its own (ResidualProducer::hasTile): false
+    // beyond every file, where a sparse set (doc/format.md 1.5) has no more resolution.
+    bool hasResiduals(int level, int tx, int ty) const;
     const std::string& path() const; // the residual file, for messages
     std::shared_ptr<const ElevationTile> tile(int level, int tx, int ty);
 

@@ -1,5 +1,7 @@
 #include "libpyramid/runtime/height_query.hpp"
 
+#include <utility>
+
 #include "formats/error.hpp"
 #include "formats/georeference_sidecar.hpp"
 #include "formats/residual_file.hpp"
@@ -11,20 +13,32 @@ PointHeight heightAt(ElevationProducer& producer, double u, double v, int level)
     if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0)) {
         fail("", "point (" + std::to_string(u) + ", " + std::to_string(v) + ") is outside the root quad [0, 1]^2");
     }
-    if (level < 0) {
-        level = producer.maxLevel();
-    }
     if (level > producer.maxLevel()) {
         fail("", "no level " + std::to_string(level) + " (levels 0.." + std::to_string(producer.maxLevel()) + ")");
     }
     const int n = producer.tileSize();
-    const int64_t tiles = int64_t{1} << level;
-    const double intervals = static_cast<double>(tiles * n);
-    PointHeight p;
-    p.level = level;
-    p.x = u * intervals;
-    p.y = v * intervals;
-    const LevelCell cell = levelCell(n, tiles, p.x, p.y);
+    const auto at = [&](int l) {
+        const int64_t tiles = int64_t{1} << l;
+        const double intervals = static_cast<double>(tiles * n);
+        PointHeight p;
+        p.level = l;
+        p.x = u * intervals;
+        p.y = v * intervals;
+        return std::make_pair(p, levelCell(n, tiles, p.x, p.y));
+    };
+    if (level < 0) {
+        // The deepest level whose tile holding the point has residuals: where a sparse set has no
+        // more resolution, the deepest file holding the point answers.
+        level = producer.maxLevel();
+        while (level > 0) {
+            const LevelCell c = at(level).second;
+            if (producer.hasResiduals(level, c.tx, c.ty)) {
+                break;
+            }
+            --level;
+        }
+    }
+    auto [p, cell] = at(level);
     p.tx = cell.tx;
     p.ty = cell.ty;
     p.height = cellHeight(producer.tile(level, p.tx, p.ty)->zf.data(), n, cell);

@@ -18,7 +18,9 @@ struct PointHeight {
 };
 
 // The height at (u, v), the fraction of the root quad east and north of its south-west corner
-// (both in [0, 1]), in `producer`'s tiles of `level` (-1: its deepest). Throws Error for a
+// (both in [0, 1]), in `producer`'s tiles of `level` (-1: the deepest whose tile holding the
+// point has residuals; where a sparse set has no more resolution, the deepest file holding the
+// point). Throws Error for a
 // point outside the quad or a level it does not have.
 PointHeight heightAt(ElevationProducer& producer, double u, double v, int level = -1);
 

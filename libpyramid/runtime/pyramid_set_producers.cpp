@@ -1,7 +1,6 @@
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
@@ -138,22 +137,9 @@ PointHeight setHeightAt(const std::string& path, double u, double v) {
         return fileHeightAt(path, u, v);
     }
     const PyramidSet set = openPyramidSet(path);
-    // The deepest level a file holds the point's tile at: a sparse set (doc/format.md 1.5) has no
-    // more resolution where no file holds it, and answers from the deepest file that does.
-    const ResidualHeader main = ResidualFileReader::readHeader(set.main);
-    int level = setMaxLevel(set);
-    for (; level > main.minLevel; --level) {
-        const int64_t side = int64_t{1} << (level - main.minLevel);
-        const auto at = [side](double f) {
-            return static_cast<int>(std::clamp<int64_t>(static_cast<int64_t>(std::floor(f * static_cast<double>(side))), 0, side - 1));
-        };
-        if (residualSetHolds(set, level, at(u), at(v))) {
-            break;
-        }
-    }
-    const FileLevelProducer finest = makeSetLevelProducer(set, level, 4);
+    const FileLevelProducer finest = makeSetLevelProducer(set, setMaxLevel(set), 4);
     try {
-        PointHeight p = heightAt(*finest.producer, u, v, level - finest.delta);
+        PointHeight p = heightAt(*finest.producer, u, v); // from the deepest file holding the point
         p.level += finest.delta; // the set's absolute level
         return p;
     } catch (const Error& e) {
