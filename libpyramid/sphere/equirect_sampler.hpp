@@ -63,6 +63,15 @@ public:
     // unwrapped: west may be below -180, east above 180; every longitude when `allLongitudes`)
     // can have a value. By default, whether the box meets extent().
     virtual bool mayCover(double south, double north, double west, double east, bool allLongitudes) const;
+    // The same for the values of the map's members at least `columnsAround` pixels around the
+    // equator fine (MapPlacement::columnsAround): a map of one resolution is one member, and
+    // every level of a pyramid made from it is its level or coarser (the default: mayCover). A
+    // mosaic of several resolutions (map_mosaic.hpp) answers for its finer members alone.
+    virtual bool mayCoverFinerThan(double columnsAround, double south, double north, double west, double east,
+                                   bool allLongitudes) const {
+        (void)columnsAround;
+        return mayCover(south, north, west, east, allLongitudes);
+    }
     // Samples `count` points. out: count * channels() values, interleaved; valid: count flags
     // (1 = a value, 0 = none; out is 0 there). Thread-safe.
     virtual void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const = 0;

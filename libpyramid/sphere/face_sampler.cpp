@@ -52,7 +52,11 @@ void FaceSampler::sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int
 }
 
 bool FaceSampler::mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
-    if (map_.everywhere()) {
+    return mayHaveValuesFinerThan(0.0, x0, y0, x1, y1);
+}
+
+bool FaceSampler::mayHaveValuesFinerThan(double columnsAround, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    if (columnsAround <= 0.0 && map_.everywhere()) {
         return true;
     }
     // The outline, counter-clockwise in face samples, K points per side.
@@ -97,7 +101,9 @@ bool FaceSampler::mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) 
         allLongitudes = true;
     }
     const double margin = 2.0 * longitudeStep;
-    return map_.mayCover(south, north, west - margin, east + margin, allLongitudes || aroundPole);
+    return columnsAround > 0.0
+               ? map_.mayCoverFinerThan(columnsAround, south, north, west - margin, east + margin, allLongitudes || aroundPole)
+               : map_.mayCover(south, north, west - margin, east + margin, allLongitudes || aroundPole);
 }
 
 GroundSampleDistance faceGroundSampleDistance(const PlanetBody& body, int face, const FaceGrid& grid) {

@@ -42,6 +42,9 @@ public:
     // longitudes and the latitudes up to that pole). Conservative: true says nothing. A global
     // map: true.
     bool mayHaveValues(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const;
+    // The same for the map's members more than `columnsAround` pixels around the equator fine
+    // (GeodeticMap::mayCoverFinerThan): 0 asks for every member.
+    bool mayHaveValuesFinerThan(double columnsAround, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const;
 
 private:
     const GeodeticMap& map_;

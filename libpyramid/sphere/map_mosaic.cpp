@@ -118,6 +118,16 @@ bool MapMosaic::mayCover(double south, double north, double west, double east, b
     return !membersIn(south, north, west, east, allLongitudes).empty();
 }
 
+bool MapMosaic::mayCoverFinerThan(double columnsAround, double south, double north, double west, double east,
+                                  bool allLongitudes) const {
+    for (const size_t k : membersIn(south, north, west, east, allLongitudes)) {
+        if (members_[k].placement.columnsAround > columnsAround) {
+            return true;
+        }
+    }
+    return false;
+}
+
 std::shared_ptr<const MapMosaic::Open> MapMosaic::open(size_t k) const {
     return open_->get(k, [&] {
         const Member& m = members_[k];

@@ -57,17 +57,29 @@ WholePyramid wholePyramid(const std::string& file) {
 }
 
 // The tiles of each level that are compared (x + y * side), each level's found from the level
-// above: every tile of the levels the main file holds (nullopt: all of them); below, a tile some
-// file stores or whose samples the source may have heights at. A sparse set (formats/sparse_set.hpp)
-// stores nothing where the source has no heights, and the source's heights stay under its files:
-// both are checked, without visiting the empty face beyond them.
+// above: every tile of the levels the main file holds (nullopt: all of them, less those where the
+// source has no heights of that level: compareLevels asks); below, the tiles under which the source
+// may have heights of their level (HeightSource::mayHaveHeightsAt). A sparse set
+// (formats/sparse_set.hpp) stores nothing where the source has no heights, and where a coarse input
+// alone is, nothing below that input's level: both give the upsampled heights there, which are
+// not the source's at deeper levels, so they are not compared. A tile with heights that no file
+// holds is compared (with the continuation of the files above it, which fails where data was
+// left out).
+// Whether the source may have heights of level l under tile (tx, ty) of n intervals (the samples
+// it owns), on a finest grid of R << M intervals.
+bool tileHasHeights(const HeightSource& sampler, int l, int M, int64_t R, int n, int tx, int ty) {
+    const int64_t stride = int64_t{1} << (M - l);
+    const int64_t x0 = static_cast<int64_t>(tx) * n * stride, y0 = static_cast<int64_t>(ty) * n * stride;
+    const int64_t last = R << M;
+    return sampler.mayHaveHeightsAt(l, x0, y0, std::min(last, x0 + n * stride), std::min(last, y0 + n * stride));
+}
+
 std::vector<std::optional<std::vector<int64_t>>> comparedTiles(const WholePyramid& whole,
                                                                const std::vector<FileLevelProducer>& producers,
                                                                const HeightSource& sampler) {
     const ResidualHeader& h = whole.header;
     const int M = h.maxLevel;
     const int mainLast = ResidualFileReader::readHeader(whole.set.main).maxLevel;
-    const std::shared_ptr<ResidualProducer> residuals = openResidualSet(whole.set);
     const int64_t R = h.tileSize >> h.minLevel;
     std::vector<std::optional<std::vector<int64_t>>> levels;
     for (int l = 0; l <= M; ++l) {
@@ -78,15 +90,7 @@ std::vector<std::optional<std::vector<int64_t>>> comparedTiles(const WholePyrami
         const int side = 1 << (l - producers[static_cast<size_t>(l)].delta);
         const int above = 1 << (l - 1 - producers[static_cast<size_t>(l) - 1].delta);
         const int n = producers[static_cast<size_t>(l)].n;
-        const int64_t stride = int64_t{1} << (M - l);
-        const auto wanted = [&](int tx, int ty) {
-            if (residuals->hasTile(l - residuals->delta(), tx, ty)) {
-                return true;
-            }
-            const int64_t x0 = static_cast<int64_t>(tx) * n * stride, y0 = static_cast<int64_t>(ty) * n * stride;
-            const int64_t last = (R << M);
-            return sampler.mayHaveHeights(x0, y0, std::min(last, x0 + n * stride), std::min(last, y0 + n * stride));
-        };
+        const auto wanted = [&](int tx, int ty) { return tileHasHeights(sampler, l, M, R, n, tx, ty); };
         std::vector<int64_t> tiles;
         const auto visit = [&](int64_t parent) {
             const int px = static_cast<int>(parent % above), py = static_cast<int>(parent / above);
@@ -153,6 +157,9 @@ DemVerifyReport compareLevels(const std::string& file, const WholePyramid& whole
         parallelFor(count, threads, [&](int64_t at) {
             const int64_t k = list ? (*list)[static_cast<size_t>(at)] : at;
             const int tx = static_cast<int>(k % side), ty = static_cast<int>(k / side);
+            if (!list && !tileHasHeights(sampler, l, M, R, lp.n, tx, ty)) {
+                return; // no heights of this level here (nor compared in the count)
+            }
             const auto tile = lp.fileTile(l, tx, ty);
             const int S = lp.n + 5;
             // The samples this tile owns: [t*n, t*n + n), plus the map's last row and column.
@@ -246,7 +253,7 @@ std::vector<DemVerifyReport> verifySphericalDem(const std::string& directory, co
         const ResidualHeader& h = whole.header;
         const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
         const FaceSampler faceSampler(map, body, face, FaceGrid{N, FaceGridKind::Vertices}, options.heightScale);
-        const FaceHeights heights(faceSampler);
+        const FaceHeights heights(faceSampler, static_cast<int64_t>(h.tileSize >> h.minLevel));
         int64_t faceTiles = 0;
         std::function<void(int64_t, int64_t)> progress;
         if (options.progress) {

@@ -30,6 +30,17 @@ bool FaceHeights::mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1)
     return sampler_.mayHaveValues(x0, y0, x1, y1);
 }
 
+double columnsNeedingLevel(int64_t rootIntervals, int level) {
+    return level <= 0 ? 0.0 : 4.0 * static_cast<double>(rootIntervals << (level - 1));
+}
+
+bool FaceHeights::mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    if (rootIntervals_ == 0 || level == 0) {
+        return mayHaveHeights(x0, y0, x1, y1);
+    }
+    return sampler_.mayHaveValuesFinerThan(columnsNeedingLevel(rootIntervals_, level), x0, y0, x1, y1);
+}
+
 SphericalDemReport encodeSphericalDem(const std::string& input, const std::string& directory,
                                       const SphericalDemOptions& options) {
     return encodeSphericalDem(std::vector<std::string>{input}, directory, options);
@@ -93,10 +104,9 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     faceOptions.stretch = false;
     faceOptions.reconstruction = nullptr;
     if (!faceOptions.maxLevel && !faceOptions.dstMaxLevel) {
-        const double equatorWidth = placement.columnsAround / 4.0;
         int level = 0;
         const auto rootTile = static_cast<int64_t>(faceOptions.rootTileSize);
-        while (level < 24 && static_cast<double>(rootTile << level) < equatorWidth) {
+        while (level < 24 && placement.columnsAround > columnsNeedingLevel(rootTile, level + 1)) {
             ++level;
         }
         faceOptions.maxLevel = std::max(level, o.minLevel());
@@ -121,7 +131,7 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     int64_t shown = 0;    // progress never goes back, even when --scale auto starts a face over
     for (const int face : options.faces) {
         const FaceSampler sampler(map, body, face, FaceGrid{N, FaceGridKind::Vertices}, options.heightScale);
-        const FaceHeights heights(sampler);
+        const FaceHeights heights(sampler, R);
         ResidualPyramidJob job;
         job.header = header;
         job.heights = &heights;

@@ -19,16 +19,28 @@
 
 namespace pyramid {
 
+// The columns around the equator past which a map needs face level `level` of a pyramid whose
+// root tile has `rootIntervals` intervals: a face spans a quarter of the equator, so a map of C
+// columns is matched by the smallest level L with rootIntervals << L >= C / 4 (the default
+// maxLevel), and needs level L when C > 4 x (rootIntervals << (L - 1)). 0 for level 0.
+double columnsNeedingLevel(int64_t rootIntervals, int level);
+
 // The heights of one face's vertex grid, borders beyond the face included (the encoder's
 // source, and what `verifySphericalDem` compares with).
 class FaceHeights final : public HeightSource {
 public:
-    explicit FaceHeights(const FaceSampler& sampler) : sampler_(sampler) {}
+    // With `rootIntervals` (the face pyramid's root tile), the heights of each level are the map's
+    // members that need that level or a deeper one (columnsNeedingLevel): a fine inset's heights
+    // go down to its own level, a coarse base's to its own; 0: every member at every level.
+    explicit FaceHeights(const FaceSampler& sampler, int64_t rootIntervals = 0)
+        : sampler_(sampler), rootIntervals_(rootIntervals) {}
     void sample(SourceGrid& grid) const override;
     bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
+    bool mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
 
 private:
     const FaceSampler& sampler_;
+    int64_t rootIntervals_ = 0;
 };
 
 struct SphericalDemOptions {

@@ -43,6 +43,14 @@ public:
         (void)x0, (void)y0, (void)x1, (void)y1;
         return true;
     }
+    // The same for heights that belong at `level` or deeper: a source of several resolutions (a
+    // fine inset over a coarse base) answers false where only coarser inputs are, and the encoder
+    // then goes no deeper there (residual 0: the coarser level's heights, upsampled). By default,
+    // every height belongs at every level.
+    virtual bool mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+        (void)level;
+        return mayHaveHeights(x0, y0, x1, y1);
+    }
 };
 
 } // namespace pyramid

@@ -135,7 +135,7 @@ SampleBox footprintBox(const ResidualPlan& plan, int l, int tx, int ty) {
 // Whether valid heights may reach tile (l, tx, ty) (l >= minLevel) or its borders.
 bool tileReached(const ResidualPlan& plan, const HeightSource& heights, int l, int tx, int ty) {
     const SampleBox f = footprintBox(plan, l, tx, ty);
-    return heights.mayHaveHeights(f.x0, f.y0, f.x1 - 1, f.y1 - 1);
+    return heights.mayHaveHeightsAt(l, f.x0, f.y0, f.x1 - 1, f.y1 - 1);
 }
 
 // Tiles in a subtree rooted at level l, down to level M.

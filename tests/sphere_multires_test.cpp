@@ -1,0 +1,124 @@
+// Resolution where the data is (doc/spherical.md, "Files where the map is"): a planet built in one
+// run from a coarse global base and a fine inset goes down to the inset's level where the inset
+// is, and no deeper than the base's level elsewhere; its heights are the inset's in the inset and
+// the base's elsewhere, the faces the inset does not reach are those of the base alone, and the
+// files are a small fraction of the dense layout's.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "formats/pyramid_set.hpp"
+#include "formats/residual_file.hpp"
+#include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
+#include "libpyramid/sphere/cube_faces.hpp"
+#include "libpyramid/sphere/face_locate.hpp"
+#include "libpyramid/verify/dem_verify.hpp"
+#include "tests/support/geotiffs.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+// The base: 5-degree pixels over the globe, a smooth field. The inset: 2 x 2 degrees of
+// 1/60-degree pixels at 46..48 N, 123..121 W, with relief the base does not have.
+double baseHeight(double lon, double lat) { return 800.0 + 600.0 * std::cos(lat * M_PI / 180.0) * std::sin(lon * M_PI / 60.0); }
+double insetHeight(double lon, double lat) {
+    return 1500.0 + 900.0 * std::sin((lon + 122.0) * 9.0) * std::cos((lat - 47.0) * 7.0);
+}
+
+struct Maps {
+    std::string base, inset;
+};
+
+Maps writeMaps(const test::TempDir& dir) {
+    Maps m{dir.file("base.tif"), dir.file("inset.tif")};
+    std::vector<float> base(72 * 36);
+    for (int j = 0; j < 36; ++j) {
+        for (int i = 0; i < 72; ++i) {
+            base[static_cast<size_t>(i + 72 * j)] =
+                static_cast<float>(baseHeight(-180.0 + 5.0 * (i + 0.5), 90.0 - 5.0 * (j + 0.5)));
+        }
+    }
+    test::writeGeoTiff(m.base, 72, 36, base, test::geographicTags(4326, -180.0, 90.0, 5.0));
+    std::vector<float> inset(120 * 120);
+    for (int j = 0; j < 120; ++j) {
+        for (int i = 0; i < 120; ++i) {
+            inset[static_cast<size_t>(i + 120 * j)] =
+                static_cast<float>(insetHeight(-123.0 + (i + 0.5) / 60.0, 48.0 - (j + 0.5) / 60.0));
+        }
+    }
+    test::writeGeoTiff(m.inset, 120, 120, inset, test::geographicTags(4326, -123.0, 48.0, 1.0 / 60.0));
+    return m;
+}
+
+uint64_t bytesUnder(const std::string& directory) {
+    uint64_t bytes = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
+        bytes += e.is_regular_file() ? e.file_size() : 0;
+    }
+    return bytes;
+}
+
+// The height the set of the face holding (lon, lat) gives there, and its level.
+PointHeight heightAtLonLat(const std::string& directory, double lon, double lat) {
+    const FacePoint p = facePointOf(directionOf(PlanetBody::parse("wgs84"), GeodeticPoint{lat, lon}));
+    return setHeightAt(faceFilePath(directory, "DEM", p.face), (p.u + 1.0) / 2.0, (p.v + 1.0) / 2.0);
+}
+
+TEST(SphereMultiResolution, AnInsetOverABaseGoesDeepOnlyWhereItIs) {
+    test::TempDir dir;
+    const Maps maps = writeMaps(dir);
+    SphericalDemOptions o;
+    o.dem.tileSize = 32;
+    o.dem.rootTileSize = 4;
+    o.dem.scale = 0.25;
+    const SphericalDemReport both = encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("both"), o);
+    const SphericalDemReport base = encodeSphericalDem(maps.base, dir.file("base"), o);
+    // The inset's 21600 columns around the equator: level 11 of 4-interval roots; the base's 72: level 3.
+    EXPECT_EQ(both.faces[0].dem.header.maxLevel, 11);
+    EXPECT_EQ(base.faces[0].dem.header.maxLevel, 3);
+    // The faces far from the inset are the base's, byte for byte (face 2's borders reach into
+    // face 1 near the inset).
+    for (int face = 3; face <= 6; ++face) {
+        EXPECT_TRUE(test::readFile(faceFilePath(dir.file("both"), "DEM", face)) ==
+                    test::readFile(faceFilePath(dir.file("base"), "DEM", face)))
+            << "face " << face;
+    }
+    // Every face against both maps: each level's tiles where a map of that level or a finer one is.
+    SphericalDemVerifyOptions vo;
+    for (const DemVerifyReport& r : verifySphericalDem(dir.file("both"), std::vector<std::string>{maps.base, maps.inset}, vo)) {
+        EXPECT_TRUE(r.ok()) << r.file;
+    }
+    // In the inset, its heights at its level; beyond it, the base's level and the base's heights.
+    std::vector<double> errors;
+    for (int j = 0; j < 10; ++j) {
+        for (int i = 0; i < 10; ++i) {
+            const double lon = -122.9 + 0.18 * i, lat = 46.1 + 0.18 * j;
+            const PointHeight p = heightAtLonLat(dir.file("both"), lon, lat);
+            EXPECT_EQ(p.level, 11) << lon << "," << lat;
+            errors.push_back(std::fabs(p.height - insetHeight(lon, lat)));
+        }
+    }
+    std::sort(errors.begin(), errors.end());
+    EXPECT_LT(errors[errors.size() / 2], 15.0);
+    // (The base's bilinear samples of 5-degree pixels are within a few metres of its field.)
+    for (const auto& [lon, lat] : std::vector<std::pair<double, double>>{{10.0, 50.0}, {-100.0, 30.0}, {-122.0, 30.0}}) {
+        const PointHeight p = heightAtLonLat(dir.file("both"), lon, lat);
+        EXPECT_LT(p.level, 9) << lon << "," << lat;
+        EXPECT_NEAR(p.height, baseHeight(lon, lat), 15.0) << lon << "," << lat;
+    }
+    // A small fraction of every level of every face at the inset's level.
+    o.dem.layout = PyramidLayout::Dense;
+    o.faces = {1};
+    const SphericalDemReport dense = encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("dense"), o);
+    EXPECT_LT(both.faces[0].dem.bytes * 10, dense.faces[0].dem.bytes);
+    EXPECT_LT(bytesUnder(dir.file("both")), dense.faces[0].dem.bytes);
+}
+
+} // namespace
+} // namespace pyramid
