@@ -17,6 +17,9 @@
 #   island.tif     1201 x 1201 int16, EPSG:4326, 1/1200 degree (an SRTM 1-degree tile of sea
 #                  (0) with an island of a few pixels, at 10 N 110 W): level 13
 #   rainier.tif    the real SRTM tile of Mount Rainier (1201 x 1201 int16, 90 m): level 13
+#   base-and-rainier/  a 720 x 360 float32 global base (0.5 degree: level 3) and the Rainier tile, one
+#                  mosaic (the directory): level 13 over the tile, level 3 elsewhere (sparse only:
+#                  dense resamples the base at 90 m over the planet)
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -64,12 +67,19 @@ y, x = np.mgrid[0:1201, 0:1201]
 r2 = (x - 700.0) ** 2 + (y - 400.0) ** 2
 island = np.where(r2 < 16, (400 - 20 * r2).clip(1, None), 0).astype(np.int16)
 write('island.tif', island, (-110.0004167, 1 / 1200, 0, 10.0004167, 0, -1 / 1200), 4326, gdal.GDT_Int16)
+y, x = np.mgrid[0:360, 0:720].astype(np.float64)
+lat, lon = 90 - (y + 0.5) * 0.5, -180 + (x + 0.5) * 0.5
+base = 1500 * np.cos(np.radians(lat)) ** 2 * np.sin(np.radians(3 * lon)) + 800
+write('base-720.tif', base.astype(np.float32), (-180, 0.5, 0, 90, 0, -0.5), 4326, gdal.GDT_Float32)
 PY
+mkdir -p base-and-rainier
+cp base-720.tif rainier.tif base-and-rainier/
 
 printf '| input | layout | bytes | files | wall s | peak RSS MB | verify (sparse) |\n|---|---|---|---|---|---|---|\n'
-for input in elev-512.tif island.tif rainier.tif; do
+for input in elev-512.tif island.tif rainier.tif base-and-rainier; do
     for layout in sparse dense; do
         [ "$layout" = dense ] && [ "$DENSE" != 1 ] && continue
+        [ "$input" = base-and-rainier ] && [ "$layout" = dense ] && continue # the base resampled at 90 m: terabytes
         out="out-${input%.tif}-$layout"
         BEFORE_RUN="rm -rf $out" timed_runs 1 "$SDEM" "$input" -o "$out" --layout "$layout" --threads "$THREADS" -q
         bytes=$(du -cb "$out"/*.dat | tail -n 1 | cut -f1)
