@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "libpyramid/api/encoders.hpp"
+#include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
 
@@ -138,6 +139,44 @@ TEST(SplitBuild, SphericalPartsMergeIntoTheSixFaces) {
         const ResidualMergeReport report = mergeResidualParts(files, merged);
         EXPECT_EQ(report.pyramids.size(), 6u);
         EXPECT_EQ(snapshot(merged), single) << count << " parts";
+    }
+}
+
+TEST(SplitBuild, SparsePlanetPartsMergeIntoTheSingleRunsSets) {
+    TempDir dir;
+    // 2 x 2 degrees near Mount Rainier on a planet at level 11: each face a sparse set.
+    const int W = 64;
+    std::vector<float> v(static_cast<size_t>(W * W));
+    for (int j = 0; j < W; ++j) {
+        for (int i = 0; i < W; ++i) {
+            v[static_cast<size_t>(i + j * W)] = 1000.0f + 37.0f * static_cast<float>(i) - 21.0f * static_cast<float>(j);
+        }
+    }
+    test::writeGeoTiff(dir.file("map.tif"), W, W, v, test::geographicTags(4326, -122.5, 47.5, 2.0 / W));
+    SphericalDemOptions o;
+    o.dem.tileSize = 32;
+    o.dem.rootTileSize = 4;
+    o.dem.maxLevel = 11;
+    o.dem.scale = 0.25;
+    encodeSphericalDem(dir.file("map.tif"), dir.file("one"), o);
+    const auto single = snapshot(dir.file("one"));
+    ASSERT_GT(single.size(), 12u); // six sets, face 1 with regions
+    for (const int count : {2, 3}) {
+        const std::string parts = dir.file("p" + std::to_string(count));
+        fs::create_directories(parts);
+        std::vector<std::string> files;
+        for (int i = 0; i < count; ++i) {
+            files.push_back(runPart(i, count, parts + "/DEM", kResidualPartFormat, {{"test", 3}}, [&](const PartContext& part) {
+                const ResidualShare share{part.index, part.count, part.out, part.agree};
+                SphericalDemOptions run = o;
+                run.dem.share = &share;
+                run.dem.threads = 1 + i % 2;
+                encodeSphericalDem(dir.file("map.tif"), parts, run);
+            }));
+        }
+        const std::string merged = dir.file("m" + std::to_string(count));
+        mergeResidualParts(files, merged);
+        EXPECT_EQ(snapshot(merged) == single, true) << count << " parts";
     }
 }
 
