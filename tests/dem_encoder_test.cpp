@@ -178,35 +178,7 @@ TEST(DemEncoder, AnAttemptAfterASubtreesOverflowIsTheBuildAtItsScale) {
     EXPECT_EQ(test::readFile(dir.file("auto.dat")), test::readFile(dir.file("given.dat")));
 }
 
-// Heights on a rectangle of finest positions, nodata elsewhere; with `exact`, it tells the
-// encoder where heights can be, so that the encoder skips the rest (rows of its grid and of its
-// footprints not stored, subtrees not sampled, level-C reconstructions not kept).
-class Patch final : public HeightSource {
-public:
-    Patch(int64_t x0, int64_t y0, int64_t x1, int64_t y1, bool exact) : x0_(x0), y0_(y0), x1_(x1), y1_(y1), exact_(exact) {}
-    void sample(SourceGrid& g) const override {
-        g.height.assign(static_cast<size_t>(g.nx * g.ny), 0.0f);
-        g.valid.assign(g.height.size(), 0);
-        for (int64_t j = 0; j < g.ny; ++j) {
-            for (int64_t i = 0; i < g.nx; ++i) {
-                const int64_t x = g.x0 + i * g.stride, y = g.y0 + j * g.stride;
-                if (x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_) {
-                    const size_t k = static_cast<size_t>(i + j * g.nx);
-                    g.height[k] = 100.0f + 0.37f * static_cast<float>(x) - 0.21f * static_cast<float>(y) +
-                                  ((x * y) % 7 == 0 ? 25.0f : 0.0f);
-                    g.valid[k] = 1;
-                }
-            }
-        }
-    }
-    bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override {
-        return !exact_ || (x1 >= x0_ && x0 <= x1_ && y1 >= y0_ && y0 <= y1_);
-    }
-
-private:
-    int64_t x0_, y0_, x1_, y1_;
-    bool exact_;
-};
+using test::Patch;
 
 TEST(ResidualEncoder, WhatNoHeightReachesIsSkippedIntoTheFileOfEverySample) {
     test::TempDir dir;

@@ -16,36 +16,10 @@
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "tests/support/gl_test_context.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/sparse_sets.hpp"
 
 namespace pyramid {
 namespace {
-
-// Heights in a square of the finest grid, nodata elsewhere, and a source that says so.
-class Square final : public HeightSource {
-public:
-    Square(int64_t x0, int64_t y0, int64_t x1, int64_t y1) : x0_(x0), y0_(y0), x1_(x1), y1_(y1) {}
-    void sample(SourceGrid& g) const override {
-        g.height.assign(static_cast<size_t>(g.nx * g.ny), 0.0f);
-        g.valid.assign(g.height.size(), 0);
-        for (int64_t j = 0; j < g.ny; ++j) {
-            for (int64_t i = 0; i < g.nx; ++i) {
-                const int64_t x = g.x0 + i * g.stride, y = g.y0 + j * g.stride;
-                if (x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_) {
-                    const size_t k = static_cast<size_t>(i + j * g.nx);
-                    g.height[k] = 500.0f + 0.31f * static_cast<float>(x) - 0.17f * static_cast<float>(y) +
-                                  static_cast<float>((x * 7 + y * 13) % 11);
-                    g.valid[k] = 1;
-                }
-            }
-        }
-    }
-    bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override {
-        return x1 >= x0_ && x0 <= x1_ && y1 >= y0_ && y0 <= y1_;
-    }
-
-private:
-    int64_t x0_, y0_, x1_, y1_;
-};
 
 bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
     if (a.size() != b.size()) {
@@ -64,7 +38,7 @@ struct Built {
     std::string dense, sparse;
 };
 
-// N = 4096 (levels 0..10 of 32-tiles), heights in a 300-sample square; the sparse set is a main
+// N = 4096 (levels 0..10 of 32-tiles), heights in a 300-sample patch; the sparse set is a main
 // file and regions nested where the square is.
 void build(Built& r) {
     ResidualPyramidJob job;
@@ -72,7 +46,7 @@ void build(Built& r) {
     job.header.minLevel = 3;
     job.header.maxLevel = 10;
     job.input = "square";
-    const Square heights(1500, 900, 1800, 1200);
+    const test::Patch heights(1500, 900, 1800, 1200, true);
     job.heights = &heights;
     ResidualEncodeOptions o;
     o.scale = 0.25;
