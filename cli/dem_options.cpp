@@ -163,8 +163,12 @@ void printDemSummary(const DemReport& r) {
         for (const auto& f : r.files) {
             largest = std::max(largest, f.second);
         }
-        std::fprintf(stderr, "  a region set of %zu files (the largest %llu bytes), listed in %s.regions.json\n",
-                     r.files.size(), static_cast<unsigned long long>(largest), r.output.c_str());
+        if (r.files.size() == 1) { // a sparse set's main file alone, or a --max-file-bytes set that fits
+            std::fprintf(stderr, "  a region set of its main file alone, listed in %s.regions.json\n", r.output.c_str());
+        } else {
+            std::fprintf(stderr, "  a region set of %zu files (the largest %llu bytes), listed in %s.regions.json\n",
+                         r.files.size(), static_cast<unsigned long long>(largest), r.output.c_str());
+        }
     }
 }
 
