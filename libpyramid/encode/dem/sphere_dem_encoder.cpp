@@ -187,7 +187,9 @@ SphericalDemReport encodeMap(const MapSources& sources, const std::vector<std::s
     if (staging) {
         staging->commit();
         for (SphericalDemFaceReport& f : report.faces) {
-            f.dem.bytes = std::filesystem::file_size(f.dem.output);
+            if (f.dem.files.empty()) { // a set's bytes are its files', added up when it was written
+                f.dem.bytes = std::filesystem::file_size(f.dem.output);
+            }
         }
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
