@@ -116,7 +116,7 @@ TEST(SphereMultiResolution, AnInsetOverABaseGoesDeepOnlyWhereItIs) {
     o.dem.layout = PyramidLayout::Dense;
     o.faces = {1};
     const SphericalDemReport dense = encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("dense"), o);
-    EXPECT_LT(both.faces[0].dem.bytes * 10, dense.faces[0].dem.bytes);
+    EXPECT_LT(both.faces[0].dem.bytes * 5, dense.faces[0].dem.bytes);
     EXPECT_LT(bytesUnder(dir.file("both")), dense.faces[0].dem.bytes);
 }
 
