@@ -237,6 +237,41 @@ TEST(SphereDemCli, GeoTiffPlacesItselfAndRefusesWhatItCannot) {
     expectBadInputWritesNothing("preprocessSphericalOrtho", {{laea + " -o " + bad, 1, "EPSG:3035"}}, bad);
 }
 
+TEST(SphereDemCli, LayoutSparseWritesWhereTheMapIsAndDenseEveryTile) {
+    test::TempDir dir;
+    // 2 x 2 degrees near Mount Rainier at level 9 of 32-tiles: face 1 alone holds it.
+    std::vector<float> heights(64 * 64);
+    for (size_t k = 0; k < heights.size(); ++k) {
+        heights[k] = 1000.0f + static_cast<float>(k % 64) * 13.0f - static_cast<float>(k / 64) * 7.0f;
+    }
+    const std::string map = dir.file("map.tif");
+    test::writeGeoTiff(map, 64, 64, heights, test::geographicTags(4326, -122.5, 47.5, 2.0 / 64));
+    const std::string cmd = programPath("preprocessSphericalDem") + " " + map +
+                            " --tile-size 32 --root-tile-size 4 --max-level 9 --scale 0.25 -q -o ";
+    const auto sparse = run(cmd + dir.file("sparse") + " --report " + dir.file("sparse.json"));
+    ASSERT_EQ(sparse.exitCode, 0) << sparse.err;
+    const auto dense = run(cmd + dir.file("dense") + " --layout dense --report " + dir.file("dense.json"));
+    ASSERT_EQ(dense.exitCode, 0) << dense.err;
+    const nlohmann::json s = nlohmann::json::parse(test::readFile(dir.file("sparse.json")));
+    const nlohmann::json d = nlohmann::json::parse(test::readFile(dir.file("dense.json")));
+    for (int face = 1; face <= 6; ++face) {
+        const std::string name = "/DEM" + std::to_string(face) + ".dat";
+        // Sparse: every face a set with its index; a face the map does not reach, its top levels.
+        EXPECT_TRUE(std::filesystem::exists(dir.file("sparse") + name + ".regions.json")) << face;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("dense") + name + ".regions.json")) << face;
+        EXPECT_EQ(ResidualFileReader::readHeader(dir.file("dense") + name).maxLevel, 9) << face;
+        const nlohmann::json& sf = s["faces"][face - 1]["dem"];
+        const nlohmann::json& df = d["faces"][face - 1]["dem"];
+        EXPECT_LT(sf["bytes"].get<uint64_t>() * (face == 1 ? 2 : 20), df["bytes"].get<uint64_t>()) << face;
+        if (face != 1) {
+            EXPECT_EQ(ResidualFileReader::readHeader(dir.file("sparse") + name).maxLevel, 3) << face;
+            EXPECT_EQ(sf["tiles"].get<int64_t>(), 4) << face;
+        }
+    }
+    expectBadInputWritesNothing("preprocessSphericalDem",
+                                {{map + " -o " + dir.file("bad") + " --layout thin", 2, "--layout"}}, dir.file("bad"));
+}
+
 TEST(SphereOrthoCli, SampleImageMakesEighteenFilesAndAReport) {
     test::TempDir dir;
     const std::string out = dir.file("planet");
