@@ -12,20 +12,7 @@ namespace pyramid {
 
 namespace {
 
-// Where the tiles of a pyramid rooted at level 0 lie in its offset table: one tile per level
-// below minLevel, then a full quadtree (residual files; ortho files have minLevel 0).
-struct Layout {
-    int minLevel = 0;
-
-    int64_t tilesPerSide(int level) const { return level < minLevel ? 1 : int64_t{1} << (level - minLevel); }
-    int64_t tileIndex(int level, int tx, int ty) const {
-        if (level < minLevel) {
-            return level;
-        }
-        const int l = level - minLevel;
-        return minLevel + tx + static_cast<int64_t>(ty) * (int64_t{1} << l) + ((int64_t{1} << (2 * l)) - 1) / 3;
-    }
-};
+using Layout = SetFileLayout;
 
 class SetPlanner {
 public:

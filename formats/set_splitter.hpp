@@ -16,6 +16,23 @@
 
 namespace pyramid {
 
+// Where the tiles of a file of a set lie in its offset table, levels counted from its root: one
+// tile per level below minLevel, then a full quadtree (a residual main file; region files and
+// ortho files have minLevel 0). The one rule for the splitter and the sparse writer
+// (formats/sparse_set.hpp).
+struct SetFileLayout {
+    int minLevel = 0;
+
+    int64_t tilesPerSide(int level) const { return level < minLevel ? 1 : int64_t{1} << (level - minLevel); }
+    int64_t tileIndex(int level, int tx, int ty) const {
+        if (level < minLevel) {
+            return level;
+        }
+        const int l = level - minLevel;
+        return minLevel + tx + static_cast<int64_t>(ty) * (int64_t{1} << l) + ((int64_t{1} << (2 * l)) - 1) / 3;
+    }
+};
+
 // A root pyramid (rootLevel 0) written whole, as the splitter sees it.
 struct SplitSource {
     const TileTableWriter* tiles = nullptr; // its tiles, every one written

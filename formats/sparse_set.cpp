@@ -309,20 +309,6 @@ std::vector<SplitFile> chooseSparseFiles(const SparseTileLog& log, const SparseS
     return files;
 }
 
-namespace {
-
-// Where tile `index` of a file lies in its offset table (residual layout; minLevel 0 for regions
-// and ortho files).
-int64_t tableIndex(int minLevel, int level, int tx, int ty) {
-    if (level < minLevel) {
-        return level;
-    }
-    const int l = level - minLevel;
-    return minLevel + tx + static_cast<int64_t>(ty) * (int64_t{1} << l) + ((int64_t{1} << (2 * l)) - 1) / 3;
-}
-
-} // namespace
-
 std::vector<SplitFile> writeSparseSet(const SparseTileLog& log, const SparseShape& shape, std::vector<SplitFile> files,
                                       const std::string& mainName, const SplitHeaderFactory& header,
                                       const std::function<std::string(const std::string&)>& place) {
@@ -362,10 +348,10 @@ std::vector<SplitFile> writeSparseSet(const SparseTileLog& log, const SparseShap
             const SplitFile& f = files[k];
             int64_t index = 0;
             if (f.root.level == 0) {
-                index = tableIndex(shape.minLevel, level, tx, ty);
+                index = SetFileLayout{shape.minLevel}.tileIndex(level, tx, ty);
             } else {
                 const RegionRoot r = regionRelativeTile(f.root, level, tx, ty);
-                index = tableIndex(0, r.level, r.tx, r.ty);
+                index = SetFileLayout{0}.tileIndex(r.level, r.tx, r.ty);
             }
             out[k - first]->write(index, blob);
         };
