@@ -24,7 +24,7 @@ CommandRunner setupSphereOrthoCommand(CLI::App& app) {
                     "Output directory: NAME1..6.dat, dxt/NAME1..6.dat, residuals/NAME1..6.dat",
                     "maxLevel of every face (default: the smallest whose faces are as fine as the map at the equator)");
     addSphereOptions(app, sphere);
-    addOrthoRunOptions(app, a);
+    addOrthoRunOptions(app, a, true);
     return [a, sphere]() {
         SphericalOrthoOptions options;
         options.ortho = resolveOrthoOptions(*a);

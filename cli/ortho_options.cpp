@@ -81,11 +81,19 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
         ->capture_default_str();
 }
 
-void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
+void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, bool faces) {
     OrthoEncodeOptions& o = a->options;
     addThreadsOption(app, o.levels.threads);
     addCacheOption(app, o.levels.cacheMegabytes);
     addMaxFileBytesOption(app, a->maxFileBytes, "each output as a region set");
+    if (faces) {
+        app.add_option("--layout", a->layout,
+                       "sparse: a face the map does not fill is written as the files that hold its data (a main "
+                       "file of the top levels and region files nested where the map is; doc/format.md 1.5), "
+                       "no tile elsewhere; dense: every tile of every level in one file (or a --max-file-bytes set)")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"sparse", "dense"}));
+    }
     CLI::Option* part = addPartOption(app, a->part);
     addProgressOption(app);
     addRegionOptions(app, a->region, part,
@@ -97,6 +105,7 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a) {
 
 OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     OrthoEncodeOptions options = a.options;
+    options.layout = a.layout == "dense" ? PyramidLayout::Dense : PyramidLayout::Sparse;
     parseOutputs(a.outputs, options);
     options.compression = parsePolicy("--compression", a.compression,
                                       {{"deflate", TilePolicy::Deflate},

@@ -23,6 +23,7 @@ struct OrthoArgs {
                                report;
     bool quiet = false;
     std::string part; // --part I/N
+    std::string layout = "sparse"; // --layout sparse|dense (cube faces)
     RegionArgs region; // --region LEVEL,TX,TY, --parent FILE
     MaxFileBytesArgs maxFileBytes;
     OrthoEncodeOptions options;
@@ -33,8 +34,8 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args, cons
                      const char* outputHelp, const char* maxLevelHelp);
 
 // Declares --threads, --cache-mb, --max-file-bytes, --report and --quiet (after any
-// command-specific options).
-void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args);
+// command-specific options), and with `faces` --layout.
+void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args, bool faces = false);
 
 // Throws Error naming the option when a value is not valid.
 OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& args);

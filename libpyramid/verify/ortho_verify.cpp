@@ -56,6 +56,7 @@ std::vector<uint8_t> expected(const TrueTile& t, const OrthoHeader& h, int sourc
 struct WholeOrtho {
     std::shared_ptr<const OrthoProducer> reader;
     OrthoHeader header;
+    bool set = false; // a region set (which may be sparse), not a file alone
 };
 
 WholeOrtho wholeOrtho(const std::string& file) {
@@ -67,6 +68,7 @@ WholeOrtho wholeOrtho(const std::string& file) {
         w.reader = std::make_shared<OrthoProducer>(file);
     } else {
         w.reader = openOrthoSet(file);
+        w.set = true;
     }
     w.header = w.reader->header();
     w.header.maxLevel = w.reader->maxLevel();
@@ -121,6 +123,12 @@ std::vector<OrthoVerifyReport> verifySphericalOrtho(const std::string& directory
         faces.push_back(wholeOrtho(faceFile(face)));
     }
     const OrthoHeader& h = faces.front().header;
+    // The build's deepest level: a sparse face's set goes only as deep as its data (a face the
+    // map does not reach is its level 0 alone), so the faces' deepest.
+    int maxLevel = 0;
+    for (const WholeOrtho& f : faces) {
+        maxLevel = std::max(maxLevel, f.header.maxLevel);
+    }
     // The map as preprocessSphericalOrtho opened it, with the channels the faces hold.
     int channels = 0;
     const OrthoMap opened = openOrthoMap(inputs, options.extent, body, 256, [&](const RasterInfo& first) {
@@ -134,13 +142,14 @@ std::vector<OrthoVerifyReport> verifySphericalOrtho(const std::string& directory
     int64_t before = 0; // tiles of the faces already compared
     for (size_t k = 0; k < faces.size(); ++k) {
         const OrthoHeader& fh = faces[k].header;
-        if (fh.tileSize != h.tileSize || fh.maxLevel != h.maxLevel || fh.channels != h.channels) {
+        if (fh.tileSize != h.tileSize || (fh.maxLevel != maxLevel && !faces[k].set) || fh.channels != h.channels) {
             fail(faceFile(options.faces[k]), "its tiles are not those of " + faceFile(options.faces.front()) +
                                                  ": the faces are not of one build");
         }
         OrthoLevelsOptions lo;
         lo.tileSize = fh.tileSize;
-        lo.maxLevel = fh.maxLevel;
+        lo.maxLevel = maxLevel;
+        faces[k].header.maxLevel = maxLevel;
         lo.colourSpace = options.colourSpace;
         lo.threads = options.threads;
         lo.channels = channels;
@@ -187,17 +196,21 @@ OrthoVerifyReport compareOrtho(const std::string& file, const std::string& sourc
         TileResult r;
         r.level = t.level;
         std::vector<uint8_t> got, want;
+        // A tile no file holds (a sparse set's, doc/format.md 1.5) is no tile: it is right only
+        // where the true tile is blank, so it is compared as a tile of 0s. Colour residuals are
+        // rebuilt as the producer rebuilds them, residual 128 there.
+        const bool held = reader->hasTile(t.level, t.tx, t.ty);
         if (residuals) {
             {
                 std::lock_guard<std::mutex> lock(producer);
                 got = *residuals->tile(t.level, t.tx, t.ty);
             }
             want.assign(t.image().pixels.begin(), t.image().pixels.end());
-            r.lossy = describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
+            r.lossy = held && describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
         } else {
-            got = reader->tile(t.level, t.tx, t.ty);
             want = expected(t, h, levels.channels());
-            r.lossy = h.dxt() || describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg");
+            got = held ? reader->tile(t.level, t.tx, t.ty) : std::vector<uint8_t>(want.size(), 0);
+            r.lossy = held && (h.dxt() || describeTiff(reader->rawTile(t.level, t.tx, t.ty)).starts_with("jpeg"));
         }
         if (got.size() != want.size()) {
             fail(file, "tile (" + std::to_string(t.level) + "," + std::to_string(t.tx) + "," + std::to_string(t.ty) +
@@ -216,9 +229,14 @@ OrthoVerifyReport compareOrtho(const std::string& file, const std::string& sourc
     std::map<int64_t, std::vector<TileResult>> byItem;
     int64_t checked = 0;
     std::mutex mutex;
-    const auto store = [&](int64_t index, std::vector<TileResult> results) {
+    // A pruned walk's blank tile with nothing below counts the tiles below it as checked
+    // (progress only): their true tiles are blank, as the tile's own.
+    const auto covers = [&](const TrueTile& t) {
+        return t.blankBelow ? ((int64_t{1} << (2 * (h.maxLevel - t.level + 1))) - 1) / 3 : int64_t{1};
+    };
+    const auto store = [&](int64_t index, std::vector<TileResult> results, int64_t tiles) {
         std::lock_guard<std::mutex> lock(mutex);
-        checked += static_cast<int64_t>(results.size());
+        checked += tiles;
         byItem.emplace(index, std::move(results));
         if (options.progress) {
             options.progress(checked, total);
@@ -229,20 +247,33 @@ OrthoVerifyReport compareOrtho(const std::string& file, const std::string& sourc
         std::vector<TileResult> results(batch.size());
         parallelFor(static_cast<int64_t>(batch.size()), threads,
                     [&](int64_t i) { results[static_cast<size_t>(i)] = check(batch[static_cast<size_t>(i)]); });
-        store(index, std::move(results));
+        int64_t tiles = 0;
+        for (const TrueTile& t : batch) {
+            tiles += covers(t);
+        }
+        store(index, std::move(results), tiles);
         return true;
     };
     sink.subtree = [&](int64_t index, TileBatch& item) {
         std::vector<TileResult> results;
         results.reserve(item.size());
+        int64_t tiles = 0;
         for (const TrueTile& t : item) {
             results.push_back(check(t));
+            tiles += covers(t);
         }
-        store(index, std::move(results));
+        store(index, std::move(results), tiles);
         return true;
     };
-    levels.walk(sink, residuals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass);
+    // A face's set (which may be sparse) is walked pruned: below a blank tile every true tile is
+    // blank, and a sparse set holds none of them or blank ones. A file alone is compared whole.
+    const bool pruned = whole.set && levels.isFace();
+    levels.walk(sink, residuals ? OrthoLevels::WalkOrder::CoarseFirst : OrthoLevels::WalkOrder::SinglePass, nullptr,
+                pruned);
     report.levels.resize(static_cast<size_t>(h.maxLevel) + 1);
+    for (size_t l = 0; l < report.levels.size(); ++l) {
+        report.levels[l].level = static_cast<int>(l);
+    }
     std::vector<double> squares(report.levels.size(), 0.0);
     std::vector<int64_t> samples(report.levels.size(), 0);
     for (const auto& [index, results] : byItem) {

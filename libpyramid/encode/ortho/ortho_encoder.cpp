@@ -21,10 +21,13 @@
 #include "libpyramid/support/work_share.hpp"
 #include "formats/staging_directory.hpp"
 #include "formats/ortho_set.hpp"
+#include "libpyramid/encode/ortho/ortho_item_encoder.hpp"
 #include "libpyramid/encode/ortho/ortho_output.hpp"
+#include "libpyramid/encode/ortho/ortho_outputs.hpp"
 #include "libpyramid/encode/ortho/ortho_region.hpp"
 #include "libpyramid/encode/ortho/ortho_tile_encoder.hpp"
 #include "libpyramid/support/ordered_writer.hpp"
+#include "libpyramid/support/text.hpp"
 #include "libpyramid/support/parallel.hpp"
 
 namespace pyramid {
@@ -45,236 +48,6 @@ void checkAgainstInput(const OrthoEncodeOptions& o, const OrthoLevels& levels) {
         failOption("tileSize", "DXT tiles need tile size + 2 x border to be a multiple of 4");
     }
 }
-
-// Which outputs of a tile an encoded tile carries.
-struct OutputSet {
-    bool tiff = false, dxt = false, residual = false;
-
-    static OutputSet of(const OrthoEncodeOptions& o) { return {o.writeTiff, o.writeDxt, o.writeResiduals}; }
-};
-
-// The files being written, in the staging directory (the caller commits it).
-class OrthoOutputs {
-public:
-    // Names the outputs' final paths in `directory` in report.outputs.
-    // With `region`, each output is that region's file (its tiles given at absolute coordinates).
-    OrthoOutputs(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
-                 const OrthoEncodeOptions& o, OrthoReport& report, const RegionRoot* region = nullptr)
-        : staging_(staging), maxFileBytes_(o.maxFileBytes), region_(region) {
-        OrthoHeader base;
-        base.maxLevel = levels.maxLevel();
-        base.tileSize = levels.tileSize();
-        base.channels = levels.channels();
-        base.flags = o.border == 0 ? OrthoHeader::kFlagNoBorder : 0u;
-        const std::filesystem::path dir(directory);
-        const std::string file = o.name + ".dat";
-        auto output = [&](const std::string& whole, const OrthoHeader& h) {
-            const std::string relative = region ? regionFilePath(whole, *region) : whole;
-            names_.push_back(relative);
-            report.outputs.push_back((dir / relative).string());
-            if (region) {
-                // Staged as the tiles come, never committed: put in level order when complete.
-                const OrthoHeader r = orthoRegionHeader(h, *region, h.maxLevel);
-                r.validate(relative);
-                return std::make_unique<OrthoFileWriter>(staging.path(relative) + ".staged", r);
-            }
-            return std::make_unique<OrthoFileWriter>(staging.path(relative), h);
-        };
-        if (o.writeTiff) {
-            tiff_ = output(file, base);
-        }
-        if (o.writeDxt) {
-            OrthoHeader h = base;
-            h.channels = std::max(3, base.channels);
-            h.flags |= OrthoHeader::kFlagDxt;
-            dxt_ = output("dxt/" + file, h);
-        }
-        if (o.writeResiduals) {
-            OrthoHeader h = base;
-            h.flags = 0; // colour residuals always carry their 2-pixel border
-            residual_ = output("residuals/" + file, h);
-        }
-    }
-
-    // Writes the outputs of `e` in `made` (which it carries).
-    void write(const EncodedOrthoTile& e, OutputSet made) {
-        RegionRoot t{e.level, e.tx, e.ty};
-        if (region_) {
-            t = regionRelativeTile(*region_, e.level, e.tx, e.ty);
-        }
-        if (tiff_ && made.tiff) {
-            writeOne(*tiff_, firstWith_[0], t, e.tiff, e.uniform);
-        }
-        if (dxt_ && made.dxt) {
-            writeOne(*dxt_, firstWith_[1], t, e.dxt, e.uniform);
-        }
-        if (residual_ && made.residual) {
-            writeOne(*residual_, firstWith_[2], t, e.residual, e.uniform);
-        }
-    }
-
-    // Completes the TIFF and DXT files (their tables written, their bytes on disk) but for the
-    // rename, once every tile of theirs is written: in the two walks, while the second walk
-    // encodes the residual tiles, rather than after it (a file system commits its journal at
-    // the first fsync: tens of milliseconds). Not for a region's files, which are put in order
-    // when complete, nor for region sets, which are split from the files as they are read.
-    void finishPictures() {
-        if (!region_ && maxFileBytes_ == 0) {
-            for (auto* w : {&tiff_, &dxt_}) {
-                if (*w) {
-                    (*w)->finish();
-                }
-            }
-        }
-    }
-
-    // Completes the files (each a region set with its index when maxFileBytes is set); their
-    // sizes and shared tiles go to the report.
-    void commit(OrthoReport& report) {
-        size_t k = 0;
-        for (auto* w : {&tiff_, &dxt_, &residual_}) {
-            if (*w) {
-                report.sharedTiles.push_back((*w)->sharedTiles());
-                commitOne(std::move(*w), names_[k], report.outputs[k], report);
-                ++k;
-            }
-        }
-    }
-
-private:
-    // The tile that first took each uniform tile's shared bytes, by their address (the bytes held
-    // here, so that the address stays theirs): a writer's tiles of bytes it was given once.
-    using FirstWith = std::map<const std::vector<uint8_t>*, std::pair<SharedBytes, std::array<int, 3>>>;
-
-    // Tile t's bytes: a uniform tile's bytes given before are not compared again, byte for byte,
-    // with those the writer stored (a face that a small map barely touches has millions).
-    static void writeOne(OrthoFileWriter& writer, FirstWith& firstWith, const RegionRoot& t, const SharedBytes& bytes,
-                         bool uniform) {
-        if (uniform && bytes) {
-            const auto it = firstWith.find(bytes.get());
-            if (it != firstWith.end()) {
-                writer.writeTileSameAs(t.level, t.tx, t.ty, it->second.second);
-                return;
-            }
-            firstWith.emplace(bytes.get(), std::make_pair(bytes, std::array<int, 3>{t.level, t.tx, t.ty}));
-        }
-        writer.writeTileBytes(t.level, t.tx, t.ty, bytesOf(bytes));
-    }
-
-    void commitOne(std::unique_ptr<OrthoFileWriter> writer, const std::string& name, const std::string& output,
-                   OrthoReport& report) {
-        if (region_) {
-            // Level by level, row by row: the order the set splitter gives a region file, so that
-            // a region built alone is byte for byte the file of a set (formats/set_splitter.hpp).
-            const OrthoHeader& h = writer->header();
-            auto ordered = std::make_unique<OrthoFileWriter>(staging_.path(name), h);
-            for (int l = 0; l <= h.maxLevel; ++l) {
-                const int side = 1 << l;
-                for (int ty = 0; ty < side; ++ty) {
-                    for (int tx = 0; tx < side; ++tx) {
-                        ordered->writeTileBytes(l, tx, ty, writer->table().read(h.tileIndex(l, tx, ty)));
-                    }
-                }
-            }
-            writer = std::move(ordered);
-            report.sharedTiles.back() = writer->sharedTiles();
-        }
-        placeOrthoOutput(std::move(writer), name, output, maxFileBytes_, staging_, report);
-    }
-
-    StagingDirectory& staging_;
-    const uint64_t maxFileBytes_;
-    const RegionRoot* region_;
-    std::unique_ptr<OrthoFileWriter> tiff_, dxt_, residual_;
-    FirstWith firstWith_[3]; // of tiff_, dxt_, residual_
-    std::vector<std::string> names_; // each output's path relative to the directory and the staging directory
-};
-
-// One item of a walk (a subtree, or a level of levels 0..C) encoded, its tiles in the walk's order.
-using EncodedItem = std::vector<EncodedOrthoTile>;
-
-// Encodes the walk's items (OrthoLevels::walk). A tile's colour residual is predicted from its
-// parent's rebuilt colours: within a subtree, its own tiles'; above a subtree, and within levels
-// 0..C, those of levels 0..C, kept here as the walk hands those levels out (before the subtrees
-// that need them). The items of levels 0..C and the subtree items may be given different
-// outputs (`top` and `subtrees`: a build in two walks, encodeLevels), which a later walk may
-// change (setSubtreeOutputs).
-class ItemEncoder {
-public:
-    ItemEncoder(const OrthoLevels& levels, const OrthoEncodeOptions& top, const OrthoEncodeOptions& subtrees)
-        : levels_(levels), top_(levels, top), topResiduals_(top.writeResiduals),
-          handOutRecon_(static_cast<bool>(top.colourReconstruction)), threads_(levels.threads()) {
-        setSubtreeOutputs(subtrees);
-    }
-    // The outputs of the subtree items from now on (the options must outlive this object).
-    void setSubtreeOutputs(const OrthoEncodeOptions& subtrees) {
-        subtree_ = std::make_unique<OrthoTileEncoder>(levels_, subtrees);
-        subtreeResiduals_ = subtrees.writeResiduals;
-    }
-    // The colour reconstruction of a tile this walk does not encode (a region's parent).
-    void seed(int level, int tx, int ty, std::vector<uint8_t> recon) {
-        shallowRecon_[{level, tx, ty}] = std::make_shared<const std::vector<uint8_t>>(std::move(recon));
-    }
-
-    // A whole level of 0..C, from the walk's calling thread: its tiles in parallel, independent
-    // given the previous level's reconstruction.
-    EncodedItem encodeLevel(const TileBatch& batch) {
-        EncodedItem level(batch.size());
-        parallelFor(static_cast<int64_t>(batch.size()), threads_, [&](int64_t i) {
-            const TrueTile& t = batch[static_cast<size_t>(i)];
-            const std::vector<uint8_t>* parent = t.level && topResiduals_ ? shallowRecon_.at(parentOf(t)).get() : nullptr;
-            level[static_cast<size_t>(i)] = top_.encode(t, parent);
-        });
-        if (topResiduals_) {
-            // The next levels and the subtrees predict from these rebuilt tiles while this one is
-            // written. Moved rather than copied unless they are handed out too: a level's rebuilt
-            // colours are held once (at planet scale, level C's are most of a gigabyte).
-            for (EncodedOrthoTile& e : level) {
-                SharedBytes& kept = shallowRecon_[{e.level, e.tx, e.ty}];
-                kept = handOutRecon_ ? e.recon : std::move(e.recon);
-            }
-        }
-        return level;
-    }
-
-    // A subtree, in pre-order (its parents before its children), on the calling thread; called
-    // by several threads at once, never while a level is encoded.
-    EncodedItem encodeSubtree(const TileBatch& item) const {
-        std::map<TileKey, const std::vector<uint8_t>*> local;
-        EncodedItem out;
-        out.reserve(item.size());
-        for (const TrueTile& t : item) {
-            if (!subtreeResiduals_) {
-                out.push_back(subtree_->encode(t, nullptr)); // no tile depends on its parent
-                continue;
-            }
-            const auto key = parentOf(t);
-            const auto it = local.find(key);
-            const std::vector<uint8_t>* parent = it != local.end() ? it->second : shallowRecon_.at(key).get();
-            out.push_back(subtree_->encode(t, parent));
-            local[{t.level, t.tx, t.ty}] = out.back().recon.get();
-        }
-        if (!handOutRecon_) {
-            for (EncodedOrthoTile& e : out) {
-                e.recon.reset(); // not held while the item waits to be written
-            }
-        }
-        return out;
-    }
-
-private:
-    using TileKey = std::tuple<int, int, int>; // level, tx, ty
-    static TileKey parentOf(const TrueTile& t) { return {t.level - 1, t.tx / 2, t.ty / 2}; }
-
-    const OrthoLevels& levels_;
-    const OrthoTileEncoder top_;
-    const bool topResiduals_;
-    const bool handOutRecon_; // OrthoEncodeOptions::colourReconstruction is set: the writer needs every tile's
-    std::unique_ptr<OrthoTileEncoder> subtree_;
-    bool subtreeResiduals_ = false;
-    const int threads_;
-    std::map<TileKey, SharedBytes> shallowRecon_; // levels 0..C
-};
 
 // The outputs' headers and names, as part files record them.
 nlohmann::json orthoOutputsJson(const OrthoLevels& levels, const OrthoEncodeOptions& o) {
@@ -341,7 +114,12 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                        : o.writeResiduals && !twoWalks ? OrthoLevels::WalkOrder::CoarseFirst
                                                        : OrthoLevels::WalkOrder::SinglePass;
     const OrthoShare* share = o.share;
-    const int64_t items = levels.subtreeItems(order);
+    // A face the input does not fill is walked pruned, into sparse sets (doc/format.md 1.5,
+    // "Sparse sets"): blank subtrees are neither walked nor written. A plane, a region, and a
+    // face the input reaches all over are walked whole, into the files of --layout dense.
+    const bool pruned =
+        o.layout == PyramidLayout::Sparse && !region && levels.isFace() && !levels.reachesEveryTopTile();
+    const int64_t items = levels.subtreeItems(order, pruned);
     // A SinglePass walk gives the top levels after its subtrees: the share of the last one records them.
     const bool topLast = order == OrthoLevels::WalkOrder::SinglePass && items > 0;
     const int64_t units = std::max<int64_t>(1, items);
@@ -360,28 +138,36 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     const int64_t total = region ? region->tiles
                           : share ? (range.top ? topTiles : 0) + (range.end - range.begin) * subtreeTiles
                                   : levels.tileCount();
-    report.tiles = total;
+    report.tiles = total; // a sparse output's: the tiles its files hold (below)
     if (share && !range.active()) {
         return report; // nothing of this pyramid is this share's
     }
     // Progress is given in tiles, of the work: two walks encode the subtrees' tiles twice, so
-    // each of the `steps` tiles encoded moves it by total / steps of a tile (an error
-    // diffusion in integers: one tile at a time, `total` after the last step).
+    // each of the `steps` tiles encoded moves it by total / steps of a tile; a pruned walk's
+    // empty subtree moves it by the tiles it stands for (EncodedOrthoTile::covers).
     const int64_t steps = total + (twoWalks ? (range.end - range.begin) * subtreeTiles : 0);
-    int64_t stepCarry = 0;
+    int64_t stepsDone = 0;
     std::unique_ptr<OrthoOutputs> outputs;
     if (!share) {
         outputs = std::make_unique<OrthoOutputs>(levels, directory, *staging, o, report,
-                                                 region ? &region->root : nullptr);
+                                                 region ? &region->root : nullptr, pruned);
     }
     const uint64_t recordsStart = share ? share->out->file().position() : 0;
     const nlohmann::json slots = orthoOutputsJson(levels, o);
+    // A sparse build's parts carry each output's empty tile (hex, by slot) for the merge.
+    nlohmann::json emptyTilesJson = nlohmann::json::array();
+    if (share && pruned) {
+        const EncodedOrthoTile blank = blankTileBytes(levels, o);
+        for (const SharedBytes& b : {blank.tiff, blank.dxt, blank.residual}) {
+            emptyTilesJson.push_back(hexText(bytesOf(b)));
+        }
+    }
     // The outputs of each walk's subtrees (levels 0..C always get every output).
     OrthoEncodeOptions pictures = o;
     pictures.writeResiduals = false;
     OrthoEncodeOptions residualsOnly = o;
     residualsOnly.writeTiff = residualsOnly.writeDxt = false;
-    ItemEncoder encoder(levels, o, twoWalks ? pictures : o);
+    OrthoItemEncoder encoder(levels, o, twoWalks ? pictures : o);
     if (region && !region->parentRecon.empty()) {
         const RegionRoot& r = region->root;
         encoder.seed(r.level - 1, r.tx >> 1, r.ty >> 1, region->parentRecon);
@@ -390,7 +176,9 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     int64_t done = 0;
 
     // A share records the outputs `made` of a tile in each output's stream (pyramid x 3 +
-    // slot), the tile's statistics with the first of them.
+    // slot), the tile's statistics with the first of them; an empty subtree of an output
+    // (EncodedOrthoTile::picturesEmptyBelow, residualEmptyBelow) is a record of no bytes, and an
+    // output a tile does not carry (a blank subtree's colour residual) has no record.
     const auto record = [&](const EncodedOrthoTile& e, OutputSet made, bool stats) {
         PartFileWriter& file = share->out->file();
         bool first = stats;
@@ -399,7 +187,12 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             if (!(k == 0 ? made.tiff : k == 1 ? made.dxt : made.residual)) {
                 continue;
             }
-            const std::vector<uint8_t>& blob = bytesOf(k == 0 ? e.tiff : k == 1 ? e.dxt : e.residual);
+            const SharedBytes& bytes = k == 0 ? e.tiff : k == 1 ? e.dxt : e.residual;
+            const bool empty = k < 2 ? e.picturesEmptyBelow : e.residualEmptyBelow;
+            if (!bytes && !empty) {
+                continue;
+            }
+            const std::vector<uint8_t>& blob = bytesOf(bytes);
             file.add(static_cast<uint32_t>(o.pyramid * 3 + k), e.level, e.tx, e.ty,
                      first ? packOrthoTileStats(e.stats) : std::vector<uint8_t>{}, blob);
             first = false;
@@ -417,6 +210,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     // top levels last, as the TIFF and DXT files: at most the compressed residuals of levels
     // 0..C, which the SinglePass walk bounds (OrthoLevels).
     std::vector<EncodedOrthoTile> heldTop;
+    std::vector<bool> heldStats; // a held tile that carried no TIFF or DXT output: its statistics go with it
     // What the writer writes of each tile of the first walk (or the only one), and of the second.
     const OutputSet residualsOut{false, false, true};
     const OutputSet firstOut = twoWalks ? OutputSet{o.writeTiff, o.writeDxt, false} : OutputSet::of(o);
@@ -440,7 +234,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             if (region && !region->holds(e.level, e.tx, e.ty)) {
                 continue; // an ancestor of the root, encoded for its reconstruction
             }
-            if (share && !range.top && e.level <= topLevel) {
+            if (share && !range.top && e.top) {
                 continue; // another share's
             }
             if (o.colourReconstruction && e.recon) {
@@ -451,20 +245,27 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                 put(e, residualsOut);
             } else {
                 put(e, firstOut);
-                if (twoWalks && e.level <= topLevel) {
+                if (twoWalks && e.top) {
                     EncodedOrthoTile& held = heldTop.emplace_back();
                     held.level = e.level;
                     held.tx = e.tx;
                     held.ty = e.ty;
                     held.residual = std::move(e.residual); // its statistics go with its other outputs
+                    held.residualEmptyBelow = e.residualEmptyBelow;
+                    const bool carried = e.tiff || e.dxt || e.picturesEmptyBelow;
+                    heldStats.push_back(!carried);
+                    if (!carried) {
+                        held.stats = e.stats;
+                    }
                 }
             }
             totals[static_cast<size_t>(e.level)].add(e.stats);
-            stepCarry += total;
-            if (stepCarry >= steps) {
-                stepCarry -= steps;
+            stepsDone += e.covers;
+            const auto now = static_cast<int64_t>(static_cast<long double>(stepsDone) * total / steps);
+            if (now > done) {
+                done = std::min(now, total);
                 if (o.progress) {
-                    o.progress(++done, total);
+                    o.progress(done, total);
                 }
             }
             if (o.cancelled && o.cancelled()) {
@@ -507,7 +308,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
             return hand(i, encoder.encodeLevel(item));
         };
         sink.failed = [&](int64_t i) { writer.stopAt(first + i); }; // items after it are not awaited
-        walked += levels.walk(sink, order, walkRange);
+        walked += levels.walk(sink, order, walkRange, pruned);
         if (stopped) {
             writer.finish(first); // a write failed: rethrows its error
         }
@@ -527,8 +328,8 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
         encodeWalk(share ? &walkRange : nullptr);
     }
     writer.finish(walked);
-    for (const EncodedOrthoTile& e : heldTop) {
-        put(e, residualsOut, false);
+    for (size_t i = 0; i < heldTop.size(); ++i) {
+        put(heldTop[i], residualsOut, heldStats[i]);
     }
 
     if (share) {
@@ -540,7 +341,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                                 {"pyramids", o.pyramids},
                                 {"name", o.name + ".dat"},
                                 {"header", {{"outputs", slots}}},
-                                {"units", units},
+                                {"units", items == 0 ? 0 : units}, // no subtree: the top levels alone
                                 {"begin", range.begin},
                                 {"end", range.end},
                                 {"top", range.top},
@@ -548,12 +349,17 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                                 {"records", {recordsStart, share->out->file().position()}},
                                 {"tiles", total},
                                 {"max_file_bytes", o.maxFileBytes},
+                                {"sparse", pruned},
+                                {"empty_tiles", emptyTilesJson},
                                 {"companions", companionJson}});
     } else {
         if (picturesFinished.valid()) {
             picturesFinished.get(); // rethrows its error
         }
-        outputs->commit(report);
+        const int64_t held = outputs->commit(report);
+        if (pruned) {
+            report.tiles = held;
+        }
         for (const auto& [name, text] : companions) {
             AtomicFile file(staging->path(name));
             file.writeAt(0, text.data(), text.size());

@@ -69,6 +69,12 @@ struct OrthoEncodeOptions {
     // (formats/ortho_set.hpp, doc/planet-scale.md); an output that fits is the one file a build
     // without it writes, byte for byte, and an index of no regions.
     uint64_t maxFileBytes = 0;
+    // Sparse: a cube face the input does not fill is written as sparse sets, the files that hold
+    // its data (doc/format.md 1.5, "Sparse sets"; formats/sparse_set.hpp): blank subtrees are
+    // neither walked nor stored, and readers find no tile there (for colour residuals, residual
+    // 128). A face the input fills, and a plane, are one file (or a maxFileBytes set) as Dense
+    // writes it.
+    PyramidLayout layout = PyramidLayout::Sparse;
     // Set: encode only this region (region_request.hpp), each output as one region file named as
     // a set names its files (DIR/NAME-L6-12-40.dat, dxt/..., residuals/...), without the planar
     // georeference sidecar (the main file's places it). Its parent is the enclosing pyramid's

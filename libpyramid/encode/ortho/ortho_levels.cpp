@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/ortho/face_pixels.hpp"
@@ -131,11 +134,26 @@ struct OrthoLevels::Impl {
     void bandInto(SparseLevel& level, int c, int64_t row, int64_t x0, int64_t x1) const;
     std::vector<SparseLevel> coarseLevelsFromBands(int c, const BlockMask& reach) const;
     void reduceCoarserLevels(std::vector<SparseLevel>& levels) const;
-    bool handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0) const;
+    bool handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0, bool pruned) const;
+    // The subtree items of a walk: all of level `top` (row by row or in Z order), or with `items`
+    // those it lists.
+    using ItemList = std::vector<std::pair<int, int>>;
     bool handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0, bool zOrder,
-                      const BlockMask& reachC, SparseLevel* levelC) const;
+                      const BlockMask& reachC, SparseLevel* levelC, const ItemList* items) const;
     void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, const BlockMask& reachC,
-                              SparseLevel* levelC) const;
+                              SparseLevel* levelC, bool pruned) const;
+    ItemList itemsUnder(int c, const BlockMask& reach, bool zOrder) const;
+    // A pruned walk's items in `order` (computed once per order).
+    const ItemList& prunedItems(int c, bool zOrder) const {
+        const std::lock_guard<std::mutex> lock(itemsMutex);
+        auto it = itemLists.find(zOrder);
+        if (it == itemLists.end()) {
+            it = itemLists.emplace(zOrder, itemsUnder(c, reachOf(c), zOrder)).first;
+        }
+        return it->second;
+    }
+    mutable std::mutex itemsMutex;
+    mutable std::map<bool, ItemList> itemLists; // by zOrder
     void marginFromBands(int c, SparseLevel& levelC) const;
     void blankSubtree(int l, int tx, int ty, TileBatch& out) const;
 
@@ -332,16 +350,32 @@ void OrthoLevels::Impl::reduceCoarserLevels(std::vector<SparseLevel>& levels) co
 }
 
 // One item per level 0..C, each level's tiles in Z order, numbered from `index0`. False when
-// the sink stops the walk.
-bool OrthoLevels::Impl::handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0) const {
+// the sink stops the walk. Pruned: only the tiles under tiles that are not blank (and the root).
+bool OrthoLevels::Impl::handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0,
+                                   bool pruned) const {
+    std::vector<uint64_t> open{0}; // pruned: the Morton codes of the level's tiles handed out
     for (int l = 0; l < static_cast<int>(levels.size()); ++l) {
         const int side = 1 << l;
-        TileBatch batch(static_cast<size_t>(side) * side);
-        parallelFor(static_cast<int64_t>(batch.size()), threads, [&](int64_t i) {
-            const auto [tx, ty] = mortonDecode(static_cast<uint64_t>(i));
-            batch[static_cast<size_t>(i)] =
-                extract(levels[static_cast<size_t>(l)], l, static_cast<int>(tx), static_cast<int>(ty));
+        const int64_t count = pruned ? static_cast<int64_t>(open.size()) : int64_t{side} * side;
+        TileBatch batch(static_cast<size_t>(count));
+        parallelFor(count, threads, [&](int64_t i) {
+            const uint64_t code = pruned ? open[static_cast<size_t>(i)] : static_cast<uint64_t>(i);
+            const auto [tx, ty] = mortonDecode(code);
+            TrueTile& t = batch[static_cast<size_t>(i)];
+            t = extract(levels[static_cast<size_t>(l)], l, static_cast<int>(tx), static_cast<int>(ty));
+            t.blankBelow = pruned && l > 0 && t.blank;
         });
+        if (pruned) {
+            std::vector<uint64_t> next;
+            for (size_t i = 0; i < batch.size(); ++i) {
+                if (!batch[i].blankBelow) {
+                    for (uint64_t k = 0; k < 4; ++k) {
+                        next.push_back(4 * open[i] + k); // the children, in Z order
+                    }
+                }
+            }
+            open = std::move(next);
+        }
         if (!sink.level(index0 + l, batch)) {
             return false;
         }
@@ -349,11 +383,52 @@ bool OrthoLevels::Impl::handLevels(const std::vector<SparseLevel>& levels, const
     return true;
 }
 
+// The level-(c+1) items of a pruned walk: the children of the level-c tiles whose footprint (the
+// tile and its border) a block of `reach` meets, those a pruned walk hands out not blank (the
+// root, when c = 0, whatever it holds). Found by halving squares of tiles, so that a face a
+// small map barely touches costs a few hundred questions. In Z order, or row by row from the
+// north edge, west to east.
+OrthoLevels::Impl::ItemList OrthoLevels::Impl::itemsUnder(int c, const BlockMask& reach, bool zOrder) const {
+    const int64_t width = levelWidth(c), m = margin(c);
+    const auto px = [&](int64_t p) { return pixels->borderPixel(p, width) + m; };
+    ItemList tiles;
+    const auto visit = [&](const auto& self, int64_t x0, int64_t y0, int64_t side) -> void {
+        if (c > 0 && !reach.meets(px(x0 * T - kTileBorder), px(y0 * T - kTileBorder),
+                                  px((x0 + side) * T + kTileBorder - 1), px((y0 + side) * T + kTileBorder - 1))) {
+            return;
+        }
+        if (side == 1) {
+            tiles.emplace_back(static_cast<int>(x0), static_cast<int>(y0));
+            return;
+        }
+        const int64_t h = side / 2;
+        self(self, x0, y0, h);
+        self(self, x0 + h, y0, h);
+        self(self, x0, y0 + h, h);
+        self(self, x0 + h, y0 + h, h);
+    };
+    visit(visit, 0, 0, int64_t{1} << c);
+    ItemList items;
+    items.reserve(4 * tiles.size());
+    for (const auto& [tx, ty] : tiles) {
+        for (int k = 0; k < 4; ++k) {
+            items.emplace_back(2 * tx + (k & 1), 2 * ty + (k >> 1));
+        }
+    }
+    if (!zOrder) {
+        std::sort(items.begin(), items.end(), [](const auto& a, const auto& b) {
+            return a.second != b.second ? a.second > b.second : a.first < b.first;
+        });
+    }
+    return items;
+}
+
 // The subtrees [begin, end) of level `top` (row by row from the north edge, west to east, or in
 // Z order), numbered from `index0`, each sampled and handed to the sink by a free thread, in
 // order. False when the sink stops the walk.
 bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0,
-                                     bool zOrder, const BlockMask& reachC, SparseLevel* levelC) const {
+                                     bool zOrder, const BlockMask& reachC, SparseLevel* levelC,
+                                     const ItemList* items) const {
     const int side = 1 << top;
     std::atomic<bool> stop{false};
     parallelFor(end - begin, threads, [&](int64_t i) {
@@ -362,14 +437,16 @@ bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, i
         }
         const int64_t n = begin + i;
         int tx = static_cast<int>(n % side), ty = side - 1 - static_cast<int>(n / side);
-        if (zOrder) {
+        if (items != nullptr) {
+            std::tie(tx, ty) = (*items)[static_cast<size_t>(n)];
+        } else if (zOrder) {
             const auto [zx, zy] = mortonDecode(static_cast<uint64_t>(n));
             tx = static_cast<int>(zx);
             ty = static_cast<int>(zy);
         }
         try {
             TileBatch item;
-            subtreeFromFootprint(top, tx, ty, item, reachC, levelC);
+            subtreeFromFootprint(top, tx, ty, item, reachC, levelC, items != nullptr);
             if (!sink.subtree(index0 + i, item)) {
                 stop = true;
             }
@@ -388,7 +465,7 @@ bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, i
 // blocks of level C the input may reach (reachOf). With `levelC`, also the level-C pixels under
 // the tile (its interior reduced once more) are stored there.
 void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, const BlockMask& reachC,
-                                             SparseLevel* levelC) const {
+                                             SparseLevel* levelC, bool pruned) const {
     const int d = M - top;
     // The tile and its border, within the pixels the source has at level `top`: a plane's
     // footprint stops at the map's edge (whose pixels repeat), a face's reaches into its margin
@@ -405,7 +482,12 @@ void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch&
     const bool unreached = !reachC.meets((x0 >> 1) + mc, (y0 >> 1) + mc, ((x1 - 1) >> 1) + mc, ((y1 - 1) >> 1) + mc);
     if (blankStaysBlank && (unreached || pixels->knownBlank(x0 << d, y0 << d, (x1 - x0) << d, (y1 - y0) << d))) {
         // Wholly beyond the input: every pixel of every level is 0 (and so is levelC, as
-        // created). No sampling, no reduction.
+        // created). No sampling, no reduction; a pruned walk hands out the root alone.
+        if (pruned) {
+            out.push_back(blankTile(top, tx, ty));
+            out.back().blankBelow = true;
+            return;
+        }
         blankSubtree(top, tx, ty, out);
         return;
     }
@@ -468,21 +550,34 @@ int OrthoLevels::topLevels(WalkOrder order) const {
     return order == WalkOrder::SinglePass && m.M > 0 ? m.singlePassC : m.C;
 }
 
-int64_t OrthoLevels::subtreeItems(WalkOrder order) const {
+int64_t OrthoLevels::subtreeItems(WalkOrder order, bool pruned) const {
     const Impl& m = *impl_;
     if (order == WalkOrder::SinglePass && m.M > 0) {
-        return int64_t{1} << (2 * (m.singlePassC + 1));
+        return pruned ? static_cast<int64_t>(m.prunedItems(m.singlePassC, false).size())
+                      : int64_t{1} << (2 * (m.singlePassC + 1));
     }
-    return m.C == m.M ? 0 : int64_t{1} << (2 * (m.C + 1));
+    if (m.C == m.M) {
+        return 0;
+    }
+    return pruned ? static_cast<int64_t>(m.prunedItems(m.C, true).size()) : int64_t{1} << (2 * (m.C + 1));
+}
+
+bool OrthoLevels::reachesEveryTopTile() const {
+    const Impl& m = *impl_;
+    return m.C == m.M || subtreeItems(WalkOrder::CoarseFirst, true) == subtreeItems(WalkOrder::CoarseFirst);
+}
+
+bool OrthoLevels::isFace() const {
+    return impl_->margin(0) > 0;
 }
 
 int64_t OrthoLevels::itemWindow() const {
     return std::max<int64_t>(4, 2 * impl_->threads);
 }
 
-int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range) const {
+int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range, bool pruned) const {
     const Impl& m = *impl_;
-    const int64_t items = subtreeItems(order);
+    const int64_t items = subtreeItems(order, pruned);
     const int64_t begin = range ? range->begin : 0, end = range ? range->end : items;
     const int64_t subtrees = end - begin;
     if (order == WalkOrder::SinglePass && m.M > 0) {
@@ -491,17 +586,17 @@ int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range)
         // share of level C (a face's margin beyond it comes from bands of its own), and levels
         // 0..C come last.
         const int c = m.singlePassC;
+        const Impl::ItemList* list = pruned ? &m.prunedItems(c, false) : nullptr;
         // A share without every subtree takes levels 0..C from bands instead; a walk without
         // them does not assemble level C.
-        const int64_t count = int64_t{1} << (2 * (c + 1));
-        const bool whole = begin == 0 && end == count && (!range || range->top);
+        const bool whole = begin == 0 && end == items && (!range || range->top);
         const BlockMask reach = m.reachOf(c);
         std::vector<SparseLevel> levels(static_cast<size_t>(c) + 1);
         SparseLevel& levelC = levels[static_cast<size_t>(c)];
         if (whole) {
             levelC = SparseLevel(m.sideWithMargin(c), m.channels, reach);
         }
-        if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, reach, whole ? &levelC : nullptr) ||
+        if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, reach, whole ? &levelC : nullptr, list) ||
             (range && !range->top)) {
             return subtrees;
         }
@@ -513,14 +608,15 @@ int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range)
         } else {
             levels = m.coarseLevelsFromBands(c, reach);
         }
-        m.handLevels(levels, sink, subtrees);
+        m.handLevels(levels, sink, subtrees, pruned);
         return subtrees + c + 1;
     }
     // Levels 0..C from one pass over the input, then the subtrees of level C + 1 in Z order,
     // each from its own footprint: every tile comes after its parent.
     const BlockMask reach = m.reachOf(m.C);
-    if (m.handLevels(m.coarseLevelsFromBands(m.C, reach), sink, 0) && m.C < m.M) {
-        m.handSubtrees(sink, m.C + 1, begin, end, m.C + 1, true, reach, nullptr);
+    if (m.handLevels(m.coarseLevelsFromBands(m.C, reach), sink, 0, pruned) && m.C < m.M) {
+        m.handSubtrees(sink, m.C + 1, begin, end, m.C + 1, true, reach, nullptr,
+                       pruned ? &m.prunedItems(m.C, true) : nullptr);
     }
     return m.C + 1 + subtrees;
 }

@@ -79,6 +79,9 @@ struct TrueTile {
     Image8 pixels;              // empty when blank (image() gives the walk's tile of 0s)
     bool blank = false;         // known to be 0 everywhere without looking (beyond the input)
     const Image8* zero = nullptr; // blank: the walk's one tile of 0s, shared by every blank tile
+    // A pruned walk's blank tile under a tile that is not: this tile and every tile below it are
+    // blank, and the walk hands out none of those below (blank is set too).
+    bool blankBelow = false;
 
     const Image8& image() const { return blank ? *zero : pixels; }
 };
@@ -149,14 +152,27 @@ public:
         int64_t begin = 0, end = 0;
         bool top = true;
     };
+    // Pruned walks (`pruned` below) hand out only what the input may reach: a tile of level >= 1
+    // is handed out when its parent is not blank; a blank one comes with blankBelow, and none
+    // below it. The subtree items are then only those under level-C tiles that are not blank,
+    // in the same order (numbered from 0 without gaps), a blank one as its root tile alone. What
+    // a pruned walk hands out is what the whole walk hands out, tile for tile. A face a small
+    // map barely touches is then walked in time and memory that follow the map, not the face
+    // (doc/spherical.md, "Files where the map is").
+    //
     // The deepest level of a walk's top levels (C) in `order`.
     int topLevels(WalkOrder order) const;
     // The subtree items of a walk in `order` (0 when levels 0..C are the whole pyramid).
-    int64_t subtreeItems(WalkOrder order) const;
+    int64_t subtreeItems(WalkOrder order, bool pruned = false) const;
+    // Whether every tile of level C (CoarseFirst's) may be reached by the input: a pruned walk
+    // then leaves out no subtree item. Always true for a plane that the input fills.
+    bool reachesEveryTopTile() const;
+    bool isFace() const; // a cube face (else a plane)
     // How many items a sink may hold between handing them on and consuming them, such as
     // encoded items waiting to be written in order: max(4, 2 x threads).
     int64_t itemWindow() const;
-    int64_t walk(const Sink& sink, WalkOrder order = WalkOrder::CoarseFirst, const Range* range = nullptr) const;
+    int64_t walk(const Sink& sink, WalkOrder order = WalkOrder::CoarseFirst, const Range* range = nullptr,
+                 bool pruned = false) const;
 
 private:
     struct Impl;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <utility>
 
 #include "formats/error.hpp"
@@ -46,6 +47,51 @@ void placeOrthoOutput(std::unique_ptr<OrthoFileWriter> writer, const std::string
     }
     report.bytes.push_back(total);
     report.files.push_back(std::move(files));
+}
+
+int64_t placeSparseOrthoOutput(const SparseTileLog& log, const OrthoHeader& header, const std::string& name,
+                               const std::string& output, uint64_t maxFileBytes, StagingDirectory& staging,
+                               OrthoReport& report) {
+    SparseShape shape;
+    shape.minLevel = 0;
+    shape.maxLevel = header.maxLevel;
+    shape.headerBytes = OrthoHeader::kBytes;
+    shape.offsetBytes = 8;
+    shape.maxOffset = static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
+    shape.maxFileBytes = maxFileBytes;
+    const std::string mainName = std::filesystem::path(name).filename().string();
+    const std::filesystem::path folder = std::filesystem::path(name).parent_path();
+    const auto relative = [&](const std::string& file) { return (folder / file).string(); };
+    std::vector<SplitFile> files = writeSparseSet(
+        log, shape, chooseSparseFiles(log, shape, output), mainName,
+        [&](const std::string& path, const SplitFile& f) {
+            const OrthoHeader r = orthoRegionHeader(header, f.root, f.last);
+            r.validate(path);
+            return packOrthoHeader(r);
+        },
+        [&](const std::string& file) { return staging.path(relative(file)); });
+    std::vector<std::pair<std::string, uint64_t>> named;
+    uint64_t total = 0;
+    int64_t tiles = 0, shared = 0;
+    for (const SplitFile& f : files) {
+        named.emplace_back(relative(f.name), f.bytes);
+        total += f.bytes;
+        shared += f.sharedTiles;
+        tiles += orthoRegionHeader(header, f.root, f.last).tileCount();
+    }
+    // One file holding every level is the pyramid a dense output writes: no index unless a size
+    // cap asked for a set.
+    const bool whole = files.size() == 1 && files[0].last == header.maxLevel;
+    if (!whole || maxFileBytes > 0) {
+        writeRegionIndex(regionIndexPath(staging.path(name)),
+                         makeRegionIndex(staging.path(name), PyramidKind::Ortho, splitRegionRoots(files)));
+    } else {
+        named.clear(); // one file reports its bytes only
+    }
+    report.sharedTiles.push_back(shared);
+    report.bytes.push_back(total);
+    report.files.push_back(std::move(named));
+    return tiles;
 }
 
 void OrthoLevelTotals::add(const OrthoTileStats& t) {

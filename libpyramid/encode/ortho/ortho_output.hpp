@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "formats/ortho_file.hpp"
+#include "formats/sparse_set.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
 #include "libpyramid/encode/ortho/ortho_tile_encoder.hpp"
@@ -20,6 +21,15 @@ namespace pyramid {
 // Appends the output's bytes and files to the report.
 void placeOrthoOutput(std::unique_ptr<OrthoFileWriter> writer, const std::string& name, const std::string& output,
                       uint64_t maxFileBytes, StagingDirectory& staging, OrthoReport& report);
+
+// Writes a sparse output (formats/sparse_set.hpp) from the tiles and empty subtrees `log` holds,
+// of the pyramid `header` describes, into `staging`: the files that hold the data, each at most
+// maxFileBytes when it is not 0, and the set's index unless that is one file of every level (and
+// no maxFileBytes). Appends the output's shared tiles, bytes and files to the report; returns
+// the tiles its files hold.
+int64_t placeSparseOrthoOutput(const SparseTileLog& log, const OrthoHeader& header, const std::string& name,
+                               const std::string& output, uint64_t maxFileBytes, StagingDirectory& staging,
+                               OrthoReport& report);
 
 // A level's statistics, added up tile by tile.
 struct OrthoLevelTotals {

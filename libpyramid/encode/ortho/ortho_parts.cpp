@@ -9,6 +9,7 @@
 #include "formats/part_file.hpp"
 #include "formats/staging_directory.hpp"
 #include "libpyramid/encode/ortho/ortho_output.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -28,6 +29,12 @@ OrthoMergeReport mergeOrthoParts(const std::vector<std::string>& paths, const st
         OrthoReport pr;
         pr.directory = directory;
         std::unique_ptr<OrthoFileWriter> writers[3];
+        // A sparse build's parts (OrthoEncodeOptions::layout): each output's tiles and empty
+        // subtrees (records of no bytes) go to a log, and its files are those the log chooses
+        // (formats/sparse_set.hpp), as in the single run.
+        std::unique_ptr<SparseTileLog> logs[3];
+        OrthoHeader headers[3];
+        const bool sparse = top.value("sparse", false);
         std::string names[3];
         int maxLevel = 0;
         try {
@@ -43,7 +50,17 @@ OrthoMergeReport mergeOrthoParts(const std::vector<std::string>& paths, const st
                 h.flags = o.at("flags").get<uint32_t>();
                 h.validate(topPath);
                 names[slot] = o.at("name").get<std::string>();
-                writers[slot] = std::make_unique<OrthoFileWriter>(staging.path(names[slot]), h);
+                headers[slot] = h;
+                if (sparse) {
+                    const std::optional<std::vector<uint8_t>> empty =
+                        bytesOfHex(top.at("empty_tiles").at(static_cast<size_t>(slot)).get<std::string>());
+                    if (!empty || empty->empty()) {
+                        fail(topPath, "corrupt part file (a sparse pyramid without its empty tiles)");
+                    }
+                    logs[slot] = std::make_unique<SparseTileLog>(staging.path(names[slot] + ".tiles"), *empty);
+                } else {
+                    writers[slot] = std::make_unique<OrthoFileWriter>(staging.path(names[slot]), h);
+                }
                 maxLevel = h.maxLevel;
                 pr.tileSize = h.tileSize;
                 pr.maxLevel = h.maxLevel;
@@ -60,13 +77,19 @@ OrthoMergeReport mergeOrthoParts(const std::vector<std::string>& paths, const st
             PartFileReader::Record r;
             while (cursor.next(r)) {
                 const uint32_t slot = r.stream % 3;
-                if (r.stream / 3 != static_cast<uint32_t>(k) || !writers[slot] || r.level > maxLevel ||
+                if (r.stream / 3 != static_cast<uint32_t>(k) || !(writers[slot] || logs[slot]) || r.level > maxLevel ||
                     r.tx < 0 || r.ty < 0 || r.tx >= (1 << r.level) || r.ty >= (1 << r.level)) {
                     fail(reader.path(), "corrupt part file (a record of stream " + std::to_string(r.stream) + " for tile " +
                                             std::to_string(r.level) + "/" + std::to_string(r.tx) + "/" +
                                             std::to_string(r.ty) + ")");
                 }
-                writers[slot]->writeTileBytes(r.level, r.tx, r.ty, r.blob);
+                if (!logs[slot]) {
+                    writers[slot]->writeTileBytes(r.level, r.tx, r.ty, r.blob);
+                } else if (r.blob.empty()) {
+                    logs[slot]->addEmptySubtree(r.level, r.tx, r.ty);
+                } else {
+                    logs[slot]->add(r.level, r.tx, r.ty, r.blob);
+                }
                 if (!r.extra.empty()) {
                     const OrthoTileStats stats = unpackOrthoTileStats(r.extra, reader.path());
                     if (stats.tiles != 0 && stats.tiles != 1) {
@@ -81,7 +104,19 @@ OrthoMergeReport mergeOrthoParts(const std::vector<std::string>& paths, const st
             }
         }
         const uint64_t maxFileBytes = top.at("max_file_bytes").get<uint64_t>();
+        bool firstOutput = true;
         for (int slot = 0; slot < 3; ++slot) {
+            if (logs[slot]) {
+                const std::string output = (std::filesystem::path(directory) / names[slot]).string();
+                pr.outputs.push_back(output);
+                const int64_t held =
+                    placeSparseOrthoOutput(*logs[slot], headers[slot], names[slot], output, maxFileBytes, staging, pr);
+                logs[slot].reset(); // its spooled blobs go before the staging directory is committed
+                if (firstOutput) {
+                    pr.tiles = held; // the tiles the first output's files hold, as the single run reports
+                }
+                firstOutput = false;
+            }
             if (writers[slot]) {
                 const std::string output = (std::filesystem::path(directory) / names[slot]).string();
                 pr.outputs.push_back(output);

@@ -49,6 +49,13 @@ struct EncodedOrthoTile {
     // The bytes are a uniform tile's, shared by every tile of its colour, and stay alive as long
     // as the encoder: a writer may store them once and give the other tiles the same range.
     bool uniform = false;
+    // A pruned walk's (OrthoLevels::walk): the TIFF and DXT outputs hold an empty subtree here
+    // (this tile and every one below it blank; no TIFF or DXT bytes), and the colour residual
+    // output one of residual 128 (no residual bytes).
+    bool picturesEmptyBelow = false;
+    bool residualEmptyBelow = false;
+    bool top = false;    // from an item of levels 0..C
+    int64_t covers = 1;  // the tiles of the pyramid this entry stands for (progress)
 };
 
 class OrthoTileEncoder {
