@@ -130,6 +130,17 @@ struct OrthoLevels::Impl {
     }
 
     int64_t sideWithMargin(int c) const { return levelWidth(c) + 2 * margin(c); }
+    // The pixel rows of `level` that meet a stored block, from the top (north) down: the rows a
+    // pass over the input in bands samples (the others are 0 and stay so).
+    static std::vector<int64_t> storedRowsFromTop(const SparseLevel& level) {
+        std::vector<int64_t> rows;
+        for (const int64_t by : level.mask().rowsFromTop()) {
+            for (int64_t row = std::min(level.side(), (by + 1) * kSparseBlock) - 1; row >= by * kSparseBlock; --row) {
+                rows.push_back(row);
+            }
+        }
+        return rows;
+    }
     BlockMask reachOf(int c) const;
     void bandInto(SparseLevel& level, int c, int64_t row, int64_t x0, int64_t x1) const;
     std::vector<SparseLevel> coarseLevelsFromBands(int c, const BlockMask& reach) const;
@@ -302,6 +313,7 @@ BlockMask OrthoLevels::Impl::reachOf(int c) const {
             }
         };
         mark(mark, 0, 0, across, across);
+        stored.seal();
     }
     return stored;
 }
@@ -312,22 +324,16 @@ BlockMask OrthoLevels::Impl::reachOf(int c) const {
 void OrthoLevels::Impl::bandInto(SparseLevel& level, int c, int64_t row, int64_t x0, int64_t x1) const {
     const int k = M - c;
     const int64_t mc = margin(c);
-    const int64_t by = row / kSparseBlock;
-    int64_t bx = x0 / kSparseBlock;
-    while (bx * kSparseBlock < x1) {
-        if (!level.stored(bx, by)) {
-            ++bx;
-            continue;
-        }
-        int64_t end = bx + 1;
-        while (end * kSparseBlock < x1 && level.stored(end, by)) {
-            ++end;
-        }
-        const int64_t from = std::max(x0, bx * kSparseBlock), to = std::min(x1, end * kSparseBlock);
-        level.write(reducedFinest((from - mc) << k, (row - mc) << k, static_cast<int>((to - from) << k), 1 << k, k),
-                    from, row);
-        bx = end;
-    }
+    level.mask().forEachRun(row / kSparseBlock, x0 / kSparseBlock, (x1 + kSparseBlock - 1) / kSparseBlock,
+                            [&](int64_t first, int64_t end) {
+                                const int64_t from = std::max(x0, first * kSparseBlock);
+                                const int64_t to = std::min(x1, end * kSparseBlock);
+                                if (from < to) {
+                                    level.write(reducedFinest((from - mc) << k, (row - mc) << k,
+                                                              static_cast<int>((to - from) << k), 1 << k, k),
+                                                from, row);
+                                }
+                            });
 }
 
 // Levels 0..C, from bands of 2^(M-C) finest rows, a face's margin included; northern rows
@@ -338,7 +344,9 @@ std::vector<SparseLevel> OrthoLevels::Impl::coarseLevelsFromBands(int c, const B
     SparseLevel& levelC = levels[static_cast<size_t>(c)];
     levelC = SparseLevel(sideWithMargin(c), channels, reach);
     const int64_t sideC = levelC.side();
-    parallelFor(sideC, threads, [&](int64_t i) { bandInto(levelC, c, sideC - 1 - i, 0, sideC); });
+    const std::vector<int64_t> rows = storedRowsFromTop(levelC);
+    parallelFor(static_cast<int64_t>(rows.size()), threads,
+                [&](int64_t i) { bandInto(levelC, c, rows[static_cast<size_t>(i)], 0, sideC); });
     reduceCoarserLevels(levels);
     return levels;
 }
@@ -526,7 +534,9 @@ void OrthoLevels::Impl::marginFromBands(int c, SparseLevel& levelC) const {
     const int64_t mc = margin(c);
     const int64_t inner = levelWidth(c);
     const int64_t sideC = inner + 2 * mc;
-    parallelFor(sideC, threads, [&](int64_t row) {
+    const std::vector<int64_t> rows = storedRowsFromTop(levelC);
+    parallelFor(static_cast<int64_t>(rows.size()), threads, [&](int64_t i) {
+        const int64_t row = rows[static_cast<size_t>(i)];
         if (row < mc || row >= sideC - mc) {
             bandInto(levelC, c, row, 0, sideC);
         } else {
