@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sparse sets against the dense layout (doc/format.md 1.5, "Sparse sets"): bytes written, wall
-# time and peak RSS of preprocessSphericalDem on small, fine maps that reach a little of the
-# planet. A benchmark, run on demand (never a test). The inputs are made here with GDAL's Python
+# time and peak RSS of preprocessSphericalDem and preprocessSphericalOrtho on small, fine maps
+# that reach a little of the planet. A benchmark, run on demand (never a test). The inputs are made here with GDAL's Python
 # bindings (a benchmark's peer tools, not a dependency), deterministic, besides the real SRTM tile
 # of ../shared/fixtures (or tests/data).
 #
@@ -9,7 +9,8 @@
 #
 # Environment: BUILD (a Release build directory, configured here if missing; default
 # build-release), WORK, THREADS (default: all cores), DENSE (1: also run --layout dense, which
-# writes gigabytes for the first input; default 1).
+# writes gigabytes for the first input; default 1), DENSE_ORTHO (1: also the imagery with --layout
+# dense, which writes about 25 GB for the hillshade; default 0).
 #
 # Inputs:
 #   elev-512.tif   512 x 512 float32 heights, EPSG:3857, 9 m pixels at 47.6 N (6 m on the ground):
@@ -20,6 +21,9 @@
 #   base-and-rainier/  a 720 x 360 float32 global base (0.5 degree: level 3) and the Rainier tile, one
 #                  mosaic (the directory): level 13 over the tile, level 3 elsewhere (sparse only:
 #                  dense resamples the base at 90 m over the planet)
+#   shade-1024.tif 1024 x 1024 8-bit hillshade, EPSG:3857, 9.5 m pixels at 47.6 N: ortho level 13
+#   alpha-1223.tif 1223 x 1223 RGBA (a disc, transparent around it), EPSG:3857, 4 m pixels at
+#                  48.9 N: ortho level 14
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -33,8 +37,9 @@ source "$ROOT/bench/common.sh"
 need_bench_tools
 /usr/bin/python3 -c 'import numpy, osgeo' 2>/dev/null || { as_root apt-get install -y python3-numpy python3-gdal >/dev/null; }
 
-build_programs preprocessSphericalDem pyramid
+build_programs preprocessSphericalDem preprocessSphericalOrtho pyramid
 SDEM=$(program_path preprocessSphericalDem)
+SORTHO=$(program_path preprocessSphericalOrtho)
 PYR=$(program_path pyramid)
 
 mkdir -p "$WORK"
@@ -71,6 +76,29 @@ y, x = np.mgrid[0:360, 0:720].astype(np.float64)
 lat, lon = 90 - (y + 0.5) * 0.5, -180 + (x + 0.5) * 0.5
 base = 1500 * np.cos(np.radians(lat)) ** 2 * np.sin(np.radians(3 * lon)) + 800
 write('base-720.tif', base.astype(np.float32), (-180, 0.5, 0, 90, 0, -0.5), 4326, gdal.GDT_Float32)
+
+def write_bands(path, bands, gt, epsg):
+    h, w = bands[0].shape
+    ds = gdal.GetDriverByName('GTiff').Create(path, w, h, len(bands), gdal.GDT_Byte,
+                                              options=['COMPRESS=DEFLATE', 'TILED=YES'] + (['ALPHA=YES'] if len(bands) == 4 else []))
+    ds.SetGeoTransform(gt)
+    s = osr.SpatialReference()
+    s.ImportFromEPSG(epsg)
+    ds.SetProjection(s.ExportToWkt())
+    for i, b in enumerate(bands):
+        ds.GetRasterBand(i + 1).WriteArray(b)
+    ds = None
+
+rng = np.random.default_rng(2)
+y, x = np.mgrid[0:1024, 0:1024].astype(np.float32)
+z = 300 + 80 * np.sin(x / 37.0) * np.cos(y / 53.0) + 0.02 * (x - 512) ** 2 + rng.normal(0, 1.5, (1024, 1024))
+gy, gx = np.gradient(z)
+shade = np.clip(0.5 + 0.5 * (-gx * 0.7 + gy * 0.7) / np.sqrt(1 + gx ** 2 + gy ** 2), 0, 1) * 254 + 1
+write_bands('shade-1024.tif', [shade.astype(np.uint8)], (-13610000, 9.5, 0, 6040000, 0, -9.5), 3857)
+y, x = np.mgrid[0:1223, 0:1223]
+disc = np.where((x - 611) ** 2 + (y - 611) ** 2 < 600 ** 2, 255, 0).astype(np.uint8)
+write_bands('alpha-1223.tif', [((x * 3) % 256).astype(np.uint8), ((y * 2) % 256).astype(np.uint8),
+                               ((x + y) % 256).astype(np.uint8), disc], (261000, 4.0, 0, 6250000, 0, -4.0), 3857)
 PY
 mkdir -p base-and-rainier
 cp base-720.tif rainier.tif base-and-rainier/
@@ -87,6 +115,26 @@ for input in elev-512.tif island.tif rainier.tif base-and-rainier; do
         verdict=-
         if [ "$layout" = sparse ]; then # a dense face of millions of empty tiles takes long to verify
             verdict=$("$PYR" verify "$out" --source "$input" >/dev/null 2>&1 && echo ok || echo FAILED)
+        fi
+        printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$input" "$layout" "$bytes" "$files" "$WALL_S" "$PEAK_RSS_MB" "$verdict"
+        [ "$layout" = dense ] && rm -rf "$out"
+    done
+done
+
+# Imagery: every output (TIFF, DXT, colour residuals); verify compares the TIFF tiles and the
+# colours the colour-residual producer rebuilds with the map.
+printf '\n| imagery | layout | bytes | files | wall s | peak RSS MB | verify (sparse) |\n|---|---|---|---|---|---|---|\n'
+for input in shade-1024.tif alpha-1223.tif; do
+    for layout in sparse dense; do
+        [ "$layout" = dense ] && [ "${DENSE_ORTHO:-0}" != 1 ] && continue
+        out="out-${input%.tif}-$layout"
+        BEFORE_RUN="rm -rf $out" timed_runs 1 "$SORTHO" "$input" -o "$out" --layout "$layout" --threads "$THREADS" -q
+        bytes=$(find "$out" -name '*.dat' -printf '%s\n' | awk '{s += $1} END {print s}')
+        files=$(find "$out" -name '*.dat' | wc -l)
+        verdict=-
+        if [ "$layout" = sparse ]; then
+            verdict=$("$PYR" verify "$out" --source "$input" >/dev/null 2>&1 &&
+                "$PYR" verify "$out/residuals" --colour-residuals --source "$input" >/dev/null 2>&1 && echo ok || echo FAILED)
         fi
         printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$input" "$layout" "$bytes" "$files" "$WALL_S" "$PEAK_RSS_MB" "$verdict"
         [ "$layout" = dense ] && rm -rf "$out"
