@@ -18,6 +18,7 @@
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
 #include "libpyramid/encode/ortho/sphere_ortho_encoder.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/face_locate.hpp"
 #include "libpyramid/sphere/face_sampler.hpp"
@@ -216,16 +217,19 @@ TEST(SphericalReach, FineImageryAtItsDefaultLevel) {
     const int64_t n = int64_t{T} << M;
     const int64_t x = static_cast<int64_t>((p.u + 1.0) / 2.0 * static_cast<double>(n));
     const int64_t y = static_cast<int64_t>((p.v + 1.0) / 2.0 * static_cast<double>(n));
-    const auto reader = OrthoFileReader::open(dir.file("out") + "/RGB1.dat");
-    const std::vector<uint8_t> tile = reader->readTile(M, static_cast<int>(x / T), static_cast<int>(y / T));
+    // A sparse set (the default layout): the map's tiles, and no tile far from it.
+    const auto reader = openOrthoSet(dir.file("out") + "/RGB1.dat");
+    const std::vector<uint8_t> tile = reader->tile(M, static_cast<int>(x / T), static_cast<int>(y / T));
     ASSERT_EQ(tile.size(), static_cast<size_t>((T + 4) * (T + 4) * 3));
     int64_t coloured = 0;
     for (size_t k = 0; k < tile.size(); k += 3) {
         coloured += tile[k] == 200 && tile[k + 1] == 120 && tile[k + 2] == 40;
     }
     EXPECT_GT(coloured, T * T / 8) << "tile " << x / T << "," << y / T << " of level " << M;
-    const std::vector<uint8_t> far = reader->readTile(M, 0, 0);
-    EXPECT_TRUE(std::all_of(far.begin(), far.end(), [](uint8_t v) { return v == 0; }));
+    EXPECT_FALSE(reader->hasTile(M, 0, 0));
+    EXPECT_TRUE(reader->hasTile(0, 0, 0));
+    // The set is the map's few tiles: a main file of the top levels and a region or two.
+    EXPECT_LT(r.faces[0].ortho.bytes[0], 200000u);
 }
 
 } // namespace

@@ -3,8 +3,10 @@
 // (raster_source.hpp) that stands above them.
 #pragma once
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "libpyramid/input/georeference.hpp"
 
@@ -15,6 +17,16 @@ enum class SampleType { UInt8, Int8, UInt16, Int16, UInt32, Int32, Float16, Floa
 // "uint8", "int16", "float32", ...: for reports.
 const char* sampleTypeName(SampleType type);
 
+// A part of a raster made of parts of several resolutions (a planar mosaic of a coarse base and
+// fine insets: sphere/planar_mosaic.hpp): the box of the raster's pixels [x0, x1) x [y0, y1) its
+// samples may reach (its footprint, with the pixel its interpolation reaches beyond), and how
+// many of the raster's pixels one of its own samples spans across (1 for the finest; 30 for a
+// 30 m part on a 1 m grid).
+struct RasterPart {
+    int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    double pixelsPerSample = 1.0;
+};
+
 struct RasterInfo {
     int width = 0;
     int height = 0;
@@ -23,6 +35,9 @@ struct RasterInfo {
     std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any
     std::string formatName;       // "tiff", "png", ...
     std::optional<Georeference> georeference; // a GeoTIFF's CRS and pixel-to-CRS transform, if any
+    // Empty: one resolution wherever the raster has samples. Else its parts, the only places it
+    // may have samples (a mosaic of several resolutions).
+    std::vector<RasterPart> parts;
 };
 
 // Whether a sample, read as float32, is the declared nodata: equal to it in float32 (the value

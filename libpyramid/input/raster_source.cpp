@@ -313,6 +313,50 @@ void BytePixels::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint
     std::copy(bytes.begin(), bytes.end(), out);
 }
 
+namespace {
+
+// Samples (columns[i], rows[j]) from row windows across the columns read by `readRow(y, out)`.
+template <class ReadRow>
+void pickAt(const std::vector<int>& columns, const std::vector<int>& rows, float* out, const ReadRow& readRow) {
+    if (columns.empty() || rows.empty()) {
+        return;
+    }
+    std::vector<float> line(static_cast<size_t>(columns.back() - columns.front() + 1));
+    for (size_t j = 0; j < rows.size(); ++j) {
+        readRow(rows[j], line.data());
+        for (size_t i = 0; i < columns.size(); ++i) {
+            out[j * columns.size() + i] = line[static_cast<size_t>(columns[i] - columns.front())];
+        }
+    }
+}
+
+} // namespace
+
+void RasterPixels::readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel,
+                               float* out) const {
+    pickAt(columns, rows, out, [&](int y, float* line) {
+        readFloat(columns.front(), y, columns.back() + 1, y + 1, channel, line);
+    });
+}
+
+void RasterSource::readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel,
+                               float* out) const {
+    if (columns.empty() || rows.empty()) {
+        return;
+    }
+    checkWindow(path_, info_, columns.front(), rows.front(), columns.back() + 1, rows.back() + 1);
+    if (channel < 0 || channel >= info_.channels) {
+        fail(path_, "no channel " + std::to_string(channel));
+    }
+    if (impl_->computed) {
+        impl_->computed->readFloatAt(columns, rows, channel, out);
+        return;
+    }
+    pickAt(columns, rows, out, [&](int y, float* line) {
+        readFloat(columns.front(), y, columns.back() + 1, y + 1, channel, line);
+    });
+}
+
 void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
     checkWindow(path_, info_, x0, y0, x1, y1);
     checkChannels(path_, info_, c0, c1);

@@ -27,6 +27,9 @@ public:
     virtual ~RasterPixels() = default;
     virtual void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const = 0;
     virtual void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const = 0;
+    // RasterSource::readFloatAt: by default, each row's window across the columns, picked.
+    virtual void readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel,
+                             float* out) const;
     // For RasterSource::placeOf: the raster whose pixel (x, y) is, (x, y) turned into its own
     // coordinates; null (the default) when the pixel is computed here.
     virtual const RasterSource* placeOf(int& /*x*/, int& /*y*/) const { return nullptr; }
@@ -74,6 +77,11 @@ public:
     // row y0 first (north first). Integer samples are converted exactly (not normalised).
     // Thread-safe.
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
+    // Channel `channel` at the crossings of `columns` and `rows` (each ascending, inside the
+    // raster): out[j * columns.size() + i] is sample (columns[i], rows[j]), as readFloat gives it.
+    // A computed raster (a planar mosaic resampled onto one grid) computes only those samples, so
+    // that every 16th sample of a coarse level costs a 256th of the window. Thread-safe.
+    void readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel, float* out) const;
     // Reads channels [c0, c1) of the window as uint16 (8-bit input is widened exactly, 0..255;
     // 16-bit input is returned as is). Interleaved, north first. Thread-safe.
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;

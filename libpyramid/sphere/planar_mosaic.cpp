@@ -60,6 +60,74 @@ public:
             channel);
     }
 
+    // Only the samples asked for: each group on the grid's own where it has them, the others at
+    // those pixels' centres.
+    void readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel,
+                     float* out) const override {
+        const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
+        const size_t width = columns.size();
+        std::fill(out, out + width * rows.size(), gap);
+        std::vector<uint8_t> done(width * rows.size(), 0);
+        std::vector<float> part;
+        for (const OwnGroup& g : own_) {
+            const RasterSource& s = *g.source;
+            std::vector<int> cols, rws;
+            std::vector<size_t> ci, rj; // their places in `columns` and `rows`
+            for (size_t i = 0; i < width; ++i) {
+                const int64_t c = columns[i] - g.x;
+                if (c >= 0 && c < s.info().width) {
+                    cols.push_back(static_cast<int>(c));
+                    ci.push_back(i);
+                }
+            }
+            for (size_t j = 0; j < rows.size(); ++j) {
+                const int64_t r = rows[j] - g.y;
+                if (r >= 0 && r < s.info().height) {
+                    rws.push_back(static_cast<int>(r));
+                    rj.push_back(j);
+                }
+            }
+            if (cols.empty() || rws.empty()) {
+                continue;
+            }
+            part.resize(cols.size() * rws.size());
+            s.readFloatAt(cols, rws, channel, part.data());
+            for (size_t b = 0; b < rws.size(); ++b) {
+                for (size_t a = 0; a < cols.size(); ++a) {
+                    const size_t k = rj[b] * width + ci[a];
+                    const float v = part[b * cols.size() + a];
+                    if (!done[k] && !isNodata(v, s.info().nodata)) {
+                        out[k] = v;
+                        done[k] = 1;
+                    }
+                }
+            }
+        }
+        std::vector<size_t> left;
+        std::vector<GeodeticPoint> points;
+        for (size_t k = 0; k < done.size(); ++k) {
+            if (!done[k]) {
+                left.push_back(k);
+                const double col = static_cast<double>(columns[k % width] - x0_) + 0.5;
+                const double row = static_cast<double>(rows[k / width] - y0_) + 0.5;
+                points.push_back(grid_.geodeticOf(col, row));
+            }
+        }
+        if (left.empty()) {
+            return;
+        }
+        const MapMosaic& map = mosaic(SampleRead::Float);
+        const auto channels = static_cast<size_t>(map.channels());
+        std::vector<float> sampled(points.size() * channels);
+        std::vector<uint8_t> valid(points.size());
+        map.sample(points.data(), points.size(), sampled.data(), valid.data());
+        for (size_t i = 0; i < left.size(); ++i) {
+            if (valid[i]) {
+                out[left[i]] = sampled[i * channels + static_cast<size_t>(channel)];
+            }
+        }
+    }
+
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
         read<uint16_t>(
             x0, y0, x1, y1, c1 - c0, 0, out,
@@ -336,15 +404,15 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
         minY = std::min(minY, row);
         maxY = std::max(maxY, row);
     };
-    std::array<double, 4> inputBox{minX, minY, maxX, maxY};
-    for (size_t k = 0; k < groups.size(); ++k) {
+    // Group k's footprint on the grid, added to the box.
+    const auto addFootprint = [&](size_t k) {
         const RasterInfo& info = described[k]->info();
         const auto on = std::find_if(onTheGrid.begin(), onTheGrid.end(), [&](const auto& g) { return g.first == k; });
         if (on != onTheGrid.end()) {
             const auto [dx, dy] = on->second;
             add(static_cast<double>(dx), static_cast<double>(dy));
             add(static_cast<double>(dx + info.width), static_cast<double>(dy + info.height));
-            continue;
+            return;
         }
         constexpr int kSide = 32; // points along each edge of the group's outline
         for (int s = 0; s <= kSide; ++s) {
@@ -357,6 +425,20 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
                 }
             }
         }
+    };
+    std::array<double, 4> inputBox{minX, minY, maxX, maxY};
+    // Each group's footprint on the grid (the box of its outline's points).
+    std::vector<std::array<double, 4>> footprints;
+    for (size_t k = 0; k < groups.size(); ++k) {
+        const std::array<double, 4> before{minX, minY, maxX, maxY};
+        minX = minY = std::numeric_limits<double>::infinity();
+        maxX = maxY = -minX;
+        addFootprint(k);
+        footprints.push_back({minX, minY, maxX, maxY});
+        minX = std::min(minX, before[0]);
+        minY = std::min(minY, before[1]);
+        maxX = std::max(maxX, before[2]);
+        maxY = std::max(maxY, before[3]);
     }
     if (target.extent) {
         inputBox = {minX, minY, maxX, maxY};
@@ -390,6 +472,32 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
     t[3] += t[4] * x0 + t[5] * y0;
     if (!info.nodata && info.type != SampleType::UInt8 && info.type != SampleType::UInt16) {
         info.nodata = std::numeric_limits<double>::quiet_NaN(); // gaps are holes
+    }
+    // Groups of several resolutions: where each may have samples and how coarse it is
+    // (RasterInfo::parts), so that a pyramid goes no deeper than each where it alone is (a
+    // coarse base is not encoded at an inset's level). Each footprint widened by the pixels its
+    // interpolation reaches and a hundredth of its size (its outline is known at points).
+    const double fine = maps[finest].metresPerPixel();
+    if (std::any_of(maps.begin(), maps.end(), [&](const GeoreferencedMap& m) { return m.metresPerPixel() > fine * (1.0 + 1e-6); })) {
+        for (size_t k = 0; k < groups.size(); ++k) {
+            const std::array<double, 4>& f = footprints[k];
+            if (!(f[0] <= f[2] && f[1] <= f[3])) {
+                continue; // placed nowhere on the grid
+            }
+            const double widen = 2.0 + 0.01 * std::max(f[2] - f[0], f[3] - f[1]);
+            const auto clampTo = [](double v, int64_t hi) {
+                return static_cast<int64_t>(std::clamp(v, 0.0, static_cast<double>(hi)));
+            };
+            RasterPart part;
+            part.x0 = clampTo(std::floor(f[0] - widen) - x0, info.width);
+            part.y0 = clampTo(std::floor(f[1] - widen) - y0, info.height);
+            part.x1 = clampTo(std::ceil(f[2] + widen) - x0, info.width);
+            part.y1 = clampTo(std::ceil(f[3] + widen) - y0, info.height);
+            part.pixelsPerSample = maps[k].metresPerPixel() / fine;
+            if (part.x0 < part.x1 && part.y0 < part.y1) {
+                info.parts.push_back(part);
+            }
+        }
     }
     const std::string name = inputs.size() == 1 ? inputs[0] : inputs[0] + " and " + std::to_string(inputs.size() - 1) + " more";
     const PlanetBody body(crs.name + "'s ellipsoid", crs.semiMajorAxis, crs.flattening);

@@ -237,7 +237,7 @@ DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, c
     }
     const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
     const DemGeometry geometry = makeDemGeometry(source.info().width, source.info().height, N, options.stretch, source.path());
-    const DemSampler sampler(source, geometry, options.band, nodata);
+    const DemSampler sampler(source, geometry, options.band, nodata, h.tileSize >> h.minLevel);
     return compareLevels(file, whole, source.path(), sampler, options.threads, options.progress);
 }
 

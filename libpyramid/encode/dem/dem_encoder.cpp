@@ -179,7 +179,7 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
     report.nodata = nodata;
     const DemGeometry geometry = makeDemGeometry(source->info().width, source->info().height, N, options.stretch, input);
     report.sampling = geometry.describe();
-    const DemSampler sampler(*source, geometry, options.band, nodata);
+    const DemSampler sampler(*source, geometry, options.band, nodata, job.header.tileSize >> job.header.minLevel);
     job.heights = &sampler;
     // The sidecar appears together with the pyramid.
     if (const auto& g = source->info().georeference; g && g->problem.empty()) {

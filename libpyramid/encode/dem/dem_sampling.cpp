@@ -64,8 +64,9 @@ std::string DemGeometry::describe() const {
     return s;
 }
 
-DemSampler::DemSampler(const RasterSource& source, const DemGeometry& geometry, int band, std::optional<double> nodata)
-    : source_(source), geometry_(geometry), band_(band), nodata_(nodata) {
+DemSampler::DemSampler(const RasterSource& source, const DemGeometry& geometry, int band, std::optional<double> nodata,
+                       int64_t rootIntervals)
+    : rootIntervals_(rootIntervals), source_(source), geometry_(geometry), band_(band), nodata_(nodata) {
     if (band < 0 || band >= source.info().channels) {
         fail(source.path(), "no band " + std::to_string(band + 1) + " (the input has " +
                                 std::to_string(source.info().channels) + ")");
@@ -155,58 +156,13 @@ void sampleCleanWindow(const std::vector<AxisTap>& xs, const std::vector<AxisTap
     }
 }
 
-} // namespace
-
-void DemSampler::sample(SourceGrid& grid) const {
-    if (grid.stride > 1 && grid.ny > 1) {
-        // Sparse rows: read two input rows per grid row rather than the whole window.
-        const size_t count = static_cast<size_t>(grid.nx) * static_cast<size_t>(grid.ny);
-        std::vector<float> height(count);
-        std::vector<uint8_t> valid(count);
-        for (int64_t j = 0; j < grid.ny; ++j) {
-            SourceGrid row;
-            row.x0 = grid.x0;
-            row.y0 = grid.y0 + j * grid.stride;
-            row.stride = grid.stride;
-            row.nx = grid.nx;
-            row.ny = 1;
-            sample(row);
-            std::copy(row.height.begin(), row.height.end(), height.begin() + j * grid.nx);
-            std::copy(row.valid.begin(), row.valid.end(), valid.begin() + j * grid.nx);
-        }
-        grid.height = std::move(height);
-        grid.valid = std::move(valid);
-        return;
-    }
-    const DemGeometry& g = geometry_;
-    const std::vector<AxisTap> xs = axisTaps(grid.x0, grid.stride, grid.nx, false, g.N, g.lx, g.width);
-    const std::vector<AxisTap> ys = axisTaps(grid.y0, grid.stride, grid.ny, true, g.N, g.ly, g.height);
-    const size_t count = static_cast<size_t>(grid.nx) * static_cast<size_t>(grid.ny);
-    grid.height.assign(count, 0.0f);
-    grid.valid.assign(count, 0);
-    // The input window these taps touch.
-    int64_t cx0 = g.width, cx1 = -1, ry0 = g.height, ry1 = -1;
-    for (const AxisTap& t : xs) {
-        if (t.inside) {
-            cx0 = std::min(cx0, t.index);
-            cx1 = std::max(cx1, std::min<int64_t>(t.index + (t.frac > 0.0 ? 1 : 0), g.width - 1));
-        }
-    }
-    for (const AxisTap& t : ys) {
-        if (t.inside) {
-            ry0 = std::min(ry0, t.index);
-            ry1 = std::max(ry1, std::min<int64_t>(t.index + (t.frac > 0.0 ? 1 : 0), g.height - 1));
-        }
-    }
-    if (cx1 < cx0 || ry1 < ry0) {
-        return; // entirely outside the input: all nodata
-    }
-    const int64_t ww = cx1 - cx0 + 1;
-    const int64_t wh = ry1 - ry0 + 1;
-    std::vector<float> window(static_cast<size_t>(ww * wh));
-    source_.readFloat(static_cast<int>(cx0), static_cast<int>(ry0), static_cast<int>(cx1 + 1),
-                      static_cast<int>(ry1 + 1), band_, window.data());
-    const HeightSamples samples(nodata_);
+// The heights at taps xs, ys (their indices into `window`: ww samples a row, its sample (0, 0)
+// input sample (cx0, ry0)), into grid. `columns` and `rows`, when given, are the input's columns
+// and rows of the window's (a window of samples picked at their crossings), for messages.
+void interpolate(const std::vector<AxisTap>& xs, const std::vector<AxisTap>& ys, const std::vector<float>& window,
+                 int64_t cx0, int64_t ry0, int64_t ww, SourceGrid& grid, const std::optional<double>& nodata,
+                 const RasterSource& source, int band, const std::vector<int>* columns, const std::vector<int>* rows) {
+    const HeightSamples samples(nodata);
     // Most windows hold only heights: one scan finds out, and the interpolation below then reads
     // the input without a test per tap (the same values, the same arithmetic).
     const bool clean = std::all_of(window.begin(), window.end(), [&](float s) { return samples.isHeight(s); });
@@ -218,7 +174,9 @@ void DemSampler::sample(SourceGrid& grid) const {
     // infinity that is not nodata is an error (height_samples.hpp).
     auto at = [&](const float* line, int64_t c, int64_t r, double& v) {
         const float s = line[c - cx0];
-        if (!samples.usable(s, source_, c, r, band_)) {
+        const int64_t ic = columns ? (*columns)[static_cast<size_t>(c)] : c;
+        const int64_t ir = rows ? (*rows)[static_cast<size_t>(r)] : r;
+        if (!samples.usable(s, source, ic, ir, band)) {
             return false;
         }
         v = s;
@@ -267,6 +225,106 @@ void DemSampler::sample(SourceGrid& grid) const {
             valid[i] = 1;
         }
     }
+}
+
+
+} // namespace
+
+void DemSampler::sample(SourceGrid& grid) const {
+    const DemGeometry& g = geometry_;
+    std::vector<AxisTap> xs = axisTaps(grid.x0, grid.stride, grid.nx, false, g.N, g.lx, g.width);
+    std::vector<AxisTap> ys = axisTaps(grid.y0, grid.stride, grid.ny, true, g.N, g.ly, g.height);
+    const size_t count = static_cast<size_t>(grid.nx) * static_cast<size_t>(grid.ny);
+    grid.height.assign(count, 0.0f);
+    grid.valid.assign(count, 0);
+    if (grid.stride > 1) {
+        // Strided positions (a coarse level's): only the input samples their taps read, at the
+        // crossings of those columns and rows, rather than the whole window (a planar mosaic
+        // computes each of its samples).
+        const auto needed = [](std::vector<AxisTap>& taps, int extent) {
+            std::vector<int> at;
+            for (const AxisTap& t : taps) {
+                if (t.inside) {
+                    at.push_back(static_cast<int>(t.index));
+                    if (t.frac > 0.0 && t.index + 1 < extent) {
+                        at.push_back(static_cast<int>(t.index + 1));
+                    }
+                }
+            }
+            std::sort(at.begin(), at.end());
+            at.erase(std::unique(at.begin(), at.end()), at.end());
+            for (AxisTap& t : taps) { // indices into the picked samples: index + 1 follows index
+                if (t.inside) {
+                    t.index = std::lower_bound(at.begin(), at.end(), static_cast<int>(t.index)) - at.begin();
+                }
+            }
+            return at;
+        };
+        const std::vector<int> columns = needed(xs, g.width), rows = needed(ys, g.height);
+        if (columns.empty() || rows.empty()) {
+            return; // entirely outside the input: all nodata
+        }
+        const auto ww = static_cast<int64_t>(columns.size());
+        std::vector<float> window(columns.size() * rows.size());
+        source_.readFloatAt(columns, rows, band_, window.data());
+        interpolate(xs, ys, window, 0, 0, ww, grid, nodata_, source_, band_, &columns, &rows);
+        return;
+    }
+    // The input window these taps touch.
+    int64_t cx0 = g.width, cx1 = -1, ry0 = g.height, ry1 = -1;
+    for (const AxisTap& t : xs) {
+        if (t.inside) {
+            cx0 = std::min(cx0, t.index);
+            cx1 = std::max(cx1, std::min<int64_t>(t.index + (t.frac > 0.0 ? 1 : 0), g.width - 1));
+        }
+    }
+    for (const AxisTap& t : ys) {
+        if (t.inside) {
+            ry0 = std::min(ry0, t.index);
+            ry1 = std::max(ry1, std::min<int64_t>(t.index + (t.frac > 0.0 ? 1 : 0), g.height - 1));
+        }
+    }
+    if (cx1 < cx0 || ry1 < ry0) {
+        return; // entirely outside the input: all nodata
+    }
+    const int64_t ww = cx1 - cx0 + 1;
+    const int64_t wh = ry1 - ry0 + 1;
+    std::vector<float> window(static_cast<size_t>(ww * wh));
+    source_.readFloat(static_cast<int>(cx0), static_cast<int>(ry0), static_cast<int>(cx1 + 1),
+                      static_cast<int>(ry1 + 1), band_, window.data());
+    interpolate(xs, ys, window, cx0, ry0, ww, grid, nodata_, source_, band_, nullptr, nullptr);
+}
+
+bool DemSampler::mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    return partMeets(-1, x0, y0, x1, y1);
+}
+
+bool DemSampler::mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    return partMeets(rootIntervals_ > 0 ? level : -1, x0, y0, x1, y1);
+}
+
+bool DemSampler::partMeets(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    const std::vector<RasterPart>& parts = source_.info().parts;
+    if (parts.empty()) {
+        return true;
+    }
+    const DemGeometry& g = geometry_;
+    // The input pixels the positions' interpolation reads: X = x lx / N, Y = (N - y) ly / N,
+    // and the pixel after each.
+    const auto floorDiv = [](int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
+    const int64_t cx0 = floorDiv(x0 * g.lx, g.N), cx1 = floorDiv(x1 * g.lx, g.N) + 1;
+    const int64_t ry0 = floorDiv((g.N - y1) * g.ly, g.N), ry1 = floorDiv((g.N - y0) * g.ly, g.N) + 1;
+    // Level l has rootIntervals << l intervals across the root quad, which spans lx input pixels.
+    const double coarsest = level > 0 ? std::ldexp(static_cast<double>(rootIntervals_), level - 1) : 0.0;
+    for (const RasterPart& p : parts) {
+        if (level > 0 && !(static_cast<double>(g.lx) / p.pixelsPerSample > coarsest)) {
+            continue; // a part too coarse for this level
+        }
+        if (cx0 < p.x1 && p.x0 <= cx1 && ry0 < p.y1 && p.y0 <= ry1) {
+            return true;
+        }
+    }
+    return false;
 }
 
 } // namespace pyramid

@@ -49,14 +49,28 @@ class DemSampler final : public HeightSource {
 public:
     // `nodata`: the value that marks missing samples (NaN and infinities allowed), or none. Any
     // other NaN or infinity in the input is an error (input/height_samples.hpp).
-    DemSampler(const RasterSource& source, const DemGeometry& geometry, int band, std::optional<double> nodata);
+    // `rootIntervals`: the intervals of level 0 across the root quad (level l has rootIntervals
+    // << l), for mayHaveHeightsAt; 0 when the levels are not known (every height belongs at every
+    // level).
+    DemSampler(const RasterSource& source, const DemGeometry& geometry, int band, std::optional<double> nodata,
+               int64_t rootIntervals = 0);
 
     const DemGeometry& geometry() const { return geometry_; }
     // Fills grid.height and grid.valid for the positions grid describes (allocates them).
     // Reads only the input window those positions need. Thread-safe.
     void sample(SourceGrid& grid) const override;
+    // A raster of parts (RasterInfo::parts: a planar mosaic of several resolutions) has heights
+    // only where a part is; a part of S samples across the root quad (the input's spanned
+    // intervals over its pixels per sample) has heights of level l when l = 0 or S > rootIntervals
+    // << (l - 1): its own resolution is finer than level l - 1's, the rule of the default
+    // maxLevel. Without parts every position may have heights of every level.
+    bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
+    bool mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
 
 private:
+    // Whether a part of level `level` or deeper (-1: any) meets finest positions [x0, x1] x [y0, y1].
+    bool partMeets(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const;
+    int64_t rootIntervals_ = 0;
     const RasterSource& source_;
     DemGeometry geometry_;
     int band_;
