@@ -67,6 +67,9 @@ public:
     // equator fine (MapPlacement::columnsAround): a map of one resolution is one member, and
     // every level of a pyramid made from it is its level or coarser (the default: mayCover). A
     // mosaic of several resolutions (map_mosaic.hpp) answers for its finer members alone.
+    // Whether the map's parts have several resolutions (mayCoverFinerThan may then answer false
+    // where mayCover does not). False by default.
+    virtual bool severalResolutions() const { return false; }
     virtual bool mayCoverFinerThan(double columnsAround, double south, double north, double west, double east,
                                    bool allLongitudes) const {
         (void)columnsAround;

@@ -45,6 +45,7 @@ public:
     // The same for the map's members more than `columnsAround` pixels around the equator fine
     // (GeodeticMap::mayCoverFinerThan): 0 asks for every member.
     bool mayHaveValuesFinerThan(double columnsAround, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const;
+    bool severalResolutions() const { return map_.severalResolutions(); } // GeodeticMap::severalResolutions
 
 private:
     const GeodeticMap& map_;

@@ -118,6 +118,13 @@ bool MapMosaic::mayCover(double south, double north, double west, double east, b
     return !membersIn(south, north, west, east, allLongitudes).empty();
 }
 
+bool MapMosaic::severalResolutions() const {
+    return std::any_of(members_.begin(), members_.end(), [&](const Member& m) {
+        return std::fabs(m.placement.columnsAround - members_.front().placement.columnsAround) >
+               1e-9 * members_.front().placement.columnsAround;
+    });
+}
+
 bool MapMosaic::mayCoverFinerThan(double columnsAround, double south, double north, double west, double east,
                                   bool allLongitudes) const {
     for (const size_t k : membersIn(south, north, west, east, allLongitudes)) {

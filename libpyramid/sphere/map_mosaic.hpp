@@ -52,6 +52,7 @@ public:
     bool mayCover(double south, double north, double west, double east, bool allLongitudes) const override;
     bool mayCoverFinerThan(double columnsAround, double south, double north, double west, double east,
                            bool allLongitudes) const override;
+    bool severalResolutions() const override;
     void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const override;
 
     // Members in priority order (finest first, then list order).

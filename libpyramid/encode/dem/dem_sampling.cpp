@@ -303,6 +303,13 @@ bool DemSampler::mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1,
     return partMeets(rootIntervals_ > 0 ? level : -1, x0, y0, x1, y1);
 }
 
+bool DemSampler::severalLevels() const {
+    const std::vector<RasterPart>& parts = source_.info().parts;
+    return rootIntervals_ > 0 && std::any_of(parts.begin(), parts.end(), [&](const RasterPart& p) {
+               return std::fabs(p.pixelsPerSample - parts.front().pixelsPerSample) > 1e-9 * parts.front().pixelsPerSample;
+           });
+}
+
 bool DemSampler::partMeets(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
     const std::vector<RasterPart>& parts = source_.info().parts;
     if (parts.empty()) {

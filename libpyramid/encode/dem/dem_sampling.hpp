@@ -66,6 +66,7 @@ public:
     // maxLevel. Without parts every position may have heights of every level.
     bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
     bool mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
+    bool severalLevels() const override;
 
 private:
     // Whether a part of level `level` or deeper (-1: any) meets finest positions [x0, x1] x [y0, y1].

@@ -37,6 +37,7 @@ public:
     void sample(SourceGrid& grid) const override;
     bool mayHaveHeights(int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
     bool mayHaveHeightsAt(int level, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
+    bool severalLevels() const override { return rootIntervals_ > 0 && sampler_.severalResolutions(); }
 
 private:
     const FaceSampler& sampler_;

@@ -51,6 +51,10 @@ public:
         (void)level;
         return mayHaveHeights(x0, y0, x1, y1);
     }
+    // Whether mayHaveHeightsAt may answer false where mayHaveHeights does not (inputs of several
+    // resolutions): the encoder then samples its in-memory grid of levels 0..C only as densely as
+    // the levels encoded there need (residual_reach.hpp, blockLevels). False by default.
+    virtual bool severalLevels() const { return false; }
 };
 
 } // namespace pyramid

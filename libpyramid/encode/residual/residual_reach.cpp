@@ -75,15 +75,95 @@ std::vector<uint8_t> reachableBlocks(const SourceGrid& grid, const HeightSource&
     return reachable;
 }
 
+std::vector<uint8_t> blockLevels(const ResidualPlan& plan, const SourceGrid& grid, const HeightSource& heights,
+                                 bool everywhere, int threads) {
+    const int top = plan.C, floor = std::min(plan.C, std::max(0, plan.minLevel - 1));
+    if (everywhere || !heights.severalLevels()) {
+        std::vector<uint8_t> levels = reachableBlocks(grid, heights, everywhere, threads);
+        for (uint8_t& l : levels) {
+            l = l ? static_cast<uint8_t>(1 + top) : 0;
+        }
+        return levels;
+    }
+    const int64_t across = (grid.nx + kReachBlock - 1) / kReachBlock;
+    const int64_t down = (grid.ny + kReachBlock - 1) / kReachBlock;
+    std::vector<uint8_t> levels(static_cast<size_t>(across * down), 0);
+    // The samples of blocks [bx0, bx1) x [by0, by1), widened by `reach` within the grid.
+    const auto box = [&](int64_t bx0, int64_t by0, int64_t bx1, int64_t by1, int64_t reach) {
+        const int64_t first = grid.x0, last = grid.x0 + (grid.nx - 1) * grid.stride; // the grid is square
+        return SampleBox{std::max(first, grid.x0 + bx0 * kReachBlock * grid.stride - reach),
+                         std::max(first, grid.y0 + by0 * kReachBlock * grid.stride - reach),
+                         std::min(last, grid.x0 + std::min(grid.nx - 1, bx1 * kReachBlock - 1) * grid.stride + reach),
+                         std::min(last, grid.y0 + std::min(grid.ny - 1, by1 * kReachBlock - 1) * grid.stride + reach)};
+    };
+    // Whether the blocks' samples are read by level l: a tile of level l >= minLevel whose
+    // footprint meets them is reached (their samples widened by a tile and its borders); the
+    // root's levels (below minLevel) read every sample where heights may be.
+    const auto readAt = [&](int l, int64_t bx0, int64_t by0, int64_t bx1, int64_t by1) {
+        if (l < plan.minLevel) {
+            const SampleBox b = box(bx0, by0, bx1, by1, 0);
+            return heights.mayHaveHeights(b.x0, b.y0, b.x1, b.y1);
+        }
+        const SampleBox b = box(bx0, by0, bx1, by1, (static_cast<int64_t>(plan.T) + 4) << (plan.M - l));
+        return heights.mayHaveHeightsAt(l, b.x0, b.y0, b.x1, b.y1);
+    };
+    const auto fill = [&](int64_t bx0, int64_t by0, int64_t bx1, int64_t by1, int l) {
+        for (int64_t by = by0; by < by1; ++by) {
+            std::fill_n(levels.begin() + static_cast<std::ptrdiff_t>(by * across + bx0), bx1 - bx0,
+                        static_cast<uint8_t>(l < floor ? 0 : 1 + l));
+        }
+    };
+    // A box takes the deepest level that reads it, never less than any of its blocks needs.
+    // Boxes of levels within 2 of C (a block at least 1/16 as dense as C) are halved down to
+    // their blocks; boxes of coarser levels take that level whole (more samples than their
+    // blocks may need, far fewer questions). Below the floor, no level reads it: not sampled.
+    const int halvedFrom = std::max(floor, top - 2);
+    const std::function<void(int64_t, int64_t, int64_t, int64_t, int)> assign = [&](int64_t bx0, int64_t by0,
+                                                                                  int64_t bx1, int64_t by1, int hi) {
+        while (hi >= floor && !readAt(hi, bx0, by0, bx1, by1)) {
+            --hi;
+        }
+        if (hi < halvedFrom || (bx1 - bx0 == 1 && by1 - by0 == 1)) {
+            fill(bx0, by0, bx1, by1, hi);
+            return;
+        }
+        const int64_t mx = bx1 - bx0 > 1 ? (bx0 + bx1) / 2 : bx1, my = by1 - by0 > 1 ? (by0 + by1) / 2 : by1;
+        assign(bx0, by0, mx, my, hi);
+        if (mx < bx1) {
+            assign(mx, by0, bx1, my, hi);
+        }
+        if (my < by1) {
+            assign(bx0, my, mx, by1, hi);
+            if (mx < bx1) {
+                assign(mx, my, bx1, by1, hi);
+            }
+        }
+    };
+    constexpr int64_t kBox = 8;
+    const int64_t boxesAcross = (across + kBox - 1) / kBox, boxesDown = (down + kBox - 1) / kBox;
+    parallelFor(boxesAcross * boxesDown, threads, [&](int64_t b) {
+        const int64_t bx = (b % boxesAcross) * kBox, by = (b / boxesAcross) * kBox;
+        assign(bx, by, std::min(across, bx + kBox), std::min(down, by + kBox), top);
+    });
+    return levels;
+}
+
 void allocateReachableRows(SourceGrid& grid, const std::vector<uint8_t>& reachable, int64_t keep) {
     const int64_t across = (grid.nx + kReachBlock - 1) / kReachBlock;
+    std::vector<uint8_t> sampled(static_cast<size_t>(grid.ny), 0);
+    for (int64_t row = 0; row < grid.ny; ++row) {
+        const uint8_t* blocks = reachable.data() + (row / kReachBlock) * across;
+        sampled[static_cast<size_t>(row)] = std::find(blocks, blocks + across, uint8_t{1}) != blocks + across;
+    }
+    allocateRows(grid, sampled, keep);
+}
+
+void allocateRows(SourceGrid& grid, const std::vector<uint8_t>& sampled, int64_t keep) {
     std::vector<size_t> rows(static_cast<size_t>(grid.ny));
     const auto width = static_cast<size_t>(grid.nx);
     size_t stored = 0;
     for (int64_t row = 0; row < grid.ny; ++row) {
-        const uint8_t* blocks = reachable.data() + (row / kReachBlock) * across;
-        const bool kept =
-            (keep > 0 && row % keep == 0) || std::find(blocks, blocks + across, uint8_t{1}) != blocks + across;
+        const bool kept = (keep > 0 && row % keep == 0) || sampled[static_cast<size_t>(row)] != 0;
         rows[static_cast<size_t>(row)] = kept ? stored++ * width : SIZE_MAX;
     }
     grid.rows.clear();
@@ -113,29 +193,44 @@ SourceGrid sampleLevelGrid(const ResidualPlan& plan, const ResidualPyramidJob& j
     // With the reconstruction hook every block is sampled and every row stored: the encoding
     // without any skip, which the skips must give byte for byte.
     const int64_t blocksAcross = (grid.nx + kReachBlock - 1) / kReachBlock;
-    const std::vector<uint8_t> reachable =
-        reachableBlocks(grid, *job.heights, static_cast<bool>(options.reconstruction), threads);
-    // The root's rows (every 2^C-th) are stored whatever they reach: their nodata is filled.
-    allocateReachableRows(grid, reachable, int64_t{1} << plan.C);
+    // Each block sampled on the vertices of the deepest level whose tiles read it (a coarse base
+    // beside a fine inset: its own level's, every 2^(C - l)-th sample), the others left nodata.
+    const std::vector<uint8_t> levels =
+        blockLevels(plan, grid, *job.heights, static_cast<bool>(options.reconstruction), threads);
+    const auto step = [&](uint8_t level) { return int64_t{1} << (plan.C - (level - 1)); };
+    // The rows a block samples, and the root's (every 2^C-th: their nodata is filled), are stored.
+    std::vector<uint8_t> rowSampled(static_cast<size_t>(grid.ny), 0);
+    for (int64_t row = 0; row < grid.ny; ++row) {
+        const uint8_t* blocks = levels.data() + (row / kReachBlock) * blocksAcross;
+        for (int64_t b = 0; b < blocksAcross && !rowSampled[static_cast<size_t>(row)]; ++b) {
+            rowSampled[static_cast<size_t>(row)] = blocks[b] != 0 && row % step(blocks[b]) == 0;
+        }
+    }
+    allocateRows(grid, rowSampled, int64_t{1} << plan.C);
     parallelFor(grid.ny, threads, [&](int64_t row) {
-        const uint8_t* blocks = reachable.data() + (row / kReachBlock) * blocksAcross;
+        const uint8_t* blocks = levels.data() + (row / kReachBlock) * blocksAcross;
         for (int64_t b0 = 0; b0 < blocksAcross;) {
             int64_t b1 = b0;
             while (b1 < blocksAcross && blocks[b1] == blocks[b0]) {
                 ++b1;
             }
-            const int64_t c0 = b0 * kReachBlock, c1 = std::min(grid.nx, b1 * kReachBlock);
-            if (blocks[b0]) {
+            const int64_t every = blocks[b0] ? step(blocks[b0]) : 0;
+            // Columns that are multiples of `every` in [c0, c1).
+            const int64_t c0 = every > 0 ? (b0 * kReachBlock + every - 1) / every * every : 0;
+            const int64_t c1 = std::min(grid.nx, b1 * kReachBlock);
+            if (every > 0 && row % every == 0 && c0 < c1) {
                 SourceGrid line;
-                line.stride = grid.stride;
+                line.stride = grid.stride * every;
                 line.x0 = grid.x0 + c0 * grid.stride;
                 line.y0 = grid.y0 + row * grid.stride;
-                line.nx = c1 - c0;
+                line.nx = (c1 - 1 - c0) / every + 1;
                 line.ny = 1;
                 job.heights->sample(line);
-                const auto at = static_cast<std::ptrdiff_t>(grid.rowStart(line.y0) + static_cast<size_t>(c0));
-                std::copy(line.height.begin(), line.height.end(), grid.height.begin() + at);
-                std::copy(line.valid.begin(), line.valid.end(), grid.valid.begin() + at);
+                const size_t at = grid.rowStart(line.y0) + static_cast<size_t>(c0);
+                for (int64_t k = 0; k < line.nx; ++k) {
+                    grid.height[at + static_cast<size_t>(k * every)] = line.height[static_cast<size_t>(k)];
+                    grid.valid[at + static_cast<size_t>(k * every)] = line.valid[static_cast<size_t>(k)];
+                }
             }
             b0 = b1;
         }

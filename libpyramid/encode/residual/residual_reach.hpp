@@ -36,11 +36,25 @@ inline constexpr int64_t kReachBlock = 64;
 // `heights` may have a valid height, 0 where it has none; 1 everywhere with `everywhere`.
 std::vector<uint8_t> reachableBlocks(const SourceGrid& grid, const HeightSource& heights, bool everywhere, int threads);
 
+// For the in-memory grid of levels 0..C (sampleLevelGrid), each block's density: 0 where no
+// level reads it (no valid height can reach it), else 1 + the deepest level l (at least
+// max(0, minLevel - 1), at most C) whose encoded tiles may read its samples: those of level l >=
+// minLevel whose footprint meets the block and which heights of level l may reach (tileReached),
+// or the root's. The block's samples on level l's vertices (every 2^(C - l)-th grid sample across
+// and down) are all that those tiles read. A source of one resolution (HeightSource::severalLevels
+// false), and `everywhere`, give reachableBlocks at C. Found by halving boxes of blocks, a box
+// given the deepest level that may read it (never less than any of its blocks needs); only boxes
+// of the densest levels are halved down to single blocks.
+std::vector<uint8_t> blockLevels(const ResidualPlan& plan, const SourceGrid& grid, const HeightSource& heights,
+                                 bool everywhere, int threads);
+
 // Allocates grid's samples, nodata, for the rows that cross a block marked in `reachable`
 // (reachableBlocks) and for every `keep`-th row (0: none); the other rows share one row of
 // nodata (SourceGrid::rows). When every row is stored they lie one after another, without a
 // table.
 void allocateReachableRows(SourceGrid& grid, const std::vector<uint8_t>& reachable, int64_t keep);
+// The same for the rows marked in `sampled` (one byte a row) and every `keep`-th.
+void allocateRows(SourceGrid& grid, const std::vector<uint8_t>& sampled, int64_t keep);
 
 // Pass 1: the in-memory grid of levels 0..C (every 2^(M-C)-th finest sample), its root's nodata
 // filled.
