@@ -21,6 +21,9 @@
 #   base-and-rainier/  a 720 x 360 float32 global base (0.5 degree: level 3) and the Rainier tile, one
 #                  mosaic (the directory): level 13 over the tile, level 3 elsewhere (sparse only:
 #                  dense resamples the base at 90 m over the planet)
+#   planar/       a 1000 x 1000 float32 base of 30 m and a 2000 x 2000 inset of 1 m in it, UTM 10N:
+#                  preprocessDem of the mosaic (levels of the base's 30 m where it alone is, the
+#                  inset's 1 m over the inset; before, the base was resampled at 1 m: 30000^2 samples)
 #   shade-1024.tif 1024 x 1024 8-bit hillshade, EPSG:3857, 9.5 m pixels at 47.6 N: ortho level 13
 #   alpha-1223.tif 1223 x 1223 RGBA (a disc, transparent around it), EPSG:3857, 4 m pixels at
 #                  48.9 N: ortho level 14
@@ -37,7 +40,8 @@ source "$ROOT/bench/common.sh"
 need_bench_tools
 /usr/bin/python3 -c 'import numpy, osgeo' 2>/dev/null || { as_root apt-get install -y python3-numpy python3-gdal >/dev/null; }
 
-build_programs preprocessSphericalDem preprocessSphericalOrtho pyramid
+build_programs preprocessSphericalDem preprocessSphericalOrtho preprocessDem pyramid
+PDEM=$(program_path preprocessDem)
 SDEM=$(program_path preprocessSphericalDem)
 SORTHO=$(program_path preprocessSphericalOrtho)
 PYR=$(program_path pyramid)
@@ -89,6 +93,15 @@ def write_bands(path, bands, gt, epsg):
         ds.GetRasterBand(i + 1).WriteArray(b)
     ds = None
 
+import os
+os.makedirs('planar', exist_ok=True)
+y, x = np.mgrid[0:1000, 0:1000].astype(np.float64)
+base = 600 + 300 * np.sin(x / 70.0) * np.cos(y / 90.0) + rng.normal(0, 3, (1000, 1000))
+write('planar/base-30m.tif', base.astype(np.float32), (500000, 30, 0, 5230000, 0, -30), 32610, gdal.GDT_Float32)
+y, x = np.mgrid[0:2000, 0:2000].astype(np.float64)
+inset = 900 + 40 * np.sin(x / 37.0) * np.cos(y / 53.0) + rng.normal(0, 0.3, (2000, 2000))
+write('planar/inset-1m.tif', inset.astype(np.float32), (514000, 1, 0, 5216000, 0, -1), 32610, gdal.GDT_Float32)
+
 rng = np.random.default_rng(2)
 y, x = np.mgrid[0:1024, 0:1024].astype(np.float32)
 z = 300 + 80 * np.sin(x / 37.0) * np.cos(y / 53.0) + 0.02 * (x - 512) ** 2 + rng.normal(0, 1.5, (1024, 1024))
@@ -120,6 +133,16 @@ for input in elev-512.tif island.tif rainier.tif base-and-rainier; do
         [ "$layout" = dense ] && rm -rf "$out"
     done
 done
+
+# A planar mosaic of two resolutions: the sparse default only (one resolution, the base at the
+# inset's 1 m, would be 30000 x 30000 finest samples).
+printf '\n| planar mosaic | layout | bytes | files | wall s | peak RSS MB | verify |\n|---|---|---|---|---|---|---|\n'
+out=out-planar
+BEFORE_RUN="rm -rf $out" timed_runs 1 "$PDEM" planar/base-30m.tif planar/inset-1m.tif -o "$out/DEM.dat" --threads "$THREADS" -q
+bytes=$(find "$out" -name '*.dat' -printf '%s\n' | awk '{s += $1} END {print s}')
+files=$(find "$out" -name '*.dat' | wc -l)
+verdict=$("$PYR" verify "$out/DEM.dat" --source planar >/dev/null 2>&1 && echo ok || echo FAILED)
+printf '| base 30 m + inset 1 m | sparse | %s | %s | %s | %s | %s |\n' "$bytes" "$files" "$WALL_S" "$PEAK_RSS_MB" "$verdict"
 
 # Imagery: every output (TIFF, DXT, colour residuals); verify compares the TIFF tiles and the
 # colours the colour-residual producer rebuilds with the map.

@@ -177,6 +177,9 @@ PartFileReader::Cursor::Cursor(const PartFileReader& reader, uint64_t begin, uin
     : reader_(reader), at_(begin), end_(end), bufferAt_(begin) {}
 
 void PartFileReader::Cursor::read(uint64_t at, void* out, size_t size) {
+    if (size == 0) {
+        return; // an empty blob (a sparse build's empty subtree): nothing to read, maybe nowhere to put it
+    }
     if (at < bufferAt_ || at + size > bufferAt_ + buffer_.size()) {
         if (size > kBufferBytes) {
             reader_.source_->readAt(at, out, size);

@@ -103,29 +103,13 @@ public:
                 }
             }
         }
-        std::vector<size_t> left;
-        std::vector<GeodeticPoint> points;
-        for (size_t k = 0; k < done.size(); ++k) {
-            if (!done[k]) {
-                left.push_back(k);
-                const double col = static_cast<double>(columns[k % width] - x0_) + 0.5;
-                const double row = static_cast<double>(rows[k / width] - y0_) + 0.5;
-                points.push_back(grid_.geodeticOf(col, row));
-            }
-        }
-        if (left.empty()) {
-            return;
-        }
-        const MapMosaic& map = mosaic(SampleRead::Float);
-        const auto channels = static_cast<size_t>(map.channels());
-        std::vector<float> sampled(points.size() * channels);
-        std::vector<uint8_t> valid(points.size());
-        map.sample(points.data(), points.size(), sampled.data(), valid.data());
-        for (size_t i = 0; i < left.size(); ++i) {
-            if (valid[i]) {
-                out[left[i]] = sampled[i * channels + static_cast<size_t>(channel)];
-            }
-        }
+        sampleLeft(
+            done,
+            [&](size_t k) {
+                return std::pair{static_cast<double>(columns[k % width] - x0_) + 0.5,
+                                 static_cast<double>(rows[k / width] - y0_) + 0.5};
+            },
+            mosaic(SampleRead::Float), channel, 1, out);
     }
 
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
@@ -186,13 +170,27 @@ private:
             }
         }
         // The others at the centres of the pixels left.
+        sampleLeft(
+            done,
+            [&](size_t k) {
+                return std::pair{static_cast<double>(x0 - x0_) + static_cast<double>(k % width) + 0.5,
+                                 static_cast<double>(y0 - y0_) + static_cast<double>(k / width) + 0.5};
+            },
+            map, firstChannel, n, out);
+    }
+
+    // The values of `map` at the centres of the pixels not `done` (pixel k's centre at
+    // centre(k) in the grid's pixel coordinates): `values` channels from `firstChannel` into
+    // out[k * values ...], where the map has a value.
+    template <typename T, typename Centre>
+    void sampleLeft(const std::vector<uint8_t>& done, const Centre& centre, const MapMosaic& map, int firstChannel,
+                    size_t values, T* out) const {
         std::vector<size_t> left;
         std::vector<GeodeticPoint> points;
         for (size_t k = 0; k < done.size(); ++k) {
             if (!done[k]) {
                 left.push_back(k);
-                const double col = static_cast<double>(x0 - x0_) + static_cast<double>(k % width) + 0.5;
-                const double row = static_cast<double>(y0 - y0_) + static_cast<double>(k / width) + 0.5;
+                const auto [col, row] = centre(k);
                 points.push_back(grid_.geodeticOf(col, row));
             }
         }
@@ -207,9 +205,9 @@ private:
             if (!valid[i]) {
                 continue;
             }
-            for (size_t c = 0; c < n; ++c) {
+            for (size_t c = 0; c < values; ++c) {
                 const float v = sampled[i * channels + static_cast<size_t>(firstChannel) + c];
-                out[left[i] * n + c] = static_cast<T>(std::is_integral_v<T> ? std::lround(v) : v);
+                out[left[i] * values + c] = static_cast<T>(std::is_integral_v<T> ? std::lround(v) : v);
             }
         }
     }

@@ -118,13 +118,7 @@ void OrthoItemEncoder::encodeInto(const OrthoTileEncoder& encoder, bool residual
 
 void OrthoItemEncoder::blankResiduals(int level, int tx, int ty, const std::vector<uint8_t>* parent,
                                       const Image8* zero, EncodedItem& out) const {
-    TrueTile b;
-    b.level = level;
-    b.tx = tx;
-    b.ty = ty;
-    b.blank = true;
-    b.zero = zero;
-    EncodedOrthoTile e = residualOnly_.encode(b, parent);
+    EncodedOrthoTile e = residualOnly_.encode(TrueTile::blankAt(level, tx, ty, zero), parent);
     e.covers = 0;
     const SharedBytes recon = e.recon;
     const bool quiet = std::all_of(recon->begin(), recon->end(), [](uint8_t v) { return v <= 1; });

@@ -13,6 +13,7 @@
 #include "libpyramid/encode/ortho/sparse_level.hpp"
 #include "libpyramid/encode/tile_size_rule.hpp"
 #include "libpyramid/sphere/planar_mosaic.hpp"
+#include "libpyramid/support/box_quarters.hpp"
 #include "libpyramid/support/morton.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -78,13 +79,8 @@ struct OrthoLevels::Impl {
         return cut(l, tx, ty, o, o, [&](int64_t x, int64_t y, int n, uint8_t* out) { level.read(x, y, n, out); });
     }
     TrueTile blankTile(int l, int tx, int ty) const {
-        TrueTile t;
-        t.level = l;
-        t.tx = tx;
-        t.ty = ty;
-        t.blank = true;
-        t.zero = &zeroTile; // not a tile of 0s each: a face a small map barely touches has hundreds of thousands
-        return t;
+        // Not a tile of 0s each: a face a small map barely touches has hundreds of thousands.
+        return TrueTile::blankAt(l, tx, ty, &zeroTile);
     }
     // Tile (l, tx, ty) with its border, from `read(x, y, n, out)`, which gives n pixels from
     // (x, y) of an image whose pixel (0, 0) is level-l pixel (ox, oy).
@@ -300,17 +296,8 @@ BlockMask OrthoLevels::Impl::reachOf(int c) const {
                 stored.store(bx0, by0);
                 return;
             }
-            const int64_t bxm = bx1 - bx0 > 1 ? (bx0 + bx1) / 2 : bx1, bym = by1 - by0 > 1 ? (by0 + by1) / 2 : by1;
-            self(self, bx0, by0, bxm, bym);
-            if (bxm < bx1) {
-                self(self, bxm, by0, bx1, bym);
-            }
-            if (bym < by1) {
-                self(self, bx0, bym, bxm, by1);
-                if (bxm < bx1) {
-                    self(self, bxm, bym, bx1, by1);
-                }
-            }
+            forEachQuarter(bx0, by0, bx1, by1,
+                           [&](int64_t a0, int64_t b0, int64_t a1, int64_t b1) { self(self, a0, b0, a1, b1); });
         };
         mark(mark, 0, 0, across, across);
         stored.seal();

@@ -84,6 +84,16 @@ struct TrueTile {
     bool blankBelow = false;
 
     const Image8& image() const { return blank ? *zero : pixels; }
+    // A blank tile (level, tx, ty) whose pixels are `zero`, a tile of 0s that outlives it.
+    static TrueTile blankAt(int level, int tx, int ty, const Image8* zero) {
+        TrueTile t;
+        t.level = level;
+        t.tx = tx;
+        t.ty = ty;
+        t.blank = true;
+        t.zero = zero;
+        return t;
+    }
 };
 
 // A unit of work handed to the consumer: tiles in pyramid order, each tile after its parent

@@ -13,13 +13,8 @@ namespace pyramid {
 EncodedOrthoTile blankTileBytes(const OrthoLevels& levels, const OrthoEncodeOptions& o) {
     const int side = levels.tileSize() + 2 * kTileBorder;
     const Image8 zero(side, side, levels.channels());
-    TrueTile t;
-    t.level = 2;
-    t.tx = t.ty = 1;
-    t.blank = true;
-    t.zero = &zero;
     const std::vector<uint8_t> parent(zero.pixels.size(), 0);
-    return OrthoTileEncoder(levels, o).encode(t, o.writeResiduals ? &parent : nullptr);
+    return OrthoTileEncoder(levels, o).encode(TrueTile::blankAt(2, 1, 1, &zero), o.writeResiduals ? &parent : nullptr);
 }
 
 OrthoOutputs::OrthoOutputs(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,

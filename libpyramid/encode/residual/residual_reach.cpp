@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "libpyramid/encode/residual/root_fill.hpp"
+#include "libpyramid/support/box_quarters.hpp"
 #include "libpyramid/support/morton.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -54,17 +55,7 @@ std::vector<uint8_t> reachableBlocks(const SourceGrid& grid, const HeightSource&
             }
             return;
         }
-        const int64_t mx = bx1 - bx0 > 1 ? (bx0 + bx1) / 2 : bx1, my = by1 - by0 > 1 ? (by0 + by1) / 2 : by1;
-        mark(bx0, by0, mx, my);
-        if (mx < bx1) {
-            mark(mx, by0, bx1, my);
-        }
-        if (my < by1) {
-            mark(bx0, my, mx, by1);
-            if (mx < bx1) {
-                mark(mx, my, bx1, by1);
-            }
-        }
+        forEachQuarter(bx0, by0, bx1, by1, mark);
     };
     constexpr int64_t kBox = 8;
     const int64_t boxesAcross = (across + kBox - 1) / kBox, boxesDown = (down + kBox - 1) / kBox;
@@ -127,17 +118,8 @@ std::vector<uint8_t> blockLevels(const ResidualPlan& plan, const SourceGrid& gri
             fill(bx0, by0, bx1, by1, hi);
             return;
         }
-        const int64_t mx = bx1 - bx0 > 1 ? (bx0 + bx1) / 2 : bx1, my = by1 - by0 > 1 ? (by0 + by1) / 2 : by1;
-        assign(bx0, by0, mx, my, hi);
-        if (mx < bx1) {
-            assign(mx, by0, bx1, my, hi);
-        }
-        if (my < by1) {
-            assign(bx0, my, mx, by1, hi);
-            if (mx < bx1) {
-                assign(mx, my, bx1, by1, hi);
-            }
-        }
+        forEachQuarter(bx0, by0, bx1, by1,
+                       [&](int64_t x0, int64_t y0, int64_t x1, int64_t y1) { assign(x0, y0, x1, y1, hi); });
     };
     constexpr int64_t kBox = 8;
     const int64_t boxesAcross = (across + kBox - 1) / kBox, boxesDown = (down + kBox - 1) / kBox;
