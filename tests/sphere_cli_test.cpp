@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/ortho_file.hpp"
 #include "formats/residual_file.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
@@ -269,6 +270,35 @@ TEST(SphereDemCli, LayoutSparseWritesWhereTheMapIsAndDenseEveryTile) {
         }
     }
     expectBadInputWritesNothing("preprocessSphericalDem",
+                                {{map + " -o " + dir.file("bad") + " --layout thin", 2, "--layout"}}, dir.file("bad"));
+}
+
+// preprocessSphericalOrtho --layout: sparse (the default) writes each output of a face the map
+// does not fill as a set of the files that hold the map; dense, every tile in one file.
+TEST(SphereOrthoCli, LayoutSparseWritesWhereTheMapIsAndDenseEveryTile) {
+    test::TempDir dir;
+    std::vector<uint8_t> rgb(48 * 48 * 3);
+    for (size_t k = 0; k < rgb.size(); ++k) {
+        rgb[k] = static_cast<uint8_t>(30 + (k * 7) % 200);
+    }
+    const std::string map = dir.file("map.tif");
+    test::writeGeoTiffRgb(map, 48, 48, rgb, test::geographicTags(4326, -122.5, 47.5, 1.0 / 48));
+    const std::string cmd = programPath("preprocessSphericalOrtho") + " " + map +
+                            " --tile-size 32 --max-level 8 --faces 1,2 -q -o ";
+    ASSERT_EQ(run(cmd + dir.file("sparse")).exitCode, 0);
+    ASSERT_EQ(run(cmd + dir.file("dense") + " --layout dense").exitCode, 0);
+    for (const std::string sub : {"", "dxt/", "residuals/"}) {
+        for (const int face : {1, 2}) {
+            const std::string name = sub + "RGB" + std::to_string(face) + ".dat";
+            EXPECT_TRUE(std::filesystem::exists(dir.file("sparse/" + name + ".regions.json"))) << name;
+            EXPECT_FALSE(std::filesystem::exists(dir.file("dense/" + name + ".regions.json"))) << name;
+            EXPECT_EQ(OrthoFileReader::open(dir.file("dense/" + name))->header().maxLevel, 8) << name;
+            EXPECT_LT(std::filesystem::file_size(dir.file("sparse/" + name)) * 4,
+                      std::filesystem::file_size(dir.file("dense/" + name)))
+                << name;
+        }
+    }
+    expectBadInputWritesNothing("preprocessSphericalOrtho",
                                 {{map + " -o " + dir.file("bad") + " --layout thin", 2, "--layout"}}, dir.file("bad"));
 }
 
