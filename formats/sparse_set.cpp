@@ -83,6 +83,11 @@ void SparseTileLog::addEmptySubtree(int level, int tx, int ty) {
     items_.push_back(item);
 }
 
+void SparseTileLog::addLeftOutSubtree(int level, int tx, int ty) {
+    addEmptySubtree(level, tx, ty);
+    items_.back().leftOut = true;
+}
+
 std::vector<uint8_t> SparseTileLog::read(const Item& item) const {
     return item.size == 0 ? emptyBlob_ : spool_->read(item.offset, item.size);
 }
@@ -344,16 +349,19 @@ std::vector<SplitFile> writeSparseSet(const SparseTileLog& log, const SparseShap
             const std::string path = place(f.name);
             out[k - first] = std::make_unique<TileTableWriter>(path, header(path, f), tiles, shape.offsetBytes, shape.maxOffset);
         }
-        const auto write = [&](size_t k, int level, int tx, int ty, std::span<const uint8_t> blob) {
+        const auto indexIn = [&](size_t k, int level, int tx, int ty) {
             const SplitFile& f = files[k];
-            int64_t index = 0;
             if (f.root.level == 0) {
-                index = SetFileLayout{shape.minLevel}.tileIndex(level, tx, ty);
-            } else {
-                const RegionRoot r = regionRelativeTile(f.root, level, tx, ty);
-                index = SetFileLayout{0}.tileIndex(r.level, r.tx, r.ty);
+                return SetFileLayout{shape.minLevel}.tileIndex(level, tx, ty);
             }
-            out[k - first]->write(index, blob);
+            const RegionRoot r = regionRelativeTile(f.root, level, tx, ty);
+            return SetFileLayout{0}.tileIndex(r.level, r.tx, r.ty);
+        };
+        const auto write = [&](size_t k, int level, int tx, int ty, std::span<const uint8_t> blob) {
+            out[k - first]->write(indexIn(k, level, tx, ty), blob);
+        };
+        const auto leaveOut = [&](size_t k, int level, int tx, int ty) {
+            out[k - first]->leaveOut(indexIn(k, level, tx, ty));
         };
         for (const SparseTileLog::Item& item : log.items()) {
             const size_t k = holder(item.level, item.tx, item.ty);
@@ -368,7 +376,11 @@ std::vector<SplitFile> writeSparseSet(const SparseTileLog& log, const SparseShap
             // the encoder would have given them one by one.
             const int last = files[k].last;
             const std::function<void(int, int, int)> walk = [&](int l, int x, int y) {
-                write(k, l, x, y, log.emptyBlob());
+                if (item.leftOut) {
+                    leaveOut(k, l, x, y);
+                } else {
+                    write(k, l, x, y, log.emptyBlob());
+                }
                 if (l < last) {
                     for (int c = 0; c < 4; ++c) {
                         walk(l + 1, 2 * x + (c & 1), 2 * y + (c >> 1));

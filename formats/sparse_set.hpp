@@ -53,6 +53,10 @@ public:
     // The subtree rooted at (level, tx, ty), level >= the main file's minLevel: every tile of it is
     // the empty blob, to the deepest level.
     void addEmptySubtree(int level, int tx, int ty);
+    // The same, but a file holding its tiles leaves them out (TileTableWriter::leaveOut): an ortho
+    // subtree beyond an input's resolution, where a reader magnifies the parent rather than show
+    // a blank tile.
+    void addLeftOutSubtree(int level, int tx, int ty);
 
     struct Item {
         int32_t tx = 0, ty = 0;
@@ -60,6 +64,7 @@ public:
         uint32_t size = 0;   // 0: an empty subtree
         int8_t level = 0;
         bool empty = false;  // the blob is the empty blob
+        bool leftOut = false; // an empty subtree whose tiles files leave out
     };
     const std::vector<Item>& items() const { return items_; }
     const std::vector<uint8_t>& emptyBlob() const { return emptyBlob_; }
@@ -87,7 +92,7 @@ std::vector<SplitFile> chooseSparseFiles(const SparseTileLog& log, const SparseS
 // Writes the files `chooseSparseFiles` chose: file `name` (the main file `mainName`, each region
 // named as formats/pyramid_set.hpp names them) at place(name), committed there (atomically), each
 // logged tile in the file that holds it in the log's order, the tiles of empty subtrees as the
-// empty blob. Returns the files with their names and bytes. The index is not written.
+// empty blob (left out, for addLeftOutSubtree's). Returns the files with their names and bytes. The index is not written.
 std::vector<SplitFile> writeSparseSet(const SparseTileLog& log, const SparseShape& shape, std::vector<SplitFile> files,
                                       const std::string& mainName, const SplitHeaderFactory& header,
                                       const std::function<std::string(const std::string&)>& place);

@@ -224,6 +224,19 @@ bool TileTableWriter::written(int64_t index) const {
            impl_->written[static_cast<size_t>(index)];
 }
 
+void TileTableWriter::leaveOut(int64_t index) {
+    Impl& w = *impl_;
+    std::lock_guard<std::mutex> lock(w.mutex);
+    if (index < 0 || index >= static_cast<int64_t>(w.ranges.size())) {
+        fail(w.file.path(), "tile index " + std::to_string(index) + " out of range");
+    }
+    if (w.written[static_cast<size_t>(index)]) {
+        fail(w.file.path(), "tile " + std::to_string(index) + " written twice");
+    }
+    w.ranges[static_cast<size_t>(index)] = TileTable::Range{0, 0};
+    w.written[static_cast<size_t>(index)] = true;
+}
+
 void TileTableWriter::writeSameAs(int64_t index, int64_t earlier) {
     Impl& w = *impl_;
     std::lock_guard<std::mutex> lock(w.mutex);

@@ -86,6 +86,9 @@ public:
     // bytes would, without comparing them): for a caller that knows the two tiles alike, such as
     // the many blank tiles of a pyramid of millions.
     void writeSameAs(int64_t index, int64_t earlier);
+    // Tile `index` is left out: an empty byte range, which readers take as no tile (ortho) or
+    // zero residuals (doc/format.md 1.5, "Sparse sets").
+    void leaveOut(int64_t index);
     bool written(int64_t index) const;
     // Everything but the rename: checks every tile, writes the table, flushes the file.
     void finish();

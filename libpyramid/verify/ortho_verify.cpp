@@ -195,6 +195,17 @@ OrthoVerifyReport compareOrtho(const std::string& file, const std::string& sourc
     const auto check = [&](const TrueTile& t) {
         TileResult r;
         r.level = t.level;
+        if (t.beyond) {
+            // Beyond the resolution of an input of several resolutions (ortho_levels.hpp): not a
+            // tile of the pyramid. No file may store a picture there (a reader magnifies the
+            // parent); colour residuals there are 128, which the producer rebuilds as it would.
+            if (!residuals && reader->hasTile(t.level, t.tx, t.ty)) {
+                fail(file, "tile (" + std::to_string(t.level) + "," + std::to_string(t.tx) + "," + std::to_string(t.ty) +
+                               ") is stored, beyond the resolution the source has there");
+            }
+            r.level = -1;
+            return r;
+        }
         std::vector<uint8_t> got, want;
         // A tile no file holds (a sparse set's, doc/format.md 1.5) is no tile: it is right only
         // where the true tile is blank, so it is compared as a tile of 0s. Colour residuals are
@@ -278,6 +289,9 @@ OrthoVerifyReport compareOrtho(const std::string& file, const std::string& sourc
     std::vector<int64_t> samples(report.levels.size(), 0);
     for (const auto& [index, results] : byItem) {
         for (const TileResult& r : results) {
+            if (r.level < 0) {
+                continue; // beyond the source's resolution: no tile
+            }
             OrthoVerifyLevel& l = report.levels[static_cast<size_t>(r.level)];
             l.level = r.level;
             l.tiles += 1;

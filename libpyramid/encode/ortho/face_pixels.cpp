@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 namespace pyramid {
@@ -47,11 +48,36 @@ FacePixels::FacePixels(const RasterSource& source, const MapPlacement& placement
                 "bilinearly on the " + body.name() + " body from " + from + degrees(extent.west) + "," +
                 degrees(extent.south) + "," + degrees(extent.east) + "," + degrees(extent.north) +
                 " (0 outside); borders from the neighbouring faces";
+    for (int64_t w = W / 2; w >= 1 && w * 2 <= W && (W % (w * 2)) == 0; w /= 2) {
+        coarser_.push_back(std::make_unique<FaceSampler>(map_, body_, face, FaceGrid{w, FaceGridKind::PixelCentres}));
+    }
 }
 
-Image8 FacePixels::sample(int64_t x0, int64_t y0, int w, int h) const {
+const FaceSampler& FacePixels::at(int64_t levelWidth) const {
+    if (levelWidth == face_.grid().n) {
+        return face_;
+    }
+    for (const auto& s : coarser_) {
+        if (s->grid().n == levelWidth) {
+            return *s;
+        }
+    }
+    throw std::logic_error("FacePixels: no level " + std::to_string(levelWidth) + " pixels across");
+}
+
+bool FacePixels::mayNeedLevel(int64_t levelWidth, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    return at(levelWidth).mayHaveValuesFinerThan(2.0 * static_cast<double>(levelWidth), x0, y0, x1, y1);
+}
+
+Image8 FacePixels::sample(int64_t x0, int64_t y0, int w, int h) const { return sampleWith(face_, x0, y0, w, h); }
+
+Image8 FacePixels::sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const {
+    return sampleWith(at(levelWidth), x0, y0, w, h);
+}
+
+Image8 FacePixels::sampleWith(const FaceSampler& face, int64_t x0, int64_t y0, int w, int h) const {
     Image8 out(w, h, channels_);
-    if (w <= 0 || h <= 0 || !face_.mayHaveValues(x0, y0, x0 + w - 1, y0 + h - 1)) {
+    if (w <= 0 || h <= 0 || !face.mayHaveValues(x0, y0, x0 + w - 1, y0 + h - 1)) {
         return out; // wholly outside the map: 0 everywhere
     }
     // In blocks of columns of at least 16384 pixels, those the map cannot reach left 0 (each
@@ -62,7 +88,7 @@ Image8 FacePixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     std::vector<uint8_t> valid;
     for (int i0 = 0; i0 < w; i0 += blockColumns) {
         const int columns = std::min(blockColumns, w - i0);
-        if (columns < w && !face_.mayHaveValues(x0 + i0, y0, x0 + i0 + columns - 1, y0 + h - 1)) {
+        if (columns < w && !face.mayHaveValues(x0 + i0, y0, x0 + i0 + columns - 1, y0 + h - 1)) {
             continue;
         }
         const int bandRows = std::max(1, 65536 / columns);
@@ -71,7 +97,7 @@ Image8 FacePixels::sample(int64_t x0, int64_t y0, int w, int h) const {
             const size_t points = static_cast<size_t>(columns) * static_cast<size_t>(rows);
             values.resize(points * static_cast<size_t>(channels_));
             valid.resize(points);
-            face_.sample(x0 + i0, y0 + j0, 1, columns, rows, values.data(), valid.data());
+            face.sample(x0 + i0, y0 + j0, 1, columns, rows, values.data(), valid.data());
             for (int j = 0; j < rows; ++j) {
                 uint8_t* o = out.at(i0, j0 + j);
                 const size_t first = static_cast<size_t>(j) * static_cast<size_t>(columns);

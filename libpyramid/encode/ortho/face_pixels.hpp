@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "libpyramid/encode/ortho/pixel_source.hpp"
 #include "libpyramid/input/raster_source.hpp"
@@ -40,14 +41,25 @@ public:
     int64_t margin(int l) const override { return int64_t{kTileBorder} << l; }
     int64_t borderPixel(int64_t p, int64_t) const override { return p; }
     const std::string& sampling() const override { return sampling_; }
+    // A mosaic of several resolutions (GeodeticMap::severalResolutions): a level l of width
+    // W = T << l is needed by the members more than 2 W pixels around the equator fine, the
+    // rule that gives the finest member its level (a face spans a quarter of the equator).
+    bool severalLevels() const override { return map_.severalResolutions(); }
+    bool mayNeedLevel(int64_t levelWidth, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
+    Image8 sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const override;
 
 private:
+    // The face's grid of pixel centres `levelWidth` across (the finest one's width halved).
+    const FaceSampler& at(int64_t levelWidth) const;
+    Image8 sampleWith(const FaceSampler& grid, int64_t x0, int64_t y0, int w, int h) const;
+
     int channels_ = 0;
     bool sixteen_ = false;
     PlanetBody body_;
     std::unique_ptr<EquirectSampler> own_; // the map of `source`, unless one was given
     const GeodeticMap& map_;
     FaceSampler face_;
+    std::vector<std::unique_ptr<FaceSampler>> coarser_; // widths W / 2, W / 4, ... down to 1
     std::string sampling_;
 };
 

@@ -117,8 +117,15 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
     // A face the input does not fill is walked pruned, into sparse sets (doc/format.md 1.5,
     // "Sparse sets"): blank subtrees are neither walked nor written. A plane, a region, and a
     // face the input reaches all over are walked whole, into the files of --layout dense.
-    const bool pruned =
-        o.layout == PyramidLayout::Sparse && !region && levels.isFace() && !levels.reachesEveryTopTile();
+    // An input of several resolutions is always walked pruned: its tiles stop where its parts' do.
+    if (levels.severalLevels() && (region || o.layout == PyramidLayout::Dense)) {
+        failOption(region ? "region" : "layout",
+                   std::string(region ? "a region build" : "--layout dense") +
+                       " needs every tile down to the finest level, and the input's parts have several resolutions "
+                       "(the tiles stop where each part's resolution does): build it with --layout sparse");
+    }
+    const bool pruned = o.layout == PyramidLayout::Sparse && !region &&
+                        (levels.severalLevels() || (levels.isFace() && !levels.reachesEveryTopTile()));
     const int64_t items = levels.subtreeItems(order, pruned);
     // A SinglePass walk gives the top levels after its subtrees: the share of the last one records them.
     const bool topLast = order == OrthoLevels::WalkOrder::SinglePass && items > 0;
@@ -350,6 +357,7 @@ OrthoReport encodeLevels(const OrthoLevels& levels, const std::string& directory
                                 {"tiles", total},
                                 {"max_file_bytes", o.maxFileBytes},
                                 {"sparse", pruned},
+                                {"left_out", pruned && levels.severalLevels()},
                                 {"empty_tiles", emptyTilesJson},
                                 {"companions", companionJson}});
     } else {

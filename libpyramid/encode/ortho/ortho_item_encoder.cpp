@@ -106,7 +106,13 @@ void OrthoItemEncoder::encodeInto(const OrthoTileEncoder& encoder, bool residual
         return;
     }
     const size_t own = out.size();
-    if (residuals) {
+    if (t.beyond) {
+        // Beyond the input's resolution: no tile of any output here or below (a reader magnifies
+        // the parent; colour residuals are 128).
+        out.push_back(emptyBelow(t.level, t.tx, t.ty));
+        out[own].stats.tiles = 1;
+        out[own].residualEmptyBelow = residuals;
+    } else if (residuals) {
         blankResiduals(t.level, t.tx, t.ty, parent, t.zero, out);
     } else {
         out.push_back(emptyBelow(t.level, t.tx, t.ty));

@@ -83,6 +83,7 @@ void OrthoLevels::Impl::initPlanar(const OrthoLevelsOptions& o) {
     const RasterInfo& info = source->info();
     init(o, std::max(info.width, info.height));
     pixels = std::make_unique<PlanarPixels>(*source, channels, levelWidth(M), o.stretch);
+    several = pixels->severalLevels();
 }
 
 OrthoLevels::OrthoLevels(const std::string& input, const OrthoLevelsOptions& o)
@@ -121,6 +122,7 @@ OrthoLevels::OrthoLevels(const RasterSource& source, const MapPlacement& placeme
     m.init(o, placement.crs.empty() ? (static_cast<int64_t>(source.info().width) + 3) / 4
                                     : static_cast<int64_t>(std::ceil(placement.columnsAround / 4.0)));
     m.pixels = std::make_unique<FacePixels>(source, placement, body, face, m.channels, m.levelWidth(m.M), map);
+    m.several = m.pixels->severalLevels();
 }
 
 OrthoLevels::~OrthoLevels() = default;
@@ -143,6 +145,7 @@ int OrthoLevels::topLevels(WalkOrder order) const {
 
 int64_t OrthoLevels::subtreeItems(WalkOrder order, bool pruned) const {
     const Impl& m = *impl_;
+    pruned = pruned || m.several;
     if (order == WalkOrder::SinglePass && m.M > 0) {
         return pruned ? static_cast<int64_t>(m.prunedItems(m.singlePassC, false).size())
                       : int64_t{1} << (2 * (m.singlePassC + 1));
@@ -155,8 +158,11 @@ int64_t OrthoLevels::subtreeItems(WalkOrder order, bool pruned) const {
 
 bool OrthoLevels::reachesEveryTopTile() const {
     const Impl& m = *impl_;
-    return m.C == m.M || subtreeItems(WalkOrder::CoarseFirst, true) == subtreeItems(WalkOrder::CoarseFirst);
+    return !m.several &&
+           (m.C == m.M || subtreeItems(WalkOrder::CoarseFirst, true) == subtreeItems(WalkOrder::CoarseFirst));
 }
+
+bool OrthoLevels::severalLevels() const { return impl_->several; }
 
 bool OrthoLevels::isFace() const {
     return impl_->margin(0) > 0;
@@ -168,6 +174,7 @@ int64_t OrthoLevels::itemWindow() const {
 
 int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range, bool pruned) const {
     const Impl& m = *impl_;
+    pruned = pruned || m.several;
     const int64_t items = subtreeItems(order, pruned);
     const int64_t begin = range ? range->begin : 0, end = range ? range->end : items;
     const int64_t subtrees = end - begin;
@@ -180,7 +187,7 @@ int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range,
         const Impl::ItemList* list = pruned ? &m.prunedItems(c, false) : nullptr;
         // A share without every subtree takes levels 0..C from bands instead; a walk without
         // them does not assemble level C.
-        const bool whole = begin == 0 && end == items && (!range || range->top);
+        const bool whole = begin == 0 && end == items && (!range || range->top) && !m.several;
         const BlockMask reach = m.reachOf(c);
         std::vector<SparseLevel> levels(static_cast<size_t>(c) + 1);
         SparseLevel& levelC = levels[static_cast<size_t>(c)];

@@ -23,6 +23,18 @@
 // neighbouring face's pixel at the same cube point, bit for bit (both are the same averages of
 // the same finest samples, as the face edges fall between 2x2 blocks at every level).
 //
+// Several resolutions. An input whose parts differ in resolution (a coarse base and fine insets:
+// a planar mosaic's RasterInfo::parts, a planet's map of several members) has resolution where
+// its parts are: a part needs the levels down to its own (the first whose width holds its
+// pixels, by the rule that gives M), and a tile (l, tx, ty) is in the pyramid when its parent is
+// and a part needing level l may reach its interior (PixelSource::mayNeedLevel). Below the
+// others, a reader magnifies their parent (doc/format.md 1.5, "Sparse sets"). A pixel of level l
+// is then the 2x2 average of level l + 1 where the level-(l + 1) tile over it is in the pyramid,
+// and otherwise the input sampled at its own centre (PixelSource::sampleAt): a coarse base is
+// read at its own level, not resampled at the inset's. Every walk is pruned; a face's pixels
+// beyond its edge (borders) are sampled at their own level. An input of one resolution is
+// walked as above, to the same bytes.
+//
 // Order and memory. Deeper tiles come in subtrees: for each tile of level C + 1
 // (C = max(0, M - 4)), its footprint is read from the input, reduced level by level, and its
 // subtree's tiles are produced depth first (pre-order). Levels 0..C are held in memory whole,
@@ -82,6 +94,10 @@ struct TrueTile {
     // A pruned walk's blank tile under a tile that is not: this tile and every tile below it are
     // blank, and the walk hands out none of those below (blank is set too).
     bool blankBelow = false;
+    // An input of several resolutions has none of its own here: no part needs this tile's level
+    // over it. The tile and every tile below it are not in the pyramid (a reader magnifies the
+    // parent); blank and blankBelow are set too, and the pixels are not the tile's.
+    bool beyond = false;
 
     const Image8& image() const { return blank ? *zero : pixels; }
     // A blank tile (level, tx, ty) whose pixels are `zero`, a tile of 0s that outlives it.
@@ -178,6 +194,9 @@ public:
     // then leaves out no subtree item. Always true for a plane that the input fills.
     bool reachesEveryTopTile() const;
     bool isFace() const; // a cube face (else a plane)
+    // Whether the input's parts differ in resolution ("Several resolutions" above): every walk
+    // is then pruned, and tiles beyond the resolution of the parts there come as `beyond`.
+    bool severalLevels() const;
     // How many items a sink may hold between handing them on and consuming them, such as
     // encoded items waiting to be written in order: max(4, 2 x threads).
     int64_t itemWindow() const;

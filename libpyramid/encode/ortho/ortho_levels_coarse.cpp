@@ -12,6 +12,9 @@ namespace pyramid {
 // halving the level's blocks as long as a part is not known blank, so that a face a small map
 // barely touches asks its pixel source a few hundred times, not once per block.
 BlockMask OrthoLevels::Impl::reachOf(int c) const {
+    if (several) {
+        return severalMask(c);
+    }
     const int k = M - c;
     const int64_t mc = margin(c);
     const int64_t side = sideWithMargin(c);
@@ -59,6 +62,9 @@ void OrthoLevels::Impl::bandInto(SparseLevel& level, int c, int64_t row, int64_t
 // first, so that an input still being decoded from its first row (PNG) is worked on as it
 // arrives.
 std::vector<SparseLevel> OrthoLevels::Impl::coarseLevelsFromBands(int c, const BlockMask& reach) const {
+    if (several) {
+        return severalCoarseLevels(c);
+    }
     std::vector<SparseLevel> levels(static_cast<size_t>(c) + 1);
     SparseLevel& levelC = levels[static_cast<size_t>(c)];
     levelC = SparseLevel(sideWithMargin(c), channels, reach);

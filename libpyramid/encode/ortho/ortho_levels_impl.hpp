@@ -4,9 +4,11 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -139,6 +141,29 @@ struct OrthoLevels::Impl {
     mutable std::map<bool, ItemList> itemLists; // by zOrder
     void marginFromBands(int c, SparseLevel& levelC) const;
     void blankSubtree(int l, int tx, int ty, TileBatch& out) const;
+
+    // Inputs of several resolutions (ortho_levels_several.cpp): `several` when the pixel source's
+    // parts differ in resolution (PixelSource::severalLevels).
+    bool several = false;
+    // Whether tile (l, tx, ty) holds resolution of its own: level 0, or its parent does and a part
+    // that needs level l may reach its interior (PixelSource::mayNeedLevel). Always, with one
+    // resolution. Thread-safe; each tile is asked of the pixel source once.
+    bool reached(int l, int64_t tx, int64_t ty) const;
+    // The tiles of level l that hold resolution, as Morton codes in Z order (computed once).
+    const std::vector<uint64_t>& reachedAt(int l) const;
+    TrueTile beyondTile(int l, int tx, int ty) const;
+    using Finer = std::function<Image8(int64_t x, int64_t y, int w, int h)>;
+    Image8 severalBox(int l, int64_t x0, int64_t y0, int w, int h, const Finer& finer) const;
+    Image8 severalDeep(int l, int64_t x0, int64_t y0, int w, int h) const;
+    BlockMask severalMask(int l) const;
+    std::vector<SparseLevel> severalCoarseLevels(int c) const;
+    ItemList severalItems(int c, bool zOrder) const;
+    void severalSubtree(int top, int tx, int ty, TileBatch& out) const;
+    void severalTiles(int top, int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
+                      const std::vector<int64_t>& oy, TileBatch& out) const;
+    mutable std::mutex reachMutex;
+    mutable std::unordered_map<uint64_t, bool> reachMemo;
+    mutable std::map<int, std::vector<uint64_t>> reachedLists;
 
     void subtree(int top, int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
                  const std::vector<int64_t>& oy, TileBatch& out) const {

@@ -22,6 +22,10 @@ bool OrthoLevels::Impl::handLevels(const std::vector<SparseLevel>& levels, const
             const uint64_t code = pruned ? open[static_cast<size_t>(i)] : static_cast<uint64_t>(i);
             const auto [tx, ty] = mortonDecode(code);
             TrueTile& t = batch[static_cast<size_t>(i)];
+            if (!reached(l, tx, ty)) {
+                t = beyondTile(l, static_cast<int>(tx), static_cast<int>(ty));
+                return;
+            }
             t = extract(levels[static_cast<size_t>(l)], l, static_cast<int>(tx), static_cast<int>(ty));
             t.blankBelow = pruned && l > 0 && t.blank;
         });
@@ -49,6 +53,9 @@ bool OrthoLevels::Impl::handLevels(const std::vector<SparseLevel>& levels, const
 // small map barely touches costs a few hundred questions. In Z order, or row by row from the
 // north edge, west to east.
 OrthoLevels::Impl::ItemList OrthoLevels::Impl::itemsUnder(int c, const BlockMask& reach, bool zOrder) const {
+    if (several) {
+        return severalItems(c, zOrder);
+    }
     const int64_t width = levelWidth(c), m = margin(c);
     const auto px = [&](int64_t p) { return pixels->borderPixel(p, width) + m; };
     ItemList tiles;
@@ -126,6 +133,10 @@ bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, i
 // the tile (its interior reduced once more) are stored there.
 void OrthoLevels::Impl::subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, const BlockMask& reachC,
                                              SparseLevel* levelC, bool pruned) const {
+    if (several) {
+        severalSubtree(top, tx, ty, out);
+        return;
+    }
     const int d = M - top;
     // The tile and its border, within the pixels the source has at level `top`: a plane's
     // footprint stops at the map's edge (whose pixels repeat), a face's reaches into its margin

@@ -19,7 +19,8 @@ EncodedOrthoTile blankTileBytes(const OrthoLevels& levels, const OrthoEncodeOpti
 
 OrthoOutputs::OrthoOutputs(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
                            const OrthoEncodeOptions& o, OrthoReport& report, const RegionRoot* region, bool sparse)
-    : staging_(staging), maxFileBytes_(o.maxFileBytes), region_(region) {
+    : staging_(staging), maxFileBytes_(o.maxFileBytes), region_(region),
+      leaveOutPictures_(sparse && levels.severalLevels()) {
     OrthoHeader base;
     base.maxLevel = levels.maxLevel();
     base.tileSize = levels.tileSize();
@@ -75,7 +76,9 @@ void OrthoOutputs::write(const EncodedOrthoTile& e, OutputSet made) {
             if (!logs_[k] || !wanted[k]) {
                 continue;
             }
-            if (k < 2 ? e.picturesEmptyBelow : e.residualEmptyBelow) {
+            if (k < 2 && e.picturesEmptyBelow && leaveOutPictures_) {
+                logs_[k]->addLeftOutSubtree(e.level, e.tx, e.ty);
+            } else if (k < 2 ? e.picturesEmptyBelow : e.residualEmptyBelow) {
                 logs_[k]->addEmptySubtree(e.level, e.tx, e.ty);
             } else if (*bytes[k]) {
                 logs_[k]->add(e.level, e.tx, e.ty, **bytes[k]);

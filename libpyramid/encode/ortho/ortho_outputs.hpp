@@ -35,7 +35,9 @@ public:
     // Names the outputs' final paths in `directory` in report.outputs.
     // With `region`, each output is that region's file (its tiles given at absolute coordinates).
     // `sparse` (not with a region): each output a sparse set, its tiles and empty subtrees logged
-    // as they come (EncodedOrthoTile::picturesEmptyBelow, residualEmptyBelow).
+    // as they come (EncodedOrthoTile::picturesEmptyBelow, residualEmptyBelow); the TIFF and DXT
+    // outputs' empty subtrees are left out of the files that hold them when the input has several
+    // resolutions (they are beyond its parts' resolution: SparseTileLog::addLeftOutSubtree).
     OrthoOutputs(const OrthoLevels& levels, const std::string& directory, StagingDirectory& staging,
                  const OrthoEncodeOptions& o, OrthoReport& report, const RegionRoot* region = nullptr,
                  bool sparse = false);
@@ -73,6 +75,7 @@ private:
     FirstWith firstWith_[3]; // of tiff_, dxt_, residual_
     // Sparse: each output's log (null for an output not written) and header.
     std::array<std::unique_ptr<SparseTileLog>, 3> logs_;
+    bool leaveOutPictures_ = false;
     std::array<OrthoHeader, 3> headers_;
     std::vector<std::string> names_; // each output's path relative to the directory and the staging directory
 };

@@ -35,6 +35,8 @@ OrthoMergeReport mergeOrthoParts(const std::vector<std::string>& paths, const st
         std::unique_ptr<SparseTileLog> logs[3];
         OrthoHeader headers[3];
         const bool sparse = top.value("sparse", false);
+        // An input of several resolutions: the TIFF and DXT empty subtrees are left out.
+        const bool leftOut = top.value("left_out", false);
         std::string names[3];
         int maxLevel = 0;
         try {
@@ -85,6 +87,8 @@ OrthoMergeReport mergeOrthoParts(const std::vector<std::string>& paths, const st
                 }
                 if (!logs[slot]) {
                     writers[slot]->writeTileBytes(r.level, r.tx, r.ty, r.blob);
+                } else if (r.blob.empty() && leftOut && slot < 2) {
+                    logs[slot]->addLeftOutSubtree(r.level, r.tx, r.ty);
                 } else if (r.blob.empty()) {
                     logs[slot]->addEmptySubtree(r.level, r.tx, r.ty);
                 } else {

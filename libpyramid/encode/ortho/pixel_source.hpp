@@ -35,6 +35,22 @@ public:
 
     // The geometry rule applied, one sentence (reports).
     virtual const std::string& sampling() const = 0;
+
+    // Inputs of several resolutions (ortho_levels.hpp, "Several resolutions"). True when the
+    // input's parts differ in resolution: a part needs the levels down to its own, and a level's
+    // pixels where no part needs the next level are sampled at their own centres.
+    virtual bool severalLevels() const { return false; }
+    // Whether a part that needs a level `levelWidth` pixels across (a part finer than the level of
+    // half as many pixels) may have values in that level's pixels [x0, x1] x [y0, y1] (corners
+    // inclusive, within a face's margin). Conservative: true says nothing. Thread-safe.
+    virtual bool mayNeedLevel(int64_t levelWidth, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+        (void)levelWidth, (void)x0, (void)y0, (void)x1, (void)y1;
+        return true;
+    }
+    // Pixels [x0, x0 + w) x [y0, y0 + h) of the level `levelWidth` pixels across (the finest
+    // level's width halved some times), each the input sampled at its own centre by the rule
+    // sample() applies at the finest level. Thread-safe.
+    virtual Image8 sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const = 0;
 };
 
 } // namespace pyramid

@@ -80,7 +80,7 @@ void combineRows(const double* top, const double* bottom, double fy, double full
 }
 
 PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t width, bool stretch)
-    : source_(source), channels_(channels) {
+    : source_(source), channels_(channels), stretch_(stretch) {
     const RasterInfo& info = source.info();
     sixteen_ = info.type == SampleType::UInt16;
     const int64_t W = width;
@@ -203,5 +203,135 @@ bool PlanarPixels::knownBlank(int64_t x0, int64_t y0, int64_t w, int64_t h) cons
 
 // The map's edge pixels repeat.
 int64_t PlanarPixels::borderPixel(int64_t p, int64_t width) const { return std::clamp<int64_t>(p, 0, width - 1); }
+
+} // namespace pyramid
+
+namespace pyramid {
+
+bool PlanarPixels::severalLevels() const {
+    const std::vector<RasterPart>& parts = source_.info().parts;
+    return std::any_of(parts.begin(), parts.end(), [&](const RasterPart& p) {
+        return std::fabs(p.pixelsPerSample - parts.front().pixelsPerSample) > 1e-9 * parts.front().pixelsPerSample;
+    });
+}
+
+bool PlanarPixels::mayNeedLevel(int64_t levelWidth, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const {
+    const std::vector<RasterPart>& parts = source_.info().parts;
+    if (parts.empty()) {
+        return true;
+    }
+    const Axis ax = coarser(ax_, levelWidth), ay = coarser(ay_, levelWidth);
+    // The input pixels the samples interpolate: from the first's to the one after the last's.
+    const auto span = [](const Axis& a, int64_t p0, int64_t p1) {
+        const double u = a.position(p0), v = a.position(p1);
+        return std::pair<int64_t, int64_t>{static_cast<int64_t>(std::floor(std::min(u, v))),
+                                           static_cast<int64_t>(std::floor(std::max(u, v))) + 1};
+    };
+    const auto [cx0, cx1] = span(ax, x0, x1);
+    const auto [ry0, ry1] = span(ay, y0, y1);
+    const double longest = std::max(ax_.input, ay_.input);
+    for (const RasterPart& p : parts) {
+        if (!(longest / p.pixelsPerSample > static_cast<double>(levelWidth) / 2.0)) {
+            continue; // a part too coarse for this level
+        }
+        if (cx0 < p.x1 && p.x0 <= cx1 && ry0 < p.y1 && p.y0 <= ry1) {
+            return true;
+        }
+    }
+    return false;
+}
+
+PlanarPixels::Axis PlanarPixels::coarser(const Axis& finest, int64_t levelWidth) const {
+    Axis a = finest;
+    if (levelWidth == finest.output) {
+        return a;
+    }
+    a.output = levelWidth;
+    a.exact = false;
+    const int64_t longest = std::max(ax_.input, ay_.input);
+    a.scale = static_cast<double>(stretch_ ? a.input : longest) / static_cast<double>(levelWidth);
+    return a;
+}
+
+Image8 PlanarPixels::sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const {
+    if (levelWidth == ax_.output) {
+        return sample(x0, y0, w, h);
+    }
+    const Axis ax = coarser(ax_, levelWidth), ay = coarser(ay_, levelWidth);
+    Image8 out(w, h, channels_); // pixels beyond the input stay 0
+    // Each sample's two input columns and rows, and its weights: the formula of sample().
+    struct Tap {
+        int first = 0, second = 0;
+        double weight = 0.0;
+        bool inside = false;
+    };
+    const auto taps = [](const Axis& a, int64_t p0, int n, std::vector<int>& used) {
+        std::vector<Tap> t(static_cast<size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            const double X = a.position(p0 + i);
+            Tap& k = t[static_cast<size_t>(i)];
+            k.inside = a.inside(X);
+            const double f = std::floor(X);
+            k.weight = X - f;
+            k.first = std::clamp(static_cast<int>(f), 0, a.input - 1);
+            k.second = std::clamp(static_cast<int>(f) + 1, 0, a.input - 1);
+            if (k.inside) {
+                used.push_back(k.first);
+                used.push_back(k.second);
+            }
+        }
+        std::sort(used.begin(), used.end());
+        used.erase(std::unique(used.begin(), used.end()), used.end());
+        return t;
+    };
+    std::vector<int> columns, rows;
+    const std::vector<Tap> tx = taps(ax, x0, w, columns), ty = taps(ay, y0, h, rows);
+    if (columns.empty() || rows.empty()) {
+        return out;
+    }
+    const auto indexOf = [](const std::vector<int>& v, int x) {
+        return static_cast<size_t>(std::lower_bound(v.begin(), v.end(), x) - v.begin());
+    };
+    std::vector<float> values(columns.size() * rows.size() * static_cast<size_t>(channels_));
+    std::vector<float> plane(columns.size() * rows.size());
+    for (int c = 0; c < channels_; ++c) {
+        source_.readFloatAt(columns, rows, c, plane.data());
+        for (size_t k = 0; k < plane.size(); ++k) {
+            values[k * static_cast<size_t>(channels_) + static_cast<size_t>(c)] = plane[k];
+        }
+    }
+    const size_t across = columns.size();
+    std::vector<double> top(static_cast<size_t>(w) * channels_), bottom(top.size());
+    const auto horizontal = [&](int row, std::vector<double>& into) {
+        const size_t r = indexOf(rows, row);
+        for (int i = 0; i < w; ++i) {
+            const Tap& k = tx[static_cast<size_t>(i)];
+            if (!k.inside) {
+                continue;
+            }
+            const size_t a = (r * across + indexOf(columns, k.first)) * channels_;
+            const size_t b = (r * across + indexOf(columns, k.second)) * channels_;
+            for (int ch = 0; ch < channels_; ++ch) {
+                const double v = values[a + static_cast<size_t>(ch)];
+                into[static_cast<size_t>(i) * channels_ + ch] = v + (static_cast<double>(values[b + static_cast<size_t>(ch)]) - v) * k.weight;
+            }
+        }
+    };
+    int insideEnd = 0;
+    for (int i = 0; i < w; ++i) {
+        insideEnd = tx[static_cast<size_t>(i)].inside ? i + 1 : insideEnd;
+    }
+    for (int j = 0; j < h; ++j) {
+        const Tap& k = ty[static_cast<size_t>(j)];
+        if (!k.inside) {
+            continue;
+        }
+        horizontal(k.first, top);
+        horizontal(k.second, bottom);
+        combineRows(top.data(), bottom.data(), k.weight, sixteen_ ? 65535.0 : 255.0,
+                    static_cast<size_t>(insideEnd) * channels_, out.at(0, j));
+    }
+    return out;
+}
 
 } // namespace pyramid

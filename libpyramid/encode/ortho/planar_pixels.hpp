@@ -28,6 +28,12 @@ public:
     int64_t margin(int) const override { return 0; }
     int64_t borderPixel(int64_t p, int64_t width) const override;
     const std::string& sampling() const override { return sampling_; }
+    // A mosaic of several resolutions (RasterInfo::parts): a level W pixels across is needed by
+    // the parts with more than W / 2 of their own pixels across the plane's longer side.
+    bool severalLevels() const override;
+    bool mayNeedLevel(int64_t levelWidth, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
+    // A coarser level reads only the input pixels its samples interpolate (readFloatAt).
+    Image8 sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const override;
 
 private:
     // Input position of output pixel centres along one axis.
@@ -46,8 +52,12 @@ private:
         bool inside(double pos) const { return pos <= static_cast<double>(input) - 0.5; }
     };
 
+    // The axis of a level `levelWidth` pixels across (the finest one's width halved).
+    Axis coarser(const Axis& finest, int64_t levelWidth) const;
+
     const RasterSource& source_;
     int channels_ = 0;
+    bool stretch_ = false;
     bool sixteen_ = false;
     Axis ax_, ay_;
     std::string sampling_;
