@@ -27,6 +27,10 @@
 #   shade-1024.tif 1024 x 1024 8-bit hillshade, EPSG:3857, 9.5 m pixels at 47.6 N: ortho level 13
 #   alpha-1223.tif 1223 x 1223 RGBA (a disc, transparent around it), EPSG:3857, 4 m pixels at
 #                  48.9 N: ortho level 14
+#   ortho-planet/  a 2048 x 1024 global RGB base (level 5) and a 4096 x 4096 RGB inset of 1 arc-second
+#                  (level 11): preprocessSphericalOrtho of the mosaic
+#   ortho-planar/  a 1000 x 1000 RGB base of 30 m and a 2000 x 2000 RGB inset of 1 m, UTM 10N:
+#                  preprocessOrtho of the mosaic (levels 3 and 8)
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -40,10 +44,11 @@ source "$ROOT/bench/common.sh"
 need_bench_tools
 /usr/bin/python3 -c 'import numpy, osgeo' 2>/dev/null || { as_root apt-get install -y python3-numpy python3-gdal >/dev/null; }
 
-build_programs preprocessSphericalDem preprocessSphericalOrtho preprocessDem pyramid
+build_programs preprocessSphericalDem preprocessSphericalOrtho preprocessDem preprocessOrtho pyramid
 PDEM=$(program_path preprocessDem)
 SDEM=$(program_path preprocessSphericalDem)
 SORTHO=$(program_path preprocessSphericalOrtho)
+PORTHO=$(program_path preprocessOrtho)
 PYR=$(program_path pyramid)
 
 mkdir -p "$WORK"
@@ -112,6 +117,22 @@ y, x = np.mgrid[0:1223, 0:1223]
 disc = np.where((x - 611) ** 2 + (y - 611) ** 2 < 600 ** 2, 255, 0).astype(np.uint8)
 write_bands('alpha-1223.tif', [((x * 3) % 256).astype(np.uint8), ((y * 2) % 256).astype(np.uint8),
                                ((x + y) % 256).astype(np.uint8), disc], (261000, 4.0, 0, 6250000, 0, -4.0), 3857)
+
+# Imagery of several resolutions: a global RGB base of 2048 x 1024 (0.176 degree: ortho level 5 of
+# 192-pixel tiles) with a 4096 x 4096 inset of 1/3600 degree (level 11) at 46.5..47.6 N,
+# 122.2..121.1 W; and a planar RGB base of 1000 x 1000 of 30 m with a 2000 x 2000 inset of 1 m
+# (levels 3 and 8).
+def colours(w, h, seed, scale):
+    r = np.random.default_rng(seed)
+    y, x = np.mgrid[0:h, 0:w].astype(np.float64)
+    return [np.clip(c + a * np.sin(x / (scale * p)) * np.cos(y / (scale * q)) + r.normal(0, 6, (h, w)), 0, 255).astype(np.uint8)
+            for c, a, p, q in ((120, 70, 11, 17), (110, 60, 13, 7), (90, 50, 5, 19))]
+os.makedirs('ortho-planet', exist_ok=True)
+os.makedirs('ortho-planar', exist_ok=True)
+write_bands('ortho-planet/base-global.tif', colours(2048, 1024, 3, 9.0), (-180, 360 / 2048, 0, 90, 0, -180 / 1024), 4326)
+write_bands('ortho-planet/inset-1s.tif', colours(4096, 4096, 4, 4.0), (-122.2, 1 / 3600, 0, 47.6, 0, -1 / 3600), 4326)
+write_bands('ortho-planar/base-30m.tif', colours(1000, 1000, 5, 6.0), (500000, 30, 0, 5230000, 0, -30), 32610)
+write_bands('ortho-planar/inset-1m.tif', colours(2000, 2000, 6, 3.0), (514000, 1, 0, 5216000, 0, -1), 32610)
 PY
 mkdir -p base-and-rainier
 cp base-720.tif rainier.tif base-and-rainier/
@@ -163,3 +184,21 @@ for input in shade-1024.tif alpha-1223.tif; do
         [ "$layout" = dense ] && rm -rf "$out"
     done
 done
+
+# Imagery of several resolutions, sparse only (one resolution would sample the base at the inset's
+# level everywhere: 6 x 4^11 tiles of the planet, 256 x 256 tiles of the plane).
+printf '\n| imagery of several resolutions | bytes | files | wall s | peak RSS MB | verify |\n|---|---|---|---|---|---|\n'
+out=out-ortho-planet
+BEFORE_RUN="rm -rf $out" timed_runs 1 "$SORTHO" ortho-planet/base-global.tif ortho-planet/inset-1s.tif -o "$out" --threads "$THREADS" -q
+bytes=$(find "$out" -name '*.dat' -printf '%s\n' | awk '{s += $1} END {print s}')
+files=$(find "$out" -name '*.dat' | wc -l)
+verdict=$("$PYR" verify "$out" --source ortho-planet >/dev/null 2>&1 &&
+    "$PYR" verify "$out/residuals" --colour-residuals --source ortho-planet >/dev/null 2>&1 && echo ok || echo FAILED)
+printf '| planet: global 0.18 degree + inset 1 arc-second | %s | %s | %s | %s | %s |\n' "$bytes" "$files" "$WALL_S" "$PEAK_RSS_MB" "$verdict"
+out=out-ortho-planar
+BEFORE_RUN="rm -rf $out" timed_runs 1 "$PORTHO" ortho-planar/base-30m.tif ortho-planar/inset-1m.tif -o "$out" --threads "$THREADS" -q
+bytes=$(find "$out" -name '*.dat' -printf '%s\n' | awk '{s += $1} END {print s}')
+files=$(find "$out" -name '*.dat' | wc -l)
+verdict=$("$PYR" verify "$out/RGB.dat" --source ortho-planar >/dev/null 2>&1 &&
+    "$PYR" verify "$out/residuals/RGB.dat" --colour-residuals --source ortho-planar >/dev/null 2>&1 && echo ok || echo FAILED)
+printf '| plane: base 30 m + inset 1 m | %s | %s | %s | %s | %s |\n' "$bytes" "$files" "$WALL_S" "$PEAK_RSS_MB" "$verdict"

@@ -90,7 +90,8 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, bool
         app.add_option("--layout", a->layout,
                        "sparse: a face the map does not fill is written as the files that hold its data (a main "
                        "file of the top levels and region files nested where the map is; doc/format.md 1.5), "
-                       "no tile elsewhere; dense: every tile of every level in one file (or a --max-file-bytes set)")
+                       "no tile elsewhere; dense: every tile of every level in one file (or a --max-file-bytes set), "
+                       "refused for maps of several resolutions")
             ->capture_default_str()
             ->check(CLI::IsMember({"sparse", "dense"}));
     }

@@ -316,16 +316,19 @@ void BytePixels::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint
 namespace {
 
 // Samples (columns[i], rows[j]) from row windows across the columns read by `readRow(y, out)`.
-template <class ReadRow>
-void pickAt(const std::vector<int>& columns, const std::vector<int>& rows, float* out, const ReadRow& readRow) {
+// `values` per sample.
+template <class T, class ReadRow>
+void pickAt(const std::vector<int>& columns, const std::vector<int>& rows, T* out, const ReadRow& readRow,
+            size_t values = 1) {
     if (columns.empty() || rows.empty()) {
         return;
     }
-    std::vector<float> line(static_cast<size_t>(columns.back() - columns.front() + 1));
+    std::vector<T> line(static_cast<size_t>(columns.back() - columns.front() + 1) * values);
     for (size_t j = 0; j < rows.size(); ++j) {
         readRow(rows[j], line.data());
         for (size_t i = 0; i < columns.size(); ++i) {
-            out[j * columns.size() + i] = line[static_cast<size_t>(columns[i] - columns.front())];
+            std::copy_n(&line[static_cast<size_t>(columns[i] - columns.front()) * values], values,
+                        &out[(j * columns.size() + i) * values]);
         }
     }
 }
@@ -355,6 +358,29 @@ void RasterSource::readFloatAt(const std::vector<int>& columns, const std::vecto
     pickAt(columns, rows, out, [&](int y, float* line) {
         readFloat(columns.front(), y, columns.back() + 1, y + 1, channel, line);
     });
+}
+
+void RasterPixels::readUInt16At(const std::vector<int>& columns, const std::vector<int>& rows, int c0, int c1,
+                                uint16_t* out) const {
+    pickAt(columns, rows, out, [&](int y, uint16_t* line) {
+        readUInt16(columns.front(), y, columns.back() + 1, y + 1, c0, c1, line);
+    }, static_cast<size_t>(c1 - c0));
+}
+
+void RasterSource::readUInt16At(const std::vector<int>& columns, const std::vector<int>& rows, int c0, int c1,
+                                uint16_t* out) const {
+    if (columns.empty() || rows.empty()) {
+        return;
+    }
+    checkWindow(path_, info_, columns.front(), rows.front(), columns.back() + 1, rows.back() + 1);
+    checkChannels(path_, info_, c0, c1);
+    if (impl_->computed) {
+        impl_->computed->readUInt16At(columns, rows, c0, c1, out);
+        return;
+    }
+    pickAt(columns, rows, out, [&](int y, uint16_t* line) {
+        readUInt16(columns.front(), y, columns.back() + 1, y + 1, c0, c1, line);
+    }, static_cast<size_t>(c1 - c0));
 }
 
 void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {

@@ -30,6 +30,9 @@ public:
     // RasterSource::readFloatAt: by default, each row's window across the columns, picked.
     virtual void readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel,
                              float* out) const;
+    // RasterSource::readUInt16At: by default, each row's window across the columns, picked.
+    virtual void readUInt16At(const std::vector<int>& columns, const std::vector<int>& rows, int c0, int c1,
+                              uint16_t* out) const;
     // For RasterSource::placeOf: the raster whose pixel (x, y) is, (x, y) turned into its own
     // coordinates; null (the default) when the pixel is computed here.
     virtual const RasterSource* placeOf(int& /*x*/, int& /*y*/) const { return nullptr; }
@@ -82,6 +85,10 @@ public:
     // A computed raster (a planar mosaic resampled onto one grid) computes only those samples, so
     // that every 16th sample of a coarse level costs a 256th of the window. Thread-safe.
     void readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel, float* out) const;
+    // Channels [c0, c1) at the same crossings, as readUInt16 gives them, interleaved: out[(j *
+    // columns.size() + i) * (c1 - c0) + c]. The same economy for a computed raster. Thread-safe.
+    void readUInt16At(const std::vector<int>& columns, const std::vector<int>& rows, int c0, int c1,
+                      uint16_t* out) const;
     // Reads channels [c0, c1) of the window as uint16 (8-bit input is widened exactly, 0..255;
     // 16-bit input is returned as is). Interleaved, north first. Thread-safe.
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;

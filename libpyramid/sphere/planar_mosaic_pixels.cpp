@@ -42,51 +42,23 @@ public:
     void readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel,
                      float* out) const override {
         const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
-        const size_t width = columns.size();
-        std::fill(out, out + width * rows.size(), gap);
-        std::vector<uint8_t> done(width * rows.size(), 0);
-        std::vector<float> part;
-        for (const OwnGroup& g : own_) {
-            const RasterSource& s = *g.source;
-            std::vector<int> cols, rws;
-            std::vector<size_t> ci, rj; // their places in `columns` and `rows`
-            for (size_t i = 0; i < width; ++i) {
-                const int64_t c = columns[i] - g.x;
-                if (c >= 0 && c < s.info().width) {
-                    cols.push_back(static_cast<int>(c));
-                    ci.push_back(i);
-                }
-            }
-            for (size_t j = 0; j < rows.size(); ++j) {
-                const int64_t r = rows[j] - g.y;
-                if (r >= 0 && r < s.info().height) {
-                    rws.push_back(static_cast<int>(r));
-                    rj.push_back(j);
-                }
-            }
-            if (cols.empty() || rws.empty()) {
-                continue;
-            }
-            part.resize(cols.size() * rws.size());
-            s.readFloatAt(cols, rws, channel, part.data());
-            for (size_t b = 0; b < rws.size(); ++b) {
-                for (size_t a = 0; a < cols.size(); ++a) {
-                    const size_t k = rj[b] * width + ci[a];
-                    const float v = part[b * cols.size() + a];
-                    if (!done[k] && !isNodata(v, s.info().nodata)) {
-                        out[k] = v;
-                        done[k] = 1;
-                    }
-                }
-            }
-        }
-        sampleLeft(
-            done,
-            [&](size_t k) {
-                return std::pair{static_cast<double>(columns[k % width] - x0_) + 0.5,
-                                 static_cast<double>(rows[k / width] - y0_) + 0.5};
+        readAt<float>(
+            columns, rows, 1, gap, out,
+            [&](const RasterSource& s, const std::vector<int>& c, const std::vector<int>& r, float* to) {
+                s.readFloatAt(c, r, channel, to);
             },
-            mosaic(SampleRead::Float), channel, 1, out);
+            [](const RasterSource& s, float v) { return !isNodata(v, s.info().nodata); }, mosaic(SampleRead::Float),
+            channel);
+    }
+
+    void readUInt16At(const std::vector<int>& columns, const std::vector<int>& rows, int c0, int c1,
+                      uint16_t* out) const override {
+        readAt<uint16_t>(
+            columns, rows, c1 - c0, 0, out,
+            [&](const RasterSource& s, const std::vector<int>& c, const std::vector<int>& r, uint16_t* to) {
+                s.readUInt16At(c, r, c0, c1, to);
+            },
+            [](const RasterSource&, uint16_t) { return true; }, mosaic(SampleRead::UInt16), c0);
     }
 
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
@@ -108,6 +80,60 @@ private:
                 [](const RasterInfo& info, const std::string&) { return info.nodata; }, cacheMegabytes_);
         });
         return *mosaics_[k];
+    }
+
+    // Values at the crossings of `columns` and `rows`, `values` per sample: the first group on the
+    // grid with its own there (`has`), else the mosaic's at the pixel centre, else `gap`.
+    template <typename T, typename Own, typename Has>
+    void readAt(const std::vector<int>& columns, const std::vector<int>& rows, int values, T gap, T* out, Own own,
+                Has has, const MapMosaic& map, int firstChannel) const {
+        const size_t width = columns.size();
+        const auto n = static_cast<size_t>(values);
+        std::fill(out, out + width * rows.size() * n, gap);
+        std::vector<uint8_t> done(width * rows.size(), 0);
+        std::vector<T> part;
+        for (const OwnGroup& g : own_) {
+            const RasterSource& s = *g.source;
+            std::vector<int> cols, rws;
+            std::vector<size_t> ci, rj; // their places in `columns` and `rows`
+            for (size_t i = 0; i < width; ++i) {
+                const int64_t c = columns[i] - g.x;
+                if (c >= 0 && c < s.info().width) {
+                    cols.push_back(static_cast<int>(c));
+                    ci.push_back(i);
+                }
+            }
+            for (size_t j = 0; j < rows.size(); ++j) {
+                const int64_t r = rows[j] - g.y;
+                if (r >= 0 && r < s.info().height) {
+                    rws.push_back(static_cast<int>(r));
+                    rj.push_back(j);
+                }
+            }
+            if (cols.empty() || rws.empty()) {
+                continue;
+            }
+            part.resize(cols.size() * rws.size() * n);
+            own(s, cols, rws, part.data());
+            for (size_t b = 0; b < rws.size(); ++b) {
+                for (size_t a = 0; a < cols.size(); ++a) {
+                    const size_t k = rj[b] * width + ci[a];
+                    const T* from = &part[(b * cols.size() + a) * n];
+                    if (done[k] || !std::all_of(from, from + n, [&](T v) { return has(s, v); })) {
+                        continue;
+                    }
+                    std::copy(from, from + n, out + k * n);
+                    done[k] = 1;
+                }
+            }
+        }
+        sampleLeft(
+            done,
+            [&](size_t k) {
+                return std::pair{static_cast<double>(columns[k % width] - x0_) + 0.5,
+                                 static_cast<double>(rows[k / width] - y0_) + 0.5};
+            },
+            map, firstChannel, n, out);
     }
 
     // Values (x, y) of the window, `values` per pixel: the first group on the grid with its own

@@ -292,14 +292,8 @@ Image8 PlanarPixels::sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w,
     const auto indexOf = [](const std::vector<int>& v, int x) {
         return static_cast<size_t>(std::lower_bound(v.begin(), v.end(), x) - v.begin());
     };
-    std::vector<float> values(columns.size() * rows.size() * static_cast<size_t>(channels_));
-    std::vector<float> plane(columns.size() * rows.size());
-    for (int c = 0; c < channels_; ++c) {
-        source_.readFloatAt(columns, rows, c, plane.data());
-        for (size_t k = 0; k < plane.size(); ++k) {
-            values[k * static_cast<size_t>(channels_) + static_cast<size_t>(c)] = plane[k];
-        }
-    }
+    std::vector<uint16_t> values(columns.size() * rows.size() * static_cast<size_t>(channels_));
+    source_.readUInt16At(columns, rows, 0, channels_, values.data()); // as sample() reads its window
     const size_t across = columns.size();
     std::vector<double> top(static_cast<size_t>(w) * channels_), bottom(top.size());
     const auto horizontal = [&](int row, std::vector<double>& into) {

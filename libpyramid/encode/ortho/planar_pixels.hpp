@@ -32,7 +32,7 @@ public:
     // the parts with more than W / 2 of their own pixels across the plane's longer side.
     bool severalLevels() const override;
     bool mayNeedLevel(int64_t levelWidth, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
-    // A coarser level reads only the input pixels its samples interpolate (readFloatAt).
+    // A coarser level reads only the input pixels its samples interpolate (readUInt16At).
     Image8 sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const override;
 
 private:
