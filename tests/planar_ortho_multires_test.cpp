@@ -73,26 +73,6 @@ OrthoEncodeOptions options() {
     return o;
 }
 
-std::map<std::string, std::vector<char>> snapshot(const std::string& directory) {
-    std::map<std::string, std::vector<char>> files;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
-        if (e.is_regular_file()) {
-            std::ifstream in(e.path(), std::ios::binary);
-            files[std::filesystem::relative(e.path(), directory).string()] = {std::istreambuf_iterator<char>(in),
-                                                                             std::istreambuf_iterator<char>()};
-        }
-    }
-    return files;
-}
-
-uint64_t bytesUnder(const std::string& directory) {
-    uint64_t bytes = 0;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
-        bytes += e.is_regular_file() ? e.file_size() : 0;
-    }
-    return bytes;
-}
-
 // The deepest stored tile holding the point (e, s) metres east and south of the corner: its
 // level and the colour of the pixel there.
 std::pair<int, std::array<int, 3>> deepestAt(const std::string& file, double e, double s) {
@@ -167,14 +147,14 @@ TEST_F(PlanarOrthoMultires, VerifiesAndIsSmall) {
     EXPECT_TRUE(verifyOrtho(dir_->file("out/residuals/RGB.dat"), maps_->directory, v).ok);
     // One resolution: 4^6 finest tiles of the 1 m grid in each output; here the inset's few
     // dozen and the base's levels.
-    EXPECT_LT(bytesUnder(dir_->file("out")), uint64_t{1} << 20);
+    EXPECT_LT(test::bytesUnder(dir_->file("out")), uint64_t{1} << 20);
 }
 
 TEST_F(PlanarOrthoMultires, TheSameBytesWhateverTheThreads) {
     OrthoEncodeOptions one = options();
     one.levels.threads = 1;
     encodeOrtho(std::vector<std::string>{maps_->base, maps_->inset}, dir_->file("one"), one);
-    EXPECT_TRUE(snapshot(dir_->file("out")) == snapshot(dir_->file("one")));
+    EXPECT_TRUE(test::filesUnder(dir_->file("out")) == test::filesUnder(dir_->file("one")));
 }
 
 // A build split into parts (--part I/N, then pyramid merge) writes the single run's sets, byte
@@ -194,9 +174,9 @@ TEST_F(PlanarOrthoMultires, PartsMergeIntoTheSingleRunsSets) {
         }
         const test::RunResult m = test::run(test::programPath("pyramid") + " merge -q " + parts + "/RGB.part-*");
         ASSERT_EQ(m.exitCode, 0) << m.err;
-        auto merged = snapshot(parts);
+        auto merged = test::filesUnder(parts);
         std::erase_if(merged, [](const auto& f) { return f.first.find(".part-") != std::string::npos; });
-        EXPECT_TRUE(merged == snapshot(one)) << outputs;
+        EXPECT_TRUE(merged == test::filesUnder(one)) << outputs;
     }
 }
 

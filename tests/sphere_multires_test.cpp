@@ -56,14 +56,6 @@ Maps writeMaps(const test::TempDir& dir) {
     return m;
 }
 
-uint64_t bytesUnder(const std::string& directory) {
-    uint64_t bytes = 0;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
-        bytes += e.is_regular_file() ? e.file_size() : 0;
-    }
-    return bytes;
-}
-
 // The height the set of the face holding (lon, lat) gives there, and its level.
 PointHeight heightAtLonLat(const std::string& directory, double lon, double lat) {
     const FacePoint p = facePointOf(directionOf(PlanetBody::parse("wgs84"), GeodeticPoint{lat, lon}));
@@ -117,7 +109,7 @@ TEST(SphereMultiResolution, AnInsetOverABaseGoesDeepOnlyWhereItIs) {
     o.faces = {1};
     const SphericalDemReport dense = encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("dense"), o);
     EXPECT_LT(both.faces[0].dem.bytes * 5, dense.faces[0].dem.bytes);
-    EXPECT_LT(bytesUnder(dir.file("both")), dense.faces[0].dem.bytes);
+    EXPECT_LT(test::bytesUnder(dir.file("both")), dense.faces[0].dem.bytes);
 }
 
 } // namespace

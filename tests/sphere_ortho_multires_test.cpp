@@ -80,26 +80,6 @@ SphericalOrthoReport build(const Maps& maps, const std::string& out, int threads
     return encodeSphericalOrtho(std::vector<std::string>{maps.base, maps.inset}, out, o);
 }
 
-uint64_t bytesUnder(const std::string& directory) {
-    uint64_t bytes = 0;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
-        bytes += e.is_regular_file() ? e.file_size() : 0;
-    }
-    return bytes;
-}
-
-std::map<std::string, std::vector<char>> snapshot(const std::string& directory) {
-    std::map<std::string, std::vector<char>> files;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
-        if (e.is_regular_file()) {
-            std::ifstream in(e.path(), std::ios::binary);
-            files[std::filesystem::relative(e.path(), directory).string()] = {std::istreambuf_iterator<char>(in),
-                                                                             std::istreambuf_iterator<char>()};
-        }
-    }
-    return files;
-}
-
 // The deepest stored tile of `sub` (a subdirectory of outputs) holding (lon, lat), its level, and
 // the colour of the pixel there.
 struct Deepest {
@@ -205,9 +185,9 @@ TEST_F(SphereOrthoMultiResolution, VerifiesAndTheColourProducerMagnifiesTheBase)
 TEST_F(SphereOrthoMultiResolution, SmallAndTheSameBytesWhateverTheThreads) {
     // One resolution at level 9 would be 6 faces of 512 x 512 tiles; this is the base's levels and
     // the inset's tiles.
-    EXPECT_LT(bytesUnder(dir_->file("both")), uint64_t{3} << 20);
+    EXPECT_LT(test::bytesUnder(dir_->file("both")), uint64_t{3} << 20);
     build(*maps_, dir_->file("one-thread"), 1);
-    EXPECT_TRUE(snapshot(dir_->file("both")) == snapshot(dir_->file("one-thread")));
+    EXPECT_TRUE(test::filesUnder(dir_->file("both")) == test::filesUnder(dir_->file("one-thread")));
 }
 
 TEST_F(SphereOrthoMultiResolution, DenseLayoutIsRefusedWithTheReason) {

@@ -57,16 +57,6 @@ SphericalOrthoReport build(const std::string& map, const std::string& out, Pyram
     return encodeSphericalOrtho(map, out, o);
 }
 
-uint64_t bytesUnder(const std::string& directory) {
-    uint64_t bytes = 0;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
-        if (e.is_regular_file()) {
-            bytes += e.file_size();
-        }
-    }
-    return bytes;
-}
-
 std::vector<char> contents(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -149,7 +139,7 @@ TEST_F(SphereOrthoSparse, ColourProducersRebuildTheDenseColours) {
 }
 
 TEST_F(SphereOrthoSparse, FilesWhereTheMapIsAndVerifyPasses) {
-    const uint64_t sparseBytes = bytesUnder(dir_->file("sparse")), denseBytes = bytesUnder(dir_->file("dense"));
+    const uint64_t sparseBytes = test::bytesUnder(dir_->file("sparse")), denseBytes = test::bytesUnder(dir_->file("dense"));
     EXPECT_LT(sparseBytes * 20, denseBytes) << sparseBytes << " against " << denseBytes;
     // A face the map does not reach is its root tile and the index: a few KB per output.
     for (const std::string sub : {"", "dxt/", "residuals/"}) {
@@ -188,17 +178,6 @@ TEST_F(SphereOrthoSparse, SameBytesWhateverTheThreads) {
     EXPECT_EQ(files, oneFiles);
 }
 
-// Every file under `directory`, by its path relative to it, and its bytes.
-std::map<std::string, std::vector<char>> snapshot(const std::string& directory) {
-    std::map<std::string, std::vector<char>> files;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(directory)) {
-        if (e.is_regular_file()) {
-            files[std::filesystem::relative(e.path(), directory).string()] = contents(e.path());
-        }
-    }
-    return files;
-}
-
 // A build split into parts (--part I/N, then pyramid merge) writes the single run's sparse sets,
 // byte for byte, in both walk orders (with colour residuals and TIFF or DXT: two walks; colour
 // residuals alone: top levels first; without them: subtrees first).
@@ -220,9 +199,9 @@ TEST_F(SphereOrthoSparse, PartsMergeIntoTheSingleRunsSets) {
             }
             const test::RunResult m = test::run(test::programPath("pyramid") + " merge -q " + parts + "/RGB.part-*");
             ASSERT_EQ(m.exitCode, 0) << m.err;
-            auto merged = snapshot(parts);
+            auto merged = test::filesUnder(parts);
             std::erase_if(merged, [](const auto& f) { return f.first.find(".part-") != std::string::npos; });
-            EXPECT_TRUE(merged == snapshot(one)) << outputs << ", " << count << " parts";
+            EXPECT_TRUE(merged == test::filesUnder(one)) << outputs << ", " << count << " parts";
         }
     }
 }

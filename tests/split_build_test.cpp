@@ -25,17 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::TempDir;
 
-// Every file under `root` (hidden ones included) with its bytes.
-std::map<std::string, std::string> snapshot(const std::string& root) {
-    std::map<std::string, std::string> files;
-    for (const auto& e : fs::recursive_directory_iterator(root)) {
-        if (e.is_regular_file()) {
-            files[fs::relative(e.path(), root).string()] = test::readFile(e.path().string());
-        }
-    }
-    return files;
-}
-
 DemEncodeOptions smallDem() {
     DemEncodeOptions o;
     o.tileSize = 32;
@@ -98,11 +87,11 @@ TEST(SplitBuild, PartsMergeIntoTheSameRegionSet) {
     o.maxFileBytes = 8000;
     fs::create_directories(dir.file("one"));
     encodeDem(dir.file("in.tif"), dir.file("one/DEM.dat"), o);
-    const auto single = snapshot(dir.file("one"));
+    const auto single = test::filesUnder(dir.file("one"));
     ASSERT_GT(single.size(), 3u); // a set: main, regions, index
     const std::vector<std::string> files = buildInParts(dir.file("in.tif"), dir.file("parts"), 3, o);
     mergeResidualParts(files, dir.file("merged"));
-    EXPECT_EQ(snapshot(dir.file("merged")), single);
+    EXPECT_TRUE(test::filesUnder(dir.file("merged")) == single);
 }
 
 TEST(SplitBuild, SphericalPartsMergeIntoTheSixFaces) {
@@ -121,7 +110,7 @@ TEST(SplitBuild, SphericalPartsMergeIntoTheSixFaces) {
     o.dem.maxLevel = 4;
     o.dem.scale = 0.25;
     encodeSphericalDem(dir.file("map.tif"), dir.file("one"), o);
-    const auto single = snapshot(dir.file("one"));
+    const auto single = test::filesUnder(dir.file("one"));
     ASSERT_EQ(single.size(), 6u);
     for (const int count : {2, 3, 8}) {
         const std::string parts = dir.file("p" + std::to_string(count));
@@ -138,7 +127,7 @@ TEST(SplitBuild, SphericalPartsMergeIntoTheSixFaces) {
         const std::string merged = dir.file("m" + std::to_string(count));
         const ResidualMergeReport report = mergeResidualParts(files, merged);
         EXPECT_EQ(report.pyramids.size(), 6u);
-        EXPECT_EQ(snapshot(merged), single) << count << " parts";
+        EXPECT_TRUE(test::filesUnder(merged) == single) << count << " parts";
     }
 }
 
@@ -159,7 +148,7 @@ TEST(SplitBuild, SparsePlanetPartsMergeIntoTheSingleRunsSets) {
     o.dem.maxLevel = 11;
     o.dem.scale = 0.25;
     encodeSphericalDem(dir.file("map.tif"), dir.file("one"), o);
-    const auto single = snapshot(dir.file("one"));
+    const auto single = test::filesUnder(dir.file("one"));
     ASSERT_GT(single.size(), 12u); // six sets, face 1 with regions
     for (const int count : {2, 3}) {
         const std::string parts = dir.file("p" + std::to_string(count));
@@ -176,7 +165,7 @@ TEST(SplitBuild, SparsePlanetPartsMergeIntoTheSingleRunsSets) {
         }
         const std::string merged = dir.file("m" + std::to_string(count));
         mergeResidualParts(files, merged);
-        EXPECT_EQ(snapshot(merged) == single, true) << count << " parts";
+        EXPECT_TRUE(test::filesUnder(merged) == single) << count << " parts";
     }
 }
 
@@ -285,14 +274,14 @@ TEST(SplitBuildCli, PartsOfTheProgramsMergeIntoTheSingleRunsFilesSidecarIncluded
     const test::RunResult kept =
         test::run(merge + "--keep-parts -o " + dir.file("elsewhere") + " " + dir.file("p/DEM.dat.part-*-of-3"));
     ASSERT_EQ(kept.exitCode, 0) << kept.err;
-    EXPECT_EQ(snapshot(dir.file("elsewhere")), snapshot(dir.file("one")));
+    EXPECT_TRUE(test::filesUnder(dir.file("elsewhere")) == test::filesUnder(dir.file("one")));
     for (int i = 0; i < 3; ++i) {
         EXPECT_TRUE(fs::exists(dir.file("p/DEM.dat.part-" + std::to_string(i) + "-of-3"))) << "kept";
     }
     EXPECT_FALSE(fs::exists(dir.file("p/DEM.dat")));
     const test::RunResult r = test::run(merge + dir.file("p/DEM.dat.part-*-of-3"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(snapshot(dir.file("p")), snapshot(dir.file("one"))); // the parts are gone
+    EXPECT_TRUE(test::filesUnder(dir.file("p")) == test::filesUnder(dir.file("one"))); // the parts are gone
     const test::RunResult bad = test::run(dem + dir.file("p/DEM.dat") + " --part 3/3");
     EXPECT_EQ(bad.exitCode, 1);
     EXPECT_NE(bad.err.find("--part: must be I/N with 0 <= I < N, not 3/3"), std::string::npos) << bad.err;
@@ -333,7 +322,7 @@ TEST_P(SplitBuildOrtho, PartsMergeIntoTheSingleRunsOutputs) {
             }
             const test::RunResult m = test::run(test::programPath("pyramid") + " merge -q " + parts + "/RGB.part-*");
             ASSERT_EQ(m.exitCode, 0) << m.err;
-            EXPECT_EQ(snapshot(parts), snapshot(dir.file("one-" + tag))) << tag << ", " << count << " parts";
+            EXPECT_TRUE(test::filesUnder(parts) == test::filesUnder(dir.file("one-" + tag))) << tag << ", " << count << " parts";
         }
     }
 }
@@ -377,13 +366,13 @@ TEST(SplitBuildMpi, RanksWriteTheSingleRunsBytes) {
         const std::string n = std::to_string(ranks);
         const test::RunResult r = test::run(mpirun(ranks) + dem + dir.file("dem" + n + "/DEM.dat"));
         ASSERT_EQ(r.exitCode, 0) << r.err;
-        EXPECT_EQ(snapshot(dir.file("dem" + n)), snapshot(dir.file("one"))) << ranks << " ranks";
+        EXPECT_TRUE(test::filesUnder(dir.file("dem" + n)) == test::filesUnder(dir.file("one"))) << ranks << " ranks";
         const test::RunResult s = test::run(mpirun(ranks) + sphere + dir.file("sphere" + n) + " --max-file-bytes 3K");
         ASSERT_EQ(s.exitCode, 0) << s.err;
         const test::RunResult t = test::run(sphere + dir.file("sphere-one" + n) + " --max-file-bytes 3K");
         ASSERT_EQ(t.exitCode, 0) << t.err;
-        EXPECT_EQ(snapshot(dir.file("sphere" + n)), snapshot(dir.file("sphere-one" + n))) << ranks << " ranks";
-        EXPECT_GT(snapshot(dir.file("sphere" + n)).size(), 12u); // sets: faces split into regions
+        EXPECT_TRUE(test::filesUnder(dir.file("sphere" + n)) == test::filesUnder(dir.file("sphere-one" + n))) << ranks << " ranks";
+        EXPECT_GT(test::filesUnder(dir.file("sphere" + n)).size(), 12u); // sets: faces split into regions
     }
 }
 
@@ -401,10 +390,10 @@ TEST(SplitBuildMpi, OrthoRanksWriteTheSingleRunsOutputs) {
             const std::string n = std::to_string(ranks) + outputs;
             const test::RunResult r = test::run(mpirun(ranks) + planar + dir.file("o" + n));
             ASSERT_EQ(r.exitCode, 0) << r.err;
-            EXPECT_EQ(snapshot(dir.file("o" + n)), snapshot(dir.file("one"))) << ranks << " ranks, " << outputs;
+            EXPECT_TRUE(test::filesUnder(dir.file("o" + n)) == test::filesUnder(dir.file("one"))) << ranks << " ranks, " << outputs;
             const test::RunResult s = test::run(mpirun(ranks) + sphere + dir.file("s" + n));
             ASSERT_EQ(s.exitCode, 0) << s.err;
-            EXPECT_EQ(snapshot(dir.file("s" + n)), snapshot(dir.file("sphere"))) << ranks << " ranks, " << outputs;
+            EXPECT_TRUE(test::filesUnder(dir.file("s" + n)) == test::filesUnder(dir.file("sphere"))) << ranks << " ranks, " << outputs;
         }
         fs::remove_all(dir.file("one"));
         fs::remove_all(dir.file("sphere"));
@@ -432,13 +421,13 @@ TEST(SplitBuildMpi, AFailingRankFailsTheRunWithItsMessageAndLeavesNothing) {
     test::writeFloatRaster(dir.file("in.tif"), w, w, v);
     fs::create_directories(dir.file("out"));
     test::writeFloatRaster(dir.file("out/keep.tif"), 2, 2, std::vector<float>(4, 1.0f));
-    const auto before = snapshot(dir.file("out"));
+    const auto before = test::filesUnder(dir.file("out"));
     const test::RunResult r = test::run(mpirun(3) + test::programPath("preprocessDem") + " " + dir.file("in.tif") +
                                         " --tile-size 32 --root-tile-size 8 --threads 1 -q -o " + dir.file("out/DEM.dat"));
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.err.find("preprocessDem: rank 2: "), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("in.tif"), std::string::npos) << r.err;
-    EXPECT_EQ(snapshot(dir.file("out")), before); // no part, no staging directory, no output
+    EXPECT_TRUE(test::filesUnder(dir.file("out")) == before); // no part, no staging directory, no output
 }
 #endif
 

@@ -61,4 +61,22 @@ std::string readFile(const std::string& path) {
     return s.str();
 }
 
+std::map<std::string, std::string> filesUnder(const std::string& root) {
+    std::map<std::string, std::string> files;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {
+        if (e.is_regular_file()) {
+            files[std::filesystem::relative(e.path(), root).string()] = readFile(e.path().string());
+        }
+    }
+    return files;
+}
+
+uint64_t bytesUnder(const std::string& root) {
+    uint64_t bytes = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {
+        bytes += e.is_regular_file() ? e.file_size() : 0;
+    }
+    return bytes;
+}
+
 } // namespace pyramid::test

@@ -1,5 +1,7 @@
 // Where the tests find their data and the programs they run, and small helpers to run them.
 #pragma once
+#include <cstdint>
+#include <map>
 #include <string>
 
 namespace pyramid::test {
@@ -36,5 +38,10 @@ RunResult run(const std::string& commandLine);
 
 bool fileExists(const std::string& path);
 std::string readFile(const std::string& path);
+// Every regular file under `root` (hidden ones included), by its path relative to `root`, with
+// its bytes: two builds compare equal when they wrote the same files, byte for byte.
+std::map<std::string, std::string> filesUnder(const std::string& root);
+// The bytes of every regular file under `root`.
+uint64_t bytesUnder(const std::string& root);
 
 } // namespace pyramid::test
