@@ -12,6 +12,7 @@
 
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/encode/aperture/aperture.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 #include "libpyramid/verify/dem_verify.hpp"
@@ -236,6 +237,17 @@ TEST(ResidualEncoder, SparseLayoutStoresWhatTheHeightsReachAndTheDenseFilesTiles
         EXPECT_LT(sparse.bytes * 2, dense.bytes);
         EXPECT_LT(sparse.tiles * 5, dense.tiles);
         EXPECT_TRUE(std::filesystem::exists(dir.file("sparse.dat.regions.json")));
+        // preprocessAperture needs every tile of the finest level: refused in one line naming the
+        // set (the whole plane at the patch's resolution), nothing written.
+        ApertureEncodeOptions ao;
+        ao.size = 4096.0;
+        try {
+            encodeApertureFile(dir.file("sparse.dat"), dir.file("aperture.dat"), ao);
+            ADD_FAILURE() << "the aperture of a sparse set was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("only in places"), std::string::npos) << e.what();
+        }
+        EXPECT_FALSE(std::filesystem::exists(dir.file("aperture.dat")));
         const int64_t beyond = test::expectSparseSetOfDense(dir.file("dense.dat"), dir.file("sparse.dat"));
         EXPECT_GT(beyond, 15000);
         // Heights at points come from the deepest file holding them: the finest level in the

@@ -13,7 +13,9 @@
 
 #include "formats/pyramid_set.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/encode/aperture/aperture.hpp"
 #include "libpyramid/encode/dem/sphere_dem_encoder.hpp"
+#include "libpyramid/runtime/ortho_producer.hpp"
 #include "libpyramid/runtime/pyramid_set_producers.hpp"
 #include "libpyramid/sphere/cube_faces.hpp"
 #include "libpyramid/sphere/face_locate.hpp"
@@ -110,6 +112,71 @@ TEST(SphereMultiResolution, AnInsetOverABaseGoesDeepOnlyWhereItIs) {
     const SphericalDemReport dense = encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("dense"), o);
     EXPECT_LT(both.faces[0].dem.bytes * 5, dense.faces[0].dem.bytes);
     EXPECT_LT(test::bytesUnder(dir.file("both")), dense.faces[0].dem.bytes);
+}
+
+// The aperture of such a planet (preprocessSphericalAperture) has each face's levels where the
+// face has them: deep over the inset, the base's level elsewhere, each level searched at its own
+// spacing, so that a face far from the inset is the aperture of the base alone, byte for byte.
+TEST(SphereMultiResolution, TheApertureGoesDeepOnlyWhereTheInsetIs) {
+    test::TempDir dir;
+    const Maps maps = writeMaps(dir);
+    SphericalDemOptions o;
+    o.dem.tileSize = 32;
+    o.dem.rootTileSize = 4;
+    o.dem.scale = 0.25;
+    encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("both"), o);
+    encodeSphericalDem(maps.base, dir.file("base"), o);
+    SphericalApertureOptions a;
+    a.search.directions = 8;
+    a.search.radius = 4;
+    a.threads = 2;
+    // DEM levels 3..11 (minLevel 3): aperture levels 0..8; the base alone: level 0.
+    const SphericalApertureReport both = encodeSphericalApertureFiles(dir.file("both"), dir.file("ap-both"), a);
+    EXPECT_EQ(both.maxLevel, 8);
+    EXPECT_EQ(encodeSphericalApertureFiles(dir.file("base"), dir.file("ap-base"), a).maxLevel, 0);
+    EXPECT_TRUE(test::readFile(faceFilePath(dir.file("ap-both"), "APERTURE", 6)) ==
+                test::readFile(faceFilePath(dir.file("ap-base"), "APERTURE", 6)));
+    // The deepest aperture tile at a point, and its pixel's visible sky there.
+    const auto deepest = [&](double lon, double lat) {
+        const FacePoint p = facePointOf(directionOf(PlanetBody::parse("wgs84"), GeodeticPoint{lat, lon}));
+        const auto set = openOrthoSet(faceFilePath(dir.file("ap-both"), "APERTURE", p.face));
+        std::pair<int, int> d{-1, 0};
+        for (int l = 0; l <= set->maxLevel(); ++l) {
+            const double x = (p.u + 1.0) / 2.0 * (32 << l), y = (p.v + 1.0) / 2.0 * (32 << l);
+            const int tx = static_cast<int>(x) / 32, ty = static_cast<int>(y) / 32;
+            if (!set->hasTile(l, tx, ty)) {
+                break;
+            }
+            const std::vector<uint8_t> t = set->tile(l, tx, ty);
+            const int px = static_cast<int>(x) - tx * 32 + 2, py = static_cast<int>(y) - ty * 32 + 2;
+            d = {l, t[static_cast<size_t>((py * 36 + px) * 3)]};
+        }
+        return d;
+    };
+    int hidden = 0;
+    for (int k = 0; k < 9; ++k) {
+        const auto [level, visible] = deepest(-122.8 + 0.2 * k, 46.2 + 0.2 * k);
+        EXPECT_EQ(level, 8);
+        hidden += visible < 250; // the inset's relief hides some sky
+    }
+    EXPECT_GT(hidden, 0);
+    // Elsewhere, the levels the face's files hold there (DEM level 3 + l): its main file's, which
+    // the sparse layout takes a few levels past the base's, far short of the inset's.
+    for (const auto& [lon, lat] : std::vector<std::pair<double, double>>{{10.0, 50.0}, {-100.0, 30.0}, {60.0, -40.0}}) {
+        const FacePoint p = facePointOf(directionOf(PlanetBody::parse("wgs84"), GeodeticPoint{lat, lon}));
+        const PyramidSet set = openPyramidSet(faceFilePath(dir.file("both"), "DEM", p.face));
+        int held = 0;
+        while (held < 8) {
+            const int l = held + 1;
+            const auto tx = static_cast<int>((p.u + 1.0) / 2.0 * (1 << l)), ty = static_cast<int>((p.v + 1.0) / 2.0 * (1 << l));
+            if (!residualSetHolds(set, 3 + l, tx, ty)) {
+                break;
+            }
+            held = l;
+        }
+        EXPECT_LT(held, 4) << lon << "," << lat;
+        EXPECT_EQ(deepest(lon, lat).first, held) << lon << "," << lat;
+    }
 }
 
 } // namespace

@@ -47,6 +47,7 @@ struct GeoExtent {
 enum class SampleRead { Float, UInt16 };
 
 class GeoreferencedMap;
+struct FaceGrid;
 struct MapPlacement;
 
 // A planet's map as the face samplers see it: values at geodetic points. One raster
@@ -75,9 +76,25 @@ public:
         (void)columnsAround;
         return mayCover(south, north, west, east, allLongitudes);
     }
+    // mayCoverFinerThan for face samples [x0, x1] x [y0, y1] of `grid` on cube face `face`, by a
+    // map that knows its coverage face by face (an aperture over a planet's faces); nullopt (the
+    // default): not known so, the samples' geographic box is asked.
+    virtual std::optional<bool> mayCoverFaceFinerThan(double columnsAround, int face, const FaceGrid& grid, int64_t x0,
+                                                      int64_t y0, int64_t x1, int64_t y1) const {
+        (void)columnsAround, (void)face, (void)grid, (void)x0, (void)y0, (void)x1, (void)y1;
+        return std::nullopt;
+    }
     // Samples `count` points. out: count * channels() values, interleaved; valid: count flags
     // (1 = a value, 0 = none; out is 0 there). Thread-safe.
     virtual void sample(const GeodeticPoint* points, size_t count, float* out, uint8_t* valid) const = 0;
+    // The same, the points being those of a grid of `columnsAround` pixels around the equator (a
+    // face grid's samples: FaceSampler): a map whose values depend on the resolution they are
+    // read at (an aperture searched at that level's spacing) answers for it. By default, sample().
+    virtual void sampleFor(double columnsAround, const GeodeticPoint* points, size_t count, float* out,
+                           uint8_t* valid) const {
+        (void)columnsAround;
+        sample(points, count, out, valid);
+    }
 };
 
 class EquirectSampler final : public GeodeticMap {

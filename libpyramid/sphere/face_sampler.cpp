@@ -36,7 +36,7 @@ void FaceSampler::sample(int64_t x0, int64_t y0, int64_t stride, int64_t nx, int
             }
             values.resize(points.size() * static_cast<size_t>(channels));
             flags.resize(points.size());
-            map_.sample(points.data(), points.size(), values.data(), flags.data());
+            map_.sampleFor(4.0 * static_cast<double>(grid_.n) / static_cast<double>(stride), points.data(), points.size(), values.data(), flags.data());
             for (int64_t j = 0; j < h; ++j) {
                 const size_t to = static_cast<size_t>((bj + j) * nx + bi);
                 const size_t from = static_cast<size_t>(j * w);
@@ -59,6 +59,21 @@ bool FaceSampler::mayHaveValuesFinerThan(double columnsAround, int64_t x0, int64
     if (columnsAround <= 0.0 && map_.everywhere()) {
         return true;
     }
+    if (columnsAround > 0.0) {
+        if (const std::optional<bool> known = map_.mayCoverFaceFinerThan(columnsAround, face_, grid_, x0, y0, x1, y1)) {
+            return *known;
+        }
+    }
+    const GeoBox b = faceGeographicBox(body_, face_, grid_, x0, y0, x1, y1);
+    return columnsAround > 0.0 ? map_.mayCoverFinerThan(columnsAround, b.south, b.north, b.west, b.east, b.allLongitudes)
+                               : map_.mayCover(b.south, b.north, b.west, b.east, b.allLongitudes);
+}
+
+GeoBox faceGeographicBox(const PlanetBody& body, int face, FaceGrid grid, int64_t x0, int64_t y0, int64_t x1,
+                         int64_t y1) {
+    const auto geodeticOf = [&](int64_t x, int64_t y) {
+        return body.geodeticOf(direction(cubePoint(grid, FaceSample{face, x, y})));
+    };
     // The outline, counter-clockwise in face samples, K points per side.
     constexpr int kSide = 64;
     std::vector<GeodeticPoint> outline;
@@ -89,21 +104,22 @@ bool FaceSampler::mayHaveValuesFinerThan(double columnsAround, int64_t x0, int64
     // An outline that winds around a pole holds it; one that comes within a step of a pole may
     // hold it too, and its longitudes say nothing.
     const bool aroundPole = std::fabs(longitude - outline[0].longitude) > 180.0;
-    south -= 2.0 * latitudeStep;
-    north += 2.0 * latitudeStep;
-    bool allLongitudes = false;
-    if (north >= 90.0 || (aroundPole && north > 0.0)) {
-        north = 90.0;
-        allLongitudes = true;
+    GeoBox b;
+    b.south = south - 2.0 * latitudeStep;
+    b.north = north + 2.0 * latitudeStep;
+    if (b.north >= 90.0 || (aroundPole && b.north > 0.0)) {
+        b.north = 90.0;
+        b.allLongitudes = true;
     }
-    if (south <= -90.0 || (aroundPole && south < 0.0)) {
-        south = -90.0;
-        allLongitudes = true;
+    if (b.south <= -90.0 || (aroundPole && b.south < 0.0)) {
+        b.south = -90.0;
+        b.allLongitudes = true;
     }
+    b.allLongitudes = b.allLongitudes || aroundPole;
     const double margin = 2.0 * longitudeStep;
-    return columnsAround > 0.0
-               ? map_.mayCoverFinerThan(columnsAround, south, north, west - margin, east + margin, allLongitudes || aroundPole)
-               : map_.mayCover(south, north, west - margin, east + margin, allLongitudes || aroundPole);
+    b.west = west - margin;
+    b.east = east + margin;
+    return b;
 }
 
 GroundSampleDistance faceGroundSampleDistance(const PlanetBody& body, int face, const FaceGrid& grid) {

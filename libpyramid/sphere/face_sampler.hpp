@@ -55,6 +55,21 @@ private:
     double scale_;
 };
 
+// A geographic box: latitudes [south, north], longitudes [west, east] unwrapped (west may be
+// below -180, east above 180), or every longitude.
+struct GeoBox {
+    double south = -90.0, north = 90.0, west = -180.0, east = 180.0;
+    bool allLongitudes = false;
+};
+
+// A box holding the geodetic points of face samples [x0, x1] x [y0, y1] of `grid` on `face`
+// (borders beyond the face allowed): the latitudes and longitudes of 64 points per side of the
+// outline, widened by twice the largest step between neighbours (the outline bounds the
+// rectangle's image unless a pole lies inside, which the outline's winding shows: then every
+// longitude and the latitudes up to that pole). Conservative. FaceSampler::mayHaveValues' box.
+GeoBox faceGeographicBox(const PlanetBody& body, int face, FaceGrid grid, int64_t x0, int64_t y0, int64_t x1,
+                         int64_t y1);
+
 // The ground distance between neighbouring samples of a face grid, in metres: the smallest and
 // largest over the face (the cube projection packs samples closer near the face corners than at
 // the centre), measured as geodesics on the body between horizontal and vertical neighbours of
