@@ -144,6 +144,16 @@ struct TileTableWriter::Impl {
 
     explicit Impl(const std::string& path) : file(path) {}
 
+    // Tile `index` is in the table and not written yet (Error naming the file otherwise).
+    void requireUnwritten(int64_t index) const {
+        if (index < 0 || index >= static_cast<int64_t>(ranges.size())) {
+            fail(file.path(), "tile index " + std::to_string(index) + " out of range");
+        }
+        if (written[static_cast<size_t>(index)]) {
+            fail(file.path(), "tile " + std::to_string(index) + " written twice");
+        }
+    }
+
     bool sameBytes(const TileTable::Range& r, std::span<const uint8_t> blob) {
         if (r.size() != blob.size()) {
             return false;
@@ -174,12 +184,7 @@ TileTableWriter::~TileTableWriter() = default;
 void TileTableWriter::write(int64_t index, std::span<const uint8_t> blob) {
     Impl& w = *impl_;
     std::lock_guard<std::mutex> lock(w.mutex);
-    if (index < 0 || index >= static_cast<int64_t>(w.ranges.size())) {
-        fail(w.file.path(), "tile index " + std::to_string(index) + " out of range");
-    }
-    if (w.written[static_cast<size_t>(index)]) {
-        fail(w.file.path(), "tile " + std::to_string(index) + " written twice");
-    }
+    w.requireUnwritten(index);
     if (blob.empty()) {
         fail(w.file.path(), "tile " + std::to_string(index) + " is empty");
     }
@@ -227,12 +232,7 @@ bool TileTableWriter::written(int64_t index) const {
 void TileTableWriter::leaveOut(int64_t index) {
     Impl& w = *impl_;
     std::lock_guard<std::mutex> lock(w.mutex);
-    if (index < 0 || index >= static_cast<int64_t>(w.ranges.size())) {
-        fail(w.file.path(), "tile index " + std::to_string(index) + " out of range");
-    }
-    if (w.written[static_cast<size_t>(index)]) {
-        fail(w.file.path(), "tile " + std::to_string(index) + " written twice");
-    }
+    w.requireUnwritten(index);
     w.ranges[static_cast<size_t>(index)] = TileTable::Range{0, 0};
     w.written[static_cast<size_t>(index)] = true;
 }

@@ -58,6 +58,15 @@ Maps writeMaps(const test::TempDir& dir) {
     return m;
 }
 
+// 32-interval tiles under 4-interval roots, heights in quarters of a metre.
+SphericalDemOptions demOptions() {
+    SphericalDemOptions o;
+    o.dem.tileSize = 32;
+    o.dem.rootTileSize = 4;
+    o.dem.scale = 0.25;
+    return o;
+}
+
 // The height the set of the face holding (lon, lat) gives there, and its level.
 PointHeight heightAtLonLat(const std::string& directory, double lon, double lat) {
     const FacePoint p = facePointOf(directionOf(PlanetBody::parse("wgs84"), GeodeticPoint{lat, lon}));
@@ -67,10 +76,7 @@ PointHeight heightAtLonLat(const std::string& directory, double lon, double lat)
 TEST(SphereMultiResolution, AnInsetOverABaseGoesDeepOnlyWhereItIs) {
     test::TempDir dir;
     const Maps maps = writeMaps(dir);
-    SphericalDemOptions o;
-    o.dem.tileSize = 32;
-    o.dem.rootTileSize = 4;
-    o.dem.scale = 0.25;
+    SphericalDemOptions o = demOptions();
     const SphericalDemReport both = encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("both"), o);
     const SphericalDemReport base = encodeSphericalDem(maps.base, dir.file("base"), o);
     // The inset's 21600 columns around the equator: level 11 of 4-interval roots; the base's 72: level 3.
@@ -120,10 +126,7 @@ TEST(SphereMultiResolution, AnInsetOverABaseGoesDeepOnlyWhereItIs) {
 TEST(SphereMultiResolution, TheApertureGoesDeepOnlyWhereTheInsetIs) {
     test::TempDir dir;
     const Maps maps = writeMaps(dir);
-    SphericalDemOptions o;
-    o.dem.tileSize = 32;
-    o.dem.rootTileSize = 4;
-    o.dem.scale = 0.25;
+    SphericalDemOptions o = demOptions();
     encodeSphericalDem(std::vector<std::string>{maps.base, maps.inset}, dir.file("both"), o);
     encodeSphericalDem(maps.base, dir.file("base"), o);
     SphericalApertureOptions a;
