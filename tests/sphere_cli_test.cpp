@@ -394,6 +394,47 @@ TEST(SphereOrthoCli, BadInputIsOneLineAndWritesNothing) {
     expectBadInputWritesNothing("preprocessSphericalOrtho", cases, out);
 }
 
+// 8-bit RGB, 1024 x 512 pixels in tiles of 512 x 512 (0.75 MB decoded each), placed by `tags`.
+std::string writeTiledRgb(const test::TempDir& dir, const std::string& name, test::GeoTiffTags tags) {
+    std::vector<uint8_t> rgb(1024 * 512 * 3);
+    for (size_t k = 0; k < rgb.size(); ++k) {
+        rgb[k] = static_cast<uint8_t>((k * 7 + k / 3000) % 250 + 3);
+    }
+    tags.tileSize = 512;
+    const std::string path = dir.file(name);
+    test::writeGeoTiffRgb(path, 1024, 512, rgb, tags);
+    return path;
+}
+
+// A map in large tiles is read with the cache it needs (not refused for a probe's cache); a map in
+// a projection no GeoKey can say (GDAL's geostationary satellite view: a user-defined model with
+// its ESRI string in the citation) is refused in one line naming the file and the projection.
+TEST(SphereOrthoCli, LargeTilesAreReadAndAnUnplaceableProjectionIsNamed) {
+    test::TempDir dir;
+    const std::string global = writeTiledRgb(dir, "global.tif", test::geographicTags(4326, -180.0, 90.0, 360.0 / 1024));
+    const test::RunResult ok = run(programPath("preprocessSphericalOrtho") + " " + global + " -o " + dir.file("ok") +
+                                   " --tile-size 32 --max-level 2 --outputs tiff -q");
+    EXPECT_EQ(ok.exitCode, 0) << ok.err;
+    EXPECT_TRUE(std::filesystem::exists(dir.file("ok/RGB1.dat")));
+
+    test::GeoTiffTags geos;
+    geos.shortKeys = {{1024, 32767}, {1025, 1}}; // GTModelTypeGeoKey user-defined, PixelIsArea
+    geos.asciiKeys = {{1026, "unknown|ESRI PE String = PROJCS[\"unknown\",GEOGCS[\"GCS_unknown\",DATUM["
+                             "\"D_WGS_1984\",SPHEROID[\"WGS_1984\",6378137.0,298.257223563]],PRIMEM[\"Greenwich\",0.0],"
+                             "UNIT[\"Degree\",0.0174532925199433]],PROJECTION[\"Geostationary_Satellite\"],"
+                             "PARAMETER[\"Height\",35785831.0],UNIT[\"Meter\",1.0]]|"}};
+    geos.tiepoints = {0.0, 0.0, 0.0, -5500000.0, 5500000.0, 0.0};
+    geos.pixelScale = {10742.0, 10742.0, 0.0};
+    const std::string satellite = writeTiledRgb(dir, "geos.tif", geos);
+    const test::RunResult refused =
+        run(programPath("preprocessSphericalOrtho") + " " + satellite + " -o " + dir.file("geos") + " -q");
+    EXPECT_EQ(refused.exitCode, 1);
+    EXPECT_NE(refused.err.find("geos.tif"), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("Geostationary_Satellite"), std::string::npos) << refused.err;
+    EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("geos")));
+}
+
 
 } // namespace
 } // namespace pyramid

@@ -59,6 +59,24 @@ std::string asciiKey(const GeoTiffLibrary& lib, GTIF* gtif, geokey_t key) {
     return s;
 }
 
+// The projection a citation names: a WKT or ESRI PE string's PROJECTION["Name"], or a PROJ
+// string's +proj=name; empty when it names none.
+std::string citedProjection(const std::string& citation) {
+    const size_t wkt = citation.find("PROJECTION[\"");
+    if (wkt != std::string::npos) {
+        const size_t from = wkt + 12, to = citation.find('"', from);
+        if (to != std::string::npos && to > from) {
+            return citation.substr(from, to - from);
+        }
+    }
+    const size_t proj = citation.find("+proj=");
+    if (proj != std::string::npos) {
+        const size_t from = proj + 6, to = citation.find_first_of(" |", from);
+        return "+proj=" + citation.substr(from, to == std::string::npos ? std::string::npos : to - from);
+    }
+    return {};
+}
+
 // The EPSG name of a CRS code, from PROJ's database through libgeotiff.
 std::string epsgName(const GeoTiffLibrary& lib, int code, bool projected) {
     char* name = nullptr;
@@ -300,8 +318,16 @@ std::optional<Georeference> georeferenceOf(GeoTiffTags tags) {
     const int pcs = lib->keyGet(gtif.get(), ProjectedCSTypeGeoKey, &pcsKey, 0, 1) == 1 ? pcsKey : d.PCS;
     g.projected = d.Model == ModelTypeProjected;
     if (d.Model != ModelTypeProjected && d.Model != ModelTypeGeographic) {
+        // A CRS the GeoKeys cannot say (GDAL writes one as a user-defined model with its WKT or
+        // ESRI string in a citation): named by the projection the citation gives.
+        const std::string named = citedProjection(asciiKey(*lib, gtif.get(), GTCitationGeoKey) + " " +
+                                                  asciiKey(*lib, gtif.get(), PCSCitationGeoKey));
         g.problem = d.Model == ModelTypeGeocentric ? "is in a geocentric (X, Y, Z) model, which places no surface"
-                                                   : "has GeoKeys without a model type (projected or geographic)";
+                    : !named.empty()
+                        ? "is in the projection " + named +
+                              " (a user-defined CRS its GeoKeys cannot express), which libpyramid cannot place: "
+                              "reproject it to a geographic or supported projected CRS"
+                        : "has GeoKeys without a model type (projected or geographic)";
     }
     const int code = g.projected ? pcs : d.GCS;
     g.epsg = code > 0 && code != KvUserDefined ? code : 0;

@@ -55,9 +55,9 @@ std::unique_ptr<RasterSource> openPlanarMosaic(const std::vector<std::string>& i
     }
     const std::vector<std::vector<std::string>> groups = groupByGrid(inputs);
     if (sameSamples && groups.size() > 1) {
-        const RasterInfo first = RasterSource::open(groups[0][0], 1)->info();
+        const RasterInfo first = RasterSource::describe(groups[0][0]);
         for (size_t k = 1; k < groups.size(); ++k) {
-            const RasterInfo info = RasterSource::open(groups[k][0], 1)->info();
+            const RasterInfo info = RasterSource::describe(groups[k][0]);
             if (info.channels != first.channels || info.type != first.type) {
                 fail(groups[k][0], std::to_string(info.channels) + " bands of " + sampleTypeName(info.type) + ", not " +
                                        std::to_string(first.channels) + " of " + sampleTypeName(first.type) + " as " +

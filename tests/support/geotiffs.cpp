@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "tests/support/geotiffs.hpp"
 
 #include <geotiff/geotiff.h>
@@ -61,7 +62,12 @@ void write(const std::string& path, int width, int height, int channels, int bit
     TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, static_cast<uint16_t>(format));
     TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, channels == 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
     TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
-    TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, 16u);
+    if (tags.tileSize > 0) {
+        TIFFSetField(tif, TIFFTAG_TILEWIDTH, static_cast<uint32_t>(tags.tileSize));
+        TIFFSetField(tif, TIFFTAG_TILELENGTH, static_cast<uint32_t>(tags.tileSize));
+    } else {
+        TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, 16u);
+    }
     if (!tags.gdalNodata.empty()) {
         // libtiff builds without GDAL's tag learn it here, as GDAL declares it.
         if (!TIFFFindField(tif, TIFFTAG_GDAL_NODATA, TIFF_ANY)) {
@@ -93,7 +99,28 @@ void write(const std::string& path, int width, int height, int channels, int bit
     }
     GTIFWriteKeys(gtif);
     GTIFFree(gtif);
-    const size_t rowBytes = static_cast<size_t>(width) * static_cast<size_t>(channels * bits / 8);
+    const size_t pixelBytes = static_cast<size_t>(channels * bits / 8);
+    const size_t rowBytes = static_cast<size_t>(width) * pixelBytes;
+    if (tags.tileSize > 0) {
+        const auto T = static_cast<size_t>(tags.tileSize);
+        std::vector<uint8_t> tile(T * T * pixelBytes);
+        for (size_t y0 = 0; y0 < static_cast<size_t>(height); y0 += T) {
+            for (size_t x0 = 0; x0 < static_cast<size_t>(width); x0 += T) {
+                std::fill(tile.begin(), tile.end(), uint8_t{0});
+                for (size_t y = y0; y < std::min(y0 + T, static_cast<size_t>(height)); ++y) {
+                    const size_t n = std::min(T, static_cast<size_t>(width) - x0) * pixelBytes;
+                    std::copy_n(static_cast<const uint8_t*>(values) + y * rowBytes + x0 * pixelBytes, n,
+                                &tile[(y - y0) * T * pixelBytes]);
+                }
+                if (TIFFWriteTile(tif, tile.data(), static_cast<uint32_t>(x0), static_cast<uint32_t>(y0), 0, 0) < 0) {
+                    XTIFFClose(tif);
+                    throw std::runtime_error("cannot write " + path);
+                }
+            }
+        }
+        XTIFFClose(tif);
+        return;
+    }
     for (int j = 0; j < height; ++j) {
         const auto* row = static_cast<const uint8_t*>(values) + rowBytes * static_cast<size_t>(j);
         if (TIFFWriteScanline(tif, const_cast<uint8_t*>(row), static_cast<uint32_t>(j), 0) != 1) {

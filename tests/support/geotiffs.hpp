@@ -17,6 +17,7 @@ struct GeoTiffTags {
     std::vector<double> pixelScale;                      // ModelPixelScale: sx, sy, sz
     std::vector<double> transformation;                  // ModelTransformation: 16 values, row by row
     std::string gdalNodata;                              // GDAL_NODATA (tag 42113) text, if not empty
+    int tileSize = 0;                                    // square tiles of this side (a multiple of 16); 0: strips
 };
 
 // A geographic CRS by EPSG code, north-up, pixel (0, 0)'s top-left corner at (west, north),

@@ -104,7 +104,7 @@ OrthoMap openOrthoMap(const std::vector<std::string>& inputs, const std::optiona
         fail("input", "no input files");
     }
     // The bands and sample type every file must have: the first file's.
-    const RasterInfo first = RasterSource::open(inputs[0], 1)->info();
+    const RasterInfo first = RasterSource::describe(inputs[0]);
     OrthoMap m;
     m.sources = openMapSources(inputs, extent, body, cacheMegabytes, SampleRead::UInt16, 0, channelsOf(first),
                                [&](const RasterInfo& info, const std::string& name) -> std::optional<double> {
@@ -117,7 +117,7 @@ OrthoMap openOrthoMap(const std::vector<std::string>& inputs, const std::optiona
                                    return std::nullopt;
                                });
     if (!m.sources.source) {
-        m.described = RasterSource::open(inputs[0], 1);
+        m.described = RasterSource::open(inputs[0], cacheMegabytes);
     }
     return m;
 }
