@@ -159,14 +159,16 @@ struct OrthoLevels::Impl {
     std::vector<SparseLevel> severalCoarseLevels(int c) const;
     ItemList severalItems(int c, bool zOrder) const;
     void severalSubtree(int top, int tx, int ty, TileBatch& out) const;
-    void severalTiles(int top, int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
-                      const std::vector<int64_t>& oy, TileBatch& out) const;
     mutable std::mutex reachMutex;
     mutable std::unordered_map<uint64_t, bool> reachMemo;
     mutable std::map<int, std::vector<uint64_t>> reachedLists;
 
     void subtree(int top, int l, int tx, int ty, const std::vector<Image8>& imgs, const std::vector<int64_t>& ox,
                  const std::vector<int64_t>& oy, TileBatch& out) const {
+        if (l > top && !reached(l, tx, ty)) {
+            out.push_back(beyondTile(l, tx, ty)); // several resolutions: none of its own here
+            return;
+        }
         const size_t k = static_cast<size_t>(l - top);
         out.push_back(extract(imgs[k], ox[k], oy[k], l, tx, ty));
         if (l < M) {

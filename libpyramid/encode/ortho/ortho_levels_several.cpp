@@ -248,23 +248,7 @@ void OrthoLevels::Impl::severalSubtree(int top, int tx, int ty, TileBatch& out) 
             }
         }
     }
-    severalTiles(top, top, tx, ty, imgs, ox, oy, out);
-}
-
-void OrthoLevels::Impl::severalTiles(int top, int l, int tx, int ty, const std::vector<Image8>& imgs,
-                                     const std::vector<int64_t>& ox, const std::vector<int64_t>& oy,
-                                     TileBatch& out) const {
-    if (l > top && !reached(l, tx, ty)) {
-        out.push_back(beyondTile(l, tx, ty));
-        return;
-    }
-    const size_t k = static_cast<size_t>(l - top);
-    out.push_back(extract(imgs[k], ox[k], oy[k], l, tx, ty));
-    if (l < M) {
-        for (int c = 0; c < 4; ++c) {
-            severalTiles(top, l + 1, 2 * tx + (c & 1), 2 * ty + (c >> 1), imgs, ox, oy, out);
-        }
-    }
+    subtree(top, top, tx, ty, imgs, ox, oy, out);
 }
 
 } // namespace pyramid
