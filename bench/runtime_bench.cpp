@@ -2,7 +2,9 @@
 // the file) and elevation tiles produced (ElevationProducer, every tile of the quadtree, each
 // after its parent, for n = tileSize and n = 24), on one thread and on all threads.
 //
-//   runtime_bench [DEM.dat ...]
+//   runtime_bench [--n N] [DEM.dat ...]
+//
+// --n N: only the elevation tiles of N samples (no residual pass), e.g. to profile one of them.
 //
 // Without arguments: the original tools' tests/data/proland/DEM.dat, then a larger pyramid that
 // encodeDem builds first from a synthetic 4097 x 4097 DEM in a temporary directory.
@@ -31,6 +33,7 @@ namespace {
 using namespace pyramid;
 namespace fs = std::filesystem;
 
+constexpr size_t kCacheTiles = 64; // elevation tiles cached by each producer
 constexpr double kMinSeconds = 1.0; // each measurement repeats its pass until this much time passed
 
 struct Tile {
@@ -83,7 +86,9 @@ int64_t walk(ElevationProducer& producer, int level, int tx, int ty, int last) {
     return tiles;
 }
 
-// A fresh producer per pass (nothing cached from the last one). The levels above `split` are
+// A fresh producer per pass (nothing cached from the last one), with a cache of kCacheTiles: the
+// tiles of the last pass are filled again (runtime/tile_pool.hpp), as an engine's producer fills
+// the tiles its cache evicts. The levels above `split` are
 // produced first; the subtrees of level `split` are then the threads' work items.
 double elevationRate(const std::string& path, int n, int threads) {
     const ResidualHeader h = ResidualFileReader::open(path)->header();
@@ -92,6 +97,7 @@ double elevationRate(const std::string& path, int n, int threads) {
     auto residuals = std::make_shared<const ResidualProducer>(path, std::vector<std::string>{}, ro);
     ElevationProducerOptions eo;
     eo.tileSize = n;
+    eo.cacheCapacity = kCacheTiles;
     const int last = ElevationProducer(residuals, eo).maxLevel();
     int split = 0;
     while (split < last && (int64_t{1} << (2 * split)) < 8 * threads) {
@@ -155,15 +161,19 @@ bool producible(const ResidualHeader& h, int n) {
     return false;
 }
 
+int onlyN = 0; // --n
+
 void bench(const std::string& path) {
     const ResidualHeader h = ResidualFileReader::open(path)->header();
     const int all = omp_get_max_threads();
     std::printf("%s: tileSize %d, minLevel %d, maxLevel %d, %lld tiles\n", path.c_str(), h.tileSize, h.minLevel,
                 h.maxLevel, static_cast<long long>(h.tileCount()));
     std::printf("  %-26s %14s %14s\n", "tiles per second", "1 thread", (std::to_string(all) + " threads").c_str());
-    std::printf("  %-26s %14.0f %14.0f\n", "residual tiles decoded", residualRate(path, 1), residualRate(path, all));
+    if (onlyN == 0) {
+        std::printf("  %-26s %14.0f %14.0f\n", "residual tiles decoded", residualRate(path, 1), residualRate(path, all));
+    }
     for (int n : {static_cast<int>(h.tileSize), 24}) {
-        if (!producible(h, n)) {
+        if (!producible(h, n) || (onlyN != 0 && n != onlyN)) {
             continue;
         }
         const std::string label = "elevation tiles n = " + std::to_string(n);
@@ -175,8 +185,13 @@ void bench(const std::string& path) {
 
 int main(int argc, char** argv) {
     try {
-        if (argc > 1) {
-            for (int i = 1; i < argc; ++i) {
+        int first = 1;
+        if (argc > 2 && std::string(argv[1]) == "--n") {
+            onlyN = std::stoi(argv[2]);
+            first = 3;
+        }
+        if (argc > first) {
+            for (int i = first; i < argc; ++i) {
                 bench(argv[i]);
             }
             return 0;

@@ -1,7 +1,10 @@
 #include "formats/residual_codec.hpp"
 
+#include <algorithm>
+
 #include "formats/error.hpp"
 #include "formats/residual_context.hpp"
+#include "formats/residual_tiff_plain.hpp"
 #include "formats/tiff_tile.hpp"
 
 namespace pyramid {
@@ -66,11 +69,34 @@ std::vector<uint8_t> encodeResidualBlob(std::span<const int16_t> residuals, int 
     return encodeResidualTiff(residuals, size, level);
 }
 
-std::vector<int16_t> decodeResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where) {
-    if (isContextResidualBlob(blob)) {
-        return decodeContextResiduals(blob, size, where);
+namespace {
+
+// A context-coded blob, or any TIFF through libtiff (the reference, with its errors).
+std::vector<int16_t> decodeAnyResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where) {
+    return isContextResidualBlob(blob) ? decodeContextResiduals(blob, size, where) : decodeResidualTiff(blob, size, where);
+}
+
+} // namespace
+
+void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::string& where, std::span<int16_t> out) {
+    if (out.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
+        fail(where, "residual tile buffer of " + std::to_string(out.size()) + " samples for a tile of " +
+                        std::to_string(size) + "x" + std::to_string(size));
     }
-    return decodeResidualTiff(blob, size, where);
+    if (!isContextResidualBlob(blob) && decodePlainResidualTiff(blob, size, out)) {
+        return;
+    }
+    const std::vector<int16_t> samples = decodeAnyResidualBlob(blob, size, where);
+    std::copy(samples.begin(), samples.end(), out.begin());
+}
+
+std::vector<int16_t> decodeResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where) {
+    if (size < 1) {
+        return decodeAnyResidualBlob(blob, size, where); // which names the size's problem
+    }
+    std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
+    decodeResidualBlobInto(blob, size, where, out);
+    return out;
 }
 
 std::string describeResidualBlob(std::span<const uint8_t> blob) {

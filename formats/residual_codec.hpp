@@ -39,6 +39,8 @@ std::vector<uint8_t> encodeResidualBlob(std::span<const int16_t> residuals, int 
 // Decodes a stored residual tile of any codec: a TIFF (2 x 8 or 1 x 16 bits, any compression
 // libtiff reads) or a context-coded blob, told apart by their first bytes.
 std::vector<int16_t> decodeResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where);
+// The same into `out` (size * size samples), for readers that reuse their buffers.
+void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::string& where, std::span<int16_t> out);
 
 // A stored tile's coding, for reports: "context" or describeTiff's name ("deflate", ...).
 std::string describeResidualBlob(std::span<const uint8_t> blob);

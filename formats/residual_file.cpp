@@ -115,6 +115,11 @@ std::vector<int16_t> ResidualFileReader::readTile(int level, int tx, int ty) con
     return decodeResidualBlob(blob, header_.tileSamples(level), tileName(path_, level, tx, ty));
 }
 
+void ResidualFileReader::readTileInto(int level, int tx, int ty, std::span<int16_t> out) const {
+    const std::vector<uint8_t> blob = readTileBytes(level, tx, ty);
+    decodeResidualBlobInto(blob, header_.tileSamples(level), tileName(path_, level, tx, ty), out);
+}
+
 std::vector<uint8_t> packResidualHeader(const ResidualHeader& h) {
     std::vector<uint8_t> raw(ResidualHeader::kBytes);
     detail::storeU32(raw.data() + 0, static_cast<uint32_t>(h.minLevel));

@@ -71,6 +71,8 @@ public:
     TileTable::Range tileRange(int level, int tx, int ty) const;
     // The decoded residuals, tileSamples(level)^2 int16 values, row 0 = bottom.
     std::vector<int16_t> readTile(int level, int tx, int ty) const;
+    // The same into `out`, tileSamples(level)^2 values (a reader's reused buffer).
+    void readTileInto(int level, int tx, int ty, std::span<int16_t> out) const;
 
 private:
     ResidualFileReader() = default;

@@ -1,7 +1,12 @@
-// The elevation upsample against values computed by hand from doc/format.md.
+// The elevation upsample against values computed by hand from doc/format.md, and the coarse
+// mesh's rows (CoarseMesh::mixRow) against its definition vertex by vertex.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <vector>
+
+#include "libpyramid/filters/coarse_mesh.hpp"
 
 #include "libpyramid/filters/elevation_upsample.hpp"
 
@@ -46,6 +51,37 @@ TEST(ElevationUpsample, AddsResidualAfterPrediction) {
     for (float v : child) {
         EXPECT_EQ(v, 100.5f);
     }
+}
+
+// mixRow gives, bit for bit, coarseMix at each at(u, v): every render grid a tile of 192 allows,
+// both quadrants, values whose sums round (so another order of operations would show).
+TEST(CoarseMesh, RowsAreTheMeshAtEachVertex) {
+    const int n = 192, side = n + 5;
+    std::vector<float> zm(static_cast<size_t>(side) * side);
+    for (size_t k = 0; k < zm.size(); ++k) {
+        zm[k] = 1000.0f + 0.1f * static_cast<float>(k % 977) + 3.3f * std::sin(static_cast<float>(k));
+    }
+    int rows = 0;
+    for (const int grid : {192, 96, 64, 48, 24, 12, 2}) {
+        for (const int tx : {0, 1}) {
+            for (const int ty : {0, 1}) {
+                const CoarseMesh mesh(n, grid, tx, ty);
+                std::vector<float> row(static_cast<size_t>(n) + 1);
+                for (int v = 0; v <= n; ++v) {
+                    mesh.mixRow(v, zm.data(), static_cast<size_t>(side), row.data());
+                    for (int u = 0; u <= n; ++u) {
+                        const CoarseMesh::At a = mesh.at(u, v);
+                        const auto z = [&](int x, int y) { return zm[static_cast<size_t>(x + y * side)]; };
+                        const float want = coarseMix(a, z(a.x0, a.y0), z(a.x1, a.y0), z(a.x0, a.y1), a.lower ? 0.0f : z(a.x1, a.y1));
+                        ASSERT_EQ(std::memcmp(&row[static_cast<size_t>(u)], &want, sizeof want), 0)
+                            << "grid " << grid << " tile " << tx << "," << ty << " vertex " << u << "," << v;
+                    }
+                    ++rows;
+                }
+            }
+        }
+    }
+    EXPECT_EQ(rows, 7 * 4 * 193);
 }
 
 } // namespace

@@ -7,6 +7,7 @@
 #include "libpyramid/filters/coarse_mesh.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/runtime/tile_cache.hpp"
+#include "libpyramid/runtime/tile_pool.hpp"
 
 namespace pyramid {
 
@@ -47,16 +48,31 @@ namespace {
 void coarseElevations(const ElevationTile& parent, int n, int gridSize, int tx, int ty, const std::vector<float>& zf,
                       std::vector<float>& zc) {
     const int side = n + 5;
-    zc = zf;
-    const CoarseMesh mesh(n, gridSize, tx, ty);
-    const auto zm = [&](int x, int y) { return parent.zm[static_cast<size_t>(x + y * side)]; };
-    for (int v = 0; v <= n; ++v) {
-        for (int u = 0; u <= n; ++u) {
-            const CoarseMesh::At a = mesh.at(u, v);
-            zc[static_cast<size_t>((u + 2) + (v + 2) * side)] =
-                coarseMix(a, zm(a.x0, a.y0), zm(a.x1, a.y0), zm(a.x0, a.y1), a.lower ? 0.0f : zm(a.x1, a.y1));
-        }
+    const size_t s = static_cast<size_t>(side);
+    zc.resize(s * s);
+    const auto copyRow = [&](int y, int from, int count) {
+        const size_t at = static_cast<size_t>(from) + static_cast<size_t>(y) * s;
+        std::copy_n(&zf[at], count, &zc[at]);
+    };
+    for (int y : {0, 1, n + 3, n + 4}) {
+        copyRow(y, 0, side);
     }
+    const CoarseMesh mesh(n, gridSize, tx, ty);
+    for (int v = 0; v <= n; ++v) {
+        copyRow(v + 2, 0, 2);
+        copyRow(v + 2, n + 3, 2);
+        mesh.mixRow(v, parent.zm.data(), s, &zc[2 + static_cast<size_t>(v + 2) * s]);
+    }
+}
+
+// The process's elevation tiles that no one holds any more, up to 32 MB (about 70 tiles of 197
+// samples): what every producer fills first.
+std::shared_ptr<TilePool<ElevationTile>> elevationTilePool() {
+    static const std::shared_ptr<TilePool<ElevationTile>> pool =
+        TilePool<ElevationTile>::make(size_t{32} << 20, [](const ElevationTile& t) {
+            return (t.zf.capacity() + t.zc.capacity() + t.zm.capacity()) * sizeof(float);
+        });
+    return pool;
 }
 
 } // namespace
@@ -67,6 +83,7 @@ struct ElevationProducer::Impl {
     int k = 0; // residual tiles are 2^k elevation tiles wide
     int gridSize = 0;
     TileCache<ElevationTile> cache;
+    std::shared_ptr<TilePool<ElevationTile>> pool = elevationTilePool();
 
     explicit Impl(size_t capacity) : cache(capacity) {}
 
@@ -75,25 +92,22 @@ struct ElevationProducer::Impl {
             return hit;
         }
         const int side = n + 5;
-        auto tile = std::make_shared<ElevationTile>();
+        std::shared_ptr<ElevationTile> tile = pool->acquire();
         tile->level = level;
         tile->tx = tx;
         tile->ty = ty;
         tile->size = side;
         std::vector<float>& z = tile->zf;
-        z.assign(static_cast<size_t>(side) * side, 0.0f);
+        z.resize(static_cast<size_t>(side) * side);
         // The residual window: tile (level, tx >> k, ty >> k) of the residual producer, from
         // ((tx mod 2^k) * n, (ty mod 2^k) * n). Beyond every file, or left out of the file that
         // holds it (ResidualProducer::hasTile): no residual (R = 0).
         const int rtx = tx >> k, rty = ty >> k;
         if (residuals->hasTile(level, rtx, rty)) {
-            const std::vector<float> r = residuals->tile(level, rtx, rty);
-            const size_t stride = static_cast<size_t>(residuals->tileSize()) + 5;
-            const size_t x0 = static_cast<size_t>(tx & ((1 << k) - 1)) * static_cast<size_t>(n);
-            const size_t y0 = static_cast<size_t>(ty & ((1 << k) - 1)) * static_cast<size_t>(n);
-            for (int j = 0; j < side; ++j) {
-                std::copy_n(&r[x0 + (y0 + static_cast<size_t>(j)) * stride], side, &z[static_cast<size_t>(j) * side]);
-            }
+            residuals->window(level, rtx, rty, (tx & ((1 << k) - 1)) * n, (ty & ((1 << k) - 1)) * n, side, z.data(),
+                              static_cast<size_t>(side));
+        } else {
+            std::fill(z.begin(), z.end(), 0.0f);
         }
         if (level == 0) {
             tile->zc = z;

@@ -30,10 +30,10 @@ struct ResidualProducer::Impl {
         return deepestStorer(files, level, tx, ty, rel) >= 0;
     }
 
-    // Scaled residuals of absolute file tile (level, tx, ty) into `out` (stride `stride`,
-    // lower-left corner), which keeps its zeros where the tile is left out (an empty byte range);
-    // returns the samples per side.
-    int load(int level, int tx, int ty, float* out, size_t stride) const {
+    // Scaled residuals of absolute file tile (level, tx, ty), its samples [x0, x0 + side) x
+    // [y0, y0 + side), into `out` (rows `stride` apart): zeros past the tile's own samples, and
+    // everywhere where the tile is left out (an empty byte range). Returns the samples per side.
+    int load(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t stride) const {
         RelativeTile rel;
         const int k = deepestHolder(files, level, tx, ty, rel);
         if (k < 0) {
@@ -43,15 +43,23 @@ struct ResidualProducer::Impl {
         const ResidualFileReader& f = *files[static_cast<size_t>(k)];
         const float scale = scales[static_cast<size_t>(k)];
         const int s = f.header().tileSamples(rel.level);
-        if (!storesTile(f, rel)) {
-            return s;
+        const bool stored = storesTile(f, rel);
+        thread_local std::vector<int16_t> r;
+        if (stored) {
+            r.resize(static_cast<size_t>(s) * static_cast<size_t>(s));
+            f.readTileInto(rel.level, rel.tx, rel.ty, r);
         }
-        const std::vector<int16_t> r = f.readTile(rel.level, rel.tx, rel.ty);
-        for (int j = 0; j < s; ++j) {
-            for (int i = 0; i < s; ++i) {
-                out[static_cast<size_t>(i) + static_cast<size_t>(j) * stride] =
-                    static_cast<float>(r[static_cast<size_t>(i + j * s)]) * scale;
+        // Columns x0 .. x0 + inside - 1 and rows below s hold samples of the tile.
+        const int inside = stored ? std::clamp(s - x0, 0, side) : 0;
+        for (int j = 0; j < side; ++j) {
+            float* row = out + static_cast<size_t>(j) * stride;
+            const int sj = y0 + j;
+            const int n = sj < s ? inside : 0;
+            const int16_t* src = n > 0 ? &r[static_cast<size_t>(x0) + static_cast<size_t>(sj) * static_cast<size_t>(s)] : nullptr;
+            for (int i = 0; i < n; ++i) {
+                row[i] = static_cast<float>(src[i]) * scale;
             }
+            std::fill(row + n, row + side, 0.0f);
         }
         return s;
     }
@@ -141,22 +149,35 @@ int ResidualProducer::tileSamples(int level) const {
 
 std::vector<float> ResidualProducer::tile(int level, int tx, int ty) const {
     const size_t stride = static_cast<size_t>(impl_->tileSize) + 5;
-    std::vector<float> out(stride * stride, 0.0f);
+    const int whole = static_cast<int>(stride);
+    std::vector<float> out(stride * stride);
     if (level != 0 || impl_->delta == 0) {
-        impl_->load(level + impl_->delta, tx, ty, out.data(), stride);
+        impl_->load(level + impl_->delta, tx, ty, 0, 0, whole, out.data(), stride);
         return out;
     }
     // Root with delta > 0: the upsample-and-add of file levels 0..delta, each a whole-tile 2x
     // upsample (all these levels are at or below minLevel, one tile each).
-    std::vector<float> parent(stride * stride, 0.0f);
-    impl_->load(0, 0, 0, parent.data(), stride);
+    std::vector<float> parent(stride * stride);
+    impl_->load(0, 0, 0, 0, 0, whole, parent.data(), stride);
     for (int l = 1; l <= impl_->delta; ++l) {
-        std::fill(out.begin(), out.end(), 0.0f);
-        const int s = impl_->load(l, 0, 0, out.data(), stride);
+        const int s = impl_->load(l, 0, 0, 0, 0, whole, out.data(), stride);
         upsampleAndAdd(parent.data(), stride, s - 5, 1, 1, out.data(), stride);
         std::swap(parent, out);
     }
     return parent;
+}
+
+void ResidualProducer::window(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t outStride) const {
+    if (level != 0 || impl_->delta == 0) {
+        impl_->load(level + impl_->delta, tx, ty, x0, y0, side, out, outStride);
+        return;
+    }
+    const std::vector<float> root = tile(level, tx, ty);
+    const size_t stride = static_cast<size_t>(impl_->tileSize) + 5;
+    for (int j = 0; j < side; ++j) {
+        std::copy_n(&root[static_cast<size_t>(x0) + (static_cast<size_t>(y0) + static_cast<size_t>(j)) * stride],
+                    side, out + static_cast<size_t>(j) * outStride);
+    }
 }
 
 } // namespace pyramid

@@ -59,6 +59,9 @@ public:
     // The scaled residuals: float(r) * scale, (tileSize+5)^2 floats, row 0 = bottom.
     // Throws MissingTileError if no file holds the tile; zeros where it is left out (!hasTile).
     std::vector<float> tile(int level, int tx, int ty) const;
+    // Samples [x0, x0 + side) x [y0, y0 + side) of tile(level, tx, ty) into `out`, rows
+    // `outStride` apart: what the elevation producers read, without a whole tile's copy.
+    void window(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t outStride) const;
 
 private:
     struct Impl;

@@ -1,0 +1,219 @@
+#include "formats/residual_tiff_plain.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <memory>
+
+#include <libdeflate.h>
+
+namespace pyramid {
+
+namespace {
+
+// One directory entry's values, as unsigned integers (SHORT or LONG only).
+struct Entry {
+    uint16_t type = 0;
+    uint32_t count = 0;
+    size_t at = 0; // byte offset of the first value in the blob
+};
+
+class Directory {
+public:
+    Directory(std::span<const uint8_t> blob, bool big) : blob_(blob), big_(big) {}
+
+    uint16_t u16(size_t at) const {
+        return big_ ? static_cast<uint16_t>(blob_[at] << 8 | blob_[at + 1])
+                    : static_cast<uint16_t>(blob_[at] | blob_[at + 1] << 8);
+    }
+    uint32_t u32(size_t at) const {
+        return big_ ? (uint32_t{u16(at)} << 16 | u16(at + 2)) : (uint32_t{u16(at + 2)} << 16 | u16(at));
+    }
+    // Value i of an entry (the caller checked i < count and the entry's bounds).
+    uint32_t value(const Entry& e, uint32_t i) const {
+        return e.type == 3 ? u16(e.at + 2 * size_t{i}) : u32(e.at + 4 * size_t{i});
+    }
+    // Reads the entry at `at`; false for a type other than SHORT or LONG or values past the end.
+    bool entry(size_t at, Entry& e) const {
+        e.type = u16(at + 2);
+        e.count = u32(at + 4);
+        if ((e.type != 3 && e.type != 4) || e.count == 0) {
+            return false;
+        }
+        const uint64_t bytes = uint64_t{e.count} * (e.type == 3 ? 2u : 4u);
+        e.at = bytes <= 4 ? at + 8 : u32(at + 8);
+        return e.at + bytes <= blob_.size();
+    }
+    // The single value of a one-value entry, or all equal values of a per-sample one.
+    bool same(const Entry& e, uint32_t count, uint32_t& out) const {
+        if (e.count != count) {
+            return false;
+        }
+        out = value(e, 0);
+        for (uint32_t i = 1; i < count; ++i) {
+            if (value(e, i) != out) {
+                return false;
+            }
+        }
+        return true;
+    }
+
+private:
+    std::span<const uint8_t> blob_;
+    bool big_;
+};
+
+void swapBytes(std::span<int16_t> samples) {
+    for (int16_t& v : samples) {
+        const auto u = static_cast<uint16_t>(v);
+        v = static_cast<int16_t>(static_cast<uint16_t>(u << 8 | u >> 8));
+    }
+}
+
+struct DecompressorDeleter {
+    void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+};
+
+libdeflate_decompressor* decompressor() {
+    thread_local std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> d(libdeflate_alloc_decompressor());
+    return d.get();
+}
+
+} // namespace
+
+bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<int16_t> out) {
+    if (blob.size() < 8 || size < 1 || out.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
+        return false;
+    }
+    const bool big = blob[0] == 'M' && blob[1] == 'M';
+    if (!big && !(blob[0] == 'I' && blob[1] == 'I')) {
+        return false;
+    }
+    const Directory d(blob, big);
+    if (d.u16(2) != 42) {
+        return false;
+    }
+    const size_t ifd = d.u32(4);
+    if (ifd < 8 || ifd + 2 > blob.size()) {
+        return false;
+    }
+    const uint16_t entries = d.u16(ifd);
+    if (ifd + 2 + size_t{entries} * 12 + 4 > blob.size() || d.u32(ifd + 2 + size_t{entries} * 12) != 0) {
+        return false; // a second directory: another image
+    }
+    Entry width, length, bits, offsets, counts, rows, compression, samples, planar, predictor, format;
+    bool has[12] = {};
+    enum { W, L, B, O, C, R, Z, S, P, D, F };
+    int lastTag = -1;
+    for (uint16_t k = 0; k < entries; ++k) {
+        const size_t at = ifd + 2 + size_t{k} * 12;
+        const uint16_t tag = d.u16(at);
+        if (static_cast<int>(tag) <= lastTag) {
+            return false; // out of order or repeated: libtiff decides
+        }
+        lastTag = tag;
+        Entry e;
+        if (!d.entry(at, e)) {
+            return false;
+        }
+        uint32_t v = 0;
+        int which = -1;
+        switch (tag) {
+        // Tags that change nothing in the strips' bytes, with the values libtiff accepts without
+        // a word: NewSubfileType, PhotometricInterpretation (min-is-white or black) and
+        // Orientation (libtiff's strip reads ignore it).
+        case 254: continue;
+        case 262: if (!d.same(e, 1, v) || v > 1) return false; continue;
+        case 274: if (!d.same(e, 1, v) || v < 1 || v > 8) return false; continue;
+        case 256: width = e; which = W; break;
+        case 257: length = e; which = L; break;
+        case 258: bits = e; which = B; break;
+        case 259: compression = e; which = Z; break;
+        case 273: offsets = e; which = O; break;
+        case 277: samples = e; which = S; break;
+        case 278: rows = e; which = R; break;
+        case 279: counts = e; which = C; break;
+        case 284: planar = e; which = P; break;
+        case 317: predictor = e; which = D; break;
+        case 339: format = e; which = F; break;
+        default: return false;
+        }
+        has[which] = true;
+    }
+    if (!has[W] || !has[L] || !has[B] || !has[O] || !has[C]) {
+        return false;
+    }
+    uint32_t w = 0, h = 0, spp = 1, bps = 0, codec = 1, rps = 0xffffffffu, config = 1, pred = 1, sampleFormat = 1;
+    if (!d.same(width, 1, w) || !d.same(length, 1, h) || (has[S] && !d.same(samples, 1, spp)) ||
+        (has[Z] && !d.same(compression, 1, codec)) || (has[R] && !d.same(rows, 1, rps)) ||
+        (has[P] && !d.same(planar, 1, config)) || (has[D] && !d.same(predictor, 1, pred))) {
+        return false;
+    }
+    if (w != static_cast<uint32_t>(size) || h != static_cast<uint32_t>(size) || !d.same(bits, spp, bps) ||
+        (has[F] && !d.same(format, spp, sampleFormat))) {
+        return false;
+    }
+    const bool twoBytes = spp == 2 && bps == 8, oneShort = spp == 1 && bps == 16;
+    if ((!twoBytes && !oneShort) || config != 1 || (pred != 1 && pred != 2) || (sampleFormat != 1 && sampleFormat != 2) ||
+        (codec != 1 && codec != 8 && codec != 32946)) {
+        return false;
+    }
+    if (rps == 0 || (codec == 1 && has[D])) {
+        return false; // libtiff's own reading of these: no rows, or a predictor it ignores
+    }
+    rps = std::min(rps, h);
+    const uint32_t strips = (h + rps - 1) / rps;
+    if (offsets.count != strips || counts.count != strips) {
+        return false;
+    }
+    const size_t rowBytes = static_cast<size_t>(size) * 2;
+    auto* bytes = reinterpret_cast<uint8_t*>(out.data());
+    for (uint32_t s = 0; s < strips; ++s) {
+        const uint64_t offset = d.value(offsets, s), stored = d.value(counts, s);
+        const size_t want = static_cast<size_t>(std::min(rps, h - s * rps)) * rowBytes;
+        if (offset == 0 || offset + stored > blob.size()) {
+            return false;
+        }
+        uint8_t* strip = bytes + static_cast<size_t>(s) * rps * rowBytes;
+        if (codec == 1) {
+            if (stored != want) {
+                return false;
+            }
+            std::memcpy(strip, blob.data() + offset, want);
+        } else if (libdeflate_zlib_decompress(decompressor(), blob.data() + offset, static_cast<size_t>(stored), strip,
+                                              want, nullptr) != LIBDEFLATE_SUCCESS) {
+            return false;
+        }
+    }
+    // The samples as the file's bytes give them, then the predictor's sums along each row
+    // (libtiff's order: byte swap, then accumulate).
+    if (oneShort) {
+        if (big != (std::endian::native == std::endian::big)) {
+            swapBytes(out);
+        }
+        if (pred == 2) {
+            for (int j = 0; j < size; ++j) {
+                int16_t* row = out.data() + static_cast<size_t>(j) * static_cast<size_t>(size);
+                for (int i = 1; i < size; ++i) {
+                    row[i] = static_cast<int16_t>(static_cast<uint16_t>(row[i]) + static_cast<uint16_t>(row[i - 1]));
+                }
+            }
+        }
+        return true;
+    }
+    if (pred == 2) {
+        for (int j = 0; j < size; ++j) {
+            uint8_t* row = bytes + static_cast<size_t>(j) * rowBytes;
+            for (size_t i = 2; i < rowBytes; ++i) {
+                row[i] = static_cast<uint8_t>(row[i] + row[i - 2]);
+            }
+        }
+    }
+    // Sample 0 is the low byte, sample 1 the high byte, whatever the file's byte order.
+    if constexpr (std::endian::native == std::endian::big) {
+        swapBytes(out);
+    }
+    return true;
+}
+
+} // namespace pyramid
