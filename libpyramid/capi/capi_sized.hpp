@@ -1,7 +1,7 @@
 // Size-prefixed structs (doc/c-api.md): every struct of the C API begins with `size_t
 // struct_size`, set by the caller to the size it was compiled with, so that the structs can grow.
-// The one rule for reading and writing them, shared by the runtime's functions (pyramid_capi.cpp)
-// and the encoding ones (pyramid_encode.cpp).
+// The one rule for reading and writing them, shared by the runtime's functions (pyramid_file.cpp,
+// pyramid_elevation.cpp, pyramid_ortho.cpp) and the encoding ones (pyramid_encode.cpp).
 #pragma once
 #include <algorithm>
 #include <cstddef>

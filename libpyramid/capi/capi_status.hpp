@@ -1,5 +1,6 @@
-// The C API's statuses and its thread-local last error (pyramid_last_error), shared by its two
-// halves: the runtime's functions (pyramid_capi.cpp) and the encoding ones (pyramid_encode.cpp).
+// The C API's statuses and its thread-local last error (pyramid_last_error, capi_status.cpp),
+// shared by its two halves: the runtime's functions (pyramid_file.cpp, pyramid_elevation.cpp,
+// pyramid_ortho.cpp) and the encoding ones (pyramid_encode.cpp).
 #pragma once
 #include <exception>
 #include <new>
