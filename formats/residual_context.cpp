@@ -20,7 +20,7 @@ using context_coding::RangeEncoder;
 // every blob.
 constexpr uint32_t kDirect = 32;                // zigzag values 0..31 are symbols of their own
 constexpr uint32_t kSymbols = kDirect + 1;      // and symbol 32 escapes larger ones
-// An escape's bit length - 1: 0..16 in version 0, 0..17 in version 1 (whose mode 2 values reach 2^17).
+// An escape's bit length - 1: 0..16 in version 0, 0..17 in version 1 (mode 2's values reach 79871).
 template <int Version>
 constexpr uint32_t kExponents = Version == 0 ? 17 : 18;
 constexpr int kActivityBins = 14;
