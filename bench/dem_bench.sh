@@ -18,6 +18,11 @@
 #   1201 x 1201 int16) and jacksboro-dem.tif, the USGS DEM of the Jacksboro fault (Tennessee,
 #   403 x 344 int16) that Debian's python-matplotlib-data ships as sample data (an .npz, turned
 #   into a GeoTIFF here without numpy);
+# * coasts (flat sea at 0 m, where LERC's constant blocks win): coast-900.tif, coast-1200.tif and
+#   flooded-1200.tif, made here from the Rainier tile (the land above 900 or 1200 m, lowered to
+#   start at 0 m at the shore; or the heights below 1200 m flooded to 0 behind cliffs), and
+#   topobathy-sea0.tif, matplotlib's real topography-and-bathymetry sample (120 x 91, near
+#   Vancouver Island) with the sea clamped to 0 m;
 # * samples/dem.tif (385 x 385, from an 8-bit map: 39.2 m terraces) and srtm-4097.tif, a 641 x
 #   641 cut of samples/srtm.png (the Himalaya, red x 10000 / 255 metres) upsampled to 4097 x 4097;
 # * a deterministic synthetic SIZE x SIZE float32 DEM (bench/dem_synthetic_heights.cpp).
@@ -70,27 +75,64 @@ INPUTS=()
 if [ -f "$RAINIER" ]; then
     cp -f "$RAINIER" mt_rainier_90m.tif
     INPUTS+=(mt_rainier_90m.tif)
+    # Coastal inputs made from the Rainier tile (no real coastal SRTM tile is at hand offline):
+    # coast-L.tif = max(height - L, 0), a flat sea at 0 m meeting land that rises from the shore
+    # as on a real coast (20 % of the area sea for L = 900, 46 % for 1200), and flooded-L.tif =
+    # the heights below L set to 0, the same sea behind cliffs. The int16 samples go through
+    # ENVI raw files (which keep the georeferencing) and Python without numpy.
+    for made in coast-900 coast-1200 flooded-1200; do
+        if [ ! -f "$made.tif" ]; then
+            gdal_translate -q -of ENVI mt_rainier_90m.tif "$made.raw"
+            python3 - "$made.raw" "${made%-*}" "${made##*-}" <<'PY'
+import array, sys
+path, kind, level = sys.argv[1], sys.argv[2], int(sys.argv[3])
+assert sys.byteorder == "little"
+h = array.array("h", open(path, "rb").read())
+if kind == "coast":
+    h = array.array("h", (max(v - level, 0) for v in h))
+else:
+    h = array.array("h", (v if v >= level else 0 for v in h))
+open(path, "wb").write(h.tobytes())
+PY
+            gdal_translate -q "$made.raw" "$made.part.tif"
+            rm -f "$made.raw" "$made.hdr" "$made.raw.aux.xml"
+            mv "$made.part.tif" "$made.tif"
+        fi
+        INPUTS+=("$made.tif")
+    done
 fi
-if [ ! -f jacksboro-dem.tif ]; then
-    # The .npz's elevation.npy (int16, C order, row 0 = north) as raw samples behind a GDAL VRT.
-    python3 - /usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz <<'PY'
-import ast, sys, zipfile
-npy = zipfile.ZipFile(sys.argv[1]).read("elevation.npy")
+# npz_to_tif NPZ ARRAY OUTPUT [sea0]: one array of a numpy .npz (C order; int16, or float32 with
+# sea0) as an int16 GeoTIFF, through raw samples behind a GDAL VRT, read without numpy. sea0:
+# the heights rounded and the sea (below 0) clamped to 0 m, as SRTM stores it.
+npz_to_tif() {
+    python3 - "$1" "$2" "$4" <<'PY'
+import array, ast, sys, zipfile
+npz, name, mode = sys.argv[1], sys.argv[2], sys.argv[3]
+npy = zipfile.ZipFile(npz).read(name + ".npy")
 length = int.from_bytes(npy[8:10], "little")
 header = ast.literal_eval(npy[10:10 + length].decode("latin1"))
-assert header["descr"] == "<i2" and not header["fortran_order"], header
+assert header["descr"] == ("<f4" if mode == "sea0" else "<i2") and not header["fortran_order"], header
 rows, cols = header["shape"]
-open("jacksboro.raw", "wb").write(npy[10 + length:])
-open("jacksboro.vrt", "w").write(
+samples = npy[10 + length:]
+if mode == "sea0":
+    samples = array.array("h", (max(round(v), 0) for v in array.array("f", samples))).tobytes()
+open("npz.raw", "wb").write(samples)
+open("npz.vrt", "w").write(
     f'<VRTDataset rasterXSize="{cols}" rasterYSize="{rows}"><VRTRasterBand dataType="Int16" band="1" '
-    f'subClass="VRTRawRasterBand"><SourceFilename relativetoVRT="1">jacksboro.raw</SourceFilename>'
+    f'subClass="VRTRawRasterBand"><SourceFilename relativetoVRT="1">npz.raw</SourceFilename>'
     f'<ByteOrder>LSB</ByteOrder><ImageOffset>0</ImageOffset><PixelOffset>2</PixelOffset>'
     f'<LineOffset>{2 * cols}</LineOffset></VRTRasterBand></VRTDataset>\n')
 PY
-    gdal_translate -q jacksboro.vrt jacksboro-dem.tif
-    rm -f jacksboro.raw jacksboro.vrt
-fi
-INPUTS+=(jacksboro-dem.tif dem.tif srtm-4097.tif "synthetic-$SIZE.tif")
+    gdal_translate -q npz.vrt "$3"
+    rm -f npz.raw npz.vrt
+}
+SAMPLE_DATA=/usr/share/matplotlib/mpl-data/sample_data
+# The Jacksboro DEM: elevation.npy, int16, row 0 = north.
+[ -f jacksboro-dem.tif ] || npz_to_tif "$SAMPLE_DATA/jacksboro_fault_dem.npz" elevation jacksboro-dem.tif
+# A real coast: topobathy.npz's topo.npy (topography and bathymetry, float32 metres, 91 x 120,
+# row 0 = south, near Vancouver Island), the sea clamped to 0 m.
+[ -f topobathy-sea0.tif ] || npz_to_tif "$SAMPLE_DATA/topobathy.npz" topo topobathy-sea0.tif sea0
+INPUTS+=(jacksboro-dem.tif topobathy-sea0.tif dem.tif srtm-4097.tif "synthetic-$SIZE.tif")
 
 RESULTS=$WORK/results.tsv
 printf 'input\tvariant\twall_s\tpeak_rss_mb\tbytes\tinput_samples\tmax_error\ttile\tresiduals\tentropy\ttile_bytes\n' >"$RESULTS"

@@ -57,6 +57,15 @@ std::vector<int16_t> roundTrip(const std::vector<int16_t>& v, int size) {
 
 TEST(ContextResiduals, RoundTripsEveryKindOfTile) {
     for (const int size : {1, 2, 5, 29, 197}) {
+        // Every mode of both versions, on the int16 extremes and noise.
+        for (const auto& [version, modes] : {std::pair{0, 2}, std::pair{1, 3}}) {
+            for (int mode = 0; mode < modes; ++mode) {
+                for (const std::vector<int16_t>& v : {noise(size, 300, 4), noise(size, 32767, 5)}) {
+                    EXPECT_EQ(decodeContextResiduals(encodeContextResiduals(v, size, version, mode), size, "t"), v)
+                        << size << " " << version << " " << mode;
+                }
+            }
+        }
         EXPECT_EQ(roundTrip(noise(size, 3, 1), size), noise(size, 3, 1)) << size;
         EXPECT_EQ(roundTrip(noise(size, 300, 2), size), noise(size, 300, 2)) << size;
         EXPECT_EQ(roundTrip(noise(size, 32767, 3), size), noise(size, 32767, 3)) << size;
@@ -77,19 +86,40 @@ TEST(ContextResiduals, HeightsAreCodedAgainstTheMedianPredictorAndNoiseAsItIs) {
     const std::vector<uint8_t> residuals = encodeContextResiduals(noise(64, 4, 7), 64);
     EXPECT_EQ(heights[6], 1);   // mode: median prediction
     EXPECT_EQ(residuals[6], 0); // mode: as they are
+    EXPECT_EQ(heights[7], 1);   // version
     // Far below 16 bits a sample: near the 3.17 bits of 9 equally likely values.
     EXPECT_LT(residuals.size(), 64u * 64u * 7u / 16u);
     EXPECT_LT(heights.size(), residuals.size());
 }
 
 // The format's bytes, pinned: a change of the coder or its constants (doc/format.md, 1.8) fails
-// here before it reaches a file.
+// here before it reaches a file. Version 0's blobs stay readable as they were written.
 TEST(ContextResiduals, BytesOfAKnownTileArePinned) {
     const std::vector<int16_t> tile = {0, 1, -1, 2, 0, 0, 40, -3, 5};
-    const std::vector<uint8_t> blob = encodeContextResiduals(tile, 3);
-    const std::vector<uint8_t> expected = {0x50, 0x59, 0x52, 0x43, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00,
-                                          0x7a, 0x67, 0x99, 0x8e, 0xf7, 0xcd, 0xfa, 0x19, 0x7a};
-    EXPECT_EQ(blob, expected);
+    const std::vector<uint8_t> version0 = {0x50, 0x59, 0x52, 0x43, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00,
+                                           0x7a, 0x67, 0x99, 0x8e, 0xf7, 0xcd, 0xfa, 0x19, 0x7a};
+    EXPECT_EQ(decodeContextResiduals(version0, 3, "tile"), tile);
+    EXPECT_EQ(encodeContextResiduals(tile, 3, 0), version0);
+
+    const std::vector<int16_t> grid = {0, 3, 0, -2, 0, 4, 6, 1, -5, 2, 0, 2, 0, 1, 0, -3, -4, 2, 7, 1, 0, -1, 0, 300, 0};
+    const std::vector<uint8_t> mode0 = {0x50, 0x59, 0x52, 0x43, 0x05, 0x00, 0x00, 0x01, 0x00, 0x4e, 0x24, 0x79,
+                                        0xfd, 0xd9, 0x1f, 0x16, 0x88, 0x1d, 0xf0, 0xdf, 0x97, 0xd5, 0x0f, 0x00};
+    const std::vector<uint8_t> mode2 = {0x50, 0x59, 0x52, 0x43, 0x05, 0x00, 0x02, 0x01, 0x00, 0x4d, 0xe4, 0x3f,
+                                        0xde, 0x30, 0x67, 0x74, 0xd7, 0xa7, 0x76, 0xe0, 0xfd, 0x7d, 0x80, 0x00};
+    EXPECT_EQ(encodeContextResiduals(grid, 5), mode0); // modes 0 and 2 tie: the first is kept
+    EXPECT_EQ(encodeContextResiduals(grid, 5, 1, 2), mode2);
+    EXPECT_EQ(decodeContextResiduals(mode0, 5, "tile"), grid);
+    EXPECT_EQ(decodeContextResiduals(mode2, 5, "tile"), grid);
+}
+
+// Version 1's mode 2 predicts beyond int16: the value 32767 - (-36864) needs an escape of 17
+// low bits, coded as bit 16 and then the low 16.
+TEST(ContextResiduals, TheLongestEscapeRoundTrips) {
+    std::vector<int16_t> tile(9 * 9, 0);
+    tile[3 * 9 + 2] = -32768; // left of (3, 3), a sample of odd column and row
+    tile[2 * 9 + 3] = -32768; // below it
+    tile[3 * 9 + 3] = 32767;  // predicted as (12 * -32768 + 6 * -32768 + 8) >> 4 = -36864
+    EXPECT_EQ(decodeContextResiduals(encodeContextResiduals(tile, 9, 1, 2), 9, "tile"), tile);
 }
 
 TEST(ContextResiduals, DamagedBlobsAreRefusedWithTheirName) {
@@ -113,8 +143,14 @@ TEST(ContextResiduals, DamagedBlobsAreRefusedWithTheirName) {
     longer.push_back(0);
     refused(longer, 21, "1 bytes after the end");
     std::vector<uint8_t> mode = blob;
-    mode[6] = 2;
-    refused(mode, 21, "unknown kind");
+    mode[6] = 3;
+    refused(mode, 21, "unknown kind (mode 3, version 1)");
+    std::vector<uint8_t> version = blob;
+    version[7] = 2;
+    refused(version, 21, "unknown kind");
+    std::vector<uint8_t> older = encodeContextResiduals(tile, 21, 0);
+    older[6] = 2; // mode 2 is version 1's
+    refused(older, 21, "unknown kind (mode 2, version 0)");
     std::vector<uint8_t> start = blob;
     start[8] = 1;
     refused(start, 21, "damaged stream start");
