@@ -6,8 +6,9 @@
 #   bench/ortho_inputs_bench.sh      results in $WORK (default /tmp/pyramid-ortho-inputs)
 #
 # Environment: BUILD (a Release build directory, configured here if missing; default
-# build-release), WORK, THREADS (default 2), REPEAT (pairs per input, default 5), INPUTS (the
-# inputs to run, default all below), EXTRA (more preprocessOrtho options for every run).
+# build-release), ORTHO (a preprocessOrtho to time instead of BUILD's, e.g. an older build's),
+# WORK, THREADS (default 2), REPEAT (pairs per input, default 5), INPUTS (the inputs to run,
+# default all below), EXTRA (more preprocessOrtho options for every run).
 #
 # Inputs (made in $WORK once; network only through apt-get download, the packages unpacked with
 # dpkg -x, nothing installed):
@@ -22,7 +23,7 @@
 #                           true colour) repeated 9 x 9 and cut to 3072^2, --tile-size 192
 #   landsat-352.tif         the same scene at its own size (default tiles)
 #   kodak-6144.tif          librust-tiff-dev's Kodak photos kodim02 and kodim07 (768 x 512)
-#                           alternated in an 8 x 12 mosaic, 6144^2, --tile-size 192
+#                           alternated in a 9 x 12 mosaic cut to 6144^2, --tile-size 192
 # Every input is an uncompressed striped RGB TIFF, read by both tools from the page cache.
 #
 # One table: per input, REPEAT default runs each followed by a GDAL run (A B A B ...), the
@@ -40,8 +41,10 @@ read -r -a EXTRA_ARGS <<<"${EXTRA:-}"
 source "$ROOT/bench/common.sh"
 need_bench_tools
 need_package oiiotool openimageio-tools
-build_programs preprocessOrtho
-ORTHO=$(program_path preprocessOrtho)
+if [ -z "${ORTHO:-}" ]; then
+    build_programs preprocessOrtho
+    ORTHO=$(program_path preprocessOrtho)
+fi
 
 mkdir -p "$WORK"
 cd "$WORK"
@@ -129,6 +132,7 @@ for name in $INPUTS; do
         gdal+=("$WALL_S")
         ratios+=("$(awk -v a="${ours[k]}" -v b="$WALL_S" 'BEGIN {printf "%.3f", a / b}')")
     done
+    [ "$REPEAT" -gt 0 ] || continue
     bytes=$(find out-ours -type f -name '*.dat' -printf '%s\n' | awk '{s += $1} END {print s}')
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(median "${ours[@]}")" "$(median "${gdal[@]}")" \
         "$(median "${ratios[@]}")" "$rss" "$bytes" "$(stat -c %s out-cog.tif)" | tee -a "$RESULTS"
