@@ -1,11 +1,15 @@
 // A deterministic synthetic orthophoto for bench/ortho_bench.sh and bench/sphere_bench.sh:
 // SIZE x SIZE (or WIDTH x HEIGHT) RGB, 8 bits, written as an uncompressed striped TIFF.
 //
-//   ortho_synthetic_image OUTPUT.tif [SIZE | WIDTHxHEIGHT]     (default 8192)
+//   ortho_synthetic_image OUTPUT.tif [SIZE | WIDTHxHEIGHT] [noise SIGMA]     (default 8192)
 //
 // Content: smooth colour fields (value noise with 2048- and 512-pixel cells) plus texture
 // (64-, 16- and 4-pixel cells) and per-pixel grain, so that Deflate and JPEG compress it about
-// as much as real aerial imagery. Integer arithmetic only: the same bytes on every machine.
+// as much as real aerial imagery. With `noise SIGMA`: smooth gradients only (linear ramps and
+// value noise with 2048-pixel cells, no texture) plus sensor-like Gaussian noise of standard
+// deviation SIGMA (the sum of 12 uniform variates, independent per sample), the image on which
+// Deflate finds almost nothing but the noise. Integer arithmetic only: the same bytes on every
+// machine.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -44,13 +48,29 @@ int valueNoise(uint32_t x, uint32_t y, int shift, uint32_t seed) {
     return (top * 256 + (bottom - top) * fy) >> 16;
 }
 
+// Gaussian noise of standard deviation sigma (Irwin-Hall: 12 uniform 16-bit variates have a
+// standard deviation of 65536), rounded to the nearest integer.
+int gaussianNoise(uint32_t x, uint32_t y, uint32_t channel, int sigma) {
+    int64_t sum = 0;
+    for (uint32_t k = 0; k < 12; ++k) {
+        sum += static_cast<int64_t>(hash(x, y, 100 + channel * 12 + k) & 0xffffu);
+    }
+    const int64_t centred = (sum - 12 * 32768) * sigma;
+    return static_cast<int>((centred + (centred >= 0 ? 32768 : -32768)) / 65536);
+}
+
 uint8_t clampByte(int v) { return static_cast<uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v); }
 
 } // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2 || argc > 3) {
-        std::fprintf(stderr, "usage: %s OUTPUT.tif [SIZE | WIDTHxHEIGHT]\n", argv[0]);
+    int sigma = -1; // -1: the default content
+    if (argc == 5 && std::string(argv[3]) == "noise") {
+        sigma = std::atoi(argv[4]);
+        argc = 3;
+    }
+    if (argc < 2 || argc > 3 || sigma < -1 || sigma > 64) {
+        std::fprintf(stderr, "usage: %s OUTPUT.tif [SIZE | WIDTHxHEIGHT] [noise SIGMA (0..64)]\n", argv[0]);
         return 2;
     }
     int size = 8192, rows = 8192;
@@ -82,6 +102,17 @@ int main(int argc, char** argv) {
             const int grain = static_cast<int>(hash(ux, uy, 7) % 7u) - 3;
             const int luma = 40 + field * 3 / 4 + texture + grain;
             uint8_t* p = &row[static_cast<size_t>(x) * 3];
+            if (sigma >= 0) {
+                // Smooth gradients: ramps across the image and broad value noise, per channel.
+                const int rampX = static_cast<int>(static_cast<int64_t>(x) * 96 / size);
+                const int rampY = static_cast<int>(static_cast<int64_t>(y) * 64 / rows);
+                for (uint32_t c = 0; c < 3; ++c) {
+                    const int broad = valueNoise(ux, uy, 11, 10 + c) / 2;
+                    const int base = 30 + broad + (c == 0 ? rampX : c == 1 ? rampY : (rampX + rampY) / 2);
+                    p[c] = clampByte(base + gaussianNoise(ux, uy, c, sigma));
+                }
+                continue;
+            }
             p[0] = clampByte(luma + hue / 3);
             p[1] = clampByte(luma + (hue > 0 ? hue / 5 : -hue / 6));
             p[2] = clampByte(luma - hue / 3 - 12);

@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 
+#include "formats/deflate_literals.hpp"
 #include "formats/error.hpp"
 
 namespace pyramid {
@@ -172,6 +173,34 @@ std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level)
     return {out.data(), size};
 }
 
+// Whether Deflate's matches would save little on `bytes`, judged on a sample of them (16 KB
+// from the middle): its literal code takes at least 3 bits a byte (below that, runs and repeats
+// are everywhere), and libdeflate level 1's stream of it is no smaller than that code (sensor
+// noise after the predictor, grainy residuals; not repeated texture, which matches well at as
+// many bits a byte). Strips under 32 KB are left to libdeflate.
+bool literalsSuffice(std::span<const uint8_t> bytes) {
+    constexpr size_t kSample = 16384;
+    if (bytes.size() < 2 * kSample) {
+        return false;
+    }
+    const std::span<const uint8_t> sample = bytes.subspan((bytes.size() - kSample) / 2, kSample);
+    const LiteralCost cost = literalCost(sample);
+    return cost.bits >= 3 * kSample && zlibCompress(sample, 1).size() * 8 >= cost.bits;
+}
+
+// The zlib stream of a Deflate strip. With `literals` (8-bit image tiles), at the fast levels
+// (1 and 2), bytes on which Deflate's matches would save little (literalsSuffice) are coded as
+// literals only (deflate_literals.hpp), several times faster and about as small; the rest by
+// libdeflate.
+std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, bool literals) {
+    if (literals && level <= 2 && literalsSuffice(bytes)) {
+        thread_local std::vector<uint8_t> out;
+        const size_t size = deflateLiterals(bytes, literalCost(bytes), out);
+        return {out.data(), size};
+    }
+    return zlibCompress(bytes, level);
+}
+
 // The strip libtiff's horizontal predictor would store for 8-bit samples: each sample minus the
 // same channel of the pixel to its left, modulo 256, the first pixel of each row as it is. In
 // a buffer of the thread's, valid until its next call.
@@ -216,11 +245,12 @@ std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t b
 
 // Encodes one strip of `bits`-bit samples. Deflate strips (with or without the predictor) are
 // compressed here, with a compressor kept per thread, and written raw: libtiff would
-// copy the strip and set up a compressor for every tile.
+// copy the strip and set up a compressor for every tile. `literals`: see deflateStrip (the
+// elevation residuals keep libdeflate's streams).
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
                                  int jpegQuality, int deflateLevel, bool horizontalPredictor,
-                                 bool signedSamples = false) {
+                                 bool signedSamples = false, bool literals = false) {
     const bool jpeg = isJpeg(compression);
     if (compression == TiffCompression::Deflate && (deflateLevel < 1 || deflateLevel > 12)) {
         fail("", "Deflate level " + std::to_string(deflateLevel) + " is not 1..12");
@@ -274,7 +304,7 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
             samples = bits == 16 ? horizontalDifferences16(samples.data(), bytes, width, channels)
                                  : horizontalDifferences(samples.data(), bytes, width, channels);
         }
-        const std::span<const uint8_t> deflated = zlibCompress(samples, deflateLevel);
+        const std::span<const uint8_t> deflated = deflateStrip(samples, deflateLevel, literals);
         written = TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated.data()), static_cast<tmsize_t>(deflated.size()));
     } else {
         written = TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
@@ -304,7 +334,8 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
                                  : channels >= 3                                           ? PHOTOMETRIC_RGB
                                                                                            : PHOTOMETRIC_MINISBLACK;
     return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric,
-                       channels == 2 || channels == 4, compression, jpegQuality, deflateLevel, horizontalPredictor);
+                       channels == 2 || channels == 4, compression, jpegQuality, deflateLevel, horizontalPredictor,
+                       false, true);
 }
 
 namespace {

@@ -33,7 +33,9 @@ struct TiffImage {
 // each sample stored as its difference from the same channel of the pixel to its left) apply to
 // Deflate only, `jpegQuality` (1..100) to JPEG; a level or quality out of range is an error. Both
 // are undone by any libtiff reader within TIFFReadEncodedStrip, so the decoded pixels are the
-// same whatever they are.
+// same whatever they are. At Deflate levels 1 and 2, strips of noise (a 16 KB sample takes at
+// least 3 bits a byte in a literal code, and no fewer in libdeflate level 1's stream) are coded
+// as one block of literals, an ordinary Deflate stream (formats/deflate_literals.hpp).
 std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int height, int channels,
                                  TiffCompression compression, int jpegQuality = 90, int deflateLevel = 6,
                                  bool horizontalPredictor = false);

@@ -181,6 +181,39 @@ TEST(PlanarPixels, EightBitsAsTheDocumentedRounding) {
     EXPECT_GT(differ, 50);
 }
 
+// An 8-bit input as wide as the finest level and less high is read into place (sampleWide); the
+// same image in 16 bits (each value v as v * 257, which converts back to v) takes the bilinear
+// path: the same pixels, and 0 below the input.
+TEST(PlanarPixels, WideInputsAtScaleOneAreTheirPixels) {
+    test::TempDir dir;
+    const int width = 64, height = 23;
+    const std::vector<uint16_t> eight = texture(width, height, 3, 255);
+    std::vector<uint16_t> sixteen(eight.size());
+    std::transform(eight.begin(), eight.end(), sixteen.begin(), [](uint16_t v) { return static_cast<uint16_t>(v * 257); });
+    test::writeImage(dir.file("wide8.png"), width, height, 3, eight, false);
+    test::writeImage(dir.file("wide16.png"), width, height, 3, sixteen, true);
+    const auto source8 = RasterSource::open(dir.file("wide8.png"));
+    const auto source16 = RasterSource::open(dir.file("wide16.png"));
+    const PlanarPixels pixels8(*source8, 3, width, false), pixels16(*source16, 3, width, false);
+    int inside = 0;
+    for (const auto& [x0, y0, w, h] : {std::tuple{0, 0, 64, 64}, std::tuple{5, 30, 20, 20}, std::tuple{0, 41, 64, 23},
+                                       std::tuple{10, 40, 7, 1}, std::tuple{3, 0, 9, 40}, std::tuple{0, 63, 64, 1}}) {
+        const Image8 a = pixels8.sample(x0, y0, w, h), b = pixels16.sample(x0, y0, w, h);
+        ASSERT_EQ(a.pixels, b.pixels) << x0 << "," << y0 << " " << w << "x" << h;
+        for (int j = 0; j < h; ++j) {
+            const int row = width - 1 - (y0 + j); // the input row, from the north
+            for (int i = 0; i < w; ++i) {
+                for (int c = 0; c < 3; ++c) {
+                    const uint16_t want = row < height ? eight[(static_cast<size_t>(row) * width + x0 + i) * 3 + c] : 0;
+                    ASSERT_EQ(a.at(i, j)[c], want) << i << "," << j;
+                    inside += row < height;
+                }
+            }
+        }
+    }
+    EXPECT_GT(inside, 3 * 64 * 23);
+}
+
 TEST(OrthoLevels, BothOrdersGiveTheSameTiles) {
     struct Case {
         int w, h, channels, tileSize;

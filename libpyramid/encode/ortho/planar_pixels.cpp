@@ -99,6 +99,7 @@ PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t wid
     } else {
         const int64_t longest = std::max(info.width, info.height);
         ax_.scale = ay_.scale = static_cast<double>(longest) / static_cast<double>(W);
+        wideUnitScale_ = info.width == W; // and so longest == W: scale 1, the height below W
         sampling_ = "bilinear resampling onto " + std::to_string(W) + "x" + std::to_string(W) +
                     " pixels, aspect ratio kept" +
                     (info.width != info.height ? ", input at the north-west corner, the rest black and transparent" : "");
@@ -116,6 +117,9 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
         source_.readUInt8(static_cast<int>(x0), top, static_cast<int>(x0) + w, top + h, 0, channels_,
                           out.at(0, h - 1), -rowBytes);
         return out;
+    }
+    if (wideUnitScale_ && !sixteen_) {
+        return sampleWide(x0, y0, w, h);
     }
     Image8 out(w, h, channels_); // pixels beyond the input stay 0
     std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
@@ -191,6 +195,23 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
         const double* top = rows.row(r0, r1, horizontal);
         const double* bottom = rows.row(r1, r0, horizontal);
         combineRows(top, bottom, fy, sixteen_ ? 65535.0 : 255.0, rowSamples, row);
+    }
+    return out;
+}
+
+// An 8-bit input as wide as the finest level and less high, at scale 1: every position is an
+// input pixel's centre (X = x, Y = W - 1 - y), where the formula gives the pixel unchanged, and
+// the rows beyond the input's height are 0. The input rows are read straight into place, bottom
+// up, as for a square input; the general path gives the same bytes.
+Image8 PlanarPixels::sampleWide(int64_t x0, int64_t y0, int w, int h) const {
+    Image8 out(w, h, channels_);
+    const int64_t firstInside = std::max<int64_t>(0, ay_.output - ay_.input - y0); // output row
+    if (firstInside < h) {
+        const auto rowBytes = static_cast<std::ptrdiff_t>(w) * channels_;
+        const auto top = static_cast<int>(ay_.output - y0 - h); // the input row of output row h - 1
+        const auto end = static_cast<int>(ay_.output - y0 - firstInside);
+        source_.readUInt8(static_cast<int>(x0), top, static_cast<int>(x0) + w, end, 0, channels_, out.at(0, h - 1),
+                          -rowBytes);
     }
     return out;
 }
