@@ -1,132 +1,19 @@
 #include "formats/tiff_tile.hpp"
 
-#include <libdeflate.h>
 #include <tiffio.h>
 
 #include <algorithm>
-#include <cstdarg>
-#include <cstdio>
 #include <cstring>
 #include <functional>
-#include <limits>
-#include <memory>
 
-#include "formats/deflate_literals.hpp"
 #include "formats/error.hpp"
+#include "formats/jpeg_markers.hpp"
+#include "formats/tiff_memory.hpp"
+#include "formats/tiff_strip_bytes.hpp"
 
 namespace pyramid {
 
 namespace {
-
-// A TIFF "file" in memory. Reads serve from `data`; writes grow `out`.
-struct MemoryStream {
-    const uint8_t* data = nullptr;
-    size_t size = 0;
-    std::vector<uint8_t>* out = nullptr;
-    uint64_t pos = 0;
-    std::string firstError; // libtiff's first error message, reported in ours
-};
-
-tmsize_t streamRead(thandle_t h, void* buf, tmsize_t n) {
-    auto* s = static_cast<MemoryStream*>(h);
-    const size_t available = s->out ? s->out->size() : s->size;
-    const uint8_t* base = s->out ? s->out->data() : s->data;
-    if (n < 0 || s->pos >= available) {
-        return 0;
-    }
-    const size_t count = std::min(static_cast<size_t>(n), static_cast<size_t>(available - s->pos));
-    std::memcpy(buf, base + s->pos, count);
-    s->pos += count;
-    return static_cast<tmsize_t>(count);
-}
-
-tmsize_t streamWrite(thandle_t h, void* buf, tmsize_t n) {
-    auto* s = static_cast<MemoryStream*>(h);
-    if (!s->out || n < 0) {
-        return -1;
-    }
-    const size_t end = static_cast<size_t>(s->pos) + static_cast<size_t>(n);
-    if (end > s->out->size()) {
-        s->out->resize(end);
-    }
-    std::memcpy(s->out->data() + s->pos, buf, static_cast<size_t>(n));
-    s->pos = end;
-    return n;
-}
-
-toff_t streamSeek(thandle_t h, toff_t offset, int whence) {
-    auto* s = static_cast<MemoryStream*>(h);
-    const uint64_t size = s->out ? s->out->size() : s->size;
-    uint64_t base = 0;
-    if (whence == SEEK_CUR) {
-        base = s->pos;
-    } else if (whence == SEEK_END) {
-        base = size;
-    }
-    s->pos = base + offset;
-    return s->pos;
-}
-
-int streamClose(thandle_t) { return 0; }
-
-toff_t streamSize(thandle_t h) {
-    auto* s = static_cast<MemoryStream*>(h);
-    return s->out ? s->out->size() : s->size;
-}
-
-int noMap(thandle_t, void**, toff_t*) { return 0; }
-void noUnmap(thandle_t, void*, toff_t) {}
-
-// libtiff reports through these per-handle handlers (thread-safe: no global state). Warnings,
-// such as the missing ExtraSamples tag of the original 4-channel tiles, are dropped; the first
-// error is kept for our own message.
-int onError(TIFF*, void* user, const char*, const char* fmt, va_list ap) {
-    auto* s = static_cast<MemoryStream*>(user);
-    if (s->firstError.empty()) {
-        char buf[256];
-        std::vsnprintf(buf, sizeof buf, fmt, ap);
-        s->firstError = buf;
-        std::replace(s->firstError.begin(), s->firstError.end(), '\n', ' ');
-    }
-    return 1;
-}
-
-int onWarning(TIFF*, void*, const char*, const char*, va_list) { return 1; }
-
-// Owns a TIFF handle over a MemoryStream.
-class TiffHandle {
-public:
-    TiffHandle(MemoryStream& stream, const char* mode, tmsize_t maxAlloc) {
-        TIFFOpenOptions* opts = TIFFOpenOptionsAlloc();
-        TIFFOpenOptionsSetErrorHandlerExtR(opts, onError, &stream);
-        TIFFOpenOptionsSetWarningHandlerExtR(opts, onWarning, &stream);
-        TIFFOpenOptionsSetMaxSingleMemAlloc(opts, maxAlloc);
-        tif_ = TIFFClientOpenExt("tile", mode, &stream, streamRead, streamWrite, streamSeek, streamClose,
-                                 streamSize, noMap, noUnmap, opts);
-        TIFFOpenOptionsFree(opts);
-    }
-    ~TiffHandle() {
-        if (tif_) {
-            TIFFClose(tif_);
-        }
-    }
-    TiffHandle(const TiffHandle&) = delete;
-    TiffHandle& operator=(const TiffHandle&) = delete;
-    TIFF* get() const { return tif_; }
-    void close() {
-        if (tif_) {
-            TIFFClose(tif_);
-            tif_ = nullptr;
-        }
-    }
-
-private:
-    TIFF* tif_ = nullptr;
-};
-
-std::string withCause(const std::string& what, const MemoryStream& s) {
-    return s.firstError.empty() ? what : what + " (" + s.firstError + ")";
-}
 
 uint16_t compressionCode(TiffCompression c) {
     switch (c) {
@@ -141,106 +28,6 @@ uint16_t compressionCode(TiffCompression c) {
         return COMPRESSION_JPEG;
     }
     return COMPRESSION_NONE;
-}
-
-struct CompressorDeleter {
-    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
-};
-
-// A zlib stream of `bytes` at libdeflate level `level` (1 to 12, 10 to 12 the slowest and
-// smallest), compressed in one call as libtiff's Deflate codec does with a whole strip, but
-// without allocating and initialising a compressor for every tile: one per thread and level.
-// The stream is left in a buffer of the thread's, valid until its next call (libtiff copies
-// it into the tile), so that no tile allocates and clears a buffer of the compression bound.
-std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
-    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
-    thread_local std::vector<uint8_t> out;
-    auto& compressor = compressors[level];
-    if (!compressor) {
-        compressor.reset(libdeflate_alloc_compressor(level));
-        if (!compressor) {
-            fail("", "out of memory for a Deflate compressor");
-        }
-    }
-    const size_t bound = libdeflate_zlib_compress_bound(compressor.get(), bytes.size());
-    if (out.size() < bound) {
-        out.resize(bound);
-    }
-    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), bound);
-    if (size == 0) {
-        fail("", "cannot deflate a tile");
-    }
-    return {out.data(), size};
-}
-
-// Whether Deflate's matches would save little on `bytes`, judged on a sample of them (16 KB
-// from the middle): its literal code takes at least 3 bits a byte (below that, runs and repeats
-// are everywhere), and libdeflate level 1's stream of it is no smaller than that code (sensor
-// noise after the predictor, grainy residuals; not repeated texture, which matches well at as
-// many bits a byte). Strips under 32 KB are left to libdeflate.
-bool literalsSuffice(std::span<const uint8_t> bytes) {
-    constexpr size_t kSample = 16384;
-    if (bytes.size() < 2 * kSample) {
-        return false;
-    }
-    const std::span<const uint8_t> sample = bytes.subspan((bytes.size() - kSample) / 2, kSample);
-    const LiteralCost cost = literalCost(sample);
-    return cost.bits >= 3 * kSample && zlibCompress(sample, 1).size() * 8 >= cost.bits;
-}
-
-// The zlib stream of a Deflate strip. With `literals` (8-bit image tiles), at the fast levels
-// (1 and 2), bytes on which Deflate's matches would save little (literalsSuffice) are coded as
-// literals only (deflate_literals.hpp), several times faster and about as small; the rest by
-// libdeflate.
-std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, bool literals) {
-    if (literals && level <= 2 && literalsSuffice(bytes)) {
-        thread_local std::vector<uint8_t> out;
-        const size_t size = deflateLiterals(bytes, literalCost(bytes), out);
-        return {out.data(), size};
-    }
-    return zlibCompress(bytes, level);
-}
-
-// The strip libtiff's horizontal predictor would store for 8-bit samples: each sample minus the
-// same channel of the pixel to its left, modulo 256, the first pixel of each row as it is. In
-// a buffer of the thread's, valid until its next call.
-std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels) {
-    thread_local std::vector<uint8_t> out;
-    if (out.size() < bytes) {
-        out.resize(bytes);
-    }
-    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
-    const auto c = static_cast<size_t>(channels);
-    for (size_t y = 0; y < bytes / row; ++y) {
-        const uint8_t* in = pixels + y * row;
-        uint8_t* o = out.data() + y * row;
-        std::copy_n(in, c, o);
-        for (size_t k = c; k < row; ++k) {
-            o[k] = static_cast<uint8_t>(in[k] - in[k - c]);
-        }
-    }
-    return {out.data(), bytes};
-}
-
-// The same for 16-bit samples (native byte order, as the strip stores them), modulo 2^16.
-std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t bytes, int width, int channels) {
-    thread_local std::vector<uint16_t> out;
-    const size_t count = bytes / 2;
-    if (out.size() < count) {
-        out.resize(count);
-    }
-    // The samples as they are first (the buffer may be unaligned), then differenced in place
-    // from the end of each row backwards.
-    std::memcpy(out.data(), pixels, count * 2);
-    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
-    const auto c = static_cast<size_t>(channels);
-    for (size_t y = 0; y < count / row; ++y) {
-        uint16_t* o = out.data() + y * row;
-        for (size_t k = row; k-- > c;) {
-            o[k] = static_cast<uint16_t>(o[k] - o[k - c]);
-        }
-    }
-    return {reinterpret_cast<const uint8_t*>(out.data()), count * 2};
 }
 
 // Encodes one strip of `bits`-bit samples. Deflate strips (with or without the predictor) are
@@ -535,80 +322,6 @@ std::vector<uint8_t> decodeOrthoTiff(std::span<const uint8_t> blob, int size, in
     });
     return std::move(image.pixels);
 }
-
-namespace {
-
-// The tables (DQT) and the frame's components (SOF) of one JPEG stream, full or abbreviated
-// (tables only), read marker segment by marker segment up to the scan (JPEG, ITU T.81 B.2).
-struct JpegMarkers {
-    std::array<std::optional<std::array<uint16_t, 64>>, 4> tables;
-    std::vector<int> componentTables; // the table of each component of the frame
-    bool frame = false;
-};
-
-void readJpegMarkers(std::span<const uint8_t> bytes, JpegMarkers& m, const std::string& where) {
-    const auto damaged = [&](const std::string& what) { fail(where, "damaged JPEG stream: " + what); };
-    if (bytes.size() < 2 || bytes[0] != 0xFF || bytes[1] != 0xD8) {
-        damaged("no start of image");
-    }
-    size_t at = 2;
-    while (at < bytes.size()) {
-        if (bytes[at] != 0xFF) {
-            damaged("a byte where a marker belongs");
-        }
-        while (at < bytes.size() && bytes[at] == 0xFF) {
-            ++at; // fill bytes
-        }
-        if (at >= bytes.size()) {
-            break;
-        }
-        const uint8_t marker = bytes[at++];
-        if (marker == 0xD9 || marker == 0xDA) {
-            return; // end of image, or the scan: every table and the frame come before it
-        }
-        if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) {
-            continue; // markers without a segment
-        }
-        if (at + 2 > bytes.size()) {
-            damaged("a segment cut short");
-        }
-        const size_t length = (size_t{bytes[at]} << 8) | bytes[at + 1];
-        if (length < 2 || at + length > bytes.size()) {
-            damaged("a segment cut short");
-        }
-        const std::span<const uint8_t> body = bytes.subspan(at + 2, length - 2);
-        at += length;
-        if (marker == 0xDB) { // quantisation tables
-            size_t k = 0;
-            while (k < body.size()) {
-                const int precision = body[k] >> 4, id = body[k] & 15;
-                const size_t entry = precision ? 2 : 1;
-                if (precision > 1 || id > 3 || k + 1 + 64 * entry > body.size()) {
-                    damaged("a quantisation table cut short or of an unknown kind");
-                }
-                std::array<uint16_t, 64> table{};
-                for (size_t i = 0; i < 64; ++i) {
-                    const uint8_t* v = &body[k + 1 + i * entry];
-                    table[i] = precision ? static_cast<uint16_t>((v[0] << 8) | v[1]) : v[0];
-                }
-                m.tables[static_cast<size_t>(id)] = table;
-                k += 1 + 64 * entry;
-            }
-        } else if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
-            // A frame header: precision, height, width, then each component's id, sampling, table.
-            if (body.size() < 6 || body.size() < 6 + 3 * size_t{body[5]}) {
-                damaged("a frame header cut short");
-            }
-            m.componentTables.clear();
-            for (size_t c = 0; c < body[5]; ++c) {
-                m.componentTables.push_back(body[6 + 3 * c + 2]);
-            }
-            m.frame = true;
-        }
-    }
-}
-
-} // namespace
 
 std::optional<JpegTileTables> jpegTileTables(std::span<const uint8_t> blob, const std::string& where) {
     MemoryStream stream;

@@ -1,0 +1,123 @@
+#include "formats/tiff_strip_bytes.hpp"
+
+#include <libdeflate.h>
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "formats/deflate_literals.hpp"
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+struct CompressorDeleter {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+};
+
+} // namespace
+
+// A zlib stream of `bytes` at libdeflate level `level` (1 to 12, 10 to 12 the slowest and
+// smallest), compressed in one call as libtiff's Deflate codec does with a whole strip, but
+// without allocating and initialising a compressor for every tile: one per thread and level.
+// The stream is left in a buffer of the thread's, valid until its next call (libtiff copies
+// it into the tile), so that no tile allocates and clears a buffer of the compression bound.
+std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
+    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
+    thread_local std::vector<uint8_t> out;
+    auto& compressor = compressors[level];
+    if (!compressor) {
+        compressor.reset(libdeflate_alloc_compressor(level));
+        if (!compressor) {
+            fail("", "out of memory for a Deflate compressor");
+        }
+    }
+    const size_t bound = libdeflate_zlib_compress_bound(compressor.get(), bytes.size());
+    if (out.size() < bound) {
+        out.resize(bound);
+    }
+    const size_t size = libdeflate_zlib_compress(compressor.get(), bytes.data(), bytes.size(), out.data(), bound);
+    if (size == 0) {
+        fail("", "cannot deflate a tile");
+    }
+    return {out.data(), size};
+}
+
+namespace {
+
+// Whether Deflate's matches would save little on `bytes`, judged on a sample of them (16 KB
+// from the middle): its literal code takes at least 3 bits a byte (below that, runs and repeats
+// are everywhere), and libdeflate level 1's stream of it is no smaller than that code (sensor
+// noise after the predictor, grainy residuals; not repeated texture, which matches well at as
+// many bits a byte). Strips under 32 KB are left to libdeflate.
+bool literalsSuffice(std::span<const uint8_t> bytes) {
+    constexpr size_t kSample = 16384;
+    if (bytes.size() < 2 * kSample) {
+        return false;
+    }
+    const std::span<const uint8_t> sample = bytes.subspan((bytes.size() - kSample) / 2, kSample);
+    const LiteralCost cost = literalCost(sample);
+    return cost.bits >= 3 * kSample && zlibCompress(sample, 1).size() * 8 >= cost.bits;
+}
+
+} // namespace
+
+// The zlib stream of a Deflate strip. With `literals` (8-bit image tiles), at the fast levels
+// (1 and 2), bytes on which Deflate's matches would save little (literalsSuffice) are coded as
+// literals only (deflate_literals.hpp), several times faster and about as small; the rest by
+// libdeflate.
+std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, bool literals) {
+    if (literals && level <= 2 && literalsSuffice(bytes)) {
+        thread_local std::vector<uint8_t> out;
+        const size_t size = deflateLiterals(bytes, literalCost(bytes), out);
+        return {out.data(), size};
+    }
+    return zlibCompress(bytes, level);
+}
+
+// The strip libtiff's horizontal predictor would store for 8-bit samples: each sample minus the
+// same channel of the pixel to its left, modulo 256, the first pixel of each row as it is. In
+// a buffer of the thread's, valid until its next call.
+std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels) {
+    thread_local std::vector<uint8_t> out;
+    if (out.size() < bytes) {
+        out.resize(bytes);
+    }
+    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+    const auto c = static_cast<size_t>(channels);
+    for (size_t y = 0; y < bytes / row; ++y) {
+        const uint8_t* in = pixels + y * row;
+        uint8_t* o = out.data() + y * row;
+        std::copy_n(in, c, o);
+        for (size_t k = c; k < row; ++k) {
+            o[k] = static_cast<uint8_t>(in[k] - in[k - c]);
+        }
+    }
+    return {out.data(), bytes};
+}
+
+// The same for 16-bit samples (native byte order, as the strip stores them), modulo 2^16.
+std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t bytes, int width, int channels) {
+    thread_local std::vector<uint16_t> out;
+    const size_t count = bytes / 2;
+    if (out.size() < count) {
+        out.resize(count);
+    }
+    // The samples as they are first (the buffer may be unaligned), then differenced in place
+    // from the end of each row backwards.
+    std::memcpy(out.data(), pixels, count * 2);
+    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+    const auto c = static_cast<size_t>(channels);
+    for (size_t y = 0; y < count / row; ++y) {
+        uint16_t* o = out.data() + y * row;
+        for (size_t k = row; k-- > c;) {
+            o[k] = static_cast<uint16_t>(o[k] - o[k - c]);
+        }
+    }
+    return {reinterpret_cast<const uint8_t*>(out.data()), count * 2};
+}
+
+} // namespace pyramid

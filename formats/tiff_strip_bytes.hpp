@@ -1,0 +1,21 @@
+// The bytes of a Deflate strip as the TIFF tile writer stores them (formats/tiff_tile.cpp): the
+// horizontal predictor's differences, and the strip's zlib stream, by libdeflate with one
+// compressor per thread and level, or, for noise, as literals only (deflate_literals.hpp). Each
+// result lives in a buffer of the calling thread's, valid until its next call of the same function.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+namespace pyramid {
+
+// A zlib stream of `bytes` at libdeflate level `level` (1 to 12).
+std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level);
+// The zlib stream of a strip: with `literals` (8-bit image tiles) at levels 1 and 2, bytes on
+// which Deflate's matches would save little are coded as literals only; the rest by libdeflate.
+std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, bool literals);
+// The strip libtiff's horizontal predictor stores for 8-bit and for 16-bit samples.
+std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels);
+std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t bytes, int width, int channels);
+
+} // namespace pyramid
