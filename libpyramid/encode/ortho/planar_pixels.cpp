@@ -90,6 +90,7 @@ PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t wid
     ay_.flip = true;
     if (info.width == W && info.height == W) {
         ax_.exact = ay_.exact = true;
+        inPlace_ = true;
         sampling_ = "input pixels are the finest level's pixels (no resampling)";
     } else if (stretch) {
         ax_.scale = static_cast<double>(info.width) / static_cast<double>(W);
@@ -99,7 +100,7 @@ PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t wid
     } else {
         const int64_t longest = std::max(info.width, info.height);
         ax_.scale = ay_.scale = static_cast<double>(longest) / static_cast<double>(W);
-        wideUnitScale_ = info.width == W; // and so longest == W: scale 1, the height below W
+        inPlace_ = info.width == W; // and so longest == W: scale 1, the height below W
         sampling_ = "bilinear resampling onto " + std::to_string(W) + "x" + std::to_string(W) +
                     " pixels, aspect ratio kept" +
                     (info.width != info.height ? ", input at the north-west corner, the rest black and transparent" : "");
@@ -107,19 +108,8 @@ PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t wid
 }
 
 Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
-    if (ax_.exact && ay_.exact && !sixteen_) {
-        Image8 out(w, h, channels_, Image8::Unset); // every row is read into place
-        // 8-bit input pixels are the finest pixels: the rows are read straight into place,
-        // bottom up (output row j is input row W - 1 - (y0 + j)). The general path below
-        // gives the same bytes through a 16-bit window and a copy.
-        const auto rowBytes = static_cast<std::ptrdiff_t>(w) * channels_;
-        const auto top = static_cast<int>(ay_.output - y0 - h);
-        source_.readUInt8(static_cast<int>(x0), top, static_cast<int>(x0) + w, top + h, 0, channels_,
-                          out.at(0, h - 1), -rowBytes);
-        return out;
-    }
-    if (wideUnitScale_ && !sixteen_) {
-        return sampleWide(x0, y0, w, h);
+    if (inPlace_ && !sixteen_) {
+        return sampleInPlace(x0, y0, w, h);
     }
     Image8 out(w, h, channels_); // pixels beyond the input stay 0
     std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
@@ -199,13 +189,15 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     return out;
 }
 
-// An 8-bit input as wide as the finest level and less high, at scale 1: every position is an
-// input pixel's centre (X = x, Y = W - 1 - y), where the formula gives the pixel unchanged, and
-// the rows beyond the input's height are 0. The input rows are read straight into place, bottom
-// up, as for a square input; the general path gives the same bytes.
-Image8 PlanarPixels::sampleWide(int64_t x0, int64_t y0, int w, int h) const {
-    Image8 out(w, h, channels_);
+// An 8-bit input as wide as the finest level and as high or less, at scale 1: every position is
+// an input pixel's centre (X = x, Y = W - 1 - y), where the formula gives the pixel unchanged,
+// and the rows beyond the input's height are 0. The input rows are read straight into place,
+// bottom up (output row j is input row W - 1 - (y0 + j)); the general path gives the same bytes
+// through a 16-bit window and a copy.
+Image8 PlanarPixels::sampleInPlace(int64_t x0, int64_t y0, int w, int h) const {
     const int64_t firstInside = std::max<int64_t>(0, ay_.output - ay_.input - y0); // output row
+    // Every row is read into place when all are inside; the others stay 0.
+    Image8 out = firstInside == 0 ? Image8(w, h, channels_, Image8::Unset) : Image8(w, h, channels_);
     if (firstInside < h) {
         const auto rowBytes = static_cast<std::ptrdiff_t>(w) * channels_;
         const auto top = static_cast<int>(ay_.output - y0 - h); // the input row of output row h - 1

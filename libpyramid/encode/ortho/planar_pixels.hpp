@@ -52,8 +52,8 @@ private:
         bool inside(double pos) const { return pos <= static_cast<double>(input) - 0.5; }
     };
 
-    // sample() of an 8-bit input as wide as the finest level and less high (scale 1).
-    Image8 sampleWide(int64_t x0, int64_t y0, int w, int h) const;
+    // sample() of an 8-bit input as wide as the finest level and as high or less (scale 1).
+    Image8 sampleInPlace(int64_t x0, int64_t y0, int w, int h) const;
 
     // The axis of a level `levelWidth` pixels across (the finest one's width halved).
     Axis coarser(const Axis& finest, int64_t levelWidth) const;
@@ -62,7 +62,7 @@ private:
     int channels_ = 0;
     bool stretch_ = false;
     bool sixteen_ = false;
-    bool wideUnitScale_ = false; // as wide as the finest level, less high: sampleWide
+    bool inPlace_ = false; // as wide as the finest level, as high or less (scale 1): sampleInPlace
     Axis ax_, ay_;
     std::string sampling_;
 };
