@@ -2,197 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
-#include <cstring>
 
-#include <libdeflate.h>
+#include "formats/deflate_huffman.hpp"
 
 namespace pyramid {
 
 namespace {
-
-// Length-limited Huffman code lengths of `count` symbols (0 for those of frequency 0): the
-// two-queue Huffman construction, ties to the lower symbol; while a code is longer than
-// `limit`, every frequency is halved (rounded up) and the code built again. At least two
-// frequencies are non-zero.
-void huffmanLengths(const uint32_t* frequencies, int count, int limit, uint8_t* lengths) {
-    std::array<uint32_t, 288> weights{};
-    std::copy_n(frequencies, count, weights.begin());
-    for (;;) {
-        std::array<uint16_t, 288> leaves{};
-        int used = 0;
-        for (int s = 0; s < count; ++s) {
-            if (weights[static_cast<size_t>(s)] != 0) {
-                leaves[static_cast<size_t>(used++)] = static_cast<uint16_t>(s);
-            }
-        }
-        std::stable_sort(leaves.begin(), leaves.begin() + used,
-                         [&](uint16_t a, uint16_t b) { return weights[a] < weights[b]; });
-        // Nodes 0..used-1 are the leaves in that order, used.. the internal nodes as made.
-        std::array<uint64_t, 576> weight{};
-        std::array<uint16_t, 576> parent{};
-        for (int k = 0; k < used; ++k) {
-            weight[static_cast<size_t>(k)] = weights[leaves[static_cast<size_t>(k)]];
-        }
-        int nextLeaf = 0, nextInternal = used, made = used;
-        auto smallest = [&]() {
-            if (nextLeaf < used && (nextInternal == made || weight[static_cast<size_t>(nextLeaf)] <=
-                                                                weight[static_cast<size_t>(nextInternal)])) {
-                return nextLeaf++;
-            }
-            return nextInternal++;
-        };
-        for (int k = 0; k < used - 1; ++k) {
-            const int a = smallest(), b = smallest();
-            weight[static_cast<size_t>(made)] = weight[static_cast<size_t>(a)] + weight[static_cast<size_t>(b)];
-            parent[static_cast<size_t>(a)] = parent[static_cast<size_t>(b)] = static_cast<uint16_t>(made);
-            ++made;
-        }
-        std::array<uint8_t, 576> depth{};
-        int longest = 0;
-        for (int node = made - 2; node >= 0; --node) { // the root, made last, has depth 0
-            depth[static_cast<size_t>(node)] = static_cast<uint8_t>(depth[parent[static_cast<size_t>(node)]] + 1);
-            longest = std::max<int>(longest, depth[static_cast<size_t>(node)]);
-        }
-        if (longest <= limit) {
-            std::fill_n(lengths, count, uint8_t{0});
-            for (int k = 0; k < used; ++k) {
-                lengths[leaves[static_cast<size_t>(k)]] = depth[static_cast<size_t>(k)];
-            }
-            return;
-        }
-        for (int s = 0; s < count; ++s) {
-            weights[static_cast<size_t>(s)] = (weights[static_cast<size_t>(s)] + 1) / 2;
-        }
-    }
-}
-
-uint32_t reverseBits(uint32_t code, int bits) {
-    uint32_t reversed = 0;
-    for (int k = 0; k < bits; ++k) {
-        reversed = (reversed << 1) | ((code >> k) & 1u);
-    }
-    return reversed;
-}
-
-// Canonical codes of `lengths` (RFC 1951 3.2.2), bit-reversed: Deflate sends a code's bits
-// from its first (most significant) one, into a stream filled from each byte's lowest bit.
-void canonicalCodes(const uint8_t* lengths, int count, uint16_t* codes) {
-    std::array<uint16_t, 16> perLength{}, next{};
-    for (int s = 0; s < count; ++s) {
-        ++perLength[lengths[s]];
-    }
-    perLength[0] = 0;
-    uint16_t code = 0;
-    for (int bits = 1; bits < 16; ++bits) {
-        code = static_cast<uint16_t>((code + perLength[static_cast<size_t>(bits - 1)]) << 1);
-        next[static_cast<size_t>(bits)] = code;
-    }
-    for (int s = 0; s < count; ++s) {
-        const int bits = lengths[s];
-        if (bits != 0) {
-            const uint16_t c = next[static_cast<size_t>(bits)]++;
-            codes[s] = static_cast<uint16_t>(reverseBits(c, bits));
-        }
-    }
-}
-
-// Bits into bytes, lowest bit first. Up to 56 bits may be pending between flushes; the output
-// keeps 8 bytes of slack past the last one written.
-class BitWriter {
-public:
-    explicit BitWriter(uint8_t* out) : out_(out) {}
-    void put(uint32_t bits, int count) {
-        buffer_ |= static_cast<uint64_t>(bits) << pending_;
-        pending_ += count;
-    }
-    void flush() {
-        if constexpr (std::endian::native == std::endian::little) {
-            std::memcpy(out_, &buffer_, 8);
-        } else {
-            for (int k = 0; k < 8; ++k) {
-                out_[k] = static_cast<uint8_t>(buffer_ >> (8 * k));
-            }
-        }
-        out_ += pending_ >> 3;
-        buffer_ = (pending_ & ~7) == 64 ? 0 : buffer_ >> (pending_ & ~7);
-        pending_ &= 7;
-    }
-    // Flushes and pads the last byte with zeros; returns the end of the bytes written.
-    uint8_t* finish() {
-        flush();
-        if (pending_ != 0) {
-            *out_++ = static_cast<uint8_t>(buffer_);
-        }
-        pending_ = 0;
-        buffer_ = 0;
-        return out_;
-    }
-
-private:
-    uint8_t* out_;
-    uint64_t buffer_ = 0;
-    int pending_ = 0;
-};
-
-// One code-length symbol (0..18) and its extra bits.
-struct LengthSymbol {
-    uint8_t symbol;
-    uint8_t extra;
-};
-
-// The run-length coding of a sequence of code lengths (RFC 1951 3.2.7): runs of zeros by 17 and
-// 18, repeats of a non-zero length by 16.
-std::vector<LengthSymbol> runLengths(const uint8_t* lengths, int count) {
-    std::vector<LengthSymbol> out;
-    int i = 0;
-    while (i < count) {
-        const uint8_t v = lengths[i];
-        int run = 1;
-        while (i + run < count && lengths[i + run] == v) {
-            ++run;
-        }
-        i += run;
-        if (v == 0) {
-            for (; run >= 11; run -= std::min(run, 138)) {
-                out.push_back({18, static_cast<uint8_t>(std::min(run, 138) - 11)});
-            }
-            if (run >= 3) {
-                out.push_back({17, static_cast<uint8_t>(run - 3)});
-                run = 0;
-            }
-        } else {
-            out.push_back({v, 0});
-            --run;
-            for (; run >= 3; run -= std::min(run, 6)) {
-                out.push_back({16, static_cast<uint8_t>(std::min(run, 6) - 3)});
-            }
-        }
-        for (; run > 0; --run) {
-            out.push_back({v, 0});
-        }
-    }
-    return out;
-}
-
-// Counts bytes in four tables, so that runs of one value do not wait on one counter.
-void countBytes(std::span<const uint8_t> bytes, uint32_t* counts) {
-    std::array<std::array<uint32_t, 256>, 4> tables{};
-    const size_t n = bytes.size(), quads = n / 4 * 4;
-    const uint8_t* p = bytes.data();
-    for (size_t k = 0; k < quads; k += 4) {
-        ++tables[0][p[k]];
-        ++tables[1][p[k + 1]];
-        ++tables[2][p[k + 2]];
-        ++tables[3][p[k + 3]];
-    }
-    for (size_t k = quads; k < n; ++k) {
-        ++tables[0][p[k]];
-    }
-    for (size_t v = 0; v < 256; ++v) {
-        counts[v] = tables[0][v] + tables[1][v] + tables[2][v] + tables[3][v];
-    }
-}
 
 constexpr int kEndOfBlock = 256;
 
@@ -200,14 +15,14 @@ constexpr int kEndOfBlock = 256;
 
 LiteralCost literalCost(std::span<const uint8_t> bytes) {
     LiteralCost cost;
-    countBytes(bytes, cost.counts);
+    deflate::countBytes(bytes, cost.counts);
     std::array<uint32_t, 257> frequencies{};
     std::copy_n(cost.counts, 256, frequencies.begin());
     frequencies[kEndOfBlock] = 1;
     if (bytes.empty()) {
         frequencies[0] = 1; // a code needs two symbols
     }
-    huffmanLengths(frequencies.data(), 257, 15, cost.lengths);
+    deflate::huffmanLengths(frequencies.data(), 257, 15, cost.lengths);
     for (int s = 0; s < 257; ++s) {
         cost.bits += static_cast<uint64_t>(frequencies[static_cast<size_t>(s)]) * cost.lengths[s];
     }
@@ -215,56 +30,18 @@ LiteralCost literalCost(std::span<const uint8_t> bytes) {
 }
 
 size_t deflateLiterals(std::span<const uint8_t> bytes, const LiteralCost& cost, std::vector<uint8_t>& out) {
-    // Code lengths of the 257 literal/length symbols and of one distance code (of 1 bit, never
-    // used: RFC 1951 allows the one code of a block without matches), run-length coded.
-    std::array<uint8_t, 258> all{};
-    std::copy_n(cost.lengths, 257, all.begin());
-    all[257] = 1;
-    const std::vector<LengthSymbol> runs = runLengths(all.data(), 258);
-    std::array<uint32_t, 19> frequencies{};
-    for (const LengthSymbol& r : runs) {
-        ++frequencies[r.symbol];
-    }
-    if (std::count_if(frequencies.begin(), frequencies.end(), [](uint32_t f) { return f != 0; }) < 2) {
-        ++frequencies[frequencies[0] == 0 ? 0 : 1]; // a code needs two symbols
-    }
-    std::array<uint8_t, 19> runLengthBits{};
-    std::array<uint16_t, 19> runCodes{};
-    huffmanLengths(frequencies.data(), 19, 7, runLengthBits.data());
-    canonicalCodes(runLengthBits.data(), 19, runCodes.data());
+    // The 257 literal/length symbols' code lengths and one distance code (of 1 bit, never used:
+    // RFC 1951 allows the one code of a block without matches).
+    static constexpr uint8_t kDistanceLength = 1;
     std::array<uint16_t, 257> codes{};
-    canonicalCodes(cost.lengths, 257, codes.data());
-
-    static constexpr std::array<uint8_t, 19> kOrder = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
-    int sent = 19;
-    while (sent > 4 && runLengthBits[kOrder[static_cast<size_t>(sent - 1)]] == 0) {
-        --sent;
-    }
-    const size_t bound = 2 + 8 + 19 + runs.size() * 3 + static_cast<size_t>(cost.bits / 8) + 4 + 16;
+    deflate::canonicalCodes(cost.lengths, 257, codes.data());
+    const size_t bound = 2 + deflate::kDynamicHeaderBytes + static_cast<size_t>(cost.bits / 8) + 4 + 16;
     if (out.size() < bound) {
         out.resize(bound);
     }
-    out[0] = 0x78; // Deflate, 32 KB window
-    out[1] = 0x01; // no dictionary; (0x78 * 256 + 0x01) % 31 == 0
-    BitWriter w(out.data() + 2);
-    w.put(1, 1);       // the final block
-    w.put(2, 2);       // dynamic Huffman codes
-    w.put(257 - 257, 5);
-    w.put(1 - 1, 5);
-    w.put(static_cast<uint32_t>(sent - 4), 4);
-    w.flush();
-    for (int k = 0; k < sent; ++k) {
-        w.put(runLengthBits[kOrder[static_cast<size_t>(k)]], 3);
-        w.flush();
-    }
-    static constexpr std::array<uint8_t, 3> kExtraBits = {2, 3, 7}; // of symbols 16, 17, 18
-    for (const LengthSymbol& r : runs) {
-        w.put(runCodes[r.symbol], runLengthBits[r.symbol]);
-        if (r.symbol >= 16) {
-            w.put(r.extra, kExtraBits[static_cast<size_t>(r.symbol - 16)]);
-        }
-        w.flush();
-    }
+    deflate::putZlibHeader(out.data());
+    deflate::BitWriter w(out.data() + 2);
+    deflate::putDynamicHeader(w, true, cost.lengths, 257, &kDistanceLength, 1);
     // The literals, three codes (at most 45 bits) between flushes.
     std::array<uint32_t, 256> packed{}; // code | length << 16
     for (size_t v = 0; v < 256; ++v) {
@@ -284,12 +61,7 @@ size_t deflateLiterals(std::span<const uint8_t> bytes, const LiteralCost& cost, 
         w.flush();
     }
     w.put(codes[kEndOfBlock], cost.lengths[kEndOfBlock]);
-    uint8_t* end = w.finish();
-    const uint32_t adler = libdeflate_adler32(1, p, n);
-    for (int k = 3; k >= 0; --k) {
-        *end++ = static_cast<uint8_t>(adler >> (8 * k));
-    }
-    return static_cast<size_t>(end - out.data());
+    return static_cast<size_t>(deflate::putAdler32(w.finish(), p, n) - out.data());
 }
 
 } // namespace pyramid

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "formats/deflate_literals.hpp"
+#include "formats/deflate_runs.hpp"
 #include "formats/error.hpp"
 
 namespace pyramid {
@@ -48,32 +49,53 @@ std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level)
 
 namespace {
 
-// Whether Deflate's matches would save little on `bytes`, judged on a sample of them (16 KB
-// from the middle): its literal code takes at least 3 bits a byte (below that, runs and repeats
-// are everywhere), and libdeflate level 1's stream of it is no smaller than that code (sensor
-// noise after the predictor, grainy residuals; not repeated texture, which matches well at as
-// many bits a byte). Strips under 32 KB are left to libdeflate.
-bool literalsSuffice(std::span<const uint8_t> bytes) {
-    constexpr size_t kSample = 16384;
-    if (bytes.size() < 2 * kSample) {
-        return false;
-    }
+constexpr size_t kSample = 4096;
+
+// How a strip of image bytes is best coded, judged on a sample of them (4 KB from the middle; a
+// larger one decides a little better, but the sample's libdeflate run then costs more than the
+// faster coders save on imagery that repeats: bench/ortho_bench.md, 2026-12-03):
+//   - literals only (deflate_literals.hpp), where its literal code takes at least 3 bits a byte
+//     (below that, runs and repeats are everywhere) and libdeflate's stream of the sample is no
+//     smaller than that code: sensor noise after the predictor, grainy residuals;
+//   - literals and runs (deflate_runs.hpp), where that coder's stream of the sample is at most
+//     3 % larger than libdeflate's: most natural imagery, whose matches are mostly runs;
+//   - libdeflate otherwise: texture that repeats farther away, which matches well.
+// Both faster coders take about half of libdeflate level 1's time or less.
+enum class StripCoder { Libdeflate, Literals, Runs };
+
+StripCoder chooseCoder(std::span<const uint8_t> bytes, int level, int pixelBytes) {
     const std::span<const uint8_t> sample = bytes.subspan((bytes.size() - kSample) / 2, kSample);
+    const size_t deflated = zlibCompress(sample, level).size();
     const LiteralCost cost = literalCost(sample);
-    return cost.bits >= 3 * kSample && zlibCompress(sample, 1).size() * 8 >= cost.bits;
+    if (cost.bits >= 3 * kSample && deflated * 8 >= cost.bits) {
+        return StripCoder::Literals;
+    }
+    thread_local std::vector<uint8_t> out;
+    if (deflateRuns(sample, pixelBytes, out) * 100 <= deflated * 103) {
+        return StripCoder::Runs;
+    }
+    return StripCoder::Libdeflate;
 }
 
 } // namespace
 
-// The zlib stream of a Deflate strip. With `literals` (8-bit image tiles), at the fast levels
-// (1 and 2), bytes on which Deflate's matches would save little (literalsSuffice) are coded as
-// literals only (deflate_literals.hpp), several times faster and about as small; the rest by
-// libdeflate.
-std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, bool literals) {
-    if (literals && level <= 2 && literalsSuffice(bytes)) {
+// The zlib stream of a Deflate strip. With `pixelBytes` (1 to 4: 8-bit image tiles of that
+// many channels; 0: others), at the fast levels (1 and 2), strips of 8 KB and more go to the
+// coder chooseCoder finds for them; the rest to libdeflate.
+std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, int pixelBytes) {
+    if (pixelBytes != 0 && level <= 2 && bytes.size() >= 2 * kSample) {
         thread_local std::vector<uint8_t> out;
-        const size_t size = deflateLiterals(bytes, literalCost(bytes), out);
-        return {out.data(), size};
+        size_t size = 0; // the coders resize `out`: its data() is taken after them
+        switch (chooseCoder(bytes, level, pixelBytes)) {
+        case StripCoder::Literals:
+            size = deflateLiterals(bytes, literalCost(bytes), out);
+            return {out.data(), size};
+        case StripCoder::Runs:
+            size = deflateRuns(bytes, pixelBytes, out);
+            return {out.data(), size};
+        case StripCoder::Libdeflate:
+            break;
+        }
     }
     return zlibCompress(bytes, level);
 }

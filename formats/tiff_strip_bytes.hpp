@@ -11,9 +11,10 @@ namespace pyramid {
 
 // A zlib stream of `bytes` at libdeflate level `level` (1 to 12).
 std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level);
-// The zlib stream of a strip: with `literals` (8-bit image tiles) at levels 1 and 2, bytes on
-// which Deflate's matches would save little are coded as literals only; the rest by libdeflate.
-std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, bool literals);
+// The zlib stream of a strip: with `pixelBytes` (8-bit image tiles of 1 to 4 channels; 0 for
+// others) at levels 1 and 2, bytes on which Deflate's matches would save little are coded as
+// literals only, or as literals and runs; the rest by libdeflate.
+std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, int pixelBytes);
 // The strip libtiff's horizontal predictor stores for 8-bit and for 16-bit samples.
 std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels);
 std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t bytes, int width, int channels);

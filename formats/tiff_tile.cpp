@@ -32,12 +32,13 @@ uint16_t compressionCode(TiffCompression c) {
 
 // Encodes one strip of `bits`-bit samples. Deflate strips (with or without the predictor) are
 // compressed here, with a compressor kept per thread, and written raw: libtiff would
-// copy the strip and set up a compressor for every tile. `literals`: see deflateStrip (the
-// elevation residuals keep libdeflate's streams).
+// copy the strip and set up a compressor for every tile. `imageCoders`: 8-bit image tiles, whose
+// strips may go to the faster coders of deflateStrip (the elevation residuals keep libdeflate's
+// streams).
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
                                  int jpegQuality, int deflateLevel, bool horizontalPredictor,
-                                 bool signedSamples = false, bool literals = false) {
+                                 bool signedSamples = false, bool imageCoders = false) {
     const bool jpeg = isJpeg(compression);
     if (compression == TiffCompression::Deflate && (deflateLevel < 1 || deflateLevel > 12)) {
         fail("", "Deflate level " + std::to_string(deflateLevel) + " is not 1..12");
@@ -91,7 +92,7 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
             samples = bits == 16 ? horizontalDifferences16(samples.data(), bytes, width, channels)
                                  : horizontalDifferences(samples.data(), bytes, width, channels);
         }
-        const std::span<const uint8_t> deflated = deflateStrip(samples, deflateLevel, literals);
+        const std::span<const uint8_t> deflated = deflateStrip(samples, deflateLevel, imageCoders && bits == 8 ? channels : 0);
         written = TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated.data()), static_cast<tmsize_t>(deflated.size()));
     } else {
         written = TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));

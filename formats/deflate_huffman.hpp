@@ -1,0 +1,76 @@
+// The pieces of a Deflate stream's dynamic-Huffman blocks (RFC 1951 3.2.7) that the stream
+// writers here share (deflate_literals.hpp, deflate_greedy.hpp): length-limited Huffman code
+// lengths, canonical codes, a bit writer, and a block's header.
+#pragma once
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+
+namespace pyramid::deflate {
+
+// Length-limited Huffman code lengths of `count` (at most 288) symbols: 0 for those of
+// frequency 0. At least two frequencies are non-zero.
+void huffmanLengths(const uint32_t* frequencies, int count, int limit, uint8_t* lengths);
+
+// Counts the bytes of each value into counts[0..255].
+void countBytes(std::span<const uint8_t> bytes, uint32_t* counts);
+
+// Canonical codes of `lengths` (RFC 1951 3.2.2), bit-reversed, as Deflate sends them.
+void canonicalCodes(const uint8_t* lengths, int count, uint16_t* codes);
+
+// Bits into bytes, lowest bit first. Up to 56 bits may be pending between flushes; the output
+// keeps 8 bytes of slack past the last one written.
+class BitWriter {
+public:
+    explicit BitWriter(uint8_t* out) : out_(out) {}
+    void put(uint32_t bits, int count) {
+        buffer_ |= static_cast<uint64_t>(bits) << pending_;
+        pending_ += count;
+    }
+    void flush() {
+        if constexpr (std::endian::native == std::endian::little) {
+            std::memcpy(out_, &buffer_, 8);
+        } else {
+            for (int k = 0; k < 8; ++k) {
+                out_[k] = static_cast<uint8_t>(buffer_ >> (8 * k));
+            }
+        }
+        out_ += pending_ >> 3;
+        buffer_ = (pending_ & ~7) == 64 ? 0 : buffer_ >> (pending_ & ~7);
+        pending_ &= 7;
+    }
+    // Flushes and pads the last byte with zeros; returns the end of the bytes written.
+    uint8_t* finish() {
+        flush();
+        if (pending_ != 0) {
+            *out_++ = static_cast<uint8_t>(buffer_);
+        }
+        pending_ = 0;
+        buffer_ = 0;
+        return out_;
+    }
+
+private:
+    uint8_t* out_;
+    uint64_t buffer_ = 0;
+    int pending_ = 0;
+};
+
+// The most bytes putDynamicHeader writes.
+constexpr size_t kDynamicHeaderBytes = 320;
+
+// Writes a dynamic block's first bits: BFINAL (`final`), BTYPE 2, and the code lengths of its
+// `literalCount` literal/length symbols (257 to 286) and `distanceCount` distance symbols (1 to
+// 30), run-length coded.
+void putDynamicHeader(BitWriter& w, bool final, const uint8_t* literalLengths, int literalCount,
+                      const uint8_t* distanceLengths, int distanceCount);
+
+// Writes the zlib header of a stream with a 32 KB window (2 bytes), and after `end`, the
+// Adler-32 of `bytes`; returns the end of the stream.
+void putZlibHeader(uint8_t* out);
+uint8_t* putAdler32(uint8_t* end, const uint8_t* bytes, size_t size);
+
+} // namespace pyramid::deflate

@@ -1,0 +1,210 @@
+#include "formats/deflate_runs.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstring>
+
+#include "formats/deflate_huffman.hpp"
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+constexpr size_t kMinRun = 4;
+constexpr size_t kMaxRun = 258;
+constexpr int kEndOfBlock = 256;
+
+uint64_t load64(const uint8_t* p) {
+    if constexpr (std::endian::native == std::endian::little) {
+        uint64_t v;
+        std::memcpy(&v, p, 8);
+        return v;
+    }
+    uint64_t v = 0;
+    for (int k = 7; k >= 0; --k) {
+        v = v << 8 | p[k];
+    }
+    return v;
+}
+
+// Bit k set where byte k of `x` (the k-th in memory) is zero.
+uint32_t zeroBytes(uint64_t x) {
+    constexpr uint64_t kLow7 = 0x7f7f7f7f7f7f7f7full;
+    const uint64_t high = ~(((x & kLow7) + kLow7) | x | kLow7); // bit 7 of each zero byte
+    return static_cast<uint32_t>(((high >> 7) * 0x0102040810204080ull) >> 56);
+}
+
+// The length symbols (257..284; 285 is 258) and their extra bits, by length - 3.
+struct LengthCode {
+    uint16_t symbol;
+    uint8_t extraBits;
+    uint8_t base; // length - 3 of the symbol's first length
+};
+
+const std::array<LengthCode, 256>& lengthCodes() {
+    static const std::array<LengthCode, 256> codes = [] {
+        std::array<LengthCode, 256> c{};
+        int symbol = 257, base = 0;
+        for (int len3 = 0; len3 < 256; ++len3) {
+            // Symbols 257..264 cover one length each, then four symbols per extra bit, to 284.
+            const int extra = symbol < 265 ? 0 : (symbol - 261) / 4;
+            if (len3 >= base + (1 << extra)) {
+                base += 1 << extra;
+                ++symbol;
+            }
+            const int e = symbol < 265 ? 0 : (symbol - 261) / 4;
+            c[static_cast<size_t>(len3)] = {static_cast<uint16_t>(symbol), static_cast<uint8_t>(e), static_cast<uint8_t>(base)};
+        }
+        c[255] = {285, 0, 255}; // 258, Deflate's longest match, has a symbol of its own
+        return c;
+    }();
+    return codes;
+}
+
+// A run: `length` bytes from `position` repeating those `distance` bytes before.
+struct Run {
+    uint32_t position;
+    uint16_t length;
+    uint16_t distance;
+};
+
+// The runs of at least kMinRun bytes at distance `pixel` or 1 (the first where both start),
+// taken greedily from the first byte on. Five positions are tested at once: run starts are
+// where four bytes in a row equal those `pixel` or 1 before.
+void findRuns(const uint8_t* p, size_t n, size_t pixel, std::vector<Run>& runs) {
+    runs.clear();
+    if (n < kMaxRun + 16) {
+        return; // a strip this short is coded as literals
+    }
+    const size_t last = n - kMaxRun - 8; // runs extend eight bytes at a time
+    size_t i = pixel;
+    while (i < last) {
+        const uint64_t w = load64(p + i);
+        const uint32_t zp = zeroBytes(w ^ load64(p + i - pixel));
+        const uint32_t z1 = zeroBytes(w ^ load64(p + i - 1));
+        const uint32_t sp = zp & zp >> 1 & zp >> 2 & zp >> 3;
+        const uint32_t s1 = z1 & z1 >> 1 & z1 >> 2 & z1 >> 3;
+        const uint32_t starts = (sp | s1) & 0x1fu;
+        if (starts == 0) {
+            i += 5;
+            continue;
+        }
+        const int k = std::countr_zero(starts);
+        i += static_cast<size_t>(k);
+        const size_t distance = (sp >> k & 1u) != 0 ? pixel : 1;
+        const uint8_t* a = p + i;
+        size_t length = kMinRun;
+        while (length < kMaxRun) {
+            const uint64_t x = load64(a + length) ^ load64(a + length - distance);
+            if (x != 0) {
+                length += static_cast<size_t>(std::countr_zero(x) >> 3);
+                break;
+            }
+            length += 8;
+        }
+        length = std::min(length, kMaxRun);
+        runs.push_back({static_cast<uint32_t>(i), static_cast<uint16_t>(length), static_cast<uint16_t>(distance)});
+        i += length;
+    }
+}
+
+} // namespace
+
+size_t deflateRuns(std::span<const uint8_t> bytes, int pixelBytes, std::vector<uint8_t>& out) {
+    if (pixelBytes < 1 || pixelBytes > 4) {
+        fail("", "runs at a distance of " + std::to_string(pixelBytes) + " bytes: not 1 to 4");
+    }
+    const uint8_t* p = bytes.data();
+    const size_t n = bytes.size();
+    thread_local std::vector<Run> runs;
+    findRuns(p, n, static_cast<size_t>(pixelBytes), runs);
+
+    // Symbol counts: every byte, less those inside runs; a length and a distance per run.
+    // Distances 1 to 4 are symbols 0 to 3 (no extra bits).
+    std::array<uint32_t, 286> literalFreq{};
+    deflate::countBytes(bytes, literalFreq.data());
+    std::array<uint32_t, 30> distanceFreq{};
+    const auto& lengths = lengthCodes();
+    for (const Run& r : runs) {
+        // A run repeats the `distance` bytes before it: byte j of them recurs at every
+        // distance-th place from j.
+        for (uint32_t j = 0; j < r.distance && j < r.length; ++j) {
+            literalFreq[p[r.position - r.distance + j]] -= (r.length - j + r.distance - 1u) / r.distance;
+        }
+        ++literalFreq[lengths[r.length - 3u].symbol];
+        ++distanceFreq[r.distance - 1u];
+    }
+    literalFreq[kEndOfBlock] = 1;
+    if (std::count_if(literalFreq.begin(), literalFreq.end(), [](uint32_t f) { return f != 0; }) < 2) {
+        ++literalFreq[0]; // a code needs two symbols
+    }
+    // Two distance symbols at least, so that the distance code is complete.
+    for (size_t s = 0; std::count_if(distanceFreq.begin(), distanceFreq.end(), [](uint32_t f) { return f != 0; }) < 2; ++s) {
+        distanceFreq[s] = std::max<uint32_t>(distanceFreq[s], 1);
+    }
+    int literalCount = 286, distanceCount = 4;
+    while (literalFreq[static_cast<size_t>(literalCount - 1)] == 0) {
+        --literalCount;
+    }
+    while (distanceFreq[static_cast<size_t>(distanceCount - 1)] == 0) {
+        --distanceCount;
+    }
+    std::array<uint8_t, 286> literalBits{};
+    std::array<uint8_t, 4> distanceBits{};
+    std::array<uint16_t, 286> literalCodes{};
+    std::array<uint16_t, 4> distanceCodes{};
+    deflate::huffmanLengths(literalFreq.data(), literalCount, 15, literalBits.data());
+    deflate::huffmanLengths(distanceFreq.data(), distanceCount, 15, distanceBits.data());
+    deflate::canonicalCodes(literalBits.data(), literalCount, literalCodes.data());
+    deflate::canonicalCodes(distanceBits.data(), distanceCount, distanceCodes.data());
+    uint64_t bits = 0;
+    for (size_t s = 0; s < 286; ++s) {
+        bits += static_cast<uint64_t>(literalFreq[s]) * (literalBits[s] + 5u);
+    }
+    for (size_t s = 0; s < 4; ++s) {
+        bits += static_cast<uint64_t>(distanceFreq[s]) * distanceBits[s];
+    }
+    const size_t bound = 2 + deflate::kDynamicHeaderBytes + bits / 8 + 4 + 16;
+    if (out.size() < bound) {
+        out.resize(bound);
+    }
+    deflate::putZlibHeader(out.data());
+    deflate::BitWriter w(out.data() + 2);
+    deflate::putDynamicHeader(w, true, literalBits.data(), literalCount, distanceBits.data(), distanceCount);
+
+    std::array<uint32_t, 256> packed{}; // code | length << 16
+    for (size_t v = 0; v < 256; ++v) {
+        packed[v] = literalCodes[v] | static_cast<uint32_t>(literalBits[v]) << 16;
+    }
+    // Literals [from, to), three codes (at most 45 bits) between flushes.
+    auto putLiterals = [&](size_t from, size_t to) {
+        for (; from + 3 <= to; from += 3) {
+            const uint32_t a = packed[p[from]], b = packed[p[from + 1]], c = packed[p[from + 2]];
+            w.put(a & 0xffffu, static_cast<int>(a >> 16));
+            w.put(b & 0xffffu, static_cast<int>(b >> 16));
+            w.put(c & 0xffffu, static_cast<int>(c >> 16));
+            w.flush();
+        }
+        for (; from < to; ++from) {
+            w.put(packed[p[from]] & 0xffffu, static_cast<int>(packed[p[from]] >> 16));
+        }
+        w.flush();
+    };
+    size_t at = 0;
+    for (const Run& r : runs) {
+        putLiterals(at, r.position);
+        const LengthCode& c = lengths[r.length - 3u];
+        w.put(literalCodes[c.symbol], literalBits[c.symbol]);
+        w.put(static_cast<uint32_t>(r.length - 3u - c.base), c.extraBits);
+        w.put(distanceCodes[r.distance - 1u], distanceBits[r.distance - 1u]);
+        w.flush();
+        at = r.position + r.length;
+    }
+    putLiterals(at, n);
+    w.put(literalCodes[kEndOfBlock], literalBits[kEndOfBlock]);
+    return static_cast<size_t>(deflate::putAdler32(w.finish(), p, n) - out.data());
+}
+
+} // namespace pyramid

@@ -1,0 +1,171 @@
+// Deflate streams of literals and runs (formats/deflate_runs.*), and the choice of coder for the
+// strips of image tiles (formats/tiff_strip_bytes.*).
+#include <gtest/gtest.h>
+
+#include <libdeflate.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "formats/deflate_runs.hpp"
+#include "formats/tiff_strip_bytes.hpp"
+#include "formats/tiff_tile.hpp"
+
+namespace pyramid {
+namespace {
+
+// Inflates `stream` with zlib and with libdeflate; both must give `bytes` exactly.
+void expectInflatesTo(const std::vector<uint8_t>& stream, size_t size, const std::vector<uint8_t>& bytes) {
+    std::vector<uint8_t> back(bytes.size() + 1);
+    uLongf length = back.size();
+    ASSERT_EQ(uncompress(back.data(), &length, stream.data(), size), Z_OK) << bytes.size() << " bytes";
+    ASSERT_EQ(length, bytes.size());
+    EXPECT_TRUE(std::equal(bytes.begin(), bytes.end(), back.begin()));
+    libdeflate_decompressor* d = libdeflate_alloc_decompressor();
+    size_t got = 0;
+    std::fill(back.begin(), back.end(), uint8_t{0});
+    EXPECT_EQ(libdeflate_zlib_decompress(d, stream.data(), size, back.data(), back.size(), &got), LIBDEFLATE_SUCCESS);
+    libdeflate_free_decompressor(d);
+    EXPECT_EQ(got, bytes.size());
+    EXPECT_TRUE(std::equal(bytes.begin(), bytes.end(), back.begin()));
+}
+
+// Bytes made of random pieces: literals of several spreads, runs of one byte, repeats of the
+// last 1 to 4 bytes, of lengths around Deflate's limits (3, 4, 258, 259 and beyond).
+std::vector<uint8_t> piecewise(std::mt19937& random, size_t size) {
+    std::vector<uint8_t> out;
+    std::uniform_int_distribution<int> kind(0, 3), period(1, 4), spread(0, 255);
+    static const int lengths[] = {1, 2, 3, 4, 5, 7, 9, 30, 257, 258, 259, 300, 700};
+    while (out.size() < size) {
+        const int len = lengths[random() % std::size(lengths)];
+        switch (kind(random)) {
+        case 0: {
+            const int s = 1 + spread(random) % 64;
+            for (int k = 0; k < len; ++k) {
+                out.push_back(static_cast<uint8_t>(random() % static_cast<unsigned>(s)));
+            }
+            break;
+        }
+        case 1:
+            out.insert(out.end(), static_cast<size_t>(len), static_cast<uint8_t>(random()));
+            break;
+        default: {
+            const size_t p = static_cast<size_t>(period(random));
+            if (out.size() < p) {
+                out.push_back(0);
+                break;
+            }
+            for (int k = 0; k < len; ++k) {
+                out.push_back(out[out.size() - p]);
+            }
+        }
+        }
+    }
+    out.resize(size);
+    return out;
+}
+
+TEST(DeflateRuns, StreamsOfAnyBytesAreReadByZlibAndLibdeflate) {
+    std::mt19937 random(53);
+    std::vector<std::vector<uint8_t>> cases = {{}, {7}, {1, 2, 3}, std::vector<uint8_t>(273, 5),
+                                               std::vector<uint8_t>(274, 5), std::vector<uint8_t>(100000, 0)};
+    for (const size_t size : {100, 275, 280, 1000, 4096, 20000, 115248}) {
+        for (int k = 0; k < 40; ++k) {
+            cases.push_back(piecewise(random, size));
+        }
+    }
+    std::vector<uint8_t> stream;
+    for (const std::vector<uint8_t>& bytes : cases) {
+        for (int pixel = 1; pixel <= 4; ++pixel) {
+            const size_t size = deflateRuns(bytes, pixel, stream);
+            expectInflatesTo(stream, size, bytes);
+        }
+    }
+}
+
+TEST(DeflateRuns, RunsAndRepeatedPixelsAreCodedAsMatches) {
+    std::vector<uint8_t> stream;
+    // 100,000 zeros: runs of 258 bytes at about 2 bits each, not 100,000 literals.
+    const std::vector<uint8_t> zeros(100000, 0);
+    EXPECT_LT(deflateRuns(zeros, 3, stream), 300u);
+    // A pixel of three different bytes repeated: matches at distance 3 only (with pixel 3).
+    std::vector<uint8_t> pixels;
+    for (int k = 0; k < 30000; ++k) {
+        pixels.insert(pixels.end(), {10, 200, 33});
+    }
+    EXPECT_LT(deflateRuns(pixels, 3, stream), 300u);
+    const size_t asBytes = deflateRuns(pixels, 1, stream);
+    EXPECT_GT(asBytes, 90000u * 3 / 16); // at least 1.5 bits a byte: literals, no run at distance 1
+    expectInflatesTo(stream, asBytes, pixels);
+}
+
+TEST(DeflateRuns, RefusesPixelsOfOtherSizes) {
+    std::vector<uint8_t> stream;
+    const std::vector<uint8_t> bytes(1000, 1);
+    EXPECT_THROW(deflateRuns(bytes, 0, stream), std::exception);
+    EXPECT_THROW(deflateRuns(bytes, 5, stream), std::exception);
+}
+
+// A 196^2 RGB tile: a flat area (sea) left, smooth gradients with sensor noise of `sigma`
+// right; or a texture of 64 random bytes repeated with a shift per row.
+std::vector<uint8_t> imageTile(double sigma, bool texture) {
+    std::mt19937 random(6);
+    std::normal_distribution<double> noise(0, sigma);
+    std::vector<uint8_t> pattern(64);
+    for (uint8_t& b : pattern) {
+        b = static_cast<uint8_t>(random());
+    }
+    std::vector<uint8_t> pixels(196 * 196 * 3);
+    for (size_t k = 0; k < pixels.size(); ++k) {
+        const size_t x = k / 3 % 196, y = k / 3 / 196;
+        if (texture) {
+            pixels[k] = pattern[(k + y * 7) % 64];
+            continue;
+        }
+        const double v = x < 80 ? 20.0 + static_cast<double>(k % 3)
+                                : 60 + static_cast<double>(x) / 3 + static_cast<double>(y) / 4 + noise(random);
+        pixels[k] = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    }
+    return pixels;
+}
+
+// Whether `needle` occurs in `blob`.
+bool contains(const std::vector<uint8_t>& blob, std::span<const uint8_t> needle) {
+    return std::search(blob.begin(), blob.end(), needle.begin(), needle.end()) != blob.end();
+}
+
+TEST(DeflateRuns, ImageTilesAtTheFastLevelsTakeTheRunsCoderUnlessTextureRepeats) {
+    std::vector<uint8_t> stream;
+    for (const bool texture : {false, true}) {
+        const std::vector<uint8_t> pixels = imageTile(1.5, texture);
+        const std::vector<uint8_t> tile = encodeTiff8(pixels, 196, 196, 3, TiffCompression::Deflate, 90, 1, true);
+        EXPECT_EQ(decodeTiff(tile, 196, 196, "tile").pixels, pixels);
+        const std::vector<uint8_t> differences = [&] {
+            const std::span<const uint8_t> d = horizontalDifferences(pixels.data(), pixels.size(), 196, 3);
+            return std::vector<uint8_t>(d.begin(), d.end());
+        }();
+        const size_t runs = deflateRuns(differences, 3, stream);
+        const std::vector<uint8_t> runsStream(stream.begin(), stream.begin() + static_cast<std::ptrdiff_t>(runs));
+        const std::span<const uint8_t> libdeflate = zlibCompress(differences, 1);
+        // The strip is the runs coder's stream for the gradients; libdeflate's for the texture,
+        // which the runs coder codes at several times the size.
+        EXPECT_EQ(contains(tile, runsStream), !texture);
+        EXPECT_EQ(contains(tile, libdeflate), texture);
+        if (texture) {
+            EXPECT_GT(runs, 3 * libdeflate.size());
+        } else {
+            EXPECT_LE(runs, libdeflate.size() * 103 / 100);
+        }
+        // Above the fast levels, libdeflate alone.
+        const std::vector<uint8_t> slow = encodeTiff8(pixels, 196, 196, 3, TiffCompression::Deflate, 90, 6, true);
+        EXPECT_TRUE(contains(slow, zlibCompress(differences, 6)));
+    }
+}
+
+} // namespace
+} // namespace pyramid
