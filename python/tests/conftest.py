@@ -105,3 +105,9 @@ def write_hgt(directory, side=1201, name="N46W122.hgt"):
 @pytest.fixture(scope="session")
 def hgt(tmp_path_factory):
     return write_hgt(tmp_path_factory.mktemp("hgt"))
+
+
+@pytest.fixture(scope="session")
+def big_hgt(tmp_path_factory):
+    """An SRTM1-sized .hgt (3601 x 3601): its encoding lasts long enough to be interrupted."""
+    return write_hgt(tmp_path_factory.mktemp("big_hgt"), side=3601)
