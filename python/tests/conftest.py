@@ -90,9 +90,11 @@ def rgb():
 def smooth_heights(height, width, seed=7):
     """A smooth terrain with some noise, float32, row 0 north."""
     rng = np.random.default_rng(seed)
-    y, x = np.mgrid[0:height, 0:width].astype(np.float64)
-    z = 800 + 300 * np.sin(x / 37.0) * np.cos(y / 23.0) + 0.02 * x * y / max(width, 1) + rng.normal(0, 2, (height, width))
-    return z.astype(np.float32)
+    x = np.arange(width, dtype=np.float32)[None, :]
+    y = np.arange(height, dtype=np.float32)[:, None]
+    z = 800 + 300 * np.sin(x / 37) * np.cos(y / 23) + np.float32(0.02 / max(width, 1)) * x * y
+    z += rng.standard_normal((height, width), dtype=np.float32) * 2
+    return z
 
 
 def write_hgt(directory, side=1201, name="N46W122.hgt"):
