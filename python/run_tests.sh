@@ -19,18 +19,25 @@ else
   shift
 fi
 here=$(cd "$(dirname "$0")" && pwd)
-python=${PYTHON:-python3}
 
-missing=""
-command -v "$python" >/dev/null 2>&1 || missing="$python"
-if [ -z "$missing" ]; then
+# missing PYTHON: what PYTHON lacks of the interpreter and modules the tests need ("" if none).
+missing() {
+  command -v "$1" >/dev/null 2>&1 || { echo " $1"; return; }
   for module in numpy pytest pip setuptools; do
-    "$python" -c "import $module" 2>/dev/null || missing="$missing $module"
+    "$1" -c "import $module" 2>/dev/null || printf ' %s' "$module"
   done
+}
+# python3 on PATH, or the system's when that one lacks the modules (a user's own interpreter
+# first on PATH).
+python=${PYTHON:-python3}
+missing=$(missing "$python")
+if [ -n "$missing" ] && [ -z "${PYTHON:-}" ] && [ -x /usr/bin/python3 ] && [ -z "$(missing /usr/bin/python3)" ]; then
+  python=/usr/bin/python3
+  missing=""
 fi
 if [ -n "$missing" ]; then
   if [ "${PYRAMID_REQUIRE_PYTHON:-0}" = 1 ]; then
-    echo "PYRAMID_REQUIRE_PYTHON=1 but missing: $missing (scripts/install-deps.sh installs them)" >&2
+    echo "PYRAMID_REQUIRE_PYTHON=1 but missing:$missing (scripts/install-deps.sh installs them)" >&2
     exit 1
   fi
   echo "SKIPPED: the Python package's tests need$missing (scripts/install-deps.sh installs them)" >&2
