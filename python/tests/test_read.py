@@ -143,3 +143,24 @@ def test_height_by_crs_coordinates_equals_pyramid_height(tmp_path, bin_dir, hgt)
     with libpyramid.open(DEM) as d:
         with pytest.raises(libpyramid.ArgumentError, match="georef.json"):
             d.height(x=1.0, y=2.0)
+
+
+def test_planet_directories(tmp_path, bin_dir):
+    """The six faces of the spherical preprocessors; a geodetic height lands on the face and at
+    the point `pyramid height --lonlat` names, and that face gives the same height."""
+    subprocess.run([str(bin_dir / "preprocessSphericalDem"), "-q", str(SAMPLES / "srtm.png"), "-o",
+                    str(tmp_path / "dem"), "--max-level", "3", "--threads", "1"], check=True)
+    subprocess.run([str(bin_dir / "preprocessSphericalOrtho"), "-q", str(SAMPLES / "bluemarble.png"), "-o",
+                    str(tmp_path / "rgb"), "--max-level", "1", "--threads", "1"], check=True)
+    with libpyramid.open(tmp_path / "dem") as planet:
+        assert isinstance(planet, libpyramid.Planet) and len(planet) == 6 and planet.info["face_kind"] == "residual"
+        for lon, lat in [(-121.7, 46.8), (10.0, -80.0), (135.0, 0.5)]:
+            found = planet.height(lon=lon, lat=lat, details=True)
+            assert planet.height(lon=lon, lat=lat) == found["height"]
+            assert abs(planet[found["face"]].height(found["u"], found["v"]) - found["height"]) < 1e-9
+    with libpyramid.open(tmp_path / "rgb") as planet:
+        assert planet.info["face_kind"] == "ortho" and planet[6].tile(1, 1, 0).shape == (196, 196, 3)
+    with libpyramid.open(tmp_path / "rgb" / "residuals") as planet:
+        assert all(face.colour_residuals for face in planet)
+    with pytest.raises(IndexError):
+        libpyramid.open(tmp_path / "dem")[0]

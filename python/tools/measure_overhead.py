@@ -6,7 +6,8 @@
 Prints microseconds per call of: an empty foreign call; the package's elevation() on a cached
 tile (the C side only copies 197^2 floats) and the bare ctypes call under it; a produced
 elevation tile (decode + upsample, parents cached, as a renderer walks the quadtree); a decoded
-ortho tile. Run it with the installed package on the path.
+ortho tile; an encoding per tile, through the package and as a bare C call. Run it with the
+installed package on the path.
 """
 
 import ctypes
@@ -34,6 +35,39 @@ def per_call(fn, seconds=0.5):
     return best * 1e6
 
 
+def fastest(fn, runs=10):
+    """Microseconds of the fastest of `runs` calls of fn() (long calls on a busy machine)."""
+    best = float("inf")
+    for _ in range(runs):
+        start = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - start)
+    return best * 1e6
+
+
+def encode_rows(side=1025):
+    """An encoding through the package (worker thread, cancel callback after every tile) against
+    the bare C call (no callbacks), per tile."""
+    import os
+    import tempfile
+    y, x = np.mgrid[0:side, 0:side].astype(np.float32)
+    heights = (500 + 200 * np.sin(x / 40) * np.cos(y / 30)).astype(np.float32)
+    lib = _capi.encode_library()
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "DEM.dat")
+        tiles = libpyramid.encode_dem(heights, out, threads=1)["tiles"]
+        src = _capi.sized(_capi.pyramid_height_source)
+        src.width = src.height = side
+        src.heights = heights.ctypes.data_as(_capi.c_float_p)
+        o = _capi.sized(_capi.pyramid_dem_encode_options)
+        lib.pyramid_dem_encode_defaults(ctypes.byref(o))
+        o.threads = 1
+        bare = fastest(lambda: lib.pyramid_encode_dem(ctypes.byref(src), ctypes.byref(o), out.encode()))
+        package = fastest(lambda: libpyramid.encode_dem(heights, out, threads=1))
+    return [(f"encode_dem {side}^2, 1 thread, per tile ({tiles} tiles): bare C call", bare / tiles),
+            (f"encode_dem {side}^2, 1 thread, per tile ({tiles} tiles): the package", package / tiles)]
+
+
 def main():
     dem_path, rgb_path = sys.argv[1:3]
     lib = _capi.runtime
@@ -55,6 +89,7 @@ def main():
     rows.append((f"produced elevation tile (walk of {len(tiles)} tiles, levels 0..3)", per_call(walk, 2) / len(tiles)))
     with libpyramid.open(rgb_path) as rgb:
         rows.append(("ortho.tile(), decoded TIFF tile 196^2 x 4", per_call(lambda: rgb.tile(1, 1, 1))))
+    rows += encode_rows()
     width = max(len(r[0]) for r in rows)
     for name, us in rows:
         print(f"{name:<{width}}  {us:10.2f} us")
