@@ -143,12 +143,14 @@ class Pyramid:
 
     def tile_bytes(self, level, tx, ty):
         """A stored tile's bytes as the file holds them (a TIFF file, or raw DXT blocks)."""
+        self._check_tile(level, tx, ty)
         f, level, tx, ty = self._file_of(level, tx, ty)
         return f.read_bytes(level, tx, ty)
 
     def tile_info(self, level, tx, ty):
         """pyramid_tile_stat of a stored tile as a dict: exists, side, channels, stored_bytes,
         decoded_bytes, offset, and the file holding it."""
+        self._check_tile(level, tx, ty)
         f, level, tx, ty = self._file_of(level, tx, ty)
         info = _capi.sized(_capi.pyramid_tile_info)
         check(_lib.pyramid_tile_stat(f.handle, level, tx, ty, ctypes.byref(info)), where=f.path)
@@ -164,8 +166,17 @@ class Pyramid:
             deepest = max(deepest, r.root[0] + f.info["max_level"])
         return deepest
 
-    @staticmethod
-    def _check_tile(level, tx, ty):
+    @property
+    def closed(self):
+        """True once close() has run."""
+        return self._main is None
+
+    def _check_open(self):
+        if self._main is None:
+            raise ValueError(f"{self.path}: the pyramid is closed")
+
+    def _check_tile(self, level, tx, ty):
+        self._check_open()
         for name, v in (("level", level), ("tx", tx), ("ty", ty)):
             if not isinstance(v, (int, np.integer)) or isinstance(v, bool):
                 raise TypeError(f"{name} must be an integer, not {type(v).__name__}")
@@ -290,6 +301,7 @@ class Dem(Pyramid):
             v = (float(y) - e["min_y"]) / (e["max_y"] - e["min_y"])
         if u is None or v is None:
             raise TypeError("height() needs u, v, or x=, y=, or lon=, lat=")
+        self._check_open()
         h = ctypes.c_double()
         check(_lib.pyramid_elevation_height(self._elevation, level, float(u), float(v), ctypes.byref(h)), where=self.path)
         return h.value

@@ -35,6 +35,17 @@ def test_bad_tile_coordinates(dem, rgb):
         dem.height()
 
 
+def test_closed_pyramids():
+    d = libpyramid.open(DEM)
+    d.close()
+    assert d.closed
+    for call in (lambda: d.elevation(0, 0, 0), lambda: d.residual(0, 0, 0), lambda: d.height(0.5, 0.5),
+                 lambda: d.normals(0, 0, 0, size=1)):
+        with pytest.raises(ValueError, match="closed"):
+            call()
+    d.close()  # twice is fine
+
+
 def test_bad_producer_options():
     with pytest.raises(libpyramid.ArgumentError, match=str(DEM)):
         libpyramid.open(DEM, tile_size=100)  # not 192 / 2^k
