@@ -137,9 +137,9 @@ def encode_dem(source, output, *, scale=None, tile_size=None, root_tile_size=Non
         return run_program(_program_args("preprocessDem", source, "-o", output, opts), progress, cancel)
     if program_options:
         raise TypeError(f"encode_dem: options {sorted(program_options)} apply to input files only")
+    array, fetch, w, h, kind = _source_reader(source, width, height, "encode_dem", np.float32)
     lib = _capi.encode_library()
     call = Call(lib, progress, cancel)
-    array, fetch, w, h, kind = _source_reader(source, width, height, "encode_dem", np.float32)
     src = _capi.sized(_capi.pyramid_height_source)
     src.width, src.height = w, h
     if array is not None:
@@ -209,9 +209,9 @@ def encode_ortho(source, directory, *, tile_size=None, max_level=None, name=None
         return run_program(_program_args("preprocessOrtho", source, "-o", directory, opts), progress, cancel)
     if program_options:
         raise TypeError(f"encode_ortho: options {sorted(program_options)} apply to input files only")
+    array, fetch, w, h, kind = _source_reader(source, width, height, "encode_ortho", np.uint8)
     lib = _capi.encode_library()
     call = Call(lib, progress, cancel)
-    array, fetch, w, h, kind = _source_reader(source, width, height, "encode_ortho", np.uint8)
     if array is not None or kind == "array windows":
         shape = source.shape
         c = shape[2] if len(shape) == 3 else 1
