@@ -62,4 +62,4 @@ site=$(dirname "$(dirname "$init")")
 
 cd "$tmp"
 PYTHONPATH=$site PYRAMID_TEST_PREFIX=$prefix PYRAMID_TEST_SOURCE=$(dirname "$here") PYTHONDONTWRITEBYTECODE=1 \
-  "$python" -m pytest -p no:cacheprovider -q "$here/tests" "$@"
+  "$python" -m pytest -p no:cacheprovider -q --basetemp="$tmp/pytest" "$here/tests" "$@"
