@@ -103,7 +103,7 @@ def _source_reader(source, width, height, what, dtype):
                     f"(x0, y0, x1, y1) -> array, or input paths, not {type(source).__name__}")
 
 
-def _report_from(call_started, output, source_kind, width, height, extra):
+def _report_from(call_started, source_kind, width, height, extra):
     report = {"ok": True, "seconds": time.monotonic() - call_started,
               "input": {"source": source_kind, "width": width, "height": height}}
     report.update(extra)
@@ -177,7 +177,7 @@ def encode_dem(source, output, *, scale=None, tile_size=None, root_tile_size=Non
     finally:
         f.close()
     header = {k: info[k] for k in ("max_level", "min_level", "scale", "tile_size")}
-    return _report_from(started, output, kind, w, h, {
+    return _report_from(started, kind, w, h, {
         "output": os.fspath(output), "bytes": os.path.getsize(output), "header": header,
         "tiles": info["tile_count"], "compression": compression or "deflate"})
 
@@ -244,7 +244,7 @@ def encode_ortho(source, directory, *, tile_size=None, max_level=None, name=None
         info = f.info
     finally:
         f.close()
-    return _report_from(started, directory, kind, w, h, {
+    return _report_from(started, kind, w, h, {
         "directory": os.fspath(directory), "outputs": files, "bytes": {k: os.path.getsize(p) for k, p in files.items()},
         "header": {"tile_size": info["tile_size"], "max_level": info["max_level"], "channels": c,
                    "border": info["border"]}, "tiles": info["tile_count"]})

@@ -219,7 +219,7 @@ class Dem(Pyramid):
         self.info["georeference"] = self.georeference
 
     def _close_producers(self):
-        for h in self._normals.values():
+        for h in getattr(self, "_normals", {}).values():
             _lib.pyramid_normal_close(h)
         self._normals = {}
         if getattr(self, "_elevation", None):
