@@ -17,6 +17,9 @@ install(TARGETS ${PYRAMID_PROGRAMS} # cli/CMakeLists.txt
 if(PYRAMID_MAN_PAGES)
   install(FILES ${PYRAMID_MAN_PAGES} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1) # cli/CMakeLists.txt
 endif()
+# The C API's encode functions as a shared library, for FFIs (python/): no CMake target of the
+# package (C and C++ programs link libpyramid::preprocess).
+install(TARGETS pyramid_encode LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 # Found by the programs at <bindir>/PYRAMID_OIIO_MODULE_INSTALL_DIR (libpyramid/CMakeLists.txt).
 install(TARGETS pyramid_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/libpyramid)
 

@@ -7,6 +7,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libgtest-dev
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   openimageio-tools help2man python3
+  python3-numpy python3-pytest python3-pip python3-setuptools python3-wheel
   openmpi-bin libopenmpi-dev openssh-client
 )
 # The fuzz targets (fuzz/README.md) build with clang, whose OpenMP needs libomp.

@@ -1,7 +1,8 @@
 #!/bin/sh
 # Installs a build into a temporary prefix, then builds programs against that copy alone (never
 # the build tree) and runs them:
-#   - the installed runtime library: its needed libraries, soname and exports;
+#   - the installed runtime library: its needed libraries, soname and exports; the encode
+#     library's exports;
 #   - the CMake package: a consumer of each component, each looked for alone
 #     (tests/install/CMakeLists.txt: runtime, runtime_static through COMPONENTS runtime,
 #     preprocess, and gl when it was built);
@@ -48,6 +49,14 @@ if [ -n "$others" ]; then
   echo "$others" | head >&2
   exit 1
 fi
+# ---- The encode library, for FFIs (python/): pyramid_encode.h's functions and their errors only. ----
+enc=$(find "$prefix" -name 'libpyramid-encode.so.*.*.*' | head -n 1)
+test -n "$enc" || { echo "no installed libpyramid-encode.so" >&2; exit 1; }
+readelf -d "$enc" | grep -q 'SONAME.*libpyramid-encode\.so\.' || { echo "libpyramid-encode.so: no soname" >&2; exit 1; }
+exports=$(nm -D --defined-only "$enc" | awk '{print $3}' | LC_ALL=C sort | tr '\n' ' ')
+expected="pyramid_dem_encode_defaults pyramid_encode_dem pyramid_encode_ortho pyramid_last_error \
+pyramid_ortho_encode_defaults pyramid_status_name pyramid_version_number pyramid_version_string "
+test "$exports" = "$expected" || { echo "libpyramid-encode.so exports: $exports" >&2; exit 1; }
 # ---- Man pages: one per program, made from its --help and --version (when help2man is there). ----
 if command -v help2man >/dev/null 2>&1; then
   programs=0
