@@ -69,6 +69,9 @@ void stopOnSignals(const std::string& program) {
     sigaddset(&signals, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     std::signal(SIGXFSZ, SIG_IGN);
+    // A reader of stdout or stderr that goes away (`2>&1 | head`) must not kill the run
+    // half-way, leaving its temporaries: its writes fail (EPIPE) and the run goes on.
+    std::signal(SIGPIPE, SIG_IGN);
     std::thread([signals, program] {
         int signal = 0;
         while (sigwait(&signals, &signal) != 0) {

@@ -120,10 +120,16 @@ public:
         return !out.empty();
     }
 
+    // Closes the reading end of stderr, as `2>&1 | head -n 1` does after its line.
+    void closeErr() {
+        std::fclose(in_);
+        in_ = nullptr;
+    }
+
     // Reads stderr to its end and returns the exit status (-signal when killed by one).
     int wait() {
         std::string l;
-        while (line(l)) {
+        while (in_ && line(l)) {
         }
         int status = 0;
         ::waitpid(pid_, &status, 0);
@@ -269,6 +275,25 @@ TEST_F(Failure, AFileSizeLimitIsAFullDiskThatLeavesNothing) {
     EXPECT_NE(err.find("file too large"), std::string::npos) << err;
     EXPECT_EQ(err.find(".staging-"), std::string::npos) << "the message names the output, not its temporary: " << err;
     EXPECT_TRUE(snapshot(out) == before) << names(snapshot(out));
+}
+
+TEST_F(Failure, AReaderOfStderrThatGoesAwayEndsNothingHalfWay) {
+    // stderr on a pipe closed after the first progress line: the run writes the rest into the
+    // closed pipe and still ends with its whole output, the same bytes as a quiet run, and no
+    // temporaries (before SIGPIPE was ignored, it died at its next line, leaving them).
+    const std::string input = dir.file("dem.tif");
+    test::writeFloatRaster(input, 1025, 1025, test::syntheticHeights(1025, 1025, 3000.0f));
+    fs::create_directories(out);
+    Child child({programPath("preprocessDem"), input, "-o", out + "/DEM.dat"});
+    std::string line;
+    ASSERT_TRUE(child.line(line));
+    child.closeErr();
+    EXPECT_EQ(child.wait(), 0);
+    EXPECT_FALSE(hasTemporary(out)) << names(snapshot(out));
+    std::string err;
+    ASSERT_EQ(runToEnd({programPath("preprocessDem"), input, "-o", out + "/quiet.dat", "-q"}, &err), 0)
+        << err;
+    EXPECT_TRUE(fs::exists(out + "/DEM.dat") && test::readFile(out + "/DEM.dat") == test::readFile(out + "/quiet.dat"));
 }
 
 TEST_F(Failure, OutputsThatCannotBeWrittenFailBeforeAnyWork) {
