@@ -42,10 +42,14 @@ json servedPath(const ServedBuild& build, const std::string& file) {
     return relative.generic_string();
 }
 
+// Levels are the elevation producer's: level 0 is the root tile of n intervals, the file's level
+// file_min_level (the file's coarser levels fold into it: doc/format.md, "Elevation arithmetic").
 json elevationOf(const ServedBuild& build, const ServedFace& f) {
     const int n = f.elevation->tileSize();
     return {{"max_level", f.maxLevel},
-            {"min_level", f.header.minLevel},
+            {"min_level", 0},
+            {"file_min_level", f.header.minLevel},
+            {"file_max_level", f.fileMaxLevel},
             {"tile_size", n},
             {"grid", f.elevation->gridSize()},
             {"side", n + 5},

@@ -72,10 +72,11 @@ ServedFace openFace(int number, const std::string& path, size_t cacheTiles) {
     f.face = number;
     f.elevationPath = set.main;
     f.header = ResidualFileReader::readHeader(set.main);
-    f.maxLevel = setMaxLevel(set);
+    f.fileMaxLevel = setMaxLevel(set);
     ElevationProducerOptions options;
     options.cacheCapacity = std::max<size_t>(cacheTiles, 1);
     f.elevation = openElevationSet(path, options);
+    f.maxLevel = f.elevation->maxLevel();
     const auto root = f.elevation->tile(0, 0, 0);
     const int side = root->size;
     f.rootMin = f.rootMax = root->zf[static_cast<size_t>(2 * side + 2)];

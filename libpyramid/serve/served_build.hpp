@@ -55,7 +55,8 @@ struct ServedFace {
     int face = 0;             // 0: a plane; 1..6: a planet's face
     std::string elevationPath; // the main file (of its set)
     ResidualHeader header;    // the main file's
-    int maxLevel = 0;         // the deepest level a file of the set holds
+    int maxLevel = 0;         // the elevation producer's deepest level with residuals
+    int fileMaxLevel = 0;     // the deepest level a file of the set holds (file levels)
     std::shared_ptr<ElevationProducer> elevation;
     std::unique_ptr<ServedOrtho> ortho; // null: no ortho
     float rootMin = 0.0f, rootMax = 0.0f; // the root tile's heights over its quad
