@@ -1,6 +1,7 @@
 // `pyramid serve PATH [--port N] [--bind ADDRESS] [--ortho PATH] [--log FILE|-]`: an HTTP server
 // over a build, for the web viewer and remote loaders (doc/cli/pyramid-serve.md). The options
 // are read here; libpyramid/serve/ serves.
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -62,6 +63,8 @@ CommandRunner setupServeCommand(CLI::App& app) {
     app.add_option("--log", a->server.log, "Write METHOD PATH STATUS BYTES per request to this file ('-': stderr)");
     app.add_flag("-q,--quiet", a->quiet, "No summary on stderr (the URL line on stdout is always printed)");
     return [a]() {
+        // A client that goes away mid-answer is that answer's failure, not the server's end.
+        std::signal(SIGPIPE, SIG_IGN);
         const serve::ServedBuild build = serve::openServedBuild(a->source);
         serve::serveBuild(build, a->server, [&](const std::string& url) {
             std::printf("pyramid serve: %s\n", url.c_str());

@@ -11,7 +11,7 @@ namespace pyramid::serve {
 
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json; // fields in the order the doc gives them
 
 // The rotation taking face plane coordinates (u right, v up, 1 outward) to the planet's axes:
 // faceDirection's table (sphere/cube_faces.hpp) is linear in (u, v, 1), so its columns are the
@@ -23,7 +23,8 @@ json faceFrame(int face) {
     json rows = json::array();
     for (int r = 0; r < 3; ++r) {
         const auto k = static_cast<size_t>(r);
-        rows.push_back({du[k] - origin[k], dv[k] - origin[k], origin[k]});
+        // + 0.0: a -0 of the table written as 0.
+        rows.push_back({du[k] - origin[k] + 0.0, dv[k] - origin[k] + 0.0, origin[k] + 0.0});
     }
     return rows;
 }

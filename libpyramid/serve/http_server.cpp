@@ -128,11 +128,12 @@ void sendFile(const fs::path& root, const std::string& relative, const httplib::
 void sendViewerFile(const fs::path& directory, const std::string& name, httplib::Response& res) {
     const fs::path file = viewerFile(directory, name);
     if (file.empty()) {
-        res.status = 404;
-        res.set_content(name == "index.html" ? "no viewer: " + (directory / name).string() + " is not there\n"
-                                             : "no viewer file '" + name + "'\n",
-                        "text/plain; charset=utf-8");
-        return;
+        if (name == "index.html") { // GET /: one line of text, for a person at a browser
+            res.status = 404;
+            res.set_content("no viewer: " + (directory / name).string() + " is not there\n", "text/plain; charset=utf-8");
+            return;
+        }
+        return send(res, errorAnswer(404, "no viewer file '" + name + "'"));
     }
     // Small files, read whole for each request.
     std::string bytes;

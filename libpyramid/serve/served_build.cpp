@@ -76,7 +76,8 @@ ServedFace openFace(int number, const std::string& path, size_t cacheTiles) {
     ElevationProducerOptions options;
     options.cacheCapacity = std::max<size_t>(cacheTiles, 1);
     f.elevation = openElevationSet(path, options);
-    f.maxLevel = f.elevation->maxLevel();
+    // The producer's level L is file level L + delta (doc/format.md, "Elevation arithmetic").
+    f.maxLevel = f.fileMaxLevel - elevationDelta(f.header, f.elevation->tileSize(), set.main);
     const auto root = f.elevation->tile(0, 0, 0);
     const int side = root->size;
     f.rootMin = f.rootMax = root->zf[static_cast<size_t>(2 * side + 2)];
