@@ -131,7 +131,7 @@ TEST_F(ServeErrors, NothingOutsideTheServedDirectoryIsEverServed) {
                                "/files/sub/../../secret.txt", "/files/sub/%2e%2e/%2e%2e/secret.txt",
                                "/files/link.txt", "/files/up/secret.txt", "/files/absolute.txt",
                                "/files//etc/passwd", "/files/%2fetc%2fpasswd", "/files/..%5csecret.txt",
-                               "/files/./DEM.dat", "/files/sub//inner.dat", "/files/up/build/DEM.dat",
+                               "/files/./DEM.dat", "/files/sub//inner.dat",
                                "/viewer/../secret.txt", "/viewer/%2e%2e%2fsecret.txt"}) {
         const std::string answer = pyramid::test::rawRequest(served.port(), "GET", target);
         ASSERT_FALSE(answer.empty()) << target;
