@@ -165,6 +165,8 @@ void serveBuild(const ServedBuild& build, const ServerOptions& options,
         server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
     }
     server.set_keep_alive_max_count(1000);
+    // Without it an answer's last segment can wait for the client's delayed ACK (40 ms a tile).
+    server.set_tcp_nodelay(true);
     // cpp-httplib 0.11 cuts every answer to a Range header's ranges, unchecked against the
     // answer's length (a range past the end reads past it). Ranges are answered here, by /files
     // alone (answerRange); every other answer is whole, as HTTP allows. The request object is the
