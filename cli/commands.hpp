@@ -26,5 +26,6 @@ CommandRunner setupPreviewCommand(CLI::App& app); // pyramid preview FILE|SET -o
 CommandRunner setupRecodeCommand(CLI::App& app);  // pyramid recode FILE -o OUT --compression C
 CommandRunner setupApertureCommand(CLI::App& app); // pyramid aperture / preprocessAperture
 CommandRunner setupSphereApertureCommand(CLI::App& app); // pyramid sphere-aperture / preprocessSphericalAperture
+CommandRunner setupServeCommand(CLI::App& app);  // pyramid serve PATH [--port N] [--bind ADDRESS]
 
 } // namespace pyramid::cli

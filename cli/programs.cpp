@@ -41,6 +41,8 @@ int pyramidProgram(int argc, char** argv) {
          setupRecodeCommand},
         {"height", "Print the reconstructed height at a point (grid, source pixel, or longitude and latitude)",
          setupHeightCommand},
+        {"serve", "Serve a build over HTTP: its tiles, files and description, and the 3D web viewer",
+         setupServeCommand},
     };
     NamedRunner runners[std::size(entries)];
     int count = 0;

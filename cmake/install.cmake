@@ -20,6 +20,9 @@ endif()
 # The C API's encode functions as a shared library, for FFIs (python/): no CMake target of the
 # package (C and C++ programs link libpyramid::preprocess).
 install(TARGETS pyramid_encode LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+# `pyramid serve`'s web viewer (cmake/viewer.cmake), found by the programs at
+# <bindir>/../share/libpyramid/viewer (libpyramid/serve/viewer_files.hpp).
+install(DIRECTORY ${PYRAMID_VIEWER_DIR}/ DESTINATION ${CMAKE_INSTALL_DATADIR}/libpyramid/viewer)
 # Found by the programs at <bindir>/PYRAMID_OIIO_MODULE_INSTALL_DIR (libpyramid/CMakeLists.txt).
 install(TARGETS pyramid_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/libpyramid)
 

@@ -26,6 +26,8 @@ SidecarPlacement readGeoreferenceSidecar(const std::string& sidecar) {
         if (p.geographic) {
             p.unitInDegrees = crs.value("unit_degrees", 1.0);
             p.primeMeridian = crs.value("prime_meridian_degrees", 0.0);
+        } else {
+            p.unitInMetres = crs.value("unit_metres", 1.0);
         }
         p.rotated = j.value("rotated", false);
         return p;

@@ -18,6 +18,7 @@ struct SidecarPlacement {
     bool geographic = false;
     std::array<double, 4> rootExtent{}; // min x, min y, max x, max y
     double unitInDegrees = 1.0;         // geographic: one CRS unit
+    double unitInMetres = 1.0;          // projected: one CRS unit
     double primeMeridian = 0.0;         // geographic: degrees east of Greenwich
     bool rotated = false;               // the input's transform turns its pixels off north-up
 };

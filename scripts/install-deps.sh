@@ -5,6 +5,7 @@ packages=(
   build-essential cmake pkg-config git
   libtiff-dev libdeflate-dev libpng-dev zlib1g-dev libopenimageio-dev libopenexr-dev libsquish-dev libstb-dev libgeographiclib-dev libgeotiff-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev
+  libcpp-httplib-dev libjs-three
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   openimageio-tools help2man python3
   python3-numpy python3-pytest python3-pip python3-setuptools python3-wheel
