@@ -134,6 +134,8 @@ class Page:
                                     {"targetId": target, "flatten": True})["sessionId"]
         for domain in ("Runtime", "Log", "Network", "Page"):
             self.call(domain + ".enable")
+        # Every load asks the server again: its answers are what is tested (no 304, no cache).
+        self.call("Network.setCacheDisabled", {"cacheDisabled": True})
         self.call("Emulation.setDeviceMetricsOverride",
                   {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
 
