@@ -26,7 +26,9 @@
     };
     var light = vector('light', 2) || [315, 45];
     return {
-      exaggeration: number('exaggeration', 1),
+      // A number, or 'auto' (null here): see verticalScale().
+      exaggeration: q.get('exaggeration') === 'auto' ? null : number('exaggeration', 1),
+      exaggerationGiven: q.has('exaggeration'),
       controls: q.get('controls') === 'fly' ? 'fly' : 'orbit',
       view: q.get('view') || 'oblique',
       splitFactor: number('split', 2),
@@ -37,6 +39,21 @@
       fov: number('fov', 45),
       pyramid: q.get('pyramid') || '/api/pyramid.json',
     };
+  }
+
+  // The vertical exaggeration. Heights are metres (height units); without an extent the root
+  // quad is 2^max_level x grid units wide, and a DEM whose heights are not in the units of its
+  // grid can stand far taller than wide. 'auto' (and the default, when the heights span more
+  // than half the root quad's width) scales the height range to a tenth of that width.
+  function verticalScale(info, params) {
+    if (info.kind === 'planet' || info.extent) return params.exaggeration === null ? 1 : params.exaggeration;
+    var e = info.faces[0].elevation;
+    var width = Math.pow(2, e.max_level) * e.grid;
+    var range = (e.max_height || 0) - (e.min_height || 0);
+    var auto = range > 0 ? 0.1 * width / range : 1;
+    if (params.exaggeration === null) return auto;
+    if (!params.exaggerationGiven && range > 0.5 * width) return auto;
+    return params.exaggeration;
   }
 
   function mappings(info, params) {
@@ -62,7 +79,8 @@
     var target = params.target || (planet ? [0, 0, 0] : [0, 0, hmid]);
     if (params.camera) return [params.camera, target];
     // Far enough for the whole terrain (or planet) to fit in the view.
-    var distance = (planet ? 1.25 : 0.7) * size / half;
+    var height = ((f.max_height || 0) - (f.min_height || 0)) * params.exaggeration;
+    var distance = (planet ? 1.25 : 0.7) * Math.max(size, 2 * height) / half;
     if (params.view === 'top') {
       // Straight down (on a planet: over the north pole), north up on the screen.
       return [[target[0], target[1] - distance * 1e-6, target[2] + distance], target];
@@ -92,6 +110,7 @@
     this.group.rotation.x = -Math.PI / 2;
     this.scene.add(this.group);
     this.camera = new THREE.PerspectiveCamera(params.fov, window.innerWidth / window.innerHeight, 1, 2);
+    params.exaggeration = verticalScale(info, params);
     this.maps = mappings(info, params);
     this.size = info.kind === 'planet' ? 2 * info.radius : this.maps[0].rootSize;
     var view = startView(info, this.maps, params, this.camera);
@@ -172,7 +191,8 @@
       this.dirty = false;
     }
     var idle = stable && waiting === 0 && this.loader.inFlight === 0;
-    PyramidStatus.update(idle, this.info.name + ' (' + this.info.kind + ', ' + this.mode + '): ' +
+    PyramidStatus.update(idle, this.info.name + ' (' + this.info.kind + ', ' + this.mode +
+      ', exaggeration ' + this.params.exaggeration.toPrecision(3) + '): ' +
       this.terrain.drawn + ' quads drawn');
   };
 
