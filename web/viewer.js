@@ -80,7 +80,8 @@
     if (params.camera) return [params.camera, target];
     // Far enough for the whole terrain (or planet) to fit in the view.
     var height = ((f.max_height || 0) - (f.min_height || 0)) * params.exaggeration;
-    var distance = (planet ? 1.25 : 0.7) * Math.max(size, 2 * height) / half;
+    var distance = planet ? 1.3 * info.radius / Math.sin(Math.atan(half))
+      : 0.7 * Math.max(size, 2 * height) / half;
     if (params.view === 'top') {
       // Straight down (on a planet: over the north pole), north up on the screen.
       return [[target[0], target[1] - distance * 1e-6, target[2] + distance], target];

@@ -9,8 +9,8 @@ With --serve the command's first line on stdout must be `pyramid serve: http://H
 the server is stopped at the end. The pyramid must be a cone (a single peak in the middle of
 the root quad) without ortho, for the hillshade checks (--no-hillshade skips them).
 
-Checks, for each page load (the start view, then `?view=top` lit from the north-west, then
-from the south-east), once the status element says data-idle="true":
+Checks, for each page load (the start view, with orbit then fly controls, then `?view=top`
+lit from the north-west, then from the south-east), once the status element says data-idle="true":
   * data-errors, data-failed are 0 and data-loaded > 0; every tile the page requested is
     answered 200 (404 with --allow-absent), as seen by the browser's network events, and as many
     as the page counted; no console error, no uncaught exception;
@@ -201,7 +201,7 @@ def main():
         base = url.rstrip("/") + "/"
         browser = cdp.Browser(binary, profile, os.path.join(args.out, "chromium.log"))
         page = cdp.Page(browser, width, height)
-        loads = [("start", "", None)]
+        loads = [("start", "", None), ("fly", "?controls=fly", None)]
         if not args.no_hillshade:
             loads += [("top", "?view=top&status=hidden", "north-west"),
                       ("top-light-se", "?view=top&status=hidden&light=135,45", "south-east")]
