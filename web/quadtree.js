@@ -31,12 +31,14 @@ var PyramidQuadtree = (function () {
     var span = 1 / Math.pow(2, this.level), x0 = this.tx * span, y0 = this.ty * span;
     var steps = this.mapping instanceof PyramidMesh.PlaneMapping ? 1 : 4;
     var box = new THREE.Box3(), p = [0, 0, 0], v = new THREE.Vector3();
+    this.directions = steps > 1 ? [] : null; // unit vectors of the planet's points, for the horizon
     for (var j = 0; j <= steps; ++j) {
       for (var i = 0; i <= steps; ++i) {
         for (var s = 0; s < 2; ++s) {
           this.mapping.point(x0 + span * i / steps, y0 + span * j / steps, s ? hmax : hmin, p);
           box.expandByPoint(v.set(p[0], p[1], p[2]));
         }
+        if (this.directions) this.directions.push(v.clone().normalize());
       }
     }
     this.localBox = box;
@@ -102,7 +104,26 @@ var PyramidQuadtree = (function () {
 
   Terrain.prototype.isVisible = function (node) {
     if (!node.worldBox) node.worldBox = node.localBox.clone().applyMatrix4(this.group.matrixWorld);
-    return this.frustum.intersectsBox(node.worldBox);
+    return this.frustum.intersectsBox(node.worldBox) && !this.beyondHorizon(node);
+  };
+
+  // On a planet, whether all the quad's points (at its highest height) lie behind the horizon of
+  // the sphere of its lowest heights: a point at radius rp, seen from the distance d, is hidden
+  // by a sphere of radius r0 beyond the angle acos(r0 / d) + acos(r0 / rp) from the camera.
+  Terrain.prototype.beyondHorizon = function (node) {
+    if (!node.directions) return false;
+    var m = node.mapping, c = this.cameraLocal, d = c.length();
+    var lowest = this.roots.reduce(function (low, root) { return Math.min(low, root.hmin); }, 0);
+    var r0 = m.radius + lowest * m.exaggeration;
+    var rp = m.radius + node.hmax * m.exaggeration;
+    if (d <= r0 || rp <= r0) return false;
+    var limit = Math.acos(r0 / d) + Math.acos(r0 / rp);
+    if (limit >= Math.PI) return false;
+    var cosLimit = Math.cos(limit);
+    for (var i = 0; i < node.directions.length; ++i) {
+      if (node.directions[i].dot(c) / d > cosLimit) return false;
+    }
+    return true;
   };
 
   // Asks for the node's tiles; true once it can be drawn (elevation and ortho answered).
