@@ -182,6 +182,8 @@ def main():
     parser.add_argument("--size", default="800x600", help="the window, WIDTHxHEIGHT")
     parser.add_argument("--allow-absent", action="store_true", help="404 tiles are fine (sparse)")
     parser.add_argument("--no-hillshade", action="store_true", help="skip the cone's checks")
+    parser.add_argument("--extra", action="append", default=[], metavar="QUERY",
+                        help="one more load, e.g. 'view=top&exaggeration=3' (status checks only)")
     args = parser.parse_args()
     if bool(args.url) == bool(args.serve):
         parser.error("give either URL or --serve CMD")
@@ -205,6 +207,7 @@ def main():
         if not args.no_hillshade:
             loads += [("top", "?view=top&status=hidden", "north-west"),
                       ("top-light-se", "?view=top&status=hidden&light=135,45", "south-east")]
+        loads += [("extra-%d" % i, "?" + q, None) for i, q in enumerate(args.extra, 1)]
         for name, query, lit in loads:
             page.navigate(base + query)
             status = wait_idle(page, args.timeout)
