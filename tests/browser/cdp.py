@@ -17,8 +17,9 @@ import time
 # --headless: no display.
 # --no-sandbox: chromium refuses to run as root (CI containers) with its sandbox.
 # --use-angle=swiftshader --enable-unsafe-swiftshader: WebGL on the CPU through ANGLE's
-#   SwiftShader (Vulkan) backend; no GPU is needed, and chromium no longer falls back to it for
-#   WebGL without the second flag.
+#   SwiftShader (Vulkan) backend, no GPU needed; chromium 156 picks it without flags too, the
+#   second flag keeps it where chromium stops falling back to SwiftShader for WebGL by itself.
+#   (--use-gl=egl and --use-angle=gl, on Mesa, give no WebGL context.)
 # --remote-debugging-pipe: the protocol on fds 3 and 4.
 FLAGS = [
     "--headless",
