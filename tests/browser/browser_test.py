@@ -7,7 +7,8 @@
 
 With --serve the command's first line on stdout must be `pyramid serve: http://HOST:PORT/`;
 the server is stopped at the end. The pyramid must be a cone (a single peak in the middle of
-the root quad) without ortho, for the hillshade checks (--no-hillshade skips them).
+the root quad) without ortho, for the hillshade checks (--no-hillshade skips them), such as
+  make_cone.py cone.tif && preprocessDem cone.tif -o cone/DEM.dat --scale 0.05
 
 Checks, for each page load (the start view, with orbit then fly controls, then `?view=top`
 lit from the north-west, then from the south-east), once the status element says data-idle="true":
@@ -60,6 +61,22 @@ def start_server(command, timeout=30):
         stop_server(process)
         raise Failure("the server's first line is not 'pyramid serve: URL': %r" % lines[:1])
     return process, match.group(1)
+
+
+def wait_answering(base, timeout=15):
+    """Waits until the server answers its pyramid.json (200), so that the page's load is not
+    the first request of a server still starting."""
+    import urllib.request
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            with urllib.request.urlopen(base + "api/pyramid.json", timeout=5) as answer:
+                if answer.status == 200:
+                    return
+        except OSError as err:
+            if time.monotonic() > deadline:
+                raise Failure("%sapi/pyramid.json: %s" % (base, err))
+        time.sleep(0.1)
 
 
 def stop_server(process):
@@ -201,6 +218,7 @@ def main():
         if args.serve:
             server, url = start_server(args.serve)
         base = url.rstrip("/") + "/"
+        wait_answering(base)
         browser = cdp.Browser(binary, profile, os.path.join(args.out, "chromium.log"))
         page = cdp.Page(browser, width, height)
         loads = [("start", "", None), ("fly", "?controls=fly", None)]
