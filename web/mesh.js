@@ -57,12 +57,31 @@ var PyramidMesh = (function () {
     return [Math.cos(el) * Math.sin(az), Math.cos(el) * Math.cos(az), Math.sin(el)];
   }
 
-  // tile: {level, tx, ty, heights, side, border, grid}; ortho: null or {texture, side, border,
+  // The heights of a quad's vertices, (k, l) from its south-west corner in -1..grid + 1 (the
+  // ring outside for normals): the elevation tile's own samples, or for a quad deeper than the
+  // elevation pyramid (drawn for a finer ortho), the bilinear interpolation of its ancestor's
+  // tile, `depth` levels up, the quad at (ox, oy) there (fractions of the ancestor).
+  function heightLookup(tile) {
+    var z = tile.heights, side = tile.side, b = tile.border, grid = tile.grid;
+    var at = function (i, j) { return z[PyramidTiles.sampleIndex(side, i, j)]; };
+    if (!tile.depth) return function (k, l) { return at(b + k, b + l); };
+    var s = 1 / Math.pow(2, tile.depth);
+    return function (k, l) {
+      var x = b + (tile.ox + s * k / grid) * grid, y = b + (tile.oy + s * l / grid) * grid;
+      var i = Math.min(Math.floor(x), side - 2), j = Math.min(Math.floor(y), side - 2);
+      var fx = x - i, fy = y - j;
+      return (at(i, j) * (1 - fx) + at(i + 1, j) * fx) * (1 - fy) +
+        (at(i, j + 1) * (1 - fx) + at(i + 1, j + 1) * fx) * fy;
+    };
+  }
+
+  // tile: {level, tx, ty, heights, side, border, grid, and for a quad deeper than its elevation
+  // tile: depth, ox, oy (see heightLookup)}; ortho: null or {texture, side, border,
   // tileSize, ox, oy, scale} where (ox, oy) is the quad's south-west corner inside the ortho tile
   // and scale its size there (fractions of the ortho tile: 1 for a tile of the same level).
   // Returns {mesh, hmin, hmax}.
   function build(mapping, tile, ortho, light) {
-    var grid = tile.grid, side = tile.side, b = tile.border, z = tile.heights;
+    var grid = tile.grid;
     var vertsPerRow = grid + 1;
     var inner = vertsPerRow * vertsPerRow;
     var total = inner + 4 * vertsPerRow;
@@ -75,12 +94,12 @@ var PyramidMesh = (function () {
     var e = mapping.exaggeration;
     var p = [0, 0, 0];
     var origin = mapping.point(x0 + span / 2, y0 + span / 2, 0, [0, 0, 0]);
-    var at = function (i, j) { return z[PyramidTiles.sampleIndex(side, i, j)]; };
+    var height = heightLookup(tile);
 
     var hmin = Infinity, hmax = -Infinity;
     for (var l = 0; l <= grid; ++l) {
       for (var k = 0; k <= grid; ++k) {
-        var h = at(b + k, b + l);
+        var h = height(k, l);
         if (h < hmin) hmin = h;
         if (h > hmax) hmax = h;
       }
@@ -88,14 +107,14 @@ var PyramidMesh = (function () {
     var skirt = Math.max((hmax - hmin) * 0.1, 2 * Math.min(cells[0], cells[1]) / Math.max(e, 1e-9));
 
     var put = function (index, k, l, drop) {
-      var h = at(b + k, b + l);
+      var h = height(k, l);
       mapping.point(x0 + span * k / grid, y0 + span * l / grid, h - drop, p);
       positions[3 * index] = p[0] - origin[0];
       positions[3 * index + 1] = p[1] - origin[1];
       positions[3 * index + 2] = p[2] - origin[2];
       // The normal from the neighbouring samples (border samples at the tile's edges).
-      var dzdx = (at(b + k + 1, b + l) - at(b + k - 1, b + l)) * e / (2 * cells[0]);
-      var dzdy = (at(b + k, b + l + 1) - at(b + k, b + l - 1)) * e / (2 * cells[1]);
+      var dzdx = (height(k + 1, l) - height(k - 1, l)) * e / (2 * cells[0]);
+      var dzdy = (height(k, l + 1) - height(k, l - 1)) * e / (2 * cells[1]);
       var norm = Math.sqrt(dzdx * dzdx + dzdy * dzdy + 1);
       var shade = Math.max(0, (-dzdx * light[0] - dzdy * light[1] + light[2]) / norm);
       var c = ortho ? 0.5 + 0.5 * Math.min(1, shade / Math.max(light[2], 1e-3))

@@ -1,6 +1,6 @@
 // The terrain quadtree and its level of detail, as the seeds' terrain node does it: a quad is
 // subdivided when the camera is closer to it than k times its size (k: the split distance
-// factor), down to the elevation pyramid's max_level. Distances are max(|dx|, |dy|, |dz|) to the
+// factor), down to the elevation pyramid's max_level (or the ortho's, if deeper). Distances are max(|dx|, |dy|, |dz|) to the
 // quad's box on a plane, the Euclidean distance to it on a planet. Quads outside the view
 // frustum are not subdivided and their tiles not requested. A quad is drawn until its four
 // children have their tiles (a child whose elevation tile is absent keeps its parent drawn).
@@ -68,8 +68,11 @@ var PyramidQuadtree = (function () {
     this.drawn = 0;
   }
 
+  // The elevation pyramid's deepest level, or the ortho's where it is deeper: quads below the
+  // elevation's take their heights from their ancestor's tile (never requested beyond it).
   Terrain.prototype.maxLevel = function (node) {
     var max = node.face.elevation.max_level;
+    if (node.face.ortho) max = Math.max(max, node.face.ortho.max_level);
     return this.options.maxLevel === null ? max : Math.min(max, this.options.maxLevel);
   };
 
@@ -129,9 +132,11 @@ var PyramidQuadtree = (function () {
   // Asks for the node's tiles; true once it can be drawn (elevation and ortho answered).
   Terrain.prototype.request = function (node, priority) {
     var face = node.face, tiles = this.info.tiles;
-    node.elevation = this.loader.want(face.face + '/e/' + node.level + '/' + node.tx + '/' + node.ty,
-      PyramidTiles.expand(tiles.elevation, face.face, node.level, node.tx, node.ty),
-      'elevation', priority);
+    var ed = Math.max(0, node.level - face.elevation.max_level), el = node.level - ed;
+    var etx = node.tx >> ed, ety = node.ty >> ed; // the elevation tile holding the quad
+    node.elevation = this.loader.want(face.face + '/e/' + el + '/' + etx + '/' + ety,
+      PyramidTiles.expand(tiles.elevation, face.face, el, etx, ety), 'elevation', priority);
+    node.elevationPlace = { d: ed, ox: (node.tx - (etx << ed)) / (1 << ed), oy: (node.ty - (ety << ed)) / (1 << ed) };
     if (face.ortho) {
       var d = Math.max(0, node.level - face.ortho.max_level), level = node.level - d;
       var otx = node.tx >> d, oty = node.ty >> d; // the ortho tile holding the quad
@@ -164,7 +169,8 @@ var PyramidQuadtree = (function () {
     }
     var built = PyramidMesh.build(node.mapping, {
       level: node.level, tx: node.tx, ty: node.ty, heights: data.heights, side: data.side,
-      border: e.border, grid: e.grid,
+      border: e.border, grid: e.grid, depth: node.elevationPlace.d, ox: node.elevationPlace.ox,
+      oy: node.elevationPlace.oy,
     }, ortho, this.options.light);
     node.mesh = built.mesh;
     node.mesh.visible = false;
