@@ -12,6 +12,7 @@ the root quad) without ortho, for the hillshade checks (--no-hillshade skips the
 
 Checks, for each page load (the start view, with orbit then fly controls, then `?view=top`
 lit from the north-west, then from the south-east), once the status element says data-idle="true":
+  * (start view) the F key switches to the fly controls and back;
   * data-errors, data-failed are 0 and data-loaded > 0; every tile the page requested is
     answered 200 (404 with --allow-absent), as seen by the browser's network events, and as many
     as the page counted; no console error, no uncaught exception;
@@ -141,6 +142,24 @@ def check_load(page, url, status, allow_absent):
     return tiles
 
 
+def check_toggle(page):
+    """The F key switches to the fly controls and back (the status text names them)."""
+    modes = []
+    for _ in range(2):
+        for kind in ("keyDown", "keyUp"):
+            page.call("Input.dispatchKeyEvent", {"type": kind, "key": "f", "code": "KeyF",
+                                                 "windowsVirtualKeyCode": 70})
+        page.browser.drain(0.3)
+        text = page.evaluate("document.getElementById('status').textContent")
+        modes.append("fly" if ", fly," in text else "orbit" if ", orbit," in text else text)
+    if modes != ["fly", "orbit"]:
+        raise Failure("the F key gave the controls %s, not fly then orbit" % modes)
+    errors = page.evaluate("document.getElementById('status').dataset.errors")
+    if errors != "0":
+        raise Failure("data-errors=%s after switching the controls" % errors)
+    return "F: fly, orbit"
+
+
 def sectors(path):
     """Mean brightness of the terrain's four sectors (east, north, west, south) in a ring around
     the centre of the terrain's pixels, and the terrain's share of the image."""
@@ -234,6 +253,8 @@ def main():
             with open(shot, "wb") as f:
                 f.write(page.screenshot())
             note = check_hillshade(shot, lit) if lit else ""
+            if name == "start":
+                note = check_toggle(page)
             print("ok %s: %d tiles, idle, no errors; %s %s" % (name, tiles, shot, note))
     except (Failure, cdp.Error) as err:
         print("FAIL %s" % err, file=sys.stderr)
