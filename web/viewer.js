@@ -100,7 +100,9 @@
     var self = this;
     this.info = info;
     this.params = params;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true });
+    // A logarithmic depth buffer: flying low over a large terrain or planet needs a near plane
+    // many orders of magnitude closer than the far one.
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, logarithmicDepthBuffer: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.renderer.setSize(window.innerWidth, window.innerHeight);
     this.renderer.setClearColor(BACKGROUND);
@@ -169,7 +171,7 @@
       d = Math.min(d, root.localBox.distanceToPoint(local));
       far = Math.max(far, local.distanceTo(root.localBox.getCenter(new THREE.Vector3())));
     });
-    this.camera.near = Math.max(d * 0.3, this.size * 1e-7);
+    this.camera.near = Math.max(d * 0.5, this.size * 1e-7);
     this.camera.far = far + this.size * 2;
     this.camera.updateProjectionMatrix();
   };

@@ -145,13 +145,18 @@ def check_load(page, url, status, allow_absent):
 def check_toggle(page):
     """The F key switches to the fly controls and back (the status text names them)."""
     modes = []
-    for _ in range(2):
+    for expected in ("fly", "orbit"):
         for kind in ("keyDown", "keyUp"):
             page.call("Input.dispatchKeyEvent", {"type": kind, "key": "f", "code": "KeyF",
                                                  "windowsVirtualKeyCode": 70})
-        page.browser.drain(0.3)
-        text = page.evaluate("document.getElementById('status').textContent")
-        modes.append("fly" if ", fly," in text else "orbit" if ", orbit," in text else text)
+        deadline = time.monotonic() + 10  # the status shows it after the next frame is drawn
+        while True:
+            text = page.evaluate("document.getElementById('status').textContent")
+            mode = "fly" if ", fly," in text else "orbit" if ", orbit," in text else text
+            if mode == expected or time.monotonic() > deadline:
+                break
+            page.browser.drain(0.1)
+        modes.append(mode)
     if modes != ["fly", "orbit"]:
         raise Failure("the F key gave the controls %s, not fly then orbit" % modes)
     errors = page.evaluate("document.getElementById('status').dataset.errors")
