@@ -8,7 +8,7 @@ packages=(
   libcpp-httplib-dev libjs-three
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   openimageio-tools help2man python3
-  python3-numpy python3-pytest python3-pip python3-setuptools python3-wheel
+  python3-numpy python3-pytest python3-pip python3-setuptools python3-wheel chromium
   openmpi-bin libopenmpi-dev openssh-client
 )
 # The fuzz targets (fuzz/README.md) build with clang, whose OpenMP needs libomp.

@@ -86,7 +86,7 @@ void expectOrthoTiles(httplib::Client& client, const std::string& file, int colo
                 ASSERT_EQ(image.width, side);
                 ASSERT_EQ(image.height, side);
                 ASSERT_EQ(image.channels, channels);
-                EXPECT_TRUE(image.pixels == pixels) << "face " << face << " ortho tile " << level << "," << tx << ","
+                EXPECT_TRUE(image.pixels == pyramid::test::rowsReversed(pixels, side, channels)) << "face " << face << " ortho tile " << level << "," << tx << ","
                                                     << ty;
                 ++tiles;
             }

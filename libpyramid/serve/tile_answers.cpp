@@ -1,5 +1,5 @@
 // The tiles `pyramid serve` answers (answers.hpp): an elevation tile's zf as float32 or in an
-// RGBA PNG, an ortho tile as a PNG, each as the runtime's producers make it.
+// RGBA PNG, an ortho tile as a PNG (north up), each as the runtime's producers make it.
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -102,8 +102,14 @@ Answer tileAnswer(const ServedBuild& build, const std::string& faceText, const s
     if (!pixels) {
         return errorAnswer(404, "ortho tile " + tileCoordinates(level, tx, ty) + " is not in this sparse pyramid");
     }
+    // An image north up, as any viewer shows one: the producer's row 0 (south) is the PNG's last.
     const int side = face->ortho->side();
-    return tileBody(encodePng(pixels->data(), side, side, face->ortho->channels()), "image/png", side);
+    const size_t row = static_cast<size_t>(side) * static_cast<size_t>(face->ortho->channels());
+    std::vector<uint8_t> northUp(pixels->size());
+    for (size_t y = 0; y < static_cast<size_t>(side); ++y) {
+        std::copy_n(pixels->data() + y * row, row, northUp.data() + (static_cast<size_t>(side) - 1 - y) * row);
+    }
+    return tileBody(encodePng(northUp.data(), side, side, face->ortho->channels()), "image/png", side);
 }
 
 } // namespace pyramid::serve

@@ -1,6 +1,7 @@
 // `pyramid serve` run by a test (served_program.hpp).
 #include "served_program.hpp"
 
+#include <algorithm>
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -132,6 +133,15 @@ DecodedPng decodePng(const std::string& bytes) {
         return DecodedPng{};
     }
     return d;
+}
+
+std::vector<unsigned char> rowsReversed(const std::vector<unsigned char>& pixels, int width, int channels) {
+    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+    std::vector<unsigned char> out(pixels.size());
+    for (size_t y = 0; y < pixels.size() / row; ++y) {
+        std::copy_n(pixels.data() + y * row, row, out.data() + out.size() - (y + 1) * row);
+    }
+    return out;
 }
 
 } // namespace pyramid::test

@@ -43,4 +43,8 @@ struct DecodedPng {
 };
 DecodedPng decodePng(const std::string& bytes);
 
+// `pixels` (`width` pixels of `channels` bytes a row) with their rows in the opposite order: the
+// C API's ortho tile (row 0 south) as the server's PNG holds it (north up).
+std::vector<unsigned char> rowsReversed(const std::vector<unsigned char>& pixels, int width, int channels);
+
 } // namespace pyramid::test
