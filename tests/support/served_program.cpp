@@ -135,13 +135,21 @@ DecodedPng decodePng(const std::string& bytes) {
     return d;
 }
 
-std::vector<unsigned char> rowsReversed(const std::vector<unsigned char>& pixels, int width, int channels) {
-    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
-    std::vector<unsigned char> out(pixels.size());
-    for (size_t y = 0; y < pixels.size() / row; ++y) {
-        std::copy_n(pixels.data() + y * row, row, out.data() + out.size() - (y + 1) * row);
+std::string orthoPngMismatch(const std::string& png, const std::vector<unsigned char>& pixels, int side, int channels) {
+    const DecodedPng image = decodePng(png);
+    if (image.width != side || image.height != side || image.channels != channels) {
+        return "a PNG of " + std::to_string(image.width) + " x " + std::to_string(image.height) + " x " +
+               std::to_string(image.channels) + ", not " + std::to_string(side) + " x " + std::to_string(side) +
+               " x " + std::to_string(channels);
     }
-    return out;
+    const size_t row = static_cast<size_t>(side) * static_cast<size_t>(channels);
+    for (size_t y = 0; y < static_cast<size_t>(side); ++y) {
+        const unsigned char* expected = pixels.data() + (static_cast<size_t>(side) - 1 - y) * row;
+        if (!std::equal(expected, expected + row, image.pixels.data() + y * row)) {
+            return "the PNG's row " + std::to_string(y) + " (from the top) differs";
+        }
+    }
+    return "";
 }
 
 } // namespace pyramid::test

@@ -43,8 +43,8 @@ struct DecodedPng {
 };
 DecodedPng decodePng(const std::string& bytes);
 
-// `pixels` (`width` pixels of `channels` bytes a row) with their rows in the opposite order: the
-// C API's ortho tile (row 0 south) as the server's PNG holds it (north up).
-std::vector<unsigned char> rowsReversed(const std::vector<unsigned char>& pixels, int width, int channels);
+// What differs between the server's ortho PNG `png` and the C API's tile `pixels` (side x side
+// pixels of `channels` bytes, row 0 south; the PNG is north up): "" when it is that tile.
+std::string orthoPngMismatch(const std::string& png, const std::vector<unsigned char>& pixels, int side, int channels);
 
 } // namespace pyramid::test
