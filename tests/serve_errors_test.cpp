@@ -11,8 +11,10 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -173,6 +175,11 @@ TEST_F(ServeErrors, TheViewerFilesAndTheRequestLog) {
         EXPECT_EQ(client.Get("/viewer/nope.js")->status, 404);
         EXPECT_EQ(client.Get("/tiles/0/elevation/0/0/0.f32")->status, 200);
         EXPECT_EQ(client.Get("/tiles/0/elevation/9/0/0.f32")->status, 400);
+        // A request is logged once its answer is sent: the client may have it first. The log
+        // is read once the last line is in (or after 10 s), before the server is stopped.
+        for (int k = 0; k < 1000 && pyramid::test::readFile(log).find("9/0/0.f32 400 ") == std::string::npos; ++k) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
     }
     const std::string lines = pyramid::test::readFile(log);
     EXPECT_NE(lines.find("GET / 404 "), std::string::npos) << lines;
