@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -132,6 +133,31 @@ TEST_F(ServePlanet, SixFacesWithTheirFramesAndEveryTileAsTheCApiMakesIt) {
     // Face 1 is (u, v, 1); face 3 is (1, u, v).
     EXPECT_EQ(j.at("faces")[0].at("frame"), nlohmann::json::parse("[[1,0,0],[0,1,0],[0,0,1]]"));
     EXPECT_EQ(j.at("faces")[2].at("frame"), nlohmann::json::parse("[[0,0,1],[1,0,0],[0,1,0]]"));
+}
+
+TEST_F(ServePlanet, TheOptionsSayWhichFacesOnWhichBodyAndServeTheSameTiles) {
+    // Faces under another name (--name), another body's radius (--body), one serving thread and
+    // a one-tile cache: the same tiles.
+    const std::string renamed = dir->file("renamed");
+    std::filesystem::create_directories(renamed);
+    for (int f = 1; f <= 6; ++f) {
+        std::filesystem::copy_file(pyramid::faceFilePath(planet, "DEM", f), pyramid::faceFilePath(renamed, "HGT", f));
+    }
+    ServedProgram served({renamed, "--name", "HGT", "--body", "moon", "--threads", "1", "--cache-tiles", "1",
+                          "--bind", "127.0.0.1", "--port", "0", "-q"});
+    ASSERT_TRUE(served.ok()) << served.error();
+    httplib::Client client(served.host(), served.port());
+    const nlohmann::json j = nlohmann::json::parse(client.Get("/api/pyramid.json")->body);
+    EXPECT_EQ(j.at("radius"), 1737400.0);
+    ASSERT_EQ(j.at("faces").size(), 6u);
+    EXPECT_EQ(j.at("faces")[4].at("elevation").at("file"), pyramid::faceFileName("HGT", 5));
+    expectFaceElevations(client, pyramid::faceFilePath(renamed, "HGT", 5), 5,
+                         j.at("faces")[4].at("elevation").at("max_level"));
+    // The default name finds nothing there: one line naming the directory.
+    const auto none = pyramid::test::run(pyramid::test::programPath("pyramid") + " serve " + renamed + " --port 0");
+    EXPECT_EQ(none.exitCode, 1);
+    EXPECT_NE(none.err.find(renamed), std::string::npos) << none.err;
+    EXPECT_EQ(std::count(none.err.begin(), none.err.end(), '\n'), 1) << none.err;
 }
 
 TEST_F(ServePlanet, ColourResidualFacesAreRebuiltAsTheCApiRebuildsThem) {
