@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "formats/deflate_huffman.hpp"
+#include "formats/deflate_run_starts.hpp"
 #include "formats/error.hpp"
 
 namespace pyramid {
@@ -27,13 +28,6 @@ uint64_t load64(const uint8_t* p) {
         v = v << 8 | p[k];
     }
     return v;
-}
-
-// Bit k set where byte k of `x` (the k-th in memory) is zero.
-uint32_t zeroBytes(uint64_t x) {
-    constexpr uint64_t kLow7 = 0x7f7f7f7f7f7f7f7full;
-    const uint64_t high = ~(((x & kLow7) + kLow7) | x | kLow7); // bit 7 of each zero byte
-    return static_cast<uint32_t>(((high >> 7) * 0x0102040810204080ull) >> 56);
 }
 
 // The length symbols (257..284; 285 is 258) and their extra bits, by length - 3.
@@ -71,29 +65,21 @@ struct Run {
 };
 
 // The runs of at least kMinRun bytes at distance `pixel` or 1 (the first where both start),
-// taken greedily from the first byte on. Five positions are tested at once: run starts are
-// where four bytes in a row equal those `pixel` or 1 before.
+// taken greedily from the first byte on (deflate_run_starts.hpp finds where they start).
 void findRuns(const uint8_t* p, size_t n, size_t pixel, std::vector<Run>& runs) {
     runs.clear();
-    if (n < kMaxRun + 16) {
+    if (n < kMaxRun + 80) {
         return; // a strip this short is coded as literals
     }
-    const size_t last = n - kMaxRun - 8; // runs extend eight bytes at a time
+    const size_t last = n - kMaxRun - 72; // runs extend eight bytes at a time; starts read 64
     size_t i = pixel;
-    while (i < last) {
-        const uint64_t w = load64(p + i);
-        const uint32_t zp = zeroBytes(w ^ load64(p + i - pixel));
-        const uint32_t z1 = zeroBytes(w ^ load64(p + i - 1));
-        const uint32_t sp = zp & zp >> 1 & zp >> 2 & zp >> 3;
-        const uint32_t s1 = z1 & z1 >> 1 & z1 >> 2 & z1 >> 3;
-        const uint32_t starts = (sp | s1) & 0x1fu;
-        if (starts == 0) {
-            i += 5;
-            continue;
+    while (true) {
+        const RunStart start = nextRunStart(p, i, last, pixel);
+        if (start.at >= last) {
+            break;
         }
-        const int k = std::countr_zero(starts);
-        i += static_cast<size_t>(k);
-        const size_t distance = (sp >> k & 1u) != 0 ? pixel : 1;
+        i = start.at;
+        const size_t distance = start.distance;
         const uint8_t* a = p + i;
         size_t length = kMinRun;
         while (length < kMaxRun) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "formats/deflate_literals.hpp"
+#include "formats/deflate_run_starts.hpp"
 #include "formats/deflate_runs.hpp"
 #include "formats/tiff_strip_bytes.hpp"
 #include "formats/tiff_tile.hpp"
@@ -166,9 +167,9 @@ std::vector<uint8_t> piecewise(std::mt19937& random, size_t size) {
 
 TEST(DeflateRuns, StreamsOfAnyBytesAreReadByZlibAndLibdeflate) {
     std::mt19937 random(53);
-    std::vector<std::vector<uint8_t>> cases = {{}, {7}, {1, 2, 3}, std::vector<uint8_t>(273, 5),
-                                               std::vector<uint8_t>(274, 5), std::vector<uint8_t>(100000, 0)};
-    for (const size_t size : {100, 275, 280, 1000, 4096, 20000, 115248}) {
+    std::vector<std::vector<uint8_t>> cases = {{}, {7}, {1, 2, 3}, std::vector<uint8_t>(337, 5),
+                                               std::vector<uint8_t>(338, 5), std::vector<uint8_t>(100000, 0)};
+    for (const size_t size : {100, 337, 338, 339, 400, 1000, 4096, 20000, 115248}) {
         for (int k = 0; k < 40; ++k) {
             cases.push_back(piecewise(random, size));
         }
@@ -196,6 +197,53 @@ TEST(DeflateRuns, RunsAndRepeatedPixelsAreCodedAsMatches) {
     const size_t asBytes = deflateRuns(pixels, 1, stream);
     EXPECT_GT(asBytes, 90000u * 3 / 16); // at least 1.5 bits a byte: literals, no run at distance 1
     expectInflatesTo(stream, asBytes, pixels);
+}
+
+// Where runs start, by definition: the first place from `from` on whose four bytes equal those
+// one pixel before (that distance first), or one byte before.
+RunStart runStartByDefinition(const std::vector<uint8_t>& p, size_t from, size_t last, size_t pixel) {
+    for (size_t j = from; j < last; ++j) {
+        if (std::equal(&p[j], &p[j + 4], &p[j - pixel])) {
+            return {j, pixel};
+        }
+        if (std::equal(&p[j], &p[j + 4], &p[j - 1])) {
+            return {j, 1};
+        }
+    }
+    return {last, 0};
+}
+
+// The word and the AVX2 finders (the latter where the machine has it) give the definition's
+// answer from every place, on bytes of every kind of piece and on noise (few starts, so that
+// the finders search far).
+TEST(DeflateRunStarts, BothFindersFindTheFirstStartByDefinition) {
+    std::mt19937 random(52);
+    std::vector<std::vector<uint8_t>> cases;
+    for (int k = 0; k < 12; ++k) {
+        cases.push_back(piecewise(random, 3000));
+    }
+    std::vector<uint8_t> noise(3000);
+    for (uint8_t& b : noise) {
+        b = static_cast<uint8_t>(random());
+    }
+    cases.push_back(noise);
+    size_t starts = 0;
+    for (const std::vector<uint8_t>& p : cases) {
+        const size_t last = p.size() - 64;
+        for (size_t pixel = 1; pixel <= 4; ++pixel) {
+            for (size_t from = pixel; from <= last; ++from) {
+                const RunStart expected = runStartByDefinition(p, from, last, pixel);
+                const RunStart words = nextRunStartWords(p.data(), from, last, pixel);
+                const RunStart wide = nextRunStartWide(p.data(), from, last, pixel);
+                ASSERT_EQ(words.at, expected.at) << "from " << from << ", pixel " << pixel;
+                ASSERT_EQ(words.distance, expected.distance) << "from " << from << ", pixel " << pixel;
+                ASSERT_EQ(wide.at, expected.at) << "from " << from << ", pixel " << pixel;
+                ASSERT_EQ(wide.distance, expected.distance) << "from " << from << ", pixel " << pixel;
+                starts += expected.at < last && expected.at == from ? 1 : 0;
+            }
+        }
+    }
+    EXPECT_GT(starts, 10000u); // runs start often enough in the pieces to test both distances
 }
 
 TEST(DeflateRuns, RefusesPixelsOfOtherSizes) {
