@@ -84,72 +84,134 @@ int64_t blockSquaredError(const uint8_t* block, int mask, const uint8_t* encoded
     return squares;
 }
 
+// The colour fit's answers for blocks of one colour, by colour and refinement count: such a
+// block's code and error depend on nothing else (each lane of the fit is computed alone, and
+// a block of one colour takes no refinement), so a block found here gets the bytes the fit
+// would give it. Night, sea and nodata areas are mostly such blocks. Direct-mapped, per thread.
+class SolidBlockCache {
+public:
+    bool find(uint32_t rgb, int refinements, uint8_t* code, int& error) const {
+        const Entry& e = entries_[slot(rgb)];
+        if (e.key != key(rgb, refinements)) {
+            return false;
+        }
+        std::copy_n(e.code, 8, code);
+        error = e.error;
+        return true;
+    }
+    void add(uint32_t rgb, int refinements, const uint8_t* code, int error) {
+        Entry& e = entries_[slot(rgb)];
+        e.key = key(rgb, refinements);
+        std::copy_n(code, 8, e.code);
+        e.error = error;
+    }
+
+private:
+    struct Entry {
+        uint32_t key = 0; // 0: empty
+        uint8_t code[8];
+        int error;
+    };
+    static uint32_t key(uint32_t rgb, int refinements) { return rgb | static_cast<uint32_t>(refinements + 1) << 24; }
+    static size_t slot(uint32_t rgb) { return (rgb * 2654435761u) >> 20; }
+    std::array<Entry, 4096> entries_{};
+};
+
+// The colour of a gathered block whose 16 pixels have one R, G and B (alpha aside), or -1.
+int64_t blockColour(const uint8_t* block) {
+    const uint32_t first = block[0] | static_cast<uint32_t>(block[1]) << 8 | static_cast<uint32_t>(block[2]) << 16;
+    uint32_t differ = 0;
+    for (int k = 1; k < 16; ++k) {
+        const uint8_t* px = block + 4 * k;
+        differ |= (px[0] | static_cast<uint32_t>(px[1]) << 8 | static_cast<uint32_t>(px[2]) << 16) ^ first;
+    }
+    return differ == 0 ? int64_t{first} : -1;
+}
+
 // The 4 x 4 blocks of the image, gathered from its own pixels (no RGBA copy of the whole
-// image), each compressed in the calling thread: by the colour fit, a row's blocks eight at a
-// time (DXT5: the alpha block by stb_dxt's BC4 encoder), or by libsquish's per-block call
+// image), each compressed in the calling thread: by the colour fit, sixteen blocks at a time
+// (DXT5: the alpha block by stb_dxt's BC4 encoder), or by libsquish's per-block call
 // (squish::CompressImage does the same blocks in an OpenMP loop of its own: inside our own
 // parallel loops with one thread, or a single tile's handful of blocks, that spawned a team per
 // tile and spun idle threads; tiles are already encoded in parallel).
 //
 // The colour fit takes whole blocks: the pixels of a partial block beyond the image repeat its
 // nearest pixel inside, which adds no colour to the block's fit; libsquish masks them out.
+// Blocks of one colour already fitted in this thread are copied from SolidBlockCache; the
+// others go to the fit in groups of kDxtColourLanes, in the stream's order (groups run on across
+// the rows of blocks, so that only the tile's last group has idle lanes).
 // DXT5 blocks are laid out as libsquish's: alpha block, then colour block.
 template <int C>
 int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* blocks, DxtFormat format, int quality,
                        bool measure) {
+    thread_local SolidBlockCache solid;
     const size_t blockBytes = format == DxtFormat::Dxt1 ? 8u : 16u;
     const size_t colourOffset = format == DxtFormat::Dxt1 ? 0u : 8u;
     const int flags = squishFlags(format, quality);
     const int refinements = quality == 0 ? 1 : 2;
+    const bool colourFit = usesColourFit(quality);
     int64_t squares = 0;
     uint8_t block[kDxtColourLanes][64];
     int masks[kDxtColourLanes];
     int fitErrors[kDxtColourLanes];
+    int64_t colours[kDxtColourLanes];
     const uint8_t* lanes[kDxtColourLanes];
     uint8_t* outputs[kDxtColourLanes];
     for (int l = 0; l < kDxtColourLanes; ++l) {
         lanes[l] = block[l];
     }
-    // The blocks in the stream's order (row by row), kDxtColourLanes at a time: groups run on
-    // across the rows of blocks, so that only the tile's last group has idle lanes.
+    // A block's alpha (DXT5) and its error, once its colour block is written.
+    const auto finish = [&](const uint8_t* pixelsOfBlock, int mask, uint8_t* out, int fitError) {
+        if (colourFit && format == DxtFormat::Dxt5) {
+            uint8_t alpha[16];
+            for (int k = 0; k < 16; ++k) {
+                alpha[k] = pixelsOfBlock[4 * k + 3];
+            }
+            stb_compress_bc4_block(out, alpha);
+        }
+        if (measure) {
+            // A whole DXT1 block's error is the fit's own (the same sum); partial blocks count
+            // their pixels inside only, DXT5 blocks their alpha too.
+            const bool ownError = colourFit && format == DxtFormat::Dxt1 && mask == 0xffff;
+            squares += ownError ? fitError : blockSquaredError(pixelsOfBlock, mask, out, format);
+        }
+    };
+    int pending = 0;
+    const auto fitPending = [&] {
+        encodeDxtColourBlocks(lanes, outputs, pending, refinements, fitErrors);
+        for (int l = 0; l < pending; ++l) {
+            if (colours[l] >= 0) {
+                solid.add(static_cast<uint32_t>(colours[l]), refinements, outputs[l], fitErrors[l]);
+            }
+            finish(block[l], masks[l], outputs[l] - colourOffset, fitErrors[l]);
+        }
+        pending = 0;
+    };
     const int blocksAcross = (width + 3) / 4;
     const int64_t blockCount = int64_t{blocksAcross} * ((height + 3) / 4);
-    for (int64_t first = 0; first < blockCount; first += kDxtColourLanes) {
-        const int count = static_cast<int>(std::min<int64_t>(kDxtColourLanes, blockCount - first));
-        for (int l = 0; l < count; ++l) {
-            const int64_t k = first + l;
-            const int bx = static_cast<int>(k % blocksAcross) * 4, by = static_cast<int>(k / blocksAcross) * 4;
-            masks[l] = gatherBlock<C>(pixels, width, height, bx, by, block[l]);
-            outputs[l] = blocks + static_cast<size_t>(l) * blockBytes;
+    for (int64_t k = 0; k < blockCount; ++k) {
+        const int bx = static_cast<int>(k % blocksAcross) * 4, by = static_cast<int>(k / blocksAcross) * 4;
+        uint8_t* out = blocks + static_cast<size_t>(k) * blockBytes;
+        const int l = pending;
+        masks[l] = gatherBlock<C>(pixels, width, height, bx, by, block[l]);
+        if (!colourFit) {
+            squish::CompressMasked(block[l], masks[l], out, flags);
+            finish(block[l], masks[l], out, 0);
+            continue;
         }
-        if (usesColourFit(quality)) {
-            for (int l = 0; l < count; ++l) {
-                outputs[l] += colourOffset;
-            }
-            encodeDxtColourBlocks(lanes, outputs, count, refinements, measure ? fitErrors : nullptr);
-            if (format == DxtFormat::Dxt5) {
-                for (int l = 0; l < count; ++l) {
-                    uint8_t alpha[16];
-                    for (int k = 0; k < 16; ++k) {
-                        alpha[k] = block[l][4 * k + 3];
-                    }
-                    stb_compress_bc4_block(outputs[l] - colourOffset, alpha);
-                }
-            }
-        } else {
-            for (int l = 0; l < count; ++l) {
-                squish::CompressMasked(block[l], masks[l], outputs[l], flags);
-            }
+        colours[l] = blockColour(block[l]);
+        int error = 0;
+        if (colours[l] >= 0 && solid.find(static_cast<uint32_t>(colours[l]), refinements, out + colourOffset, error)) {
+            finish(block[l], masks[l], out, error);
+            continue;
         }
-        for (int l = 0; l < count; ++l) {
-            if (measure) {
-                // A whole DXT1 block's error is the fit's own (the same sum); partial blocks
-                // count their pixels inside only, DXT5 blocks their alpha too.
-                const bool fitError = usesColourFit(quality) && format == DxtFormat::Dxt1 && masks[l] == 0xffff;
-                squares += fitError ? fitErrors[l] : blockSquaredError(block[l], masks[l], blocks, format);
-            }
-            blocks += blockBytes;
+        outputs[l] = out + colourOffset;
+        if (++pending == kDxtColourLanes) {
+            fitPending();
         }
+    }
+    if (pending > 0) {
+        fitPending();
     }
     return squares;
 }

@@ -1,7 +1,7 @@
 // The DXT encoder's own error measure (encodeDxt with squaredError, which the ortho encoder
 // reports as each level's dxt_psnr_db) against decoding the whole tile again; its blocks
 // against direct per-block calls of the colour fit on every layout the encoder gathers blocks
-// from (1 to 4 channels, whole and partial blocks); and the colour fit itself: the best colour
+// from (1 to 4 channels, whole and partial blocks) and for blocks of one colour; and the colour fit itself: the best colour
 // 5:6:5 can give a flat block, exact blocks for colours on a 5:6:5 palette, lanes that do not
 // see each other, no more error than stb_dxt's high-quality mode, and the error it reports.
 #include <gtest/gtest.h>
@@ -102,6 +102,68 @@ TEST(DxtEncoder, ColourFitBlocksFromEveryLayout) {
             }
             EXPECT_EQ(encodeDxt(pixels, width, height, channels, format, quality), expected)
                 << channels << " channels, quality " << quality;
+        }
+    }
+}
+
+// Blocks of one colour (copied from the encoder's per-thread table of those it has fitted)
+// are the blocks the colour fit makes of them, whatever fitted before: thousands of colours,
+// repeated, colliding in the table and evicting each other, between blocks of several colours,
+// with varying alpha for DXT5; and the error reported is the decoded tile's.
+TEST(DxtEncoder, OneColourBlocksAreTheColourFitsWhateverCameBefore) {
+    const int width = 256, height = 256;
+    for (const int channels : {3, 4}) {
+        std::mt19937 random(60u + static_cast<unsigned>(channels));
+        std::vector<uint32_t> palette(6000);
+        for (uint32_t& c : palette) {
+            c = random() & 0xffffffu;
+        }
+        std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * channels);
+        for (int by = 0; by < height; by += 4) {
+            for (int bx = 0; bx < width; bx += 4) {
+                const bool oneColour = random() % 4 != 0;
+                const uint32_t colour = palette[random() % (random() % 2 == 0 ? 40 : palette.size())];
+                for (int j = 0; j < 4; ++j) {
+                    for (int i = 0; i < 4; ++i) {
+                        uint8_t* p = &pixels[(static_cast<size_t>(by + j) * width + static_cast<size_t>(bx + i)) * channels];
+                        const uint32_t c = oneColour ? colour : static_cast<uint32_t>(random());
+                        for (int k = 0; k < channels; ++k) {
+                            p[k] = static_cast<uint8_t>(k == 3 ? random() : c >> (8 * k));
+                        }
+                    }
+                }
+            }
+        }
+        const DxtFormat format = channels == 4 ? DxtFormat::Dxt5 : DxtFormat::Dxt1;
+        const size_t blockBytes = channels == 4 ? 16 : 8;
+        for (int quality = 0; quality <= 1; ++quality) {
+            int64_t squares = -1;
+            const std::vector<uint8_t> blob = encodeDxt(pixels, width, height, channels, format, quality, &squares);
+            ASSERT_EQ(blob.size(), static_cast<size_t>(width / 4) * (height / 4) * blockBytes);
+            size_t at = 0;
+            for (int by = 0; by < height; by += 4) {
+                for (int bx = 0; bx < width; bx += 4, at += blockBytes) {
+                    uint8_t block[64];
+                    for (int j = 0; j < 4; ++j) {
+                        for (int i = 0; i < 4; ++i) {
+                            const uint8_t* p = &pixels[(static_cast<size_t>(by + j) * width + static_cast<size_t>(bx + i)) * channels];
+                            std::copy_n(p, 3, block + 4 * (i + 4 * j));
+                            block[4 * (i + 4 * j) + 3] = channels == 4 ? p[3] : 255;
+                        }
+                    }
+                    uint8_t out[16];
+                    test::referenceDxtBlock(block, channels == 4, quality, out);
+                    ASSERT_TRUE(std::equal(out, out + blockBytes, blob.begin() + static_cast<std::ptrdiff_t>(at)))
+                        << channels << " channels, quality " << quality << ", block " << bx << "," << by;
+                }
+            }
+            const std::vector<uint8_t> back = decodeDxt(blob, width, height, format, "t");
+            int64_t expected = 0;
+            for (size_t k = 0; k < back.size(); ++k) {
+                const int d = static_cast<int>(back[k]) - static_cast<int>(pixels[k]);
+                expected += d * d;
+            }
+            EXPECT_EQ(squares, expected) << channels << " channels, quality " << quality;
         }
     }
 }
