@@ -1,6 +1,6 @@
 // The pieces of a Deflate stream's dynamic-Huffman blocks (RFC 1951 3.2.7) that the stream
-// writers here share (deflate_literals.hpp, deflate_greedy.hpp): length-limited Huffman code
-// lengths, canonical codes, a bit writer, and a block's header.
+// writers here share (deflate_literals.hpp, deflate_runs.hpp): length-limited Huffman code
+// lengths, canonical codes, a bit writer, a block's header, and the word loader of the run finders.
 #pragma once
 
 #include <bit>
@@ -20,6 +20,21 @@ void countBytes(std::span<const uint8_t> bytes, uint32_t* counts);
 
 // Canonical codes of `lengths` (RFC 1951 3.2.2), bit-reversed, as Deflate sends them.
 void canonicalCodes(const uint8_t* lengths, int count, uint16_t* codes);
+
+// The eight bytes at p as one word, the first in its lowest bits (the order in which the
+// writers compare and emit bytes).
+inline uint64_t load64(const uint8_t* p) {
+    if constexpr (std::endian::native == std::endian::little) {
+        uint64_t v;
+        std::memcpy(&v, p, 8);
+        return v;
+    }
+    uint64_t v = 0;
+    for (int k = 7; k >= 0; --k) {
+        v = v << 8 | p[k];
+    }
+    return v;
+}
 
 // Bits into bytes, lowest bit first. Up to 56 bits may be pending between flushes; the output
 // keeps 8 bytes of slack past the last one written.

@@ -3,6 +3,7 @@
 #include <bit>
 #include <cstring>
 
+#include "formats/deflate_huffman.hpp"
 #include "formats/vector_clones.hpp"
 
 #if PYRAMID_VECTOR_CLONES_ON
@@ -13,18 +14,7 @@ namespace pyramid {
 
 namespace {
 
-uint64_t load64(const uint8_t* p) {
-    if constexpr (std::endian::native == std::endian::little) {
-        uint64_t v;
-        std::memcpy(&v, p, 8);
-        return v;
-    }
-    uint64_t v = 0;
-    for (int k = 7; k >= 0; --k) {
-        v = v << 8 | p[k];
-    }
-    return v;
-}
+using deflate::load64;
 
 // Bit k set where byte k of `x` (the k-th in memory) is zero.
 uint32_t zeroBytes(uint64_t x) {

@@ -13,22 +13,11 @@ namespace pyramid {
 
 namespace {
 
+using deflate::load64;
+
 constexpr size_t kMinRun = 4;
 constexpr size_t kMaxRun = 258;
 constexpr int kEndOfBlock = 256;
-
-uint64_t load64(const uint8_t* p) {
-    if constexpr (std::endian::native == std::endian::little) {
-        uint64_t v;
-        std::memcpy(&v, p, 8);
-        return v;
-    }
-    uint64_t v = 0;
-    for (int k = 7; k >= 0; --k) {
-        v = v << 8 | p[k];
-    }
-    return v;
-}
 
 // The length symbols (257..284; 285 is 258) and their extra bits, by length - 3.
 struct LengthCode {
