@@ -23,10 +23,13 @@
 #include "formats/error.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
+#include "tests/support/oiio_reference.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {
 namespace {
+
+using test::expectSameAsOpenImageIO;
 
 struct Layout {
     std::string name;       // file name; the extension picks the format
@@ -77,96 +80,6 @@ void write(const std::string& path, const Layout& l, int w, int h) {
     ASSERT_TRUE(out->close());
 }
 
-// The file's samples as OpenImageIO reads them in their own type, widened to double.
-std::vector<double> referenceSamples(const std::string& path, OIIO::ImageSpec& spec, std::string& formatName) {
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path, &config);
-    EXPECT_TRUE(in) << OIIO::geterror();
-    if (!in) {
-        return {};
-    }
-    spec = in->spec();
-    formatName = in->format_name();
-    std::vector<double> native(spec.image_pixels() * static_cast<size_t>(spec.nchannels));
-    // Read in the file's type, then widen by value (a direct read as double would normalise).
-    // (Half floats are read as float32, which holds them exactly.)
-    const OIIO::TypeDesc type = spec.format == OIIO::TypeDesc::HALF ? OIIO::TypeDesc(OIIO::TypeDesc::FLOAT) : spec.format;
-    std::vector<uint8_t> raw(native.size() * type.size());
-    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, type, raw.data())) << in->geterror();
-    for (size_t k = 0; k < native.size(); ++k) {
-        const uint8_t* p = raw.data() + k * type.size();
-        switch (type.basetype) {
-        case OIIO::TypeDesc::UINT8: native[k] = *p; break;
-        case OIIO::TypeDesc::INT8: native[k] = *reinterpret_cast<const int8_t*>(p); break;
-        case OIIO::TypeDesc::UINT16: native[k] = *reinterpret_cast<const uint16_t*>(p); break;
-        case OIIO::TypeDesc::INT16: native[k] = *reinterpret_cast<const int16_t*>(p); break;
-        case OIIO::TypeDesc::INT32: native[k] = *reinterpret_cast<const int32_t*>(p); break;
-        case OIIO::TypeDesc::FLOAT: native[k] = *reinterpret_cast<const float*>(p); break;
-        case OIIO::TypeDesc::DOUBLE: native[k] = *reinterpret_cast<const double*>(p); break;
-        default: ADD_FAILURE() << "unexpected type"; break;
-        }
-    }
-    return native;
-}
-
-void expectSameAsOpenImageIO(const std::string& path, int cacheMegabytes = 256) {
-    SCOPED_TRACE(path);
-    OIIO::ImageSpec spec;
-    std::string formatName;
-    const std::vector<double> expected = referenceSamples(path, spec, formatName);
-    const auto source = RasterSource::open(path, cacheMegabytes);
-    const RasterInfo& info = source->info();
-    ASSERT_EQ(info.width, spec.width);
-    ASSERT_EQ(info.height, spec.height);
-    ASSERT_EQ(info.channels, spec.nchannels);
-    const bool eightBit = spec.format == OIIO::TypeDesc::UINT8;
-    const bool sixteenBit = spec.format == OIIO::TypeDesc::UINT16;
-    const std::map<std::string, std::string> names = {{"uint8", "uint8"}, {"int8", "int8"},   {"uint16", "uint16"},
-                                                      {"int16", "int16"}, {"uint", "uint32"}, {"int", "int32"},
-                                                      {"half", "float16"}, {"float", "float32"}, {"double", "float64"}};
-    EXPECT_EQ(sampleTypeName(info.type), names.at(spec.format.c_str()));
-    EXPECT_EQ(info.formatName, formatName);
-    const int w = info.width, h = info.height, n = info.channels;
-    // A window away from the corners, and the whole image.
-    for (const auto& [x0, y0, x1, y1] : {std::array{3, 2, w - 4, h - 5}, std::array{0, 0, w, h}}) {
-        const int ww = x1 - x0, wh = y1 - y0;
-        const auto at = [&](int x, int y, int c) {
-            return expected[(static_cast<size_t>(y0 + y) * static_cast<size_t>(w) + static_cast<size_t>(x0 + x)) *
-                                static_cast<size_t>(n) + static_cast<size_t>(c)];
-        };
-        for (int c = 0; c < n; ++c) {
-            std::vector<float> f(static_cast<size_t>(ww * wh));
-            source->readFloat(x0, y0, x1, y1, c, f.data());
-            for (int y = 0; y < wh; ++y) {
-                for (int x = 0; x < ww; ++x) {
-                    ASSERT_EQ(f[static_cast<size_t>(y * ww + x)], static_cast<float>(at(x, y, c)))
-                        << "readFloat channel " << c << " at " << x0 + x << "," << y0 + y;
-                }
-            }
-        }
-        if (eightBit || sixteenBit) {
-            std::vector<uint16_t> u(static_cast<size_t>(ww * wh * n));
-            source->readUInt16(x0, y0, x1, y1, 0, n, u.data());
-            for (size_t k = 0; k < u.size(); ++k) {
-                const int x = static_cast<int>(k / static_cast<size_t>(n)) % ww;
-                const int y = static_cast<int>(k / static_cast<size_t>(n)) / ww;
-                ASSERT_EQ(u[k], at(x, y, static_cast<int>(k % static_cast<size_t>(n)))) << "readUInt16 sample " << k;
-            }
-        }
-        if (eightBit) {
-            // The last channel only, stored bottom up through a negative stride.
-            std::vector<uint8_t> b(static_cast<size_t>(ww * wh));
-            source->readUInt8(x0, y0, x1, y1, n - 1, n, b.data() + static_cast<size_t>((wh - 1) * ww), -ww);
-            for (int y = 0; y < wh; ++y) {
-                for (int x = 0; x < ww; ++x) {
-                    ASSERT_EQ(b[static_cast<size_t>((wh - 1 - y) * ww + x)], at(x, y, n - 1)) << "readUInt8";
-                }
-            }
-        }
-    }
-}
-
 TEST(RasterReaders, EveryLayoutReadsAsOpenImageIOReadsIt) {
     const std::vector<Layout> layouts = {
         // PNG: decoded by libpng.
@@ -210,148 +123,6 @@ TEST(RasterReaders, EveryLayoutReadsAsOpenImageIOReadsIt) {
         }
         expectSameAsOpenImageIO(path);
     }
-}
-
-// A JPEG-compressed TIFF written with libtiff: 8-bit grey, RGB or YCbCr (2 x 2 chroma
-// subsampling, given as RGB and converted by libjpeg), in strips of `rows` or tiles of `tile`.
-void writeJpegTiff(const std::string& path, int w, int h, int channels, bool ycbcr, int tile, int rows) {
-    TIFF* tif = TIFFOpen(path.c_str(), "w");
-    ASSERT_TRUE(tif);
-    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, w);
-    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, h);
-    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, channels);
-    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 8);
-    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
-    TIFFSetField(tif, TIFFTAG_COMPRESSION, COMPRESSION_JPEG);
-    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC,
-                 channels == 1 ? PHOTOMETRIC_MINISBLACK : ycbcr ? PHOTOMETRIC_YCBCR : PHOTOMETRIC_RGB);
-    if (ycbcr) {
-        TIFFSetField(tif, TIFFTAG_YCBCRSUBSAMPLING, 2, 2);
-        TIFFSetField(tif, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
-    }
-    if (channels == 4) {
-        const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
-        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, 1, &alpha);
-    }
-    TIFFSetField(tif, TIFFTAG_JPEGQUALITY, 75);
-    const auto value = [&](int x, int y, int c) {
-        // Smooth colours with some detail, as photographs have.
-        return static_cast<uint8_t>((x * (3 + c) + y * (5 - c) + ((x * y + 7 * c) % 23) * 3) & 255);
-    };
-    if (tile) {
-        TIFFSetField(tif, TIFFTAG_TILEWIDTH, tile);
-        TIFFSetField(tif, TIFFTAG_TILELENGTH, tile);
-        std::vector<uint8_t> block(static_cast<size_t>(tile * tile * channels));
-        for (int ty = 0; ty < h; ty += tile) {
-            for (int tx = 0; tx < w; tx += tile) {
-                for (int y = 0; y < tile; ++y) {
-                    for (int x = 0; x < tile; ++x) {
-                        for (int c = 0; c < channels; ++c) {
-                            block[static_cast<size_t>((y * tile + x) * channels + c)] =
-                                value(std::min(tx + x, w - 1), std::min(ty + y, h - 1), c);
-                        }
-                    }
-                }
-                ASSERT_GE(TIFFWriteTile(tif, block.data(), static_cast<uint32_t>(tx), static_cast<uint32_t>(ty), 0, 0),
-                          0);
-            }
-        }
-    } else {
-        TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, rows);
-        for (int s = 0; s * rows < h; ++s) {
-            const int n = std::min(rows, h - s * rows);
-            std::vector<uint8_t> strip(static_cast<size_t>(n * w * channels));
-            for (int y = 0; y < n; ++y) {
-                for (int x = 0; x < w; ++x) {
-                    for (int c = 0; c < channels; ++c) {
-                        strip[static_cast<size_t>((y * w + x) * channels + c)] = value(x, s * rows + y, c);
-                    }
-                }
-            }
-            ASSERT_GE(TIFFWriteEncodedStrip(tif, static_cast<uint32_t>(s), strip.data(),
-                                            static_cast<tmsize_t>(strip.size())),
-                      0);
-        }
-    }
-    TIFFClose(tif);
-}
-
-// JPEG-compressed TIFFs are decoded by libtiff and libjpeg block by block (YCbCr converted to
-// RGB by libjpeg), the same samples as OpenImageIO's, without the module: tiles, strips, one
-// strip beyond the cache (decoded once, row by row), grey, RGB and YCbCr.
-TEST(RasterReaders, JpegTiffsAreReadBlockByBlockAsOpenImageIOReadsThem) {
-    test::TempDir dir;
-    struct Jpeg {
-        std::string name;
-        int w, h, channels;
-        bool ycbcr;
-        int tile, rows, cacheMegabytes;
-    };
-    for (const Jpeg& j : std::vector<Jpeg>{{"ycbcr-tiled.tif", 61, 37, 3, true, 16, 0, 256},
-                                           {"ycbcr-strips.tif", 61, 37, 3, true, 0, 16, 256},
-                                           {"rgb-strips.tif", 61, 37, 3, false, 0, 8, 256},
-                                           {"grey-tiled.tif", 61, 37, 1, false, 32, 0, 256},
-                                           {"ycbcr-one-strip.tif", 400, 300, 3, true, 0, 300, 1}}) {
-        const std::string path = dir.file(j.name);
-        writeJpegTiff(path, j.w, j.h, j.channels, j.ycbcr, j.tile, j.rows);
-        const RasterInfo info = RasterSource::describe(path);
-        EXPECT_EQ(info.channels, j.channels) << j.name;
-        EXPECT_NE(TiffBlockReader::open(path, info, j.cacheMegabytes), nullptr) << j.name;
-        expectSameAsOpenImageIO(path, j.cacheMegabytes);
-
-        // Its second block's entropy-coded data damaged: libjpeg decodes on, with a warning,
-        // which the reader makes an error naming the file and the block.
-        TIFF* tif = TIFFOpen(path.c_str(), "r");
-        ASSERT_TRUE(tif);
-        const uint32_t block = TIFFNumberOfStrips(tif) > 1 || TIFFIsTiled(tif) ? 1 : 0;
-        const uint64_t offset = TIFFGetStrileOffset(tif, block), count = TIFFGetStrileByteCount(tif, block);
-        TIFFClose(tif);
-        std::string bytes = test::readFile(path);
-        for (uint64_t k = offset + count / 2; k < offset + count / 2 + 12; ++k) {
-            bytes[static_cast<size_t>(k)] = static_cast<char>(k % 2 ? 0xFF : 0x00);
-        }
-        const std::string damaged = dir.file("damaged-" + j.name);
-        std::ofstream(damaged, std::ios::binary) << bytes;
-        const auto source = RasterSource::open(damaged, j.cacheMegabytes);
-        std::vector<uint8_t> pixels(static_cast<size_t>(j.w * j.h * j.channels));
-        try {
-            source->readUInt8(0, 0, j.w, j.h, 0, j.channels, pixels.data(), j.w * j.channels);
-            ADD_FAILURE() << "damaged " << j.name << " was read";
-        } catch (const Error& e) {
-            const std::string where = j.tile ? "tile 1" : block ? "strip 1" : "its strips";
-            EXPECT_EQ(std::string(e.what()).rfind(damaged + ": damaged JPEG data in " + where + ": ", 0), 0u)
-                << e.what();
-        }
-    }
-}
-
-// RGBA JPEG (unassociated alpha): the colours as stored, as libtiff decodes them, not multiplied
-// by alpha (which OpenImageIO does for these files whatever its unassociated-alpha setting).
-TEST(RasterReaders, RgbaJpegTiffsGiveTheirStoredColours) {
-    test::TempDir dir;
-    const std::string path = dir.file("rgba.tif");
-    const int w = 40, h = 24;
-    writeJpegTiff(path, w, h, 4, false, 16, 0);
-    TIFF* tif = TIFFOpen(path.c_str(), "r");
-    ASSERT_TRUE(tif);
-    std::vector<uint8_t> expected(static_cast<size_t>(w * h * 4)), block(static_cast<size_t>(TIFFTileSize(tif)));
-    for (int ty = 0; ty < h; ty += 16) {
-        for (int tx = 0; tx < w; tx += 16) {
-            ASSERT_GE(TIFFReadTile(tif, block.data(), static_cast<uint32_t>(tx), static_cast<uint32_t>(ty), 0, 0), 0);
-            for (int y = ty; y < std::min(h, ty + 16); ++y) {
-                for (int x = tx; x < std::min(w, tx + 16); ++x) {
-                    std::copy_n(&block[static_cast<size_t>(((y - ty) * 16 + (x - tx)) * 4)], 4,
-                                &expected[static_cast<size_t>((y * w + x) * 4)]);
-                }
-            }
-        }
-    }
-    TIFFClose(tif);
-    std::vector<uint8_t> got(expected.size());
-    RasterSource::open(path)->readUInt8(0, 0, w, h, 0, 4, got.data(), w * 4);
-    EXPECT_EQ(got, expected);
-    // The alpha of this pattern is not all opaque: multiplied colours would differ.
-    EXPECT_NE(*std::min_element(expected.begin(), expected.end()), 255);
 }
 
 // A palette PNG, and one with a transparency chunk, are left to OpenImageIO, which expands

@@ -45,10 +45,14 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     }
     b->width_ = width;
     b->height_ = height;
-    const bool lossless = compression == COMPRESSION_NONE || compression == COMPRESSION_LZW ||
-                          compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE ||
-                          compression == COMPRESSION_PACKBITS || compression == COMPRESSION_ZSTD ||
-                          compression == COMPRESSION_LZMA;
+    // Codecs libtiff decodes to the stored sample type itself: the lossless ones, LERC (within
+    // its stored largest error: elevation COGs) and WebP (8-bit RGB or RGBA, lossy or not:
+    // imagery COGs), whose pixels libtiff gives as they are, as OpenImageIO reads them.
+    const bool decoded = compression == COMPRESSION_NONE || compression == COMPRESSION_LZW ||
+                         compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE ||
+                         compression == COMPRESSION_PACKBITS || compression == COMPRESSION_ZSTD ||
+                         compression == COMPRESSION_LZMA || compression == COMPRESSION_LERC ||
+                         compression == COMPRESSION_WEBP;
     // JPEG (not the old-style JPEG of TIFF 6.0) of 8-bit samples: libjpeg decodes each block,
     // YCbCr ones converted to RGB by libjpeg itself (JPEGCOLORMODE), as OpenImageIO reads them.
     const bool jpeg = compression == COMPRESSION_JPEG && b->format_ == SAMPLEFORMAT_UINT && b->bits_ == 8;
@@ -63,7 +67,7 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
                         (photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3) ||
                          b->ycbcrJpeg_) &&
                         (channels == 1 || planar == PLANARCONFIG_CONTIG);
-    const bool ok = (lossless || jpeg) && (integer || real) && layout &&
+    const bool ok = (decoded || jpeg) && (integer || real) && layout &&
                     width == static_cast<uint32_t>(info.width) && height == static_cast<uint32_t>(info.height) &&
                     b->blockWidth_ > 0 && b->blockHeight_ > 0 && TIFFIsCODECConfigured(compression);
     if (!ok) {

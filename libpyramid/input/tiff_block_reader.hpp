@@ -1,7 +1,7 @@
 // TIFF files of 8, 16 or 32-bit integers or float32, one band or several interleaved (grey,
 // grey and alpha, RGB, RGBA), compressed or not, striped or tiled, BigTIFF or not (whatever
-// libtiff decodes losslessly, and JPEG of 8-bit samples, YCbCr decoded to RGB by libjpeg as
-// OpenImageIO decodes it), in memory bounded by the cache budget whatever the file's size
+// libtiff decodes losslessly, LERC, WebP, and JPEG of 8-bit samples, YCbCr decoded to RGB by
+// libjpeg as OpenImageIO decodes it), in memory bounded by the cache budget whatever the file's size
 // and layout:
 // * strips and tiles up to a quarter of the budget are decoded one whole block at a time, in
 //   parallel (one TIFF handle per reading thread), into the shared block cache
