@@ -177,6 +177,7 @@ struct CodecTiff {
     uint16_t bits, format;
     double maxError; // LERC; WebP: 0 lossless, else lossy
     int tile, rows;
+    int w = 61, h = 37, cacheMegabytes = 256;
 };
 
 double codecValue(const CodecTiff& c, int x, int y, int ch) {
@@ -267,9 +268,12 @@ TEST(RasterReaders, WebpAndLercTiffsAreReadBlockByBlockAsOpenImageIOReadsThem) {
         {"lerc-f32-tiled.tif", COMPRESSION_LERC, 1, 32, SAMPLEFORMAT_IEEEFP, 0.5, 32, 0},
         {"lerc-i16-strips.tif", COMPRESSION_LERC, 1, 16, SAMPLEFORMAT_INT, 0, 0, 16},
         {"lerc-rgb8-strips.tif", COMPRESSION_LERC, 3, 8, SAMPLEFORMAT_UINT, 0, 0, 8},
+        // One strip beyond a quarter of the cache: decoded once, row by row, into the scratch file.
+        {"lerc-f32-one-strip.tif", COMPRESSION_LERC, 1, 32, SAMPLEFORMAT_IEEEFP, 0, 0, 300, 400, 300, 1},
+        {"webp-lossless-rgb-one-strip.tif", COMPRESSION_WEBP, 3, 8, SAMPLEFORMAT_UINT, 0, 0, 300, 400, 300, 1},
     };
-    const int w = 61, h = 37;
     for (const CodecTiff& c : cases) {
+        const int w = c.w, h = c.h;
         if (!TIFFIsCODECConfigured(c.compression)) {
             continue; // a libtiff built without WebP or LERC
         }
@@ -278,13 +282,13 @@ TEST(RasterReaders, WebpAndLercTiffsAreReadBlockByBlockAsOpenImageIOReadsThem) {
         writeCodecTiff(path, c, w, h);
         const RasterInfo info = RasterSource::describe(path);
         EXPECT_EQ(info.channels, c.channels);
-        EXPECT_NE(TiffBlockReader::open(path, info, 256), nullptr);
-        expectSameAsOpenImageIO(path);
+        EXPECT_NE(TiffBlockReader::open(path, info, c.cacheMegabytes), nullptr);
+        expectSameAsOpenImageIO(path, c.cacheMegabytes);
         const bool lossy = c.compression == COMPRESSION_WEBP ? c.maxError != 0 : false;
         if (lossy) {
             continue;
         }
-        const auto source = RasterSource::open(path, 256);
+        const auto source = RasterSource::open(path, c.cacheMegabytes);
         std::vector<float> got(static_cast<size_t>(w * h));
         for (int ch = 0; ch < c.channels; ++ch) {
             source->readFloat(0, 0, w, h, ch, got.data());
