@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
-  libtiff-dev libdeflate-dev libpng-dev zlib1g-dev libopenimageio-dev libopenexr-dev libsquish-dev libstb-dev libgeographiclib-dev libgeotiff-dev
+  libtiff-dev libdeflate-dev libpng-dev libjpeg-dev zlib1g-dev libopenimageio-dev libopenexr-dev libsquish-dev libstb-dev libgeographiclib-dev libgeotiff-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev
   libcpp-httplib-dev libjs-three
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0

@@ -13,6 +13,7 @@
 #include "formats/pyramid_kind.hpp"
 #include "libpyramid/input/image_io_module.hpp"
 #include "libpyramid/input/hgt_raster_reader.hpp"
+#include "libpyramid/input/jpeg_raster_reader.hpp"
 #include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
@@ -29,7 +30,7 @@ struct RasterSource::Impl {
     std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block
     std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
     std::unique_ptr<HgtRasterReader> hgt;    // SRTM .hgt heights: one pread per row
-    std::unique_ptr<PngRasterReader> png;    // 8/16-bit PNG, decoded whole
+    std::unique_ptr<DecodedRows> decoded;    // 8/16-bit PNG or 8-bit JPEG, decoded whole
     std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
     std::shared_ptr<const RasterPixels> computed; // or pixels a caller computes
     const BytePixels* computedBytes = nullptr;    // `computed`, when it computes bytes
@@ -137,8 +138,9 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
         }
     } else if ((impl.hgt = HgtRasterReader::open(path))) {
         info = impl.hgt->info();
-    } else if ((impl.png = PngRasterReader::open(path, cacheMegabytes))) {
-        info = impl.png->info();
+    } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
+               (impl.decoded = openJpegRaster(path, cacheMegabytes))) {
+        info = impl.decoded->info();
     } else {
         info = impl.viaModule().info();
         if (!info.nodata && info.formatName == "tiff") {
@@ -261,8 +263,8 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
         }
         return;
     }
-    if (impl.png) {
-        impl.png->readFloat(x0, y0, x1, y1, channel, out);
+    if (impl.decoded) {
+        impl.decoded->readFloat(x0, y0, x1, y1, channel, out);
         return;
     }
     if (impl.pixels) { // 8 or 16-bit unsigned: exact in float32
@@ -401,8 +403,8 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
         }
         return;
     }
-    if (impl.png) {
-        impl.png->readUInt16(x0, y0, x1, y1, c0, c1, out);
+    if (impl.decoded) {
+        impl.decoded->readUInt16(x0, y0, x1, y1, c0, c1, out);
         return;
     }
     if (impl.hgt) {
@@ -461,7 +463,7 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
         }
         return;
     }
-    if (impl.png && impl.png->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
+    if (impl.decoded && impl.decoded->readUInt8(x0, y0, x1, y1, c0, c1, out, rowStride)) {
         return;
     }
     if (impl.blocks) {

@@ -1,0 +1,164 @@
+#include "libpyramid/input/decoded_rows.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "formats/error.hpp"
+
+namespace pyramid {
+
+namespace {
+
+// Rows published to the readers at once: fewer wake-ups than one by one.
+constexpr int kRowsPerStep = 16;
+
+// Channels [c0, c1) of `count` interleaved pixels of `channels` samples, each converted to Out
+// by value; returns the end of what it wrote.
+template <typename T, typename Out>
+Out* copyPixels(const T* from, size_t count, int channels, int c0, int c1, Out* out) {
+    const size_t n = static_cast<size_t>(channels);
+    if (c0 == 0 && c1 == channels) {
+        return std::copy(from, from + count * n, out);
+    }
+    for (size_t x = 0; x < count; ++x, from += n) {
+        out = std::copy(from + c0, from + c1, out);
+    }
+    return out;
+}
+
+} // namespace
+
+DecodedRows::DecodedRows(std::string path, const RasterInfo& info, int cacheMegabytes, int heldBack)
+    : path_(std::move(path)), info_(info), heldBack_(heldBack) {
+    const size_t sampleBytes = info.type == SampleType::UInt8 ? 1 : 2;
+    rowBytes_ = static_cast<size_t>(info.width) * static_cast<size_t>(info.channels) * sampleBytes;
+    const size_t budget = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
+    if (imageBytes() > budget) {
+        scratch_ = std::make_unique<ScratchFile>(path_);
+    } else {
+        memory_.reset(new uint8_t[imageBytes()]);
+    }
+}
+
+DecodedRows::~DecodedRows() {
+    stop_ = true;
+    if (thread_.joinable()) {
+        thread_.join();
+    }
+}
+
+void DecodedRows::start(std::unique_ptr<Decoder> decoder) {
+    decoder_ = std::move(decoder);
+    thread_ = std::thread([this] { decodeAll(); });
+}
+
+uint8_t* DecodedRows::rowInMemory(int y) { return memory_.get() + static_cast<size_t>(y) * rowBytes_; }
+
+void DecodedRows::markDecoded() { rowsDecoded_ = info_.height; }
+
+void DecodedRows::publish(int rows, const std::string& error) {
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        rowsDecoded_.store(rows, std::memory_order_release);
+        error_ = error;
+    }
+    progress_.notify_all();
+}
+
+void DecodedRows::decodeAll() {
+    const int height = info_.height;
+    std::vector<uint8_t> row(scratch_ ? rowBytes_ : 0); // a row on its way to the scratch file
+    try {
+        for (int y = 0; y < height && !stop_; ++y) {
+            if (scratch_) {
+                decoder_->readRow(row.data());
+                scratch_->write(static_cast<uint64_t>(y) * rowBytes_, row.data(), rowBytes_);
+            } else {
+                decoder_->readRow(rowInMemory(y));
+            }
+            if ((y + 1) % kRowsPerStep == 0 && y + 1 < height - heldBack_) {
+                publish(y + 1, "");
+            }
+        }
+        if (stop_) {
+            return;
+        }
+        decoder_->finish();
+    } catch (const Error& e) {
+        publish(rowsDecoded_.load(std::memory_order_relaxed), e.what());
+        return;
+    }
+    decoder_.reset(); // the file closed as soon as it is read
+    publish(height, "");
+}
+
+void DecodedRows::waitForRows(int y1) const {
+    if (rowsDecoded_.load(std::memory_order_acquire) >= y1) {
+        return;
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    progress_.wait(lock, [&] { return rowsDecoded_.load(std::memory_order_acquire) >= y1 || !error_.empty(); });
+    if (rowsDecoded_.load(std::memory_order_acquire) < y1) {
+        throw Error(error_);
+    }
+}
+
+// Columns [x0, x1) of row y, every channel, as T: in memory, or read from the scratch file
+// into `buffer`.
+template <typename T>
+const T* DecodedRows::rowSpan(int y, int x0, int x1, std::vector<uint8_t>& buffer) const {
+    const size_t pixelBytes = static_cast<size_t>(info_.channels) * sizeof(T);
+    const size_t offset = static_cast<size_t>(y) * rowBytes_ + static_cast<size_t>(x0) * pixelBytes;
+    if (!scratch_) {
+        return reinterpret_cast<const T*>(memory_.get() + offset);
+    }
+    buffer.resize(static_cast<size_t>(x1 - x0) * pixelBytes);
+    scratch_->read(offset, buffer.data(), buffer.size());
+    return reinterpret_cast<const T*>(buffer.data());
+}
+
+template <typename Out>
+void DecodedRows::copyWindow(int x0, int y0, int x1, int y1, int c0, int c1, Out* out) const {
+    waitForRows(y1);
+    thread_local std::vector<uint8_t> buffer;
+    const size_t count = static_cast<size_t>(x1 - x0);
+    for (int y = y0; y < y1; ++y) {
+        out = info_.type == SampleType::UInt8
+                  ? copyPixels(rowSpan<uint8_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out)
+                  : copyPixels(rowSpan<uint16_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
+    }
+}
+
+void DecodedRows::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
+    copyWindow(x0, y0, x1, y1, channel, channel + 1, out);
+}
+
+void DecodedRows::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    copyWindow(x0, y0, x1, y1, c0, c1, out);
+}
+
+bool DecodedRows::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out,
+                            std::ptrdiff_t rowStride) const {
+    if (info_.type != SampleType::UInt8) {
+        return false;
+    }
+    waitForRows(y1);
+    thread_local std::vector<uint8_t> buffer;
+    const size_t channels = static_cast<size_t>(info_.channels);
+    const size_t wanted = static_cast<size_t>(c1 - c0);
+    for (int y = y0; y < y1; ++y) {
+        const uint8_t* from = rowSpan<uint8_t>(y, x0, x1, buffer);
+        uint8_t* to = out + static_cast<std::ptrdiff_t>(y - y0) * rowStride;
+        if (wanted == channels) {
+            std::memcpy(to, from, static_cast<size_t>(x1 - x0) * channels);
+            continue;
+        }
+        for (int x = x0; x < x1; ++x, from += channels, to += wanted) {
+            std::memcpy(to, from + c0, wanted);
+        }
+    }
+    return true;
+}
+
+} // namespace pyramid
