@@ -19,12 +19,14 @@
 #                           --resize, smooth), default tiles: the upper half of a 6144^2 quad
 #   bluemarble-2700.tif, citylights-2700.tif  marble-qt-data's 2700 x 1350 composites at their
 #                           own size (resampled into the upper half of a 3072^2 quad)
+#   bluemarble-jpeg.jpg, citylights-jpeg.jpg  the same composites as shipped: baseline JPEG
 #   landsat-3072.tif        r-cran-stars' Landsat 7 scene (L7_ETMs.tif, 349 x 352, bands 3, 2, 1:
 #                           true colour) repeated 9 x 9 and cut to 3072^2, --tile-size 192
 #   landsat-352.tif         the same scene at its own size (default tiles)
 #   kodak-6144.tif          librust-tiff-dev's Kodak photos kodim02 and kodim07 (768 x 512)
 #                           alternated in a 9 x 12 mosaic cut to 6144^2, --tile-size 192
-# Every input is an uncompressed striped RGB TIFF, read by both tools from the page cache.
+# Every input but the shipped JPEGs is an uncompressed striped RGB TIFF; all are read by both
+# tools from the page cache.
 #
 # One table: per input, REPEAT default runs each followed by a GDAL run (A B A B ...), the
 # median wall times and the median of the pairs' ratios, our peak RSS and bytes, GDAL's bytes.
@@ -80,6 +82,9 @@ MARBLE=debs/marble-qt-data/usr/share/marble/data/maps/earth
 make_input bluemarble-2700 oiiotool "$MARBLE/bluemarble/bluemarble.jpg" "${TIFF[@]}" -o bluemarble-2700.part.tif
 make_input citylights-2700 oiiotool "$MARBLE/citylights/citylights.jpg" "${TIFF[@]}" -o citylights-2700.part.tif
 make_input bluemarble-6144x3072 oiiotool bluemarble-2700.tif --resize 6144x3072 "${TIFF[@]}" -o bluemarble-6144x3072.part.tif
+# The composites as the package ships them (baseline JPEG, 2700 x 1350): read as they are.
+[ -f bluemarble-jpeg.jpg ] || cp "$MARBLE/bluemarble/bluemarble.jpg" bluemarble-jpeg.jpg
+[ -f citylights-jpeg.jpg ] || cp "$MARBLE/citylights/citylights.jpg" citylights-jpeg.jpg
 
 unpack r-cran-stars
 LANDSAT=debs/r-cran-stars/usr/lib/R/site-library/stars/tif/L7_ETMs.tif
@@ -111,7 +116,9 @@ kodak_6144() {
 }
 make_input kodak-6144 kodak_6144
 
-INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352}
+INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg}
+# input NAME: the file of input NAME (NAME.jpg for the shipped JPEGs, else NAME.tif).
+input() { if [ -f "$1.jpg" ]; then echo "$1.jpg"; else echo "$1.tif"; fi; }
 # tile_args NAME: inputs whose side is 192 << M are encoded pixel for pixel (the COG's pixels).
 tile_args() { case $1 in noisy-6144 | synthetic-6144 | kodak-6144 | landsat-3072) echo "--tile-size 192" ;; esac; }
 
@@ -125,10 +132,10 @@ for name in $INPUTS; do
     read -r -a tile <<<"$(tile_args "$name")"
     ours=() gdal=() ratios=() rss=0
     for ((k = 0; k < REPEAT; ++k)); do
-        BEFORE_RUN="rm -rf out-ours report.json" timed_runs 1 "${OURS[@]}" "$name.tif" -o out-ours "${tile[@]}" "${EXTRA_ARGS[@]}"
+        BEFORE_RUN="rm -rf out-ours report.json" timed_runs 1 "${OURS[@]}" "$(input "$name")" -o out-ours "${tile[@]}" "${EXTRA_ARGS[@]}"
         ours+=("$WALL_S")
         rss=$((PEAK_RSS_MB > rss ? PEAK_RSS_MB : rss))
-        BEFORE_RUN="rm -f out-cog.tif" timed_runs 1 "${COG[@]}" "$name.tif" out-cog.tif
+        BEFORE_RUN="rm -f out-cog.tif" timed_runs 1 "${COG[@]}" "$(input "$name")" out-cog.tif
         gdal+=("$WALL_S")
         ratios+=("$(awk -v a="${ours[k]}" -v b="$WALL_S" 'BEGIN {printf "%.3f", a / b}')")
     done
