@@ -389,7 +389,7 @@ TEST(RasterReaders, JpegFilesAreDecodedAsOpenImageIODecodesThem) {
 
 // A truncated JPEG and one whose entropy-coded data is damaged fail the reads of their rows
 // with one line naming the file (libjpeg decodes on past both, with a warning); a progressive
-// JPEG larger than the cache is refused, naming the cache it needs.
+// JPEG larger than the cache is described but refused when opened, naming the cache it needs.
 TEST(RasterReaders, DamagedJpegFilesAreRefused) {
     test::TempDir dir;
     const JpegFile j{"photo.jpg", 3, JCS_YCbCr, true, false, 400, 300};
@@ -417,6 +417,11 @@ TEST(RasterReaders, DamagedJpegFilesAreRefused) {
     }
     const JpegFile progressive{"progressive-large.jpg", 3, JCS_YCbCr, true, true, 700, 530};
     writeJpegFile(dir.file(progressive.name), progressive);
+    // Described from its header, whatever the budget (mosaics describe their inputs first).
+    const RasterInfo described = RasterSource::describe(dir.file(progressive.name));
+    EXPECT_EQ(described.width, 700);
+    EXPECT_EQ(described.height, 530);
+    EXPECT_EQ(described.channels, 3);
     try {
         openJpegRaster(dir.file(progressive.name), 1);
         ADD_FAILURE() << "a progressive JPEG beyond the cache was opened";

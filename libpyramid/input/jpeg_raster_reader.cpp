@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <csetjmp>
+#include <optional>
 
 #include "formats/error.hpp"
 
@@ -164,16 +165,38 @@ private:
 
 } // namespace
 
-std::unique_ptr<DecodedRows> openJpegRaster(const std::string& path, int cacheMegabytes) {
-    auto decoder = std::make_unique<JpegDecoder>(path);
-    if (!decoder->open()) {
-        return nullptr;
-    }
+namespace {
+
+// A JPEG's decoder, past its header, and what the image is; null for files left to others.
+struct JpegHeader {
+    std::unique_ptr<JpegDecoder> decoder;
     RasterInfo info;
     bool progressive = false;
-    if (!decoder->readHeader(info, progressive)) {
+};
+
+std::optional<JpegHeader> readJpegHeader(const std::string& path) {
+    JpegHeader h;
+    h.decoder = std::make_unique<JpegDecoder>(path);
+    if (!h.decoder->open() || !h.decoder->readHeader(h.info, h.progressive)) {
+        return std::nullopt;
+    }
+    return h;
+}
+
+} // namespace
+
+std::optional<RasterInfo> describeJpegRaster(const std::string& path) {
+    std::optional<JpegHeader> h = readJpegHeader(path);
+    return h ? std::optional<RasterInfo>(h->info) : std::nullopt;
+}
+
+std::unique_ptr<DecodedRows> openJpegRaster(const std::string& path, int cacheMegabytes) {
+    std::optional<JpegHeader> h = readJpegHeader(path);
+    if (!h) {
         return nullptr;
     }
+    const RasterInfo& info = h->info;
+    const bool progressive = h->progressive;
     if (progressive) {
         // libjpeg holds every coefficient (2 bytes a sample, chroma included at most) before the
         // first row: that must fit the budget, as the decoded image itself does not have to.
@@ -189,7 +212,7 @@ std::unique_ptr<DecodedRows> openJpegRaster(const std::string& path, int cacheMe
         }
     }
     auto rows = std::make_unique<DecodedRows>(path, info, cacheMegabytes, 16);
-    rows->start(std::move(decoder));
+    rows->start(std::move(h->decoder));
     return rows;
 }
 

@@ -10,6 +10,7 @@
 // reads them).
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "libpyramid/input/decoded_rows.hpp"
@@ -21,5 +22,7 @@ namespace pyramid {
 // progressive image larger than the budget. Reads of a damaged image throw
 // Error("PATH: cannot read: damaged or truncated JPEG (...)").
 std::unique_ptr<DecodedRows> openJpegRaster(const std::string& path, int cacheMegabytes);
+// What openJpegRaster would open, from the header alone (nothing decoded, no budget applied).
+std::optional<RasterInfo> describeJpegRaster(const std::string& path);
 
 } // namespace pyramid

@@ -3,6 +3,7 @@
 #include <png.h>
 
 #include <csetjmp>
+#include <optional>
 #include <cstdio>
 #include <vector>
 
@@ -111,15 +112,24 @@ private:
 
 } // namespace
 
-std::unique_ptr<DecodedRows> openPngRaster(const std::string& path, int cacheMegabytes) {
-    auto decoder = std::make_unique<PngDecoder>(path);
-    if (!decoder->open()) {
-        return nullptr;
-    }
+namespace {
+
+// A PNG's decoder, past its header, and what the image is; null for files left to others.
+struct PngHeader {
+    std::unique_ptr<PngDecoder> decoder;
+    RasterInfo info;
     bool interlaced = false;
-    decoder->readHeader(interlaced);
-    png_structp png = decoder->png();
-    png_infop pngInfo = decoder->info();
+};
+
+std::optional<PngHeader> readPngHeader(const std::string& path) {
+    PngHeader h;
+    h.decoder = std::make_unique<PngDecoder>(path);
+    if (!h.decoder->open()) {
+        return std::nullopt;
+    }
+    h.decoder->readHeader(h.interlaced);
+    png_structp png = h.decoder->png();
+    png_infop pngInfo = h.decoder->info();
     const png_uint_32 width = png_get_image_width(png, pngInfo);
     const png_uint_32 height = png_get_image_height(png, pngInfo);
     const int depth = png_get_bit_depth(png, pngInfo);
@@ -130,7 +140,7 @@ std::unique_ptr<DecodedRows> openPngRaster(const std::string& path, int cacheMeg
                          : colour == PNG_COLOR_TYPE_RGB_ALPHA  ? 4
                                                                : 0;
     if (channels == 0 || (depth != 8 && depth != 16) || png_get_valid(png, pngInfo, PNG_INFO_tRNS)) {
-        return nullptr; // expanded by OpenImageIO's rules instead
+        return std::nullopt; // expanded by OpenImageIO's rules instead
     }
     const size_t rowSamples = static_cast<size_t>(width) * static_cast<size_t>(channels);
     const size_t samples = rowSamples * height;
@@ -139,12 +149,30 @@ std::unique_ptr<DecodedRows> openPngRaster(const std::string& path, int cacheMeg
         fail(path, "cannot read: a " + std::to_string(width) + " x " + std::to_string(height) +
                        " PNG is too large to decode in memory; convert it to a tiled TIFF");
     }
-    RasterInfo info;
-    info.width = static_cast<int>(width);
-    info.height = static_cast<int>(height);
-    info.channels = channels;
-    info.type = depth == 8 ? SampleType::UInt8 : SampleType::UInt16;
-    info.formatName = "png";
+    h.info.width = static_cast<int>(width);
+    h.info.height = static_cast<int>(height);
+    h.info.channels = channels;
+    h.info.type = depth == 8 ? SampleType::UInt8 : SampleType::UInt16;
+    h.info.formatName = "png";
+    return h;
+}
+
+} // namespace
+
+std::optional<RasterInfo> describePngRaster(const std::string& path) {
+    std::optional<PngHeader> h = readPngHeader(path);
+    return h ? std::optional<RasterInfo>(h->info) : std::nullopt;
+}
+
+std::unique_ptr<DecodedRows> openPngRaster(const std::string& path, int cacheMegabytes) {
+    std::optional<PngHeader> h = readPngHeader(path);
+    if (!h) {
+        return nullptr;
+    }
+    std::unique_ptr<PngDecoder> decoder = std::move(h->decoder);
+    const bool interlaced = h->interlaced;
+    const RasterInfo& info = h->info;
+    const auto height = static_cast<size_t>(info.height);
     auto rows = std::make_unique<DecodedRows>(path, info, cacheMegabytes, 16);
     if (!interlaced) {
         rows->start(std::move(decoder));

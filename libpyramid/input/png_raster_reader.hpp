@@ -7,6 +7,7 @@
 // into colour.
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "libpyramid/input/decoded_rows.hpp"
@@ -19,5 +20,7 @@ namespace pyramid {
 // image larger than the budget. Reads of a damaged image throw Error("PATH: cannot read:
 // damaged or truncated PNG (...)").
 std::unique_ptr<DecodedRows> openPngRaster(const std::string& path, int cacheMegabytes);
+// What openPngRaster would open, from the header alone (nothing decoded, no budget applied).
+std::optional<RasterInfo> describePngRaster(const std::string& path);
 
 } // namespace pyramid

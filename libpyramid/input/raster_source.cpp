@@ -102,6 +102,14 @@ RasterInfo RasterSource::describe(const std::string& path) {
     if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {
         return *tiff;
     }
+    // PNG and JPEG from their headers: opening one would decode it, and an interlaced or
+    // progressive image must fit the budget, which a description does not need.
+    if (std::optional<RasterInfo> png = describePngRaster(path)) {
+        return *png;
+    }
+    if (std::optional<RasterInfo> jpeg = describeJpegRaster(path)) {
+        return *jpeg;
+    }
     return open(path, 1)->info();
 }
 
