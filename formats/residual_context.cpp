@@ -1,3 +1,6 @@
+// Context-coded residual tiles (doc/format.md, 1.8): the public entry points, and the coder of
+// versions 0 and 1 (version 2's is in residual_context_v2.cpp, the shared parts in
+// residual_context_models.hpp).
 #include "formats/residual_context.hpp"
 
 #include <algorithm>
@@ -7,172 +10,24 @@
 #include <cstring>
 
 #include "formats/error.hpp"
+#include "formats/residual_context_models.hpp"
+#include "formats/residual_context_v2.hpp"
 #include "formats/residual_range_coder.hpp"
 
 namespace pyramid {
 
 namespace {
 
-using context_coding::RangeDecoder;
-using context_coding::RangeEncoder;
+using namespace context_coding;
 
-// The codec's constants: part of the format (doc/format.md, 1.8). Changing any of them changes
-// every blob.
-constexpr uint32_t kDirect = 32;                // zigzag values 0..31 are symbols of their own
-constexpr uint32_t kSymbols = kDirect + 1;      // and symbol 32 escapes larger ones
 // An escape's bit length - 1: 0..16 in version 0, 0..17 in version 1 (mode 2's values reach 79871).
 template <int Version>
 constexpr uint32_t kExponents = Version == 0 ? 17 : 18;
-constexpr int kActivityBins = 14;
-constexpr int kModels = kActivityBins * 4;      // activity bin x the sample's grid parity
-constexpr uint32_t kIncrement = 24;             // a symbol's count grows by this when coded
-constexpr uint32_t kTotalLimit = 1u << 16;      // counts are halved when their total passes it
-constexpr size_t kHeaderBytes = 8;
-constexpr uint8_t kVersion = 1;                 // the version the encoder writes
+constexpr uint8_t kVersion = 2; // the version the encoder writes
 
-// Version 1's initial counts: in table 4B + p of a sample of odd column or row (p > 0), symbol
-// z starts at 1 + floor(32 theta^m) with m = ceil(z / 2) (16 for the escape) and theta =
-// kTheta[B] / 256, in the fixed point of initialCounts; samples of even column and row (p = 0)
-// copy their parent, so their tables start with 33 for symbol 0 (theta = 0).
-constexpr std::array<uint32_t, kActivityBins> kTheta = {8, 96, 140, 160, 180, 200, 220, 232, 238, 240, 242, 242, 242, 242};
-constexpr uint32_t kPriorWeight = 32;
-
-// Version 1's mode 2: a prediction of each residual from the residuals left (W), below (S),
-// below-left (SW), below-right (SE), two left (WW) and two below (SS), with weights in 16ths
-// per place in the upsampling grid: (x odd, y even), (x even, y odd), (x odd, y odd). Samples of
-// even column and row are predicted as 0.
-constexpr int kPredictionWeights[3][6] = {
-    // W   S  SW  SE  WW  SS
-    {0, 5, -2, -2, -4, -1},
-    {10, 0, -2, 2, -3, -3},
-    {12, 6, 0, 0, -3, -2},
-};
-
-// An adaptive frequency table: counts start as the version says, grow by kIncrement when their
-// symbol is coded, and are halved (rounding up) when their total passes kTotalLimit, so that
-// every total stays within the coder's 16 bits.
-template <uint32_t N>
-struct Model {
-    std::array<uint32_t, N> count;
-    uint32_t total = N;
-    Model() { count.fill(1); }
-    void start(const std::array<uint32_t, N>& counts) {
-        count = counts;
-        total = 0;
-        for (const uint32_t c : count) {
-            total += c;
-        }
-    }
-    void update(uint32_t s) {
-        count[s] += kIncrement;
-        total += kIncrement;
-        if (total > kTotalLimit) {
-            total = 0;
-            for (uint32_t& c : count) {
-                c = (c + 1) / 2;
-                total += c;
-            }
-        }
-    }
-    uint32_t cumulative(uint32_t s) const {
-        uint32_t sum = 0;
-        for (uint32_t k = 0; k < s; ++k) {
-            sum += count[k];
-        }
-        return sum;
-    }
-};
-
-// Version 1's initial counts of value table `table` (doc/format.md, 1.8).
-std::array<uint32_t, kSymbols> initialCounts(int table) {
-    const uint32_t theta = table % 4 == 0 ? 0 : kTheta[static_cast<size_t>(table / 4)];
-    std::array<uint32_t, 17> weight{}; // kPriorWeight theta^m in 16.16 fixed point
-    weight[0] = kPriorWeight << 16;
-    for (size_t m = 1; m < weight.size(); ++m) {
-        weight[m] = (weight[m - 1] * theta) >> 8;
-    }
-    std::array<uint32_t, kSymbols> counts{};
-    for (uint32_t z = 0; z < kSymbols; ++z) {
-        const uint32_t m = z == kDirect ? 16 : (z + 1) / 2;
-        counts[z] = 1 + (weight[m] >> 16);
-    }
-    return counts;
-}
-
-uint32_t zigzag(int32_t v) { return v >= 0 ? 2u * static_cast<uint32_t>(v) : 2u * static_cast<uint32_t>(-v) - 1u; }
-int32_t unzigzag(uint32_t z) {
-    return (z & 1u) != 0 ? -static_cast<int32_t>((z + 1u) / 2u) : static_cast<int32_t>(z / 2u);
-}
-
-// The median predictor of a sample from its left (a), lower (b) and lower-left (c) neighbours
-// in storage order; on the first row and column the missing ones are taken as doc/format.md
-// says: a = b on the first column, b = c = a on the first row, and 0 for the first sample.
-int32_t medianPrediction(const int32_t* r, int x, int y, int size) {
-    const size_t i = static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x);
-    const auto s = static_cast<size_t>(size);
-    const int32_t a = x > 0 ? r[i - 1] : (y > 0 ? r[i - s] : 0);
-    const int32_t b = y > 0 ? r[i - s] : a;
-    const int32_t c = x > 0 && y > 0 ? r[i - s - 1] : a;
-    if (c >= std::max(a, b)) {
-        return std::min(a, b);
-    }
-    if (c <= std::min(a, b)) {
-        return std::max(a, b);
-    }
-    return a + b - c;
-}
-
-// Mode 2's prediction (version 1): residuals outside the tile are 0; the weighted sum in 16ths,
-// rounded by (sum + 8) >> 4 (an arithmetic shift: floor).
-int32_t gridPrediction(const int32_t* r, int x, int y, int size) {
-    const int parity = (x & 1) + 2 * (y & 1);
-    if (parity == 0) {
-        return 0;
-    }
-    const int* w = kPredictionWeights[parity - 1];
-    const size_t i = static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x);
-    const auto s = static_cast<size_t>(size);
-    int32_t sum = 0;
-    if (x > 0) {
-        sum += w[0] * r[i - 1] + (y > 0 ? w[2] * r[i - s - 1] : 0);
-    }
-    if (y > 0) {
-        sum += w[1] * r[i - s] + (x + 1 < size ? w[3] * r[i - s + 1] : 0);
-    }
-    if (x > 1) {
-        sum += w[4] * r[i - 2];
-    }
-    if (y > 1) {
-        sum += w[5] * r[i - 2 * s];
-    }
-    return (sum + 8) >> 4;
-}
-
-int32_t prediction(int mode, const int32_t* r, int x, int y, int size) {
-    if (mode == 0) {
-        return 0;
-    }
-    return mode == 1 ? medianPrediction(r, x, y, size) : gridPrediction(r, x, y, size);
-}
-
-// The table of a sample: the activity of the values already coded around it (left and lower
-// twice, lower-left and lower-right once, and in version 1 two left and two below once; 0
-// outside the tile), in bins of powers of two, and the sample's parity in the tile (even columns
-// and rows copy the parent in the upsampling grid).
 template <int Version>
 int modelOf(const uint32_t* magnitude, int x, int y, int size) {
-    const size_t i = static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x);
-    const auto s = static_cast<size_t>(size);
-    const uint32_t w = x > 0 ? magnitude[i - 1] : 0;
-    const uint32_t south = y > 0 ? magnitude[i - s] : 0;
-    const uint32_t sw = x > 0 && y > 0 ? magnitude[i - s - 1] : 0;
-    const uint32_t se = y > 0 && x + 1 < size ? magnitude[i - s + 1] : 0;
-    uint32_t activity = 2 * w + 2 * south + sw + se;
-    if constexpr (Version >= 1) {
-        activity += (x > 1 ? magnitude[i - 2] : 0) + (y > 1 ? magnitude[i - 2 * s] : 0);
-    }
-    const int bin = std::min(kActivityBins - 1, static_cast<int>(std::bit_width(activity)));
-    return bin * 4 + (x & 1) + 2 * (y & 1);
+    return tableOf(activityOf<Version>(magnitude, x, y, size), x, y);
 }
 
 template <int Version>
@@ -313,19 +168,20 @@ std::vector<uint8_t> encodeContextResiduals(std::span<const int16_t> residuals, 
     if (size < 1 || size > 65535 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
         fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
     }
-    if (version < 0 || version > 1 || mode < -1 || mode > version + 1) {
+    if (version < 0 || version > 2 || mode < -1 || mode > std::min(version, 1) + 1) {
         fail("", "context-coded residual tile: no mode " + std::to_string(mode) + " in version " + std::to_string(version));
     }
     const auto encode = [&](int m) {
-        return version == 0 ? encodeMode<0>(residuals, size, static_cast<uint8_t>(m))
-                            : encodeMode<1>(residuals, size, static_cast<uint8_t>(m));
+        const auto u = static_cast<uint8_t>(m);
+        return version == 0 ? encodeMode<0>(residuals, size, u)
+                            : version == 1 ? encodeMode<1>(residuals, size, u) : encodeVersion2(residuals, size, u);
     };
     if (mode >= 0) {
         return encode(mode);
     }
     // Every mode of the version in order, the first of equal sizes kept.
     std::vector<uint8_t> best = encode(0);
-    for (int m = 1; m <= version + 1; ++m) {
+    for (int m = 1; m <= std::min(version, 1) + 1; ++m) {
         std::vector<uint8_t> other = encode(m);
         if (other.size() < best.size()) {
             best = std::move(other);
@@ -345,11 +201,18 @@ std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int s
     }
     const uint8_t mode = blob[6];
     const uint8_t version = blob[7];
-    if (version > 1 || mode > version + 1) {
+    if (version > 2 || mode > std::min<int>(version, 1) + 1) {
         fail(where, "context-coded residual tile of an unknown kind (mode " + std::to_string(mode) + ", version " +
                         std::to_string(version) + ")");
     }
-    return version == 0 ? decodeMode<0>(blob, size, mode, where) : decodeMode<1>(blob, size, mode, where);
+    switch (version) {
+    case 0:
+        return decodeMode<0>(blob, size, mode, where);
+    case 1:
+        return decodeMode<1>(blob, size, mode, where);
+    default:
+        return decodeVersion2(blob, size, mode, where);
+    }
 }
 
 } // namespace pyramid

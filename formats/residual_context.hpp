@@ -16,19 +16,19 @@ inline constexpr uint8_t kContextResidualMagic[4] = {'P', 'Y', 'R', 'C'};
 // True when `blob` starts with kContextResidualMagic.
 bool isContextResidualBlob(std::span<const uint8_t> blob);
 
-// Codes size x size residuals (rows as the file stores them) in the current version (1). Each
-// tile is coded in every mode of its version (version 0: the residuals as they are, and their
-// differences from the median predictor of their left, lower and lower-left neighbours; version
-// 1 adds their differences from a fixed prediction per place in the upsampling grid) and the
-// smallest blob is kept; the choice is recorded in it.
+// Codes size x size residuals (rows as the file stores them) in the current version (2). Each
+// tile is coded in every mode of its version (the residuals as they are; their differences from
+// the median predictor of their left, lower and lower-left neighbours; from version 1 on, their
+// differences from a fixed prediction per place in the upsampling grid) and the smallest blob is
+// kept; the choice is recorded in it.
 std::vector<uint8_t> encodeContextResiduals(std::span<const int16_t> residuals, int size);
-// The same in a given version (0 or 1), in its best mode (-1) or the one given (tests and
+// The same in a given version (0, 1 or 2), in its best mode (-1) or the one given (tests and
 // comparisons).
 std::vector<uint8_t> encodeContextResiduals(std::span<const int16_t> residuals, int size, int version, int mode = -1);
 
 // Decodes a blob of encodeContextResiduals for a tile of `size` samples a side. Throws Error
 // with `where` for any blob the encoder cannot have written: another size, an unknown mode or
-// version (0 and 1 are read), a stream that ends early or has bytes left over, values beyond int16.
+// version (0, 1 and 2 are read), a stream that ends early or has bytes left over, values beyond int16.
 std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int size, const std::string& where);
 
 } // namespace pyramid

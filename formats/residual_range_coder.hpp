@@ -1,9 +1,10 @@
 // The range coder of context-coded residual tiles (doc/format.md, 1.8), shared by the tile's
 // versions: 32-bit range, 64-bit low with carry propagation, bytes out most significant first.
-// Version 0 codes symbols of adaptive frequency tables (encode/decodeFrequency), version 1
-// binary decisions of adaptive probabilities (BitModel) and equally likely bits.
+// Every version codes symbols of adaptive frequency tables (encode/decodeFrequency) and equally
+// likely bits; version 2 also binary decisions of adaptive probabilities (BitModel).
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -15,21 +16,21 @@ namespace pyramid::context_coding {
 
 inline constexpr uint32_t kTop = 1u << 24; // the coder renormalises below this range
 
-// An adaptive binary probability (version 1): two 16-bit estimates of the probability of a 0,
-// one fast (shift 4) and one slow (shift 7); a decision is coded with their mean in 12 bits,
-// q = (fast + slow) >> 5, which stays within 4..4091 (doc/format.md, 1.8).
+// An adaptive binary probability (version 2's signs and escape bits): two 16-bit estimates of
+// the probability of a 0, one fast (shift 4) and one slow (shift 7); a decision is coded with
+// their mean in 12 bits, q = (fast + slow) >> 5, which stays within 4..4091 (doc/format.md, 1.8).
 struct BitModel {
     uint16_t fast = 32768;
     uint16_t slow = 32768;
     uint32_t probability() const { return (static_cast<uint32_t>(fast) + slow) >> 5; }
+    // Both ways computed and one kept by a mask (no branch: a sign is about as likely one way as
+    // the other).
     void update(int bit) {
-        if (bit == 0) {
-            fast = static_cast<uint16_t>(fast + ((65536u - fast) >> 4));
-            slow = static_cast<uint16_t>(slow + ((65536u - slow) >> 7));
-        } else {
-            fast = static_cast<uint16_t>(fast - (fast >> 4));
-            slow = static_cast<uint16_t>(slow - (slow >> 7));
-        }
+        const uint32_t one = 0u - static_cast<uint32_t>(bit);
+        const uint32_t f = fast;
+        const uint32_t s = slow;
+        fast = static_cast<uint16_t>(((f + ((65536u - f) >> 4)) & ~one) | ((f - (f >> 4)) & one));
+        slow = static_cast<uint16_t>(((s + ((65536u - s) >> 7)) & ~one) | ((s - (s >> 7)) & one));
     }
 };
 
@@ -49,7 +50,7 @@ public:
             encode(value, 1, 1u << bits);
         }
     }
-    // One binary decision (version 1).
+    // One binary decision (version 2).
     int encodeBit(BitModel& m, int bit) {
         const uint32_t bound = (range_ >> 12) * m.probability();
         if (bit == 0) {
@@ -62,7 +63,7 @@ public:
         normalise();
         return bit;
     }
-    // `bits` equally likely bits, most significant first, each halving the range (version 1).
+    // `bits` equally likely bits, most significant first, each halving the range (no version uses them).
     uint32_t encodeEqualBits(uint32_t value, int bits) {
         for (int k = bits - 1; k >= 0; --k) {
             range_ >>= 1;
@@ -121,6 +122,24 @@ public:
         r_ = range_ / total;
         return std::min(code_ / r_, total - 1);
     }
+    // The symbol of the table `count` (total `total`) whose interval holds the code, consumed:
+    // the same as decodeFrequency, a search and consume, without dividing the code (version 2).
+    template <size_t N>
+    uint32_t decodeSymbol(const std::array<uint32_t, N>& count, uint32_t total) {
+        const uint32_t r = range_ / total;
+        uint32_t s = 0;
+        uint32_t low = 0;
+        uint32_t width = r * count[0];
+        while (s + 1 < N && low + width <= code_) {
+            low += width;
+            ++s;
+            width = r * count[s];
+        }
+        code_ -= low;
+        range_ = width;
+        normalise();
+        return s;
+    }
     void consume(uint32_t cum, uint32_t freq) {
         code_ -= r_ * cum;
         range_ = r_ * freq;
@@ -136,14 +155,10 @@ public:
     }
     int decodeBit(BitModel& m) {
         const uint32_t bound = (range_ >> 12) * m.probability();
-        int bit = 0;
-        if (code_ < bound) {
-            range_ = bound;
-        } else {
-            code_ -= bound;
-            range_ -= bound;
-            bit = 1;
-        }
+        const int bit = code_ >= bound ? 1 : 0;
+        const uint32_t mask = 0u - static_cast<uint32_t>(bit);
+        code_ -= bound & mask;
+        range_ = (bound & ~mask) | ((range_ - bound) & mask);
         m.update(bit);
         normalise();
         return bit;

@@ -57,8 +57,8 @@ std::vector<int16_t> roundTrip(const std::vector<int16_t>& v, int size) {
 
 TEST(ContextResiduals, RoundTripsEveryKindOfTile) {
     for (const int size : {1, 2, 5, 29, 197}) {
-        // Every mode of both versions, on the int16 extremes and noise.
-        for (const auto& [version, modes] : {std::pair{0, 2}, std::pair{1, 3}}) {
+        // Every mode of every version, on the int16 extremes and noise.
+        for (const auto& [version, modes] : {std::pair{0, 2}, std::pair{1, 3}, std::pair{2, 3}}) {
             for (int mode = 0; mode < modes; ++mode) {
                 for (const std::vector<int16_t>& v : {noise(size, 300, 4), noise(size, 32767, 5)}) {
                     EXPECT_EQ(decodeContextResiduals(encodeContextResiduals(v, size, version, mode), size, "t"), v)
@@ -86,14 +86,14 @@ TEST(ContextResiduals, HeightsAreCodedAgainstTheMedianPredictorAndNoiseAsItIs) {
     const std::vector<uint8_t> residuals = encodeContextResiduals(noise(64, 4, 7), 64);
     EXPECT_EQ(heights[6], 1);   // mode: median prediction
     EXPECT_EQ(residuals[6], 0); // mode: as they are
-    EXPECT_EQ(heights[7], 1);   // version
+    EXPECT_EQ(heights[7], 2);   // version
     // Far below 16 bits a sample: near the 3.17 bits of 9 equally likely values.
     EXPECT_LT(residuals.size(), 64u * 64u * 7u / 16u);
     EXPECT_LT(heights.size(), residuals.size());
 }
 
 // The format's bytes, pinned: a change of the coder or its constants (doc/format.md, 1.8) fails
-// here before it reaches a file. Version 0's blobs stay readable as they were written.
+// here before it reaches a file. Version 0's and 1's blobs stay readable as they were written.
 TEST(ContextResiduals, BytesOfAKnownTileArePinned) {
     const std::vector<int16_t> tile = {0, 1, -1, 2, 0, 0, 40, -3, 5};
     const std::vector<uint8_t> version0 = {0x50, 0x59, 0x52, 0x43, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00,
@@ -106,7 +106,7 @@ TEST(ContextResiduals, BytesOfAKnownTileArePinned) {
                                         0xfd, 0xd9, 0x1f, 0x16, 0x88, 0x1d, 0xf0, 0xdf, 0x97, 0xd5, 0x0f, 0x00};
     const std::vector<uint8_t> mode2 = {0x50, 0x59, 0x52, 0x43, 0x05, 0x00, 0x02, 0x01, 0x00, 0x4d, 0xe4, 0x3f,
                                         0xde, 0x30, 0x67, 0x74, 0xd7, 0xa7, 0x76, 0xe0, 0xfd, 0x7d, 0x80, 0x00};
-    EXPECT_EQ(encodeContextResiduals(grid, 5), mode0); // modes 0 and 2 tie: the first is kept
+    EXPECT_EQ(encodeContextResiduals(grid, 5, 1), mode0); // modes 0 and 2 tie: the first is kept
     EXPECT_EQ(encodeContextResiduals(grid, 5, 1, 2), mode2);
     EXPECT_EQ(decodeContextResiduals(mode0, 5, "tile"), grid);
     EXPECT_EQ(decodeContextResiduals(mode2, 5, "tile"), grid);
@@ -144,12 +144,12 @@ TEST(ContextResiduals, DamagedBlobsAreRefusedWithTheirName) {
     refused(longer, 21, "1 bytes after the end");
     std::vector<uint8_t> mode = blob;
     mode[6] = 3;
-    refused(mode, 21, "unknown kind (mode 3, version 1)");
+    refused(mode, 21, "unknown kind (mode 3, version 2)");
     std::vector<uint8_t> version = blob;
-    version[7] = 2;
+    version[7] = 3;
     refused(version, 21, "unknown kind");
     std::vector<uint8_t> older = encodeContextResiduals(tile, 21, 0);
-    older[6] = 2; // mode 2 is version 1's
+    older[6] = 2; // mode 2 is from version 1 on
     refused(older, 21, "unknown kind (mode 2, version 0)");
     std::vector<uint8_t> start = blob;
     start[8] = 1;

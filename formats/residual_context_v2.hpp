@@ -1,0 +1,18 @@
+// Version 2 of the context-coded residual tile (doc/format.md, 1.8): each value's magnitude from
+// the sample's activity table, its sign as a binary decision in the context of its neighbours'
+// signs and its prediction's, and the top bits of large magnitudes as binary decisions too.
+// Internal to formats/residual_context*.cpp; formats/residual_context.hpp is the interface.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pyramid::context_coding {
+
+// The blob of size x size residuals in version 2 and `mode` (0, 1 or 2), header included.
+std::vector<uint8_t> encodeVersion2(std::span<const int16_t> residuals, int size, uint8_t mode);
+// The residuals of a version-2 blob whose header has been checked; throws Error with `where`.
+std::vector<int16_t> decodeVersion2(std::span<const uint8_t> blob, int size, uint8_t mode, const std::string& where);
+
+} // namespace pyramid::context_coding
