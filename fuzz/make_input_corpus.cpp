@@ -1,13 +1,15 @@
 // Writes the seed inputs of raster_input_fuzz into tests/corpus/input/: small valid rasters in
 // every layout the input readers take, for the fuzzer to mutate. Deterministic; run by hand
 // after changing it:
-//   g++ -std=c++20 fuzz/make_input_corpus.cpp -o /tmp/make_input_corpus -ltiff -lpng
+//   g++ -std=c++20 fuzz/make_input_corpus.cpp -o /tmp/make_input_corpus -ltiff -lpng -ljpeg
 //   /tmp/make_input_corpus tests/corpus/input
 #include <png.h>
 #include <tiffio.h>
 
 #include <cstdint>
 #include <cstdio>
+// jpeglib.h needs FILE and size_t declared first.
+#include <jpeglib.h>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -126,6 +128,40 @@ bool writePng(const std::string& dir, const char* name, int depth, int colour, i
 
 } // namespace
 
+// A JPEG file of `components` (1: grey, 3: YCbCr with 2 x 2 chroma), baseline or progressive.
+bool writeJpeg(const std::string& dir, const char* name, int components, bool progressive) {
+    FILE* f = std::fopen((dir + "/" + name).c_str(), "wb");
+    if (!f) {
+        return false;
+    }
+    jpeg_compress_struct c{};
+    jpeg_error_mgr errors{};
+    c.err = jpeg_std_error(&errors);
+    jpeg_create_compress(&c);
+    jpeg_stdio_dest(&c, f);
+    c.image_width = kWidth;
+    c.image_height = kHeight;
+    c.input_components = components;
+    c.in_color_space = components == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, 80, TRUE);
+    if (progressive) {
+        jpeg_simple_progression(&c);
+    }
+    jpeg_start_compress(&c, TRUE);
+    std::vector<uint8_t> row(kWidth * static_cast<uint32_t>(components));
+    for (uint32_t y = 0; y < kHeight; ++y) {
+        for (size_t k = 0; k < row.size(); ++k) {
+            row[k] = static_cast<uint8_t>(k * 5 + y * 11);
+        }
+        JSAMPROW rows[1] = {row.data()};
+        jpeg_write_scanlines(&c, rows, 1);
+    }
+    jpeg_finish_compress(&c);
+    jpeg_destroy_compress(&c);
+    return std::fclose(f) == 0;
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::fprintf(stderr, "usage: %s DIRECTORY\n", argv[0]);
@@ -151,5 +187,7 @@ int main(int argc, char** argv) {
     ok = writePng(dir, "grey16.png", 16, PNG_COLOR_TYPE_GRAY, 1, false) && ok;
     ok = writePng(dir, "rgb8.png", 8, PNG_COLOR_TYPE_RGB, 3, false) && ok;
     ok = writePng(dir, "rgba8-interlaced.png", 8, PNG_COLOR_TYPE_RGB_ALPHA, 4, true) && ok;
+    ok = writeJpeg(dir, "grey.jpg", 1, false) && ok;
+    ok = writeJpeg(dir, "ycbcr-progressive.jpg", 3, true) && ok;
     return ok ? 0 : 1;
 }
