@@ -1,5 +1,5 @@
-# Shared by the benchmark scripts (sourced, not run): installing the peers and tools, and timing
-# a command. Benchmarks only: nothing here is used by the product or its tests.
+# Shared by the benchmark scripts (sourced, not run): installing the peers and tools, timing a
+# command, and pairing two. Benchmarks only: nothing here is used by the product or its tests.
 
 as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 
@@ -46,3 +46,25 @@ build_programs() {
     cmake --build "$BUILD" -j"$(nproc)" --target "$@" >/dev/null
 }
 program_path() { find "$BUILD" -name "$1" -type f -perm -u+x | head -n 1; }
+
+# median VALUE...: the middle value (the upper middle one of an even count).
+median() { printf '%s\n' "$@" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
+
+# paired_runs PAIRS: runs the command in the array PAIR_A, then the one in PAIR_B, PAIRS times in
+# turn (A B A B ...; PAIR_A_CLEAN and PAIR_B_CLEAN, if set, are evaluated before each of their
+# runs), and sets A_S and B_S (the median wall times), RATIO (the median of the pairs' A / B) and
+# A_RSS_MB and B_RSS_MB (the largest peak RSS of each).
+paired_runs() {
+    local a=() b=() ratios=() k
+    A_RSS_MB=0 B_RSS_MB=0
+    for ((k = 0; k < $1; ++k)); do
+        BEFORE_RUN=${PAIR_A_CLEAN:-} timed_runs 1 "${PAIR_A[@]}"
+        a+=("$WALL_S")
+        A_RSS_MB=$((PEAK_RSS_MB > A_RSS_MB ? PEAK_RSS_MB : A_RSS_MB))
+        BEFORE_RUN=${PAIR_B_CLEAN:-} timed_runs 1 "${PAIR_B[@]}"
+        b+=("$WALL_S")
+        B_RSS_MB=$((PEAK_RSS_MB > B_RSS_MB ? PEAK_RSS_MB : B_RSS_MB))
+        ratios+=("$(awk -v x="${a[k]}" -v y="$WALL_S" 'BEGIN {printf "%.3f", x / y}')")
+    done
+    A_S=$(median "${a[@]}") B_S=$(median "${b[@]}") RATIO=$(median "${ratios[@]}")
+}

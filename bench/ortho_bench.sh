@@ -138,7 +138,6 @@ paired() {
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$input" "$label" "$(median "${ours[@]}")" "$(median "${gdal[@]}")" \
         "$(median "${ratios[@]}")" "$rss" "$bytes" "$tiles" $((side * side)) | tee -a "$PAIRED"
 }
-median() { printf '%s\n' "$@" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
 
 for input in $INPUTS; do
     read -r -a tile <<<"$(tile_args "$input")"

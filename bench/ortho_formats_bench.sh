@@ -65,24 +65,16 @@ variant image.jpg image.part.jpg oiiotool "$IMAGE" --compression jpeg:90 -o imag
 FORMATS=${FORMATS:-none.tif deflate.tif lzw-pred.tif zstd.tif jpeg.tif webp.tif u16.tif image.png image.jpg}
 OURS=("$ORTHO" --quiet --threads "$THREADS")
 COG=(gdal_translate -q -of COG -co COMPRESS=DEFLATE -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
-median() { printf '%s\n' "$@" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
 
 RESULTS=$WORK/formats.tsv
 printf 'file\tbytes\tours_s\tgdal_s\tratio\tours_rss_mb\tgdal_rss_mb\n' >"$RESULTS"
 for file in $FORMATS; do
-    ours=() gdal=() ratios=() rss=0 grss=0
-    for ((k = 0; k < REPEAT; ++k)); do
-        BEFORE_RUN="rm -rf out-ours" timed_runs 1 "${OURS[@]}" "$file" -o out-ours
-        ours+=("$WALL_S")
-        rss=$((PEAK_RSS_MB > rss ? PEAK_RSS_MB : rss))
-        BEFORE_RUN="rm -f out-cog.tif" timed_runs 1 "${COG[@]}" "$file" out-cog.tif
-        gdal+=("$WALL_S")
-        grss=$((PEAK_RSS_MB > grss ? PEAK_RSS_MB : grss))
-        ratios+=("$(awk -v a="${ours[k]}" -v b="$WALL_S" 'BEGIN {printf "%.3f", a / b}')")
-    done
     [ "$REPEAT" -gt 0 ] || continue
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$file" "$(stat -c %s "$file")" "$(median "${ours[@]}")" \
-        "$(median "${gdal[@]}")" "$(median "${ratios[@]}")" "$rss" "$grss" | tee -a "$RESULTS"
+    PAIR_A=("${OURS[@]}" "$file" -o out-ours) PAIR_A_CLEAN="rm -rf out-ours"
+    PAIR_B=("${COG[@]}" "$file" out-cog.tif) PAIR_B_CLEAN="rm -f out-cog.tif"
+    paired_runs "$REPEAT"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$file" "$(stat -c %s "$file")" "$A_S" "$B_S" "$RATIO" "$A_RSS_MB" \
+        "$B_RSS_MB" | tee -a "$RESULTS"
 done
 rm -rf out-ours out-cog.tif
 

@@ -124,25 +124,18 @@ tile_args() { case $1 in noisy-6144 | synthetic-6144 | kodak-6144 | landsat-3072
 
 OURS=("$ORTHO" --quiet --threads "$THREADS" --report report.json)
 COG=(gdal_translate -q -of COG -co COMPRESS=DEFLATE -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
-median() { printf '%s\n' "$@" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
 
 RESULTS=$WORK/results.tsv
 printf 'input\tours_s\tgdal_s\tratio\tours_rss_mb\tours_bytes\tgdal_bytes\n' >"$RESULTS"
 for name in $INPUTS; do
     read -r -a tile <<<"$(tile_args "$name")"
-    ours=() gdal=() ratios=() rss=0
-    for ((k = 0; k < REPEAT; ++k)); do
-        BEFORE_RUN="rm -rf out-ours report.json" timed_runs 1 "${OURS[@]}" "$(input "$name")" -o out-ours "${tile[@]}" "${EXTRA_ARGS[@]}"
-        ours+=("$WALL_S")
-        rss=$((PEAK_RSS_MB > rss ? PEAK_RSS_MB : rss))
-        BEFORE_RUN="rm -f out-cog.tif" timed_runs 1 "${COG[@]}" "$(input "$name")" out-cog.tif
-        gdal+=("$WALL_S")
-        ratios+=("$(awk -v a="${ours[k]}" -v b="$WALL_S" 'BEGIN {printf "%.3f", a / b}')")
-    done
     [ "$REPEAT" -gt 0 ] || continue
+    PAIR_A=("${OURS[@]}" "$(input "$name")" -o out-ours "${tile[@]}" "${EXTRA_ARGS[@]}") PAIR_A_CLEAN="rm -rf out-ours report.json"
+    PAIR_B=("${COG[@]}" "$(input "$name")" out-cog.tif) PAIR_B_CLEAN="rm -f out-cog.tif"
+    paired_runs "$REPEAT"
     bytes=$(find out-ours -type f -name '*.dat' -printf '%s\n' | awk '{s += $1} END {print s}')
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(median "${ours[@]}")" "$(median "${gdal[@]}")" \
-        "$(median "${ratios[@]}")" "$rss" "$bytes" "$(stat -c %s out-cog.tif)" | tee -a "$RESULTS"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$A_S" "$B_S" "$RATIO" "$A_RSS_MB" "$bytes" \
+        "$(stat -c %s out-cog.tif)" | tee -a "$RESULTS"
 done
 rm -rf out-ours out-cog.tif
 
