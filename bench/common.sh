@@ -68,3 +68,16 @@ paired_runs() {
     done
     A_S=$(median "${a[@]}") B_S=$(median "${b[@]}") RATIO=$(median "${ratios[@]}")
 }
+
+# markdown_table TSV HEADER FORMAT: the rows of TSV (its first line, the column names, skipped) as
+# a Markdown table under HEADER (the column titles separated by |), each row printed with awk's
+# printf FORMAT over its first seven fields; then where the raw figures are.
+markdown_table() {
+    echo
+    awk -F'\t' -v header="$2" -v format="$3" '
+        NR == 1 { n = split(header, h, "|"); line = "|"; rule = "|"
+                  for (i = 1; i <= n; ++i) { line = line " " h[i] " |"; rule = rule "---|" }
+                  print line; print rule; next }
+        { printf format, $1, $2, $3, $4, $5, $6, $7 }' "$1"
+    echo "raw figures: $1"
+}

@@ -77,9 +77,4 @@ for file in $FORMATS; do
         "$B_RSS_MB" | tee -a "$RESULTS"
 done
 rm -rf out-ours out-cog.tif
-
-echo
-awk -F'\t' 'NR == 1 { print "| file | bytes | ours s | GDAL s | ours/GDAL (median of pairs) | ours RSS MB | GDAL RSS MB |"
-                      print "|---|---|---|---|---|---|---|"; next }
-            { printf "| %s | %d | %.2f | %.2f | **%.2f** | %d | %d |\n", $1, $2, $3, $4, $5, $6, $7 }' "$RESULTS"
-echo "raw figures: $RESULTS"
+markdown_table "$RESULTS" 'file|bytes|ours s|GDAL s|ours/GDAL (median of pairs)|ours RSS MB|GDAL RSS MB' '| %s | %d | %.2f | %.2f | **%.2f** | %d | %d |\n'

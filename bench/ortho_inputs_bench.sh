@@ -138,9 +138,4 @@ for name in $INPUTS; do
         "$(stat -c %s out-cog.tif)" | tee -a "$RESULTS"
 done
 rm -rf out-ours out-cog.tif
-
-echo
-awk -F'\t' 'NR == 1 { print "| input | ours s | GDAL s | ours/GDAL (median of pairs) | ours RSS MB | ours bytes | GDAL bytes |"
-                      print "|---|---|---|---|---|---|---|"; next }
-            { printf "| %s | %.2f | %.2f | **%.2f** | %d | %d | %d |\n", $1, $2, $3, $4, $5, $6, $7 }' "$RESULTS"
-echo "raw figures: $RESULTS"
+markdown_table "$RESULTS" 'input|ours s|GDAL s|ours/GDAL (median of pairs)|ours RSS MB|ours bytes|GDAL bytes' '| %s | %.2f | %.2f | **%.2f** | %d | %d | %d |\n'
