@@ -52,6 +52,8 @@ RunResult run(const std::string& commandLine) {
     return r;
 }
 
+std::string shellQuoted(const std::string& s) { return "'" + s + "'"; }
+
 bool fileExists(const std::string& path) { return std::filesystem::exists(path); }
 
 std::string readFile(const std::string& path) {

@@ -35,6 +35,8 @@ struct RunResult {
 };
 // Runs a shell command line, capturing stdout and stderr.
 RunResult run(const std::string& commandLine);
+// `s` in single quotes: one word of a shell command line (a path without a quote in it).
+std::string shellQuoted(const std::string& s);
 
 bool fileExists(const std::string& path);
 std::string readFile(const std::string& path);
