@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -53,6 +54,8 @@ RunResult run(const std::string& commandLine) {
 }
 
 std::string shellQuoted(const std::string& s) { return "'" + s + "'"; }
+
+size_t lines(const std::string& s) { return static_cast<size_t>(std::count(s.begin(), s.end(), '\n')); }
 
 bool fileExists(const std::string& path) { return std::filesystem::exists(path); }
 

@@ -1,5 +1,6 @@
 // Where the tests find their data and the programs they run, and small helpers to run them.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -37,6 +38,8 @@ struct RunResult {
 RunResult run(const std::string& commandLine);
 // `s` in single quotes: one word of a shell command line (a path without a quote in it).
 std::string shellQuoted(const std::string& s);
+// How many lines a program wrote (the newlines in `s`).
+size_t lines(const std::string& s);
 
 bool fileExists(const std::string& path);
 std::string readFile(const std::string& path);
