@@ -66,6 +66,11 @@ std::string readFile(const std::string& path) {
     return s.str();
 }
 
+std::vector<uint8_t> bytesOf(const std::string& path) {
+    const std::string text = readFile(path);
+    return std::vector<uint8_t>(text.begin(), text.end());
+}
+
 std::map<std::string, std::string> filesUnder(const std::string& root) {
     std::map<std::string, std::string> files;
     for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace pyramid::test {
 
@@ -43,6 +44,7 @@ size_t lines(const std::string& s);
 
 bool fileExists(const std::string& path);
 std::string readFile(const std::string& path);
+std::vector<uint8_t> bytesOf(const std::string& path); // readFile's bytes
 // Every regular file under `root` (hidden ones included), by its path relative to `root`, with
 // its bytes: two builds compare equal when they wrote the same files, byte for byte.
 std::map<std::string, std::string> filesUnder(const std::string& root);
