@@ -4,9 +4,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <memory>
+#include <optional>
 #include <sstream>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -14,8 +17,6 @@
 #include "formats/error.hpp"
 #include "formats/georeference_sidecar.hpp"
 #include "formats/pyramid_file_rules.hpp"
-#include "formats/ortho_file.hpp"
-#include "formats/residual_file.hpp"
 
 namespace pyramid {
 
@@ -44,16 +45,6 @@ std::string tileText(const RegionRoot& r) {
 }
 
 namespace {
-
-bool endsWith(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// A path of the index, relative to the index's directory.
-std::string besideIndex(const std::string& index, const std::string& file) {
-    const fs::path dir = fs::path(index).parent_path();
-    return dir.empty() ? file : (dir / file).string();
-}
 
 void checkRoot(const RegionRoot& r, const std::string& path) {
     if (r.level < 1 || r.level > kMaxLevel) {
@@ -89,25 +80,6 @@ void checkIndex(const RegionIndex& index, const std::string& path) {
         }
         checkRoot(e.root, path);
     }
-}
-
-// The header fields the set's rules compare, for either kind.
-struct FileFacts {
-    int rootLevel = 0, rootTx = 0, rootTy = 0, maxLevel = 0;
-    int minLevel = 0; // residual: levels below it hold one tile
-};
-
-// True when the file of `facts` holds absolute tile (level, tx, ty), as the runtime looks tiles
-// up (libpyramid/runtime/region_lookup.hpp): (tx, ty) relative to the root's tiles at `level`.
-bool holds(const FileFacts& f, int level, int tx, int ty) {
-    const int l = level - f.rootLevel;
-    if (l < 0 || l > f.maxLevel) {
-        return false;
-    }
-    const int64_t x = int64_t{tx} - (int64_t{f.rootTx} << l);
-    const int64_t y = int64_t{ty} - (int64_t{f.rootTy} << l);
-    const int64_t side = l < f.minLevel ? 1 : int64_t{1} << (l - f.minLevel);
-    return x >= 0 && y >= 0 && x < side && y < side;
 }
 
 } // namespace
@@ -282,240 +254,6 @@ RegionIndex makeRegionIndex(const std::string& mainFile, PyramidKind kind, const
     std::sort(index.regions.begin(), index.regions.end(),
               [](const RegionEntry& a, const RegionEntry& b) { return a.root < b.root; });
     return index;
-}
-
-std::string findRegionIndex(const std::string& path) {
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status)) {
-        return endsWith(path, ".json") ? path : std::string(); // for the readers' own messages
-    }
-    if (fs::is_directory(status)) {
-        std::vector<std::string> found;
-        for (const fs::directory_entry& e : fs::directory_iterator(path, ec)) {
-            const std::string name = e.path().filename().string();
-            if (endsWith(name, kRegionIndexSuffix) && e.is_regular_file()) {
-                found.push_back(name);
-            }
-        }
-        if (ec) {
-            fail(path, "cannot list the directory: " + ec.message());
-        }
-        std::sort(found.begin(), found.end());
-        if (found.empty()) {
-            fail(path, std::string("no region set index (*") + kRegionIndexSuffix + ") in this directory");
-        }
-        if (found.size() > 1) {
-            std::string names;
-            for (const std::string& f : found) {
-                names += (names.empty() ? "" : ", ") + f;
-            }
-            fail(path, "several region set indexes in this directory (" + names + "): name one");
-        }
-        return (fs::path(path) / found.front()).string();
-    }
-    if (endsWith(path, ".json")) {
-        return path;
-    }
-    const std::string beside = regionIndexPath(path);
-    return fs::exists(beside, ec) ? beside : std::string();
-}
-
-PyramidSet resolvePyramidSet(const std::string& path) {
-    PyramidSet set;
-    set.index = findRegionIndex(path);
-    if (set.index.empty()) {
-        set.main = path;
-        set.kind = detectPyramidKind(path);
-        return set;
-    }
-    const RegionIndex index = readRegionIndex(set.index);
-    set.kind = index.kind;
-    // A main file named by the user keeps the user's spelling in messages.
-    const bool named = set.index != path && fs::path(path).filename() == fs::path(index.main).filename() &&
-                       !fs::is_directory(path);
-    set.main = named ? path : besideIndex(set.index, index.main);
-    for (const RegionEntry& e : index.regions) {
-        set.regions.push_back(besideIndex(set.index, e.file));
-        set.roots.push_back(e.root);
-    }
-    return set;
-}
-
-std::vector<std::string> pyramidSetProblems(const PyramidSet& set) {
-    std::vector<std::string> problems;
-    if (set.index.empty()) {
-        return problems;
-    }
-    const char* kind = kindName(set.kind);
-    const auto problem = [&](const std::string& file, const std::string& what) { problems.push_back(file + ": " + what); };
-    // Opens one file of the set as the set's kind: null (and a problem) otherwise.
-    const auto open = [&](const std::string& file) -> std::unique_ptr<OpenedPyramid> {
-        std::error_code ec;
-        if (!fs::is_regular_file(file, ec)) {
-            problem(file, std::string("no such file (listed in ") + set.index + ")");
-            return nullptr;
-        }
-        try {
-            auto opened = std::make_unique<OpenedPyramid>(openPyramid(file));
-            if (opened->kind != set.kind) {
-                problem(file, std::string("holds ") + (opened->kind == PyramidKind::Residual ? "a" : "an") + " " +
-                                  kindName(opened->kind) + " pyramid; the set is " + kind);
-                return nullptr;
-            }
-            return opened;
-        } catch (const Error& e) {
-            problems.push_back(e.what());
-            return nullptr;
-        }
-    };
-    const auto main = open(set.main);
-    std::vector<FileFacts> facts(set.regions.size());
-    std::vector<bool> opened(set.regions.size(), false);
-    FileFacts mainFacts;
-    if (main) {
-        if (set.kind == PyramidKind::Residual) {
-            const ResidualHeader& h = main->residual->header();
-            mainFacts = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, h.minLevel};
-        } else {
-            const OrthoHeader& h = main->ortho->header();
-            mainFacts = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, 0};
-        }
-        if (mainFacts.rootLevel != 0) {
-            problem(set.main, "the main file of a set must be rooted at tile (0,0,0), not " +
-                                  tileText({mainFacts.rootLevel, mainFacts.rootTx, mainFacts.rootTy}));
-        }
-    }
-    for (size_t k = 0; k < set.regions.size(); ++k) {
-        const std::string& file = set.regions[k];
-        const RegionRoot& root = set.roots[k];
-        const auto region = open(file);
-        if (!region) {
-            continue;
-        }
-        std::vector<std::string> differs;
-        if (set.kind == PyramidKind::Residual) {
-            const ResidualHeader& h = region->residual->header();
-            facts[k] = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, h.minLevel};
-            if (h.minLevel != 0) {
-                differs.push_back("minLevel " + std::to_string(h.minLevel) + ", not 0");
-            }
-            if (main) {
-                const ResidualHeader& m = main->residual->header();
-                if (h.tileSize != m.tileSize) {
-                    differs.push_back("tile size " + std::to_string(h.tileSize) + ", the main file's is " +
-                                      std::to_string(m.tileSize));
-                }
-                if (h.scale != m.scale) {
-                    std::ostringstream s;
-                    s.precision(9);
-                    s << "scale " << h.scale << ", the main file's is " << m.scale;
-                    differs.push_back(s.str());
-                }
-            }
-        } else {
-            const OrthoHeader& h = region->ortho->header();
-            facts[k] = {h.rootLevel, h.rootTx, h.rootTy, h.maxLevel, 0};
-            if (main) {
-                const OrthoHeader& m = main->ortho->header();
-                if (h.tileSize != m.tileSize) {
-                    differs.push_back("tile size " + std::to_string(h.tileSize) + ", the main file's is " +
-                                      std::to_string(m.tileSize));
-                }
-                if (h.channels != m.channels) {
-                    differs.push_back(std::to_string(h.channels) + " channels, the main file's has " +
-                                      std::to_string(m.channels));
-                }
-                if (h.border() != m.border()) {
-                    differs.push_back("border " + std::to_string(h.border()) + ", the main file's is " +
-                                      std::to_string(m.border()));
-                }
-                if (h.dxt() != m.dxt()) {
-                    differs.push_back(std::string(h.dxt() ? "DXT" : "not DXT") + " tiles, the main file's are " +
-                                      (m.dxt() ? "DXT" : "not DXT"));
-                }
-            }
-        }
-        const RegionRoot headerRoot{facts[k].rootLevel, facts[k].rootTx, facts[k].rootTy};
-        if (headerRoot != root) {
-            differs.push_back("root " + tileText(headerRoot) + " in its header, the index says " + tileText(root));
-        }
-        for (const std::string& d : differs) {
-            problem(file, d);
-        }
-        opened[k] = differs.empty();
-    }
-    // Roots: one region each, and each inside the set (its parent tile held by another file).
-    std::map<RegionRoot, size_t> seen;
-    for (size_t k = 0; k < set.regions.size(); ++k) {
-        const RegionRoot& root = set.roots[k];
-        const auto [it, inserted] = seen.emplace(root, k);
-        if (!inserted) {
-            problem(set.regions[k], "root " + tileText(root) + " is also the root of " + set.regions[it->second]);
-            continue;
-        }
-        const RegionRoot parent{root.level - 1, root.tx / 2, root.ty / 2};
-        bool inside = main && holds(mainFacts, parent.level, parent.tx, parent.ty);
-        for (size_t o = 0; o < set.regions.size() && !inside; ++o) {
-            inside = o != k && opened[o] && holds(facts[o], parent.level, parent.tx, parent.ty);
-        }
-        if (!inside && main) {
-            problem(set.regions[k], "root " + tileText(root) + " lies outside the set: no file holds its parent tile " +
-                                        tileText(parent));
-        }
-    }
-    return problems;
-}
-
-PyramidSet openPyramidSet(const std::string& path) {
-    PyramidSet set = resolvePyramidSet(path);
-    const std::vector<std::string> problems = pyramidSetProblems(set);
-    if (!problems.empty()) {
-        throw Error(problems.front());
-    }
-    return set;
-}
-
-PyramidsUnder pyramidsUnder(const std::string& directory) {
-    PyramidsUnder found;
-    std::vector<std::string> dats;
-    std::error_code ec;
-    for (auto it = fs::recursive_directory_iterator(directory, ec); !ec && it != fs::recursive_directory_iterator();
-         it.increment(ec)) {
-        if (!it->is_regular_file(ec)) {
-            continue;
-        }
-        const std::string path = it->path().string();
-        if (endsWith(path, kRegionIndexSuffix)) {
-            found.sets.push_back(path);
-        } else if (endsWith(path, ".dat")) {
-            dats.push_back(path);
-        }
-    }
-    if (ec) {
-        fail(directory, "cannot list the directory: " + ec.message());
-    }
-    std::sort(found.sets.begin(), found.sets.end());
-    std::sort(dats.begin(), dats.end());
-    std::vector<std::string> listed; // the files the indexes name
-    for (const std::string& index : found.sets) {
-        try {
-            const PyramidSet set = resolvePyramidSet(index);
-            listed.push_back(fs::weakly_canonical(set.main).string());
-            for (const std::string& r : set.regions) {
-                listed.push_back(fs::weakly_canonical(r).string());
-            }
-        } catch (const Error&) {
-            // a bad index: its problems are the set's
-        }
-    }
-    std::sort(listed.begin(), listed.end());
-    for (const std::string& dat : dats) {
-        if (!std::binary_search(listed.begin(), listed.end(), fs::weakly_canonical(dat).string())) {
-            found.files.push_back(dat);
-        }
-    }
-    return found;
 }
 
 } // namespace pyramid

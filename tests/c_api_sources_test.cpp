@@ -1,81 +1,26 @@
 // The C API's other opens: memory and I/O callbacks give what paths give, on the original tools'
-// files and on region sets; the elevation producer's scale against residuals; the ownership of
-// the callbacks.
+// files and on region sets (residual and ortho).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cmath>
-#include <cstring>
-#include <limits>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
-#include "formats/residual_file.hpp"
 #include "libpyramid/capi/pyramid.h"
-#include "libpyramid/filters/elevation_upsample.hpp"
-#include "libpyramid/runtime/residual_producer.hpp"
+#include "tests/support/c_api_sources.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {
 namespace {
 
-std::vector<uint8_t> bytesOf(const std::string& path) {
-    const std::string text = test::readFile(path);
-    return std::vector<uint8_t>(text.begin(), text.end());
-}
-
-// I/O callbacks over bytes in memory, counting reads and releases; reads fail from the
-// `failAt`-th on (0: never).
-struct MemoryIo {
-    std::vector<uint8_t> data;
-    std::atomic<long> reads{0};
-    std::atomic<int> released{0};
-    long failAt = 0;
-
-    static int read(void* user, uint64_t offset, void* buffer, size_t size, size_t* bytesRead) {
-        auto* io = static_cast<MemoryIo*>(user);
-        const long n = ++io->reads;
-        if ((io->failAt != 0 && n >= io->failAt) || offset > io->data.size() || size > io->data.size() - offset) {
-            return 1;
-        }
-        std::memcpy(buffer, io->data.data() + offset, size);
-        *bytesRead = size;
-        return 0;
-    }
-    static void release(void* user) { ++static_cast<MemoryIo*>(user)->released; }
-};
-
-pyramid_source pathSource(const std::string& path) {
-    pyramid_source s{};
-    s.struct_size = sizeof s;
-    s.kind = PYRAMID_SOURCE_PATH;
-    s.path = path.c_str();
-    return s;
-}
-
-pyramid_source memorySource(const std::vector<uint8_t>& bytes, const char* name = nullptr) {
-    pyramid_source s{};
-    s.struct_size = sizeof s;
-    s.kind = PYRAMID_SOURCE_MEMORY;
-    s.name = name;
-    s.data = bytes.data();
-    s.size = bytes.size();
-    return s;
-}
-
-pyramid_source ioSource(MemoryIo& io, const char* name) {
-    pyramid_source s{};
-    s.struct_size = sizeof s;
-    s.kind = PYRAMID_SOURCE_IO;
-    s.name = name;
-    s.io.read = &MemoryIo::read;
-    s.io.release = &MemoryIo::release;
-    s.io.user = &io;
-    s.io.size = io.data.size();
-    return s;
-}
+using test::bytesOf;
+using test::ioSource;
+using test::memorySource;
+using test::MemoryIo;
+using test::pathSource;
+using test::writeResidualSet;
 
 // One file's tiles, decoded and as stored, each with its status.
 std::vector<std::vector<uint8_t>> allTiles(pyramid_file* f) {
@@ -191,44 +136,6 @@ TEST(CApiSources, OriginalFilesFromMemoryAndCallbacks) {
     }
 }
 
-// Residual tile whose every sample is `base + i + 3 j`.
-std::vector<int16_t> ramp(int size, int base) {
-    std::vector<int16_t> r(static_cast<size_t>(size) * size);
-    for (int j = 0; j < size; ++j) {
-        for (int i = 0; i < size; ++i) {
-            r[static_cast<size_t>(i + j * size)] = static_cast<int16_t>(base + i + 3 * j);
-        }
-    }
-    return r;
-}
-
-// A main residual pyramid (levels 0..2, minLevel 1) and two nested regions, each with its own
-// scale: A rooted at (2, 1, 1) with levels 2..3, B inside A rooted at (3, 2, 2) with 3..4.
-void writeResidualSet(const test::TempDir& dir) {
-    auto write = [&](const std::string& name, int rootLevel, int rootTx, int rootTy, int maxLevel, float scale,
-                     int base) {
-        ResidualHeader h;
-        h.minLevel = rootLevel == 0 ? 1 : 0;
-        h.maxLevel = maxLevel;
-        h.tileSize = 4;
-        h.rootLevel = rootLevel;
-        h.rootTx = rootTx;
-        h.rootTy = rootTy;
-        h.scale = scale;
-        ResidualFileWriter w(dir.file(name), h);
-        for (int l = 0; l <= maxLevel; ++l) {
-            const int side = l < h.minLevel ? 1 : 1 << (l - h.minLevel);
-            for (int t = 0; t < side * side; ++t) {
-                w.writeTile(l, t % side, t / side, ramp(h.tileSamples(l), base + 10 * l + t));
-            }
-        }
-        w.commit();
-    };
-    write("main.dat", 0, 0, 0, 2, 0.5f, 100);
-    write("a.dat", 2, 1, 1, 1, 0.25f, 200);
-    write("b.dat", 3, 2, 2, 1, 0.125f, 300);
-}
-
 TEST(CApiSources, ResidualRegionSetsFromMemoryAndCallbacks) {
     test::TempDir dir;
     writeResidualSet(dir);
@@ -323,225 +230,6 @@ TEST(CApiSources, OrthoRegionSetsFromMemoryAndCallbacks) {
     EXPECT_EQ(results[2], results[0]);
     EXPECT_EQ(io[0].released.load(), 1);
     EXPECT_EQ(io[1].released.load(), 1);
-}
-
-// Callbacks are released when the handle that took them closes, never after a failed open; a
-// region's failing callback is named in the message.
-TEST(CApiSources, CallbackOwnershipAndFailures) {
-    test::TempDir dir;
-    writeResidualSet(dir);
-    MemoryIo main, region;
-    main.data = bytesOf(dir.file("main.dat"));
-    region.data = bytesOf(dir.file("a.dat"));
-    const pyramid_source mainSource = ioSource(main, "pak:main");
-    const pyramid_source regionSource = ioSource(region, "pak:region-a");
-    const pyramid_source* regions[] = {&regionSource};
-    pyramid_elevation_options options{};
-    options.struct_size = sizeof options;
-    options.tile_size = 7; // not 4 / 2^k: refused after the sources were read
-    pyramid_elevation* e = nullptr;
-    EXPECT_EQ(pyramid_elevation_open_sources(&mainSource, regions, 1, &options, &e), PYRAMID_ERROR_ARGUMENT);
-    EXPECT_EQ(e, nullptr);
-    EXPECT_EQ(main.released.load() + region.released.load(), 0);
-    // The region's table cannot be read.
-    options.tile_size = 4;
-    region.failAt = 2;
-    EXPECT_EQ(pyramid_elevation_open_sources(&mainSource, regions, 1, &options, &e), PYRAMID_ERROR_FILE);
-    EXPECT_NE(std::string(pyramid_last_error()).find("pak:region-a"), std::string::npos) << pyramid_last_error();
-    EXPECT_EQ(main.released.load() + region.released.load(), 0);
-    // A region that is no region of this pyramid (a second main file).
-    const pyramid_source* wrong[] = {&mainSource};
-    EXPECT_EQ(pyramid_elevation_open_sources(&mainSource, wrong, 1, &options, &e), PYRAMID_ERROR_FILE);
-    EXPECT_EQ(main.released.load(), 0);
-    region.failAt = 0;
-    ASSERT_EQ(pyramid_elevation_open_sources(&mainSource, regions, 1, &options, &e), PYRAMID_OK) << pyramid_last_error();
-    std::vector<float> zf(81);
-    // A failure while producing a region tile.
-    region.failAt = region.reads.load() + 1;
-    EXPECT_EQ(pyramid_elevation_tile(e, 1, 1, 1, zf.data(), nullptr, nullptr, zf.size()), PYRAMID_ERROR_FILE);
-    EXPECT_NE(std::string(pyramid_last_error()).find("pak:region-a"), std::string::npos) << pyramid_last_error();
-    EXPECT_EQ(pyramid_elevation_tile(e, 1, 0, 0, zf.data(), nullptr, nullptr, zf.size()), PYRAMID_OK);
-    EXPECT_EQ(main.released.load() + region.released.load(), 0);
-    pyramid_elevation_close(e);
-    EXPECT_EQ(main.released.load(), 1);
-    EXPECT_EQ(region.released.load(), 1);
-    // A null region in the array.
-    const pyramid_source* missing[] = {nullptr};
-    EXPECT_EQ(pyramid_elevation_open_sources(&mainSource, missing, 1, &options, &e), PYRAMID_ERROR_ARGUMENT);
-    EXPECT_EQ(pyramid_elevation_open_sources(&mainSource, nullptr, 1, &options, &e), PYRAMID_ERROR_ARGUMENT);
-    EXPECT_EQ(main.released.load(), 1);
-}
-
-// The three opens of each producer (a path or set, paths, sources) keep one protocol: a bad
-// argument is refused with a message naming the call, a bad file with one naming the file, and
-// the handle is null after every failed open, whatever it held before.
-TEST(CApiSources, EveryOpenClearsTheHandleAndNamesTheCallOrFileWhenItFails) {
-    test::TempDir dir;
-    writeResidualSet(dir);
-    OrthoHeader h;
-    h.maxLevel = 0;
-    h.tileSize = 8;
-    h.channels = 3;
-    {
-        OrthoFileWriter w(dir.file("rgb.dat"), h);
-        w.writeTile(0, 0, 0, std::vector<uint8_t>(12 * 12 * 3, 9));
-        w.commit();
-    }
-    const std::string dem = dir.file("main.dat"), rgb = dir.file("rgb.dat"), none = dir.file("none.dat");
-    const pyramid_source demSource = pathSource(dem), rgbSource = pathSource(rgb);
-    const char* nullRegion[] = {nullptr};
-    // `handle` by reference: read after the call, which the arguments' evaluation may precede.
-    const auto refused = [](pyramid_status status, pyramid_status expected, const auto& handle,
-                            const std::string& text) {
-        EXPECT_EQ(status, expected) << pyramid_last_error();
-        EXPECT_TRUE(handle == nullptr);
-        EXPECT_NE(std::string(pyramid_last_error()).find(text), std::string::npos) << pyramid_last_error();
-    };
-    // A handle that held something before the call (never dereferenced).
-    int before = 0;
-    auto* const staleElevation = reinterpret_cast<pyramid_elevation*>(&before);
-    auto* const staleOrtho = reinterpret_cast<pyramid_ortho*>(&before);
-
-    pyramid_elevation* e = staleElevation;
-    refused(pyramid_elevation_open(nullptr, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
-            "pyramid_elevation_open: null argument");
-    refused(pyramid_elevation_open(dem.c_str(), 4, 0, 2, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
-            "pyramid_elevation_open: null argument");
-    e = staleElevation;
-    refused(pyramid_elevation_open(none.c_str(), 4, 0, 2, &e), PYRAMID_ERROR_FILE, e, "none.dat");
-    e = staleElevation;
-    refused(pyramid_elevation_open_regions(dem.c_str(), nullRegion, 1, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
-            "pyramid_elevation_open_regions: null argument");
-    e = staleElevation;
-    refused(pyramid_elevation_open_regions(dem.c_str(), nullptr, 1, 4, 0, 2, &e), PYRAMID_ERROR_ARGUMENT, e,
-            "pyramid_elevation_open_regions: null argument");
-    refused(pyramid_elevation_open_regions(dem.c_str(), nullptr, 0, 4, 0, 2, nullptr), PYRAMID_ERROR_ARGUMENT,
-            nullptr, "pyramid_elevation_open_regions: null argument");
-    pyramid_elevation_options eo{};
-    eo.struct_size = 1;
-    e = staleElevation;
-    refused(pyramid_elevation_open_sources(&demSource, nullptr, 0, &eo, &e), PYRAMID_ERROR_ARGUMENT, e,
-            "pyramid_elevation_open_sources: options: struct_size 1 is too small");
-    refused(pyramid_elevation_open_sources(&demSource, nullptr, 0, nullptr, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
-            "pyramid_elevation_open_sources: null argument");
-    e = staleElevation;
-    refused(pyramid_elevation_open_sources(nullptr, nullptr, 0, nullptr, &e), PYRAMID_ERROR_ARGUMENT, e,
-            "pyramid_elevation_open_sources: null source");
-    ASSERT_EQ(pyramid_elevation_open(dem.c_str(), 4, 0, 2, &e), PYRAMID_OK) << pyramid_last_error();
-    EXPECT_EQ(pyramid_elevation_side(e), 9);
-    pyramid_elevation_close(e);
-
-    pyramid_ortho* o = staleOrtho;
-    refused(pyramid_ortho_open(nullptr, 0, 2, &o), PYRAMID_ERROR_ARGUMENT, o, "pyramid_ortho_open: null argument");
-    refused(pyramid_ortho_open(rgb.c_str(), 0, 2, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
-            "pyramid_ortho_open: null argument");
-    o = staleOrtho;
-    refused(pyramid_ortho_open(none.c_str(), 0, 2, &o), PYRAMID_ERROR_FILE, o, "none.dat");
-    o = staleOrtho;
-    refused(pyramid_ortho_open_regions(rgb.c_str(), nullRegion, 1, 0, 2, &o), PYRAMID_ERROR_ARGUMENT, o,
-            "pyramid_ortho_open_regions: null argument");
-    o = staleOrtho;
-    refused(pyramid_ortho_open_regions(rgb.c_str(), nullptr, 0, 2, 2, &o), PYRAMID_ERROR_ARGUMENT, o,
-            "pyramid_ortho_open_regions: colour_residuals 2 is neither 0 nor 1");
-    pyramid_ortho_options oo{};
-    oo.struct_size = 1;
-    o = staleOrtho;
-    refused(pyramid_ortho_open_sources(&rgbSource, nullptr, 0, &oo, &o), PYRAMID_ERROR_ARGUMENT, o,
-            "pyramid_ortho_open_sources: options: struct_size 1 is too small");
-    refused(pyramid_ortho_open_sources(&rgbSource, nullptr, 0, nullptr, nullptr), PYRAMID_ERROR_ARGUMENT, nullptr,
-            "pyramid_ortho_open_sources: null argument");
-    o = staleOrtho;
-    refused(pyramid_ortho_open_sources(&demSource, nullptr, 0, nullptr, &o), PYRAMID_ERROR_FILE, o, "main.dat");
-    ASSERT_EQ(pyramid_ortho_open(rgb.c_str(), 1, 2, &o), PYRAMID_OK) << pyramid_last_error();
-    int side = 0, channels = 0;
-    EXPECT_EQ(pyramid_ortho_layout(o, &side, &channels), PYRAMID_OK);
-    EXPECT_EQ(side, 12);
-    EXPECT_EQ(channels, 3);
-    pyramid_ortho_close(o);
-}
-
-// The scale option: each file's residuals times (its scale x the option's), the product in
-// float32, against a reference built from the residuals the files hold.
-TEST(CApiSources, ScaleMultipliesEveryFilesResiduals) {
-    test::TempDir dir;
-    writeResidualSet(dir);
-    const std::string mainPath = dir.file("main.dat"), aPath = dir.file("a.dat");
-    const pyramid_source mainSource = pathSource(mainPath), aSource = pathSource(aPath);
-    const pyramid_source* regions[] = {&aSource};
-    const float scale = 3.0f;
-    pyramid_elevation_options options{};
-    options.struct_size = sizeof options;
-    options.tile_size = 4; // delta 1: producer level l is file level l + 1
-    options.cache_tiles = 8;
-    options.scale = scale;
-    pyramid_elevation* e = nullptr;
-    ASSERT_EQ(pyramid_elevation_open_sources(&mainSource, regions, 1, &options, &e), PYRAMID_OK) << pyramid_last_error();
-
-    const auto mainFile = ResidualFileReader::open(mainPath);
-    const auto aFile = ResidualFileReader::open(aPath);
-    auto scaled = [](const std::vector<int16_t>& r, float s) {
-        std::vector<float> out(r.size());
-        for (size_t k = 0; k < r.size(); ++k) {
-            out[k] = static_cast<float>(r[k]) * s;
-        }
-        return out;
-    };
-    const float mainScale = 0.5f * scale, aScale = 0.25f * scale;
-    // Root: file levels 0 (5 x 5 samples, in the corner of the 9 x 9 array) and 1, upsampled
-    // and added.
-    std::vector<float> level0(81, 0.0f);
-    const std::vector<float> r0 = scaled(mainFile->readTile(0, 0, 0), mainScale);
-    for (int j = 0; j < 7; ++j) {
-        for (int i = 0; i < 7; ++i) {
-            level0[static_cast<size_t>(i + 9 * j)] = r0[static_cast<size_t>(i + 7 * j)];
-        }
-    }
-    ASSERT_EQ(mainFile->header().tileSamples(0), 7);
-    std::vector<float> root = scaled(mainFile->readTile(1, 0, 0), mainScale);
-    upsampleAndAdd(level0.data(), 9, 4, 1, 1, root.data(), 9);
-    std::vector<float> zf(81);
-    ASSERT_EQ(pyramid_elevation_tile(e, 0, 0, 0, zf.data(), nullptr, nullptr, 81), PYRAMID_OK) << pyramid_last_error();
-    EXPECT_EQ(zf, root);
-    // (1, 1, 1) is region A's root at A's scale; (1, 0, 1) the main file's level 2.
-    std::vector<float> a = scaled(aFile->readTile(0, 0, 0), aScale);
-    upsampleAndAdd(root.data(), 9, 4, quadrantOffset(1, 4), quadrantOffset(1, 4), a.data(), 9);
-    ASSERT_EQ(pyramid_elevation_tile(e, 1, 1, 1, zf.data(), nullptr, nullptr, 81), PYRAMID_OK);
-    EXPECT_EQ(zf, a);
-    std::vector<float> m = scaled(mainFile->readTile(2, 0, 1), mainScale);
-    upsampleAndAdd(root.data(), 9, 4, quadrantOffset(0, 4), quadrantOffset(1, 4), m.data(), 9);
-    ASSERT_EQ(pyramid_elevation_tile(e, 1, 0, 1, zf.data(), nullptr, nullptr, 81), PYRAMID_OK);
-    EXPECT_EQ(zf, m);
-    // The height query goes through the same tiles.
-    double height = 0.0;
-    ASSERT_EQ(pyramid_elevation_height(e, 1, 0.75, 0.75, &height), PYRAMID_OK);
-    EXPECT_EQ(height, static_cast<double>(a[4 + 9 * 4]));
-    pyramid_elevation_close(e);
-
-    // Without the option (or with 0, its default) the files' own scales.
-    options.scale = 0.0f;
-    ASSERT_EQ(pyramid_elevation_open_sources(&mainSource, regions, 1, &options, &e), PYRAMID_OK);
-    ASSERT_EQ(pyramid_elevation_tile(e, 0, 0, 0, zf.data(), nullptr, nullptr, 81), PYRAMID_OK);
-    EXPECT_NE(zf, root);
-    EXPECT_NEAR(zf[40] * scale, root[40], 1e-3f * std::abs(root[40]));
-    pyramid_elevation_close(e);
-    // A negative scale mirrors the heights; infinity is refused.
-    options.scale = -1.0f;
-    ASSERT_EQ(pyramid_elevation_open_sources(&mainSource, regions, 1, &options, &e), PYRAMID_OK);
-    std::vector<float> mirrored(81);
-    ASSERT_EQ(pyramid_elevation_tile(e, 0, 0, 0, mirrored.data(), nullptr, nullptr, 81), PYRAMID_OK);
-    EXPECT_EQ(mirrored[40], -zf[40]);
-    pyramid_elevation_close(e);
-    options.scale = std::numeric_limits<float>::infinity();
-    EXPECT_EQ(pyramid_elevation_open_sources(&mainSource, regions, 1, &options, &e), PYRAMID_ERROR_ARGUMENT);
-}
-
-TEST(ResidualProducerScale, RefusesNonFiniteAndZero) {
-    ResidualProducerOptions o;
-    EXPECT_NO_THROW(o.validate());
-    o.scale = 0.0f;
-    EXPECT_THROW(o.validate(), OptionError);
-    o.scale = std::numeric_limits<float>::quiet_NaN();
-    EXPECT_THROW(o.validate(), OptionError);
 }
 
 } // namespace

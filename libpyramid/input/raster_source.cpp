@@ -3,163 +3,25 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <filesystem>
-#include <mutex>
-#include <optional>
+#include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "formats/error.hpp"
-#include "formats/pyramid_kind.hpp"
-#include "libpyramid/input/image_io_module.hpp"
+#include "libpyramid/input/decoded_rows.hpp"
 #include "libpyramid/input/hgt_raster_reader.hpp"
-#include "libpyramid/input/jpeg_raster_reader.hpp"
-#include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
+#include "libpyramid/input/raster_open.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
-#include "libpyramid/input/tiff_raster_info.hpp"
 
 namespace pyramid {
-
-struct RasterSource::Impl {
-    std::string path;
-    int cacheMegabytes = 256;
-    // Direct readers, set for the files they can read, tried in this order.
-    std::unique_ptr<TiffPixelReader> floats; // uncompressed float32 TIFF: one pread per row
-    std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block
-    std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
-    std::unique_ptr<HgtRasterReader> hgt;    // SRTM .hgt heights: one pread per row
-    std::unique_ptr<DecodedRows> decoded;    // 8/16-bit PNG or 8-bit JPEG, decoded whole
-    std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
-    std::shared_ptr<const RasterPixels> computed; // or pixels a caller computes
-    const BytePixels* computedBytes = nullptr;    // `computed`, when it computes bytes
-    // Everything else goes through OpenImageIO's ImageCache in the image I/O module, opened
-    // the first time a read needs it (or at once when no direct reader knows the file).
-    mutable std::once_flag moduleOnce;
-    mutable std::unique_ptr<ModuleImage> moduleImage;
-    mutable std::string moduleError;
-
-    const ModuleImage& viaModule() const {
-        std::call_once(moduleOnce, [this] {
-            // OpenImageIO reads TIFFs through libtiff, which must not be asked for a block that
-            // lies beyond the end of the file (tiff_pixel_reader.hpp).
-            moduleError = tiffBlockBeyondTheFile(path);
-            if (moduleError.empty()) {
-                moduleImage = imageIoModule(path).open(path, cacheMegabytes, moduleError);
-            }
-        });
-        if (!moduleImage) {
-            // A pyramid given where its source belongs (no image format knows one) is named as such.
-            std::optional<PyramidKind> kind;
-            try {
-                kind = detectPyramidKind(path);
-            } catch (const Error&) {
-            }
-            if (kind) {
-                fail(path, std::string(*kind == PyramidKind::Ortho ? "holds an ortho" : "holds a residual") +
-                               " pyramid, not an image: give the raster the pyramid is built from");
-            }
-            fail(path, "cannot read: " + moduleError);
-        }
-        return *moduleImage;
-    }
-
-    // Channels [c0, c1) of a window through the module, in the file's own sample type `type`.
-    void readModule(int x0, int y0, int x1, int y1, int c0, int c1, SampleType type, void* out) const {
-        std::string error;
-        if (!viaModule().read(x0, y0, x1, y1, c0, c1, type, out, error)) {
-            fail(path, "read failed: " + error);
-        }
-    }
-};
-
-namespace {
-
-void checkRegularFile(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) {
-        fail(path, "no such file");
-    }
-    if (!std::filesystem::is_regular_file(path, ec)) {
-        fail(path, "not a regular file");
-    }
-    if (std::filesystem::file_size(path, ec) == 0 && !ec) {
-        fail(path, "empty file, not an image");
-    }
-}
-
-} // namespace
 
 void requireCacheBudget(int cacheMegabytes) {
     if (cacheMegabytes < 1) {
         failOption("cacheMegabytes", "must be at least 1 (MB), not " + std::to_string(cacheMegabytes));
     }
-}
-
-RasterInfo RasterSource::describe(const std::string& path) {
-    checkRegularFile(path);
-    if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {
-        return *tiff;
-    }
-    // PNG and JPEG from their headers: opening one would decode it, and an interlaced or
-    // progressive image must fit the budget, which a description does not need.
-    if (std::optional<RasterInfo> png = describePngRaster(path)) {
-        return *png;
-    }
-    if (std::optional<RasterInfo> jpeg = describeJpegRaster(path)) {
-        return *jpeg;
-    }
-    return open(path, 1)->info();
-}
-
-std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes) {
-    return openDescribed(path, cacheMegabytes, nullptr);
-}
-
-std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes, const RasterInfo& described) {
-    return openDescribed(path, cacheMegabytes, described.formatName == "tiff" ? &described : nullptr);
-}
-
-std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& path, int cacheMegabytes,
-                                                          const RasterInfo* tiffInfo) {
-    checkRegularFile(path);
-    std::unique_ptr<RasterSource> source(new RasterSource());
-    source->path_ = path;
-    source->impl_ = std::make_unique<Impl>();
-    Impl& impl = *source->impl_;
-    impl.path = path;
-    impl.cacheMegabytes = cacheMegabytes;
-    RasterInfo& info = source->info_;
-    if (std::optional<RasterInfo> tiff = tiffInfo ? std::optional<RasterInfo>(*tiffInfo) : readPlainTiffInfo(path)) {
-        info = *tiff;
-        const size_t cacheBytes = static_cast<size_t>(std::max(cacheMegabytes, 0)) << 20;
-        if (info.type == SampleType::Float32) {
-            impl.floats = TiffPixelReader::open(path, info.width, info.height, info.channels, 4, true, cacheBytes);
-        }
-        if (!impl.floats) {
-            impl.blocks = TiffBlockReader::open(path, info, cacheMegabytes);
-        }
-        if (info.type == SampleType::UInt8 || info.type == SampleType::UInt16) {
-            impl.pixels = TiffPixelReader::open(path, info.width, info.height, info.channels,
-                                                info.type == SampleType::UInt8 ? 1 : 2, false, cacheBytes);
-        }
-    } else if ((impl.hgt = HgtRasterReader::open(path))) {
-        info = impl.hgt->info();
-    } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
-               (impl.decoded = openJpegRaster(path, cacheMegabytes))) {
-        info = impl.decoded->info();
-    } else {
-        info = impl.viaModule().info();
-        if (!info.nodata && info.formatName == "tiff") {
-            info.nodata = geoTiffNodata(path);
-        }
-        if (info.formatName == "tiff") { info.georeference = readGeoTiffGeoreference(path); }
-    }
-    if (info.width < 1 || info.height < 1 || info.channels < 1) {
-        fail(path, "empty image");
-    }
-    return source;
 }
 
 std::unique_ptr<RasterSource> RasterSource::openMosaic(const std::vector<std::string>& paths, int cacheMegabytes) {

@@ -107,7 +107,7 @@ public:
     };
     PixelPlace placeOf(int x, int y, int channel) const;
 
-    struct Impl; // the readers behind it (raster_source.cpp)
+    struct Impl; // the readers behind it (raster_open.hpp)
 
 private:
     // open(), with a TIFF's description when it is known (nullptr: read it).

@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -52,6 +53,10 @@ RunResult run(const std::string& commandLine) {
     return r;
 }
 
+std::string shellQuoted(const std::string& s) { return "'" + s + "'"; }
+
+size_t lines(const std::string& s) { return static_cast<size_t>(std::count(s.begin(), s.end(), '\n')); }
+
 bool fileExists(const std::string& path) { return std::filesystem::exists(path); }
 
 std::string readFile(const std::string& path) {
@@ -59,6 +64,11 @@ std::string readFile(const std::string& path) {
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
+}
+
+std::vector<uint8_t> bytesOf(const std::string& path) {
+    const std::string text = readFile(path);
+    return std::vector<uint8_t>(text.begin(), text.end());
 }
 
 std::map<std::string, std::string> filesUnder(const std::string& root) {

@@ -1,8 +1,10 @@
 // Where the tests find their data and the programs they run, and small helpers to run them.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace pyramid::test {
 
@@ -35,9 +37,14 @@ struct RunResult {
 };
 // Runs a shell command line, capturing stdout and stderr.
 RunResult run(const std::string& commandLine);
+// `s` in single quotes: one word of a shell command line (a path without a quote in it).
+std::string shellQuoted(const std::string& s);
+// How many lines a program wrote (the newlines in `s`).
+size_t lines(const std::string& s);
 
 bool fileExists(const std::string& path);
 std::string readFile(const std::string& path);
+std::vector<uint8_t> bytesOf(const std::string& path); // readFile's bytes
 // Every regular file under `root` (hidden ones included), by its path relative to `root`, with
 // its bytes: two builds compare equal when they wrote the same files, byte for byte.
 std::map<std::string, std::string> filesUnder(const std::string& root);

@@ -1,0 +1,134 @@
+#include "libpyramid/input/raster_open.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <system_error>
+
+#include "formats/error.hpp"
+#include "formats/pyramid_kind.hpp"
+#include "libpyramid/input/georeference.hpp"
+#include "libpyramid/input/jpeg_raster_reader.hpp"
+#include "libpyramid/input/png_raster_reader.hpp"
+#include "libpyramid/input/tiff_raster_info.hpp"
+
+namespace pyramid {
+
+const ModuleImage& RasterSource::Impl::viaModule() const {
+    std::call_once(moduleOnce, [this] {
+        // OpenImageIO reads TIFFs through libtiff, which must not be asked for a block that
+        // lies beyond the end of the file (tiff_pixel_reader.hpp).
+        moduleError = tiffBlockBeyondTheFile(path);
+        if (moduleError.empty()) {
+            moduleImage = imageIoModule(path).open(path, cacheMegabytes, moduleError);
+        }
+    });
+    if (!moduleImage) {
+        // A pyramid given where its source belongs (no image format knows one) is named as such.
+        std::optional<PyramidKind> kind;
+        try {
+            kind = detectPyramidKind(path);
+        } catch (const Error&) {
+        }
+        if (kind) {
+            fail(path, std::string(*kind == PyramidKind::Ortho ? "holds an ortho" : "holds a residual") +
+                           " pyramid, not an image: give the raster the pyramid is built from");
+        }
+        fail(path, "cannot read: " + moduleError);
+    }
+    return *moduleImage;
+}
+
+void RasterSource::Impl::readModule(int x0, int y0, int x1, int y1, int c0, int c1, SampleType type,
+                                    void* out) const {
+    std::string error;
+    if (!viaModule().read(x0, y0, x1, y1, c0, c1, type, out, error)) {
+        fail(path, "read failed: " + error);
+    }
+}
+
+namespace {
+
+void checkRegularFile(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        fail(path, "no such file");
+    }
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        fail(path, "not a regular file");
+    }
+    if (std::filesystem::file_size(path, ec) == 0 && !ec) {
+        fail(path, "empty file, not an image");
+    }
+}
+
+} // namespace
+
+RasterInfo RasterSource::describe(const std::string& path) {
+    checkRegularFile(path);
+    if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {
+        return *tiff;
+    }
+    // PNG and JPEG from their headers: opening one would decode it, and an interlaced or
+    // progressive image must fit the budget, which a description does not need.
+    if (std::optional<RasterInfo> png = describePngRaster(path)) {
+        return *png;
+    }
+    if (std::optional<RasterInfo> jpeg = describeJpegRaster(path)) {
+        return *jpeg;
+    }
+    return open(path, 1)->info();
+}
+
+std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes) {
+    return openDescribed(path, cacheMegabytes, nullptr);
+}
+
+std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes, const RasterInfo& described) {
+    return openDescribed(path, cacheMegabytes, described.formatName == "tiff" ? &described : nullptr);
+}
+
+std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& path, int cacheMegabytes,
+                                                          const RasterInfo* tiffInfo) {
+    checkRegularFile(path);
+    std::unique_ptr<RasterSource> source(new RasterSource());
+    source->path_ = path;
+    source->impl_ = std::make_unique<Impl>();
+    Impl& impl = *source->impl_;
+    impl.path = path;
+    impl.cacheMegabytes = cacheMegabytes;
+    RasterInfo& info = source->info_;
+    if (std::optional<RasterInfo> tiff = tiffInfo ? std::optional<RasterInfo>(*tiffInfo) : readPlainTiffInfo(path)) {
+        info = *tiff;
+        const size_t cacheBytes = static_cast<size_t>(std::max(cacheMegabytes, 0)) << 20;
+        if (info.type == SampleType::Float32) {
+            impl.floats = TiffPixelReader::open(path, info.width, info.height, info.channels, 4, true, cacheBytes);
+        }
+        if (!impl.floats) {
+            impl.blocks = TiffBlockReader::open(path, info, cacheMegabytes);
+        }
+        if (info.type == SampleType::UInt8 || info.type == SampleType::UInt16) {
+            impl.pixels = TiffPixelReader::open(path, info.width, info.height, info.channels,
+                                                info.type == SampleType::UInt8 ? 1 : 2, false, cacheBytes);
+        }
+    } else if ((impl.hgt = HgtRasterReader::open(path))) {
+        info = impl.hgt->info();
+    } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
+               (impl.decoded = openJpegRaster(path, cacheMegabytes))) {
+        info = impl.decoded->info();
+    } else {
+        info = impl.viaModule().info();
+        if (!info.nodata && info.formatName == "tiff") {
+            info.nodata = geoTiffNodata(path);
+        }
+        if (info.formatName == "tiff") { info.georeference = readGeoTiffGeoreference(path); }
+    }
+    if (info.width < 1 || info.height < 1 || info.channels < 1) {
+        fail(path, "empty image");
+    }
+    return source;
+}
+
+} // namespace pyramid
