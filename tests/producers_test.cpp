@@ -14,6 +14,7 @@
 #include "libpyramid/runtime/ortho_producer.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/filters/colour_upsample.hpp"
+#include "tests/support/c_api_sources.hpp"
 #include "tests/support/paths.hpp"
 
 namespace pyramid {
@@ -99,28 +100,7 @@ TEST(ResidualRegions, NestedRegionsTheDeepestWins) {
     test::TempDir dir;
     // main: levels 0..2 (minLevel 1); region A rooted at (2, 1, 1) adds levels 2..3; region B,
     // inside A, rooted at (3, 2, 2), adds levels 3..4. Every file has its own scale.
-    auto write = [&](const std::string& name, int rootLevel, int rootTx, int rootTy, int maxLevel, float scale,
-                     int base) {
-        ResidualHeader h;
-        h.minLevel = rootLevel == 0 ? 1 : 0;
-        h.maxLevel = maxLevel;
-        h.tileSize = 4;
-        h.rootLevel = rootLevel;
-        h.rootTx = rootTx;
-        h.rootTy = rootTy;
-        h.scale = scale;
-        ResidualFileWriter w(dir.file(name), h);
-        for (int l = 0; l <= maxLevel; ++l) {
-            const int side = l < h.minLevel ? 1 : 1 << (l - h.minLevel);
-            for (int t = 0; t < side * side; ++t) {
-                w.writeTile(l, t % side, t / side, ramp(h.tileSamples(l), base + 10 * l + t));
-            }
-        }
-        w.commit();
-    };
-    write("main.dat", 0, 0, 0, 2, 0.5f, 100);
-    write("a.dat", 2, 1, 1, 1, 0.25f, 200);
-    write("b.dat", 3, 2, 2, 1, 0.125f, 300);
+    test::writeResidualSet(dir);
     ResidualProducerOptions ro;
     ro.delta = 1; // producer level = file level - 1
     for (const auto& regions : {std::vector<std::string>{dir.file("a.dat"), dir.file("b.dat")},
