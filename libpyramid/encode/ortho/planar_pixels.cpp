@@ -111,7 +111,9 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     if (inPlace_ && !sixteen_) {
         return sampleInPlace(x0, y0, w, h);
     }
-    Image8 out(w, h, channels_); // pixels beyond the input stay 0
+    // Pixels beyond the input are 0: the rows and columns below that no sample reaches are
+    // cleared as they are met, not the whole image first.
+    Image8 out(w, h, channels_, Image8::Unset);
     std::vector<double> px(static_cast<size_t>(w)), py(static_cast<size_t>(h));
     double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
     for (int i = 0; i < w; ++i) {
@@ -129,14 +131,17 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
         }
     }
     if (minX > maxX || minY > maxY) {
-        return out; // beyond the input: zeros
+        std::fill(out.pixels.begin(), out.pixels.end(), uint8_t{0}); // beyond the input: zeros
+        return out;
     }
     const int cx0 = std::clamp(static_cast<int>(std::floor(minX)), 0, ax_.input - 1);
     const int cx1 = std::clamp(static_cast<int>(std::floor(maxX)) + 1, 0, ax_.input - 1);
     const int ry0 = std::clamp(static_cast<int>(std::floor(minY)), 0, ay_.input - 1);
     const int ry1 = std::clamp(static_cast<int>(std::floor(maxY)) + 1, 0, ay_.input - 1);
     const int ww = cx1 - cx0 + 1;
-    std::vector<uint16_t> window(static_cast<size_t>(ww) * static_cast<size_t>(ry1 - ry0 + 1) * channels_);
+    // Every sample of the window is read next: not cleared first.
+    std::vector<uint16_t, DefaultInitAllocator<uint16_t>> window(static_cast<size_t>(ww) *
+                                                                 static_cast<size_t>(ry1 - ry0 + 1) * channels_);
     source_.readUInt16(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels_, window.data());
     // The columns' neighbours and weights are the same on every row: computed once (the
     // same values as per pixel, so the same bytes). Columns inside the input are a prefix
@@ -165,9 +170,11 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
         interpolateRow(&window[static_cast<size_t>(r - ry0) * ww * channels_], off0.data(), off1.data(),
                        colFx.data(), insideEnd, channels_, interpolated);
     };
+    const size_t rowBytes = static_cast<size_t>(w) * channels_;
     for (int j = 0; j < h; ++j) {
         const double Y = py[static_cast<size_t>(j)];
         if (!ay_.inside(Y) || insideEnd == 0) {
+            std::fill_n(out.at(0, j), rowBytes, uint8_t{0});
             continue;
         }
         const double fy0 = std::floor(Y);
@@ -185,6 +192,7 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
         const double* top = rows.row(r0, r1, horizontal);
         const double* bottom = rows.row(r1, r0, horizontal);
         combineRows(top, bottom, fy, sixteen_ ? 65535.0 : 255.0, rowSamples, row);
+        std::fill(row + rowSamples, row + rowBytes, uint8_t{0});
     }
     return out;
 }
