@@ -236,7 +236,13 @@ int runProgram(CLI::App& app, int argc, char** argv, const NamedRunner* runners,
     keepBuffersInTheHeap();
     stopOnSignals(app.get_name());
     // After the signals are blocked: MPI's own threads inherit the mask.
-    TeamScope team(argc, argv);
+    std::optional<TeamScope> team;
+    try {
+        team.emplace(argc, argv);
+    } catch (const std::exception& e) {
+        std::cerr << app.get_name() << ": " << e.what() << "\n";
+        return kExitFailure;
+    }
     arguments().assign(argv, argv + argc);
     messageProgram() = app.get_name();
     try {

@@ -23,8 +23,11 @@ install(TARGETS pyramid_encode LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 # `pyramid serve`'s web viewer (cmake/viewer.cmake), found by the programs at
 # <bindir>/../share/libpyramid/viewer (libpyramid/serve/viewer_files.hpp).
 install(DIRECTORY ${PYRAMID_VIEWER_DIR}/ DESTINATION ${CMAKE_INSTALL_DATADIR}/libpyramid/viewer)
-# Found by the programs at <bindir>/PYRAMID_OIIO_MODULE_INSTALL_DIR (libpyramid/CMakeLists.txt).
+# The modules, found by the programs at <bindir>/PYRAMID_MODULE_INSTALL_DIR (libpyramid/CMakeLists.txt).
 install(TARGETS pyramid_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/libpyramid)
+if(PYRAMID_MPI_ENABLED)
+  install(TARGETS pyramid_mpi LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/libpyramid)
+endif()
 
 # Headers: <prefix>/include/libpyramid/{formats,runtime,capi,...}. Consumers include
 # "libpyramid/capi/pyramid.h" (through <prefix>/include); the headers' own "formats/..." resolve

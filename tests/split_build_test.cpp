@@ -2,9 +2,7 @@
 // files are the single run's, byte for byte, for any number of parts, planar and spherical, one
 // file or a region set; a merge refuses parts that are missing, doubled or of another build, and
 // writes nothing then; an int16 overflow in one part's subtrees fails that part with the scale to
-// use. Under mpirun (when built with MPI): 1, 2 and 3 ranks give the single run's bytes, an
-// automatic scale raised by one rank's overflow is raised on every rank, and a failing rank fails
-// the run with its message and leaves nothing.
+// use. The same under mpirun: split_build_mpi_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -203,22 +201,10 @@ TEST(SplitBuild, MergeRefusesIncompleteDoubledOrForeignPartsAndWritesNothing) {
     expectRefused({files[0], dir.file("short.part"), files[2]}, "incomplete part file");
 }
 
-// Heights 0 except tall spikes at odd samples near the north-east corner (the last subtree in Z
-// order, the finest grid's y running north): the automatic scale's first guess (from the
-// in-memory grid of every 4th sample, which the spikes miss) overflows in the last subtrees only.
-std::vector<float> spikes(int w) {
-    std::vector<float> v(static_cast<size_t>(w) * w, 0.0f);
-    for (int k = 0; k < 4; ++k) {
-        const int column = w - 6 - 2 * k, row = 3 + 2 * k;
-        v[static_cast<size_t>(column + row * w)] = 4.0e5f * static_cast<float>(k + 1);
-    }
-    return v;
-}
-
 TEST(SplitBuild, AnOverflowInOnePartsSubtreesFailsThatPartWithTheScaleToUse) {
     TempDir dir;
     const int w = 257;
-    test::writeFloatRaster(dir.file("in.tif"), w, w, spikes(w));
+    test::writeFloatRaster(dir.file("in.tif"), w, w, test::overflowSpikes(w));
     DemEncodeOptions o = smallDem();
     o.autoScale = true;
     fs::create_directories(dir.file("one"));
@@ -345,91 +331,6 @@ TEST(SplitBuild, AnOrthoPartIsNoResidualPart) {
             << e.what();
     }
 }
-
-#ifdef PYRAMID_TEST_MPIRUN
-std::string mpirun(int ranks) {
-    return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 ") +
-           PYRAMID_TEST_MPIRUN + " -n " + std::to_string(ranks) + " --oversubscribe ";
-}
-
-TEST(SplitBuildMpi, RanksWriteTheSingleRunsBytes) {
-    TempDir dir;
-    const int w = 257;
-    test::writeFloatRaster(dir.file("in.tif"), w, w, test::syntheticHeights(w, w, 2000.0f));
-    const std::string dem = test::programPath("preprocessDem") + " " + dir.file("in.tif") +
-                            " --tile-size 32 --root-tile-size 8 --scale 0.25 --threads 1 -q -o ";
-    ASSERT_EQ(test::run(dem + dir.file("one/DEM.dat")).exitCode, 0);
-    const std::string sphere = test::programPath("preprocessSphericalDem") + " " + dir.file("in.tif") +
-                               " --tile-size 8 --root-tile-size 4 --max-level 4 --scale 0.25 --threads 1 -q -o ";
-    ASSERT_EQ(test::run(sphere + dir.file("sphere")).exitCode, 0);
-    for (const int ranks : {1, 2, 3}) {
-        const std::string n = std::to_string(ranks);
-        const test::RunResult r = test::run(mpirun(ranks) + dem + dir.file("dem" + n + "/DEM.dat"));
-        ASSERT_EQ(r.exitCode, 0) << r.err;
-        EXPECT_TRUE(test::filesUnder(dir.file("dem" + n)) == test::filesUnder(dir.file("one"))) << ranks << " ranks";
-        const test::RunResult s = test::run(mpirun(ranks) + sphere + dir.file("sphere" + n) + " --max-file-bytes 3K");
-        ASSERT_EQ(s.exitCode, 0) << s.err;
-        const test::RunResult t = test::run(sphere + dir.file("sphere-one" + n) + " --max-file-bytes 3K");
-        ASSERT_EQ(t.exitCode, 0) << t.err;
-        EXPECT_TRUE(test::filesUnder(dir.file("sphere" + n)) == test::filesUnder(dir.file("sphere-one" + n))) << ranks << " ranks";
-        EXPECT_GT(test::filesUnder(dir.file("sphere" + n)).size(), 12u); // sets: faces split into regions
-    }
-}
-
-TEST(SplitBuildMpi, OrthoRanksWriteTheSingleRunsOutputs) {
-    TempDir dir;
-    const std::string image = test::samplePath("bluemarble.png");
-    for (const std::string outputs : {"tiff,dxt,residuals", "tiff"}) {
-        const std::string planar = test::programPath("preprocessOrtho") + " " + image + " --outputs " + outputs +
-                                   " --tile-size 64 --threads 1 -q -o ";
-        const std::string sphere = test::programPath("preprocessSphericalOrtho") + " " + image + " --outputs " + outputs +
-                                   " --tile-size 16 --max-level 3 --threads 1 -q -o ";
-        ASSERT_EQ(test::run(planar + dir.file("one")).exitCode, 0);
-        ASSERT_EQ(test::run(sphere + dir.file("sphere")).exitCode, 0);
-        for (const int ranks : {2, 3}) {
-            const std::string n = std::to_string(ranks) + outputs;
-            const test::RunResult r = test::run(mpirun(ranks) + planar + dir.file("o" + n));
-            ASSERT_EQ(r.exitCode, 0) << r.err;
-            EXPECT_TRUE(test::filesUnder(dir.file("o" + n)) == test::filesUnder(dir.file("one"))) << ranks << " ranks, " << outputs;
-            const test::RunResult s = test::run(mpirun(ranks) + sphere + dir.file("s" + n));
-            ASSERT_EQ(s.exitCode, 0) << s.err;
-            EXPECT_TRUE(test::filesUnder(dir.file("s" + n)) == test::filesUnder(dir.file("sphere"))) << ranks << " ranks, " << outputs;
-        }
-        fs::remove_all(dir.file("one"));
-        fs::remove_all(dir.file("sphere"));
-    }
-}
-
-TEST(SplitBuildMpi, AnAutomaticScaleRaisedByOneRankIsRaisedOnEveryRank) {
-    TempDir dir;
-    const int w = 257;
-    test::writeFloatRaster(dir.file("in.tif"), w, w, spikes(w));
-    const std::string dem = test::programPath("preprocessDem") + " " + dir.file("in.tif") +
-                            " --tile-size 32 --root-tile-size 8 --scale auto --threads 1 -q -o ";
-    ASSERT_EQ(test::run(dem + dir.file("one/DEM.dat")).exitCode, 0);
-    const test::RunResult r = test::run(mpirun(3) + dem + dir.file("three/DEM.dat"));
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(test::readFile(dir.file("three/DEM.dat")), test::readFile(dir.file("one/DEM.dat")));
-}
-
-TEST(SplitBuildMpi, AFailingRankFailsTheRunWithItsMessageAndLeavesNothing) {
-    TempDir dir;
-    const int w = 257;
-    std::vector<float> v = test::syntheticHeights(w, w, 2000.0f);
-    // An infinite height at an odd sample near the far corner: only the last subtrees read it.
-    v[static_cast<size_t>((w - 4) + 3 * w)] = INFINITY; // north-east: the last subtree's (rank 2)
-    test::writeFloatRaster(dir.file("in.tif"), w, w, v);
-    fs::create_directories(dir.file("out"));
-    test::writeFloatRaster(dir.file("out/keep.tif"), 2, 2, std::vector<float>(4, 1.0f));
-    const auto before = test::filesUnder(dir.file("out"));
-    const test::RunResult r = test::run(mpirun(3) + test::programPath("preprocessDem") + " " + dir.file("in.tif") +
-                                        " --tile-size 32 --root-tile-size 8 --threads 1 -q -o " + dir.file("out/DEM.dat"));
-    EXPECT_NE(r.exitCode, 0);
-    EXPECT_NE(r.err.find("preprocessDem: rank 2: "), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("in.tif"), std::string::npos) << r.err;
-    EXPECT_TRUE(test::filesUnder(dir.file("out")) == before); // no part, no staging directory, no output
-}
-#endif
 
 } // namespace
 } // namespace pyramid

@@ -1,11 +1,13 @@
 #include "libpyramid/distribute/team.hpp"
 
 #include <cstdlib>
-#include <algorithm>
-#include <cstring>
 
-#ifdef PYRAMID_WITH_MPI
-#include <mpi.h>
+#include "formats/error.hpp"
+#include "libpyramid/distribute/team_module.hpp"
+#include "libpyramid/support/module_loader.hpp"
+
+#ifndef PYRAMID_MPI_MODULE_BUILD_PATH
+#define PYRAMID_MPI_MODULE_BUILD_PATH ""
 #endif
 
 namespace pyramid {
@@ -22,46 +24,8 @@ public:
 };
 
 #ifdef PYRAMID_WITH_MPI
-class World final : public Team {
-public:
-    World() {
-        MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-        MPI_Comm_size(MPI_COMM_WORLD, &size_);
-    }
-    int rank() const override { return rank_; }
-    int size() const override { return size_; }
-    std::vector<Word> exchange(const Word& mine) override {
-        std::vector<Word> all(static_cast<size_t>(size_));
-        MPI_Allgather(&mine, sizeof(Word), MPI_BYTE, all.data(), sizeof(Word), MPI_BYTE, MPI_COMM_WORLD);
-        return all;
-    }
-    std::vector<std::string> gather(const std::string& mine) override {
-        std::vector<char> line(kLine, '\0');
-        std::memcpy(line.data(), mine.data(), std::min(mine.size(), kLine - 1));
-        std::vector<char> all(rank_ == 0 ? kLine * static_cast<size_t>(size_) : 0);
-        MPI_Gather(line.data(), static_cast<int>(kLine), MPI_CHAR, all.data(), static_cast<int>(kLine), MPI_CHAR, 0,
-                   MPI_COMM_WORLD);
-        std::vector<std::string> lines;
-        for (int r = 0; rank_ == 0 && r < size_; ++r) {
-            lines.emplace_back(all.data() + static_cast<size_t>(r) * kLine);
-        }
-        return lines;
-    }
-    std::string broadcast(const std::string& fromRoot) override {
-        std::vector<char> line(kLine, '\0');
-        if (rank_ == 0) {
-            std::memcpy(line.data(), fromRoot.data(), std::min(fromRoot.size(), kLine - 1));
-        }
-        MPI_Bcast(line.data(), static_cast<int>(kLine), MPI_CHAR, 0, MPI_COMM_WORLD);
-        return std::string(line.data());
-    }
-
-private:
-    static constexpr size_t kLine = 4096;
-    int rank_ = 0, size_ = 1;
-};
-
-std::unique_ptr<World> world;
+const TeamModule* joined = nullptr; // the module, once the world is joined
+Team* world = nullptr;
 
 // mpirun (Open MPI, or a PMI launcher) tells its processes their place in the environment.
 bool launchedByMpirun() {
@@ -71,6 +35,23 @@ bool launchedByMpirun() {
         }
     }
     return false;
+}
+
+// The MPI module; throws when it cannot be loaded (a rank that ran alone would write the whole
+// build beside the others).
+const TeamModule& loadTeamModule() {
+    using Entry = const TeamModule* (*)();
+    // Global: Open MPI's own components, loaded by MPI_Init, find its libraries' symbols there.
+    const LoadedModule loaded = loadModule({"libpyramid_mpi.so", "PYRAMID_MPI_MODULE", PYRAMID_MPI_MODULE_BUILD_PATH},
+                                           "pyramid_team_module", true, [](void* entry) {
+                                               const TeamModule* m = reinterpret_cast<Entry>(entry)();
+                                               return m && m->abi == kTeamModuleAbi;
+                                           });
+    if (!loaded.entry) {
+        throw Error("started by mpirun, but the MPI module cannot be loaded (" + loaded.why +
+                    "; set PYRAMID_MPI_MODULE to its path)");
+    }
+    return *reinterpret_cast<Entry>(loaded.entry)();
 }
 #endif
 
@@ -89,18 +70,19 @@ Team& worldTeam() {
 TeamScope::TeamScope([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
 #ifdef PYRAMID_WITH_MPI
     if (launchedByMpirun()) {
-        int provided = 0;
-        MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-        world = std::make_unique<World>();
+        const TeamModule& m = loadTeamModule();
+        world = m.join(&argc, &argv);
+        joined = &m;
     }
 #endif
 }
 
 TeamScope::~TeamScope() {
 #ifdef PYRAMID_WITH_MPI
-    if (world) {
-        world.reset();
-        MPI_Finalize();
+    if (joined) {
+        world = nullptr;
+        joined->leave();
+        joined = nullptr;
     }
 #endif
 }

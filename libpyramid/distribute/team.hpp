@@ -39,7 +39,9 @@ public:
 Team& worldTeam();
 
 // Joins the MPI world for the program's lifetime when the program was started by mpirun (the
-// launcher's environment says so) and libpyramid was built with MPI; does nothing otherwise.
+// launcher's environment says so) and libpyramid was built with MPI, through the MPI module
+// (team_module.hpp); does nothing otherwise. Throws Error when mpirun started the program but
+// the module cannot be loaded.
 class TeamScope {
 public:
     TeamScope(int& argc, char**& argv);

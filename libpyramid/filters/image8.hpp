@@ -3,30 +3,11 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
-#include <memory>
-#include <utility>
 #include <vector>
 
-namespace pyramid {
+#include "libpyramid/filters/pixel_memory.hpp"
 
-// An allocator whose containers leave new bytes uninitialised (default-initialised) unless a
-// value is given: buffers about to be overwritten whole are not cleared first.
-template <class T>
-struct DefaultInitAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = DefaultInitAllocator<U>;
-    };
-    using std::allocator<T>::allocator;
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        if constexpr (sizeof...(Args) == 0) {
-            ::new (static_cast<void*>(p)) U;
-        } else {
-            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-        }
-    }
-};
+namespace pyramid {
 
 using PixelBytes = std::vector<uint8_t, DefaultInitAllocator<uint8_t>>;
 

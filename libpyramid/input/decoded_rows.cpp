@@ -37,7 +37,7 @@ DecodedRows::DecodedRows(std::string path, const RasterInfo& info, int cacheMega
     if (imageBytes() > budget) {
         scratch_ = std::make_unique<ScratchFile>(path_);
     } else {
-        memory_.reset(new uint8_t[imageBytes()]);
+        memory_ = makePixelMemory(imageBytes());
     }
 }
 

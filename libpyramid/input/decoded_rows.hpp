@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 
+#include "libpyramid/filters/pixel_memory.hpp"
 #include "libpyramid/input/raster_info.hpp"
 #include "libpyramid/input/scratch_file.hpp"
 
@@ -75,7 +76,7 @@ private:
     size_t rowBytes_ = 0;
     // The decoded samples, left uninitialised (never read before decoded): zero-filling them
     // first would make the opening thread fault in every page of a large image before decoding.
-    std::unique_ptr<uint8_t[]> memory_;
+    PixelMemory memory_;
     std::unique_ptr<ScratchFile> scratch_; // instead, for an image beyond the budget
     std::unique_ptr<Decoder> decoder_;
     std::thread thread_;

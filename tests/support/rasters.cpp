@@ -68,4 +68,13 @@ void writeImage(const std::string& path, int width, int height, int channels, co
     }
 }
 
+std::vector<float> overflowSpikes(int w) {
+    std::vector<float> v(static_cast<size_t>(w) * w, 0.0f);
+    for (int k = 0; k < 4; ++k) {
+        const int column = w - 6 - 2 * k, row = 3 + 2 * k;
+        v[static_cast<size_t>(column + row * w)] = 4.0e5f * static_cast<float>(k + 1);
+    }
+    return v;
+}
+
 } // namespace pyramid::test

@@ -139,9 +139,11 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     const int ry0 = std::clamp(static_cast<int>(std::floor(minY)), 0, ay_.input - 1);
     const int ry1 = std::clamp(static_cast<int>(std::floor(maxY)) + 1, 0, ay_.input - 1);
     const int ww = cx1 - cx0 + 1;
-    // Every sample of the window is read next: not cleared first.
-    std::vector<uint16_t, DefaultInitAllocator<uint16_t>> window(static_cast<size_t>(ww) *
-                                                                 static_cast<size_t>(ry1 - ry0 + 1) * channels_);
+    // Every sample of the window is read next: not cleared first. One window per thread, kept
+    // from subtree to subtree (it only grows): a fresh one would fault its pages in again for
+    // every subtree.
+    thread_local std::vector<uint16_t, DefaultInitAllocator<uint16_t>> window;
+    window.resize(static_cast<size_t>(ww) * static_cast<size_t>(ry1 - ry0 + 1) * channels_);
     source_.readUInt16(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels_, window.data());
     // The columns' neighbours and weights are the same on every row: computed once (the
     // same values as per pixel, so the same bytes). Columns inside the input are a prefix
