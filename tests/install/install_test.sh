@@ -72,6 +72,17 @@ if command -v help2man >/dev/null 2>&1; then
   [ "$programs" -ge 7 ] || { echo "only $programs programs installed in $prefix/bin" >&2; exit 1; }
 fi
 
+# ---- Under mpirun, an installed program finds its MPI module in lib/libpyramid/ (when built with MPI). ----
+if [ -n "$(find "$prefix" -name libpyramid_mpi.so)" ] && command -v mpirun >/dev/null 2>&1; then
+  "$prefix/bin/preprocessDem" -q "$samples/dem.tif" -o "$tmp/mpi-one/DEM.dat"
+  # The dynamic loader says which file each rank loaded: the installed one, not the build's.
+  LD_DEBUG=files OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -n 2 --oversubscribe \
+    "$prefix/bin/preprocessDem" -q "$samples/dem.tif" -o "$tmp/mpi-two/DEM.dat" 2>"$tmp/mpi-loads.txt"
+  cmp "$tmp/mpi-one/DEM.dat" "$tmp/mpi-two/DEM.dat" || { echo "two ranks of the installed preprocessDem differ from one" >&2; exit 1; }
+  loaded=$(grep -c "file=$prefix/lib[^ ]*/libpyramid/libpyramid_mpi.so .*dynamically loaded" "$tmp/mpi-loads.txt" || true)
+  [ "$loaded" = 2 ] || { echo "the installed ranks did not load the installed MPI module ($loaded of 2)" >&2; exit 1; }
+fi
+
 with_gl=OFF
 if [ -n "$(find "$prefix" -name libpyramid-gl.a)" ]; then
   with_gl=ON
