@@ -4,13 +4,17 @@
 #include "cli/cli_common.hpp"
 
 #include <malloc.h>
+#include <sys/mman.h>
 
 #include <pthread.h>
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <map>
@@ -36,12 +40,54 @@ namespace {
 // fresh mappings, which the kernel zero-fills page by page and which are unmapped again on
 // free: on the benchmarks, 10 to 15 % of the time went to page faults. Keeping such blocks in
 // the heap (up to 64 MB each) lets freed buffers be reused; the peak footprint is unchanged,
-// as a freed block is reused before the heap grows. The library itself sets no policy: this
-// is the programs' choice.
+// as a freed block is reused before the heap grows.
+//
+// What is left is the heap's first touch of its peak, one page fault per 4 KB (about 7 us each
+// on a virtual machine): 6,300 faults on a 2700 x 1350 image. So every thread allocates from
+// the one heap (M_ARENA_MAX 1: a thread of its own would take a heap of its own, out of reach of
+// the next step), and its first 180 MB are asked for as transparent huge pages: the heap is
+// grown once by three blocks below the mmap threshold, their range given MADV_HUGEPAGE, and
+// the blocks freed again (under the trim threshold, they stay in the heap). A first touch then
+// costs one fault per 2 MB: about 400 faults on that image, 0.77 of the wall time, a few MB more
+// peak RSS (memory is resident by 2 MB). Only address space is reserved, never memory; where
+// the kernel gives no huge page the memory is what it was. The library itself sets no policy:
+// this is the programs' choice.
+//
+// Under a sanitizer, whose allocator replaces glibc's, none of this applies: the blocks would
+// only cost shadow memory.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define PYRAMID_GLIBC_HEAP 0
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#define PYRAMID_GLIBC_HEAP 0
+#endif
+#endif
+#if !defined(PYRAMID_GLIBC_HEAP) && defined(__GLIBC__)
+#define PYRAMID_GLIBC_HEAP 1
+#endif
 void keepBuffersInTheHeap() {
-#ifdef __GLIBC__
+#if PYRAMID_GLIBC_HEAP
     mallopt(M_MMAP_THRESHOLD, 64 << 20);
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
+    mallopt(M_ARENA_MAX, 1);
+    constexpr size_t kBlock = size_t{60} << 20, kHugePage = size_t{1} << 21;
+    void* blocks[3] = {};
+    uintptr_t lo = UINTPTR_MAX, hi = 0;
+    for (void*& b : blocks) {
+        b = std::malloc(kBlock); // not touched: no memory is used
+        if (b) {
+            lo = std::min(lo, reinterpret_cast<uintptr_t>(b));
+            hi = std::max(hi, reinterpret_cast<uintptr_t>(b) + kBlock);
+        }
+    }
+    lo = (lo + kHugePage - 1) & ~(kHugePage - 1);
+    hi &= ~(kHugePage - 1);
+    if (lo < hi) {
+        (void)madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE); // a hint: ignored where THP is off
+    }
+    for (int k = 2; k >= 0; --k) {
+        std::free(blocks[k]);
+    }
 #endif
 }
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 
 #include "formats/dxt_colour_fit.hpp"
 #include "formats/error.hpp"
@@ -144,7 +145,14 @@ int64_t blockColour(const uint8_t* block) {
 template <int C>
 int64_t compressBlocks(const uint8_t* pixels, int width, int height, uint8_t* blocks, DxtFormat format, int quality,
                        bool measure) {
-    thread_local SolidBlockCache solid;
+    // Made on a thread's first DXT tile: as a thread_local object, its 64 KB (per channel count)
+    // would be part of every thread's static TLS, cleared at every thread's start (OpenMP
+    // workers, writer and decoder threads alike), whether it encodes DXT or not.
+    thread_local std::unique_ptr<SolidBlockCache> solidCache;
+    if (!solidCache) {
+        solidCache = std::make_unique<SolidBlockCache>();
+    }
+    SolidBlockCache& solid = *solidCache;
     const size_t blockBytes = format == DxtFormat::Dxt1 ? 8u : 16u;
     const size_t colourOffset = format == DxtFormat::Dxt1 ? 0u : 8u;
     const int flags = squishFlags(format, quality);

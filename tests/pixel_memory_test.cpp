@@ -5,41 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <fstream>
-#include <sstream>
-#include <string>
+#include <vector>
 
 #include "libpyramid/filters/image8.hpp"
 #include "libpyramid/filters/pixel_memory.hpp"
+#include "tests/support/memory_maps.hpp"
 
 namespace pyramid {
 namespace {
-
-// The "THPeligible" field of the mapping that holds `p` in /proc/self/smaps; -1 if not found.
-int thpEligible(const void* p) {
-    std::ifstream smaps("/proc/self/smaps");
-    const auto at = reinterpret_cast<uintptr_t>(p);
-    std::string line;
-    bool inside = false;
-    while (std::getline(smaps, line)) {
-        uintptr_t from = 0, to = 0;
-        char dash = 0;
-        std::istringstream head(line);
-        if (line.find(':') > line.find(' ') && (head >> std::hex >> from >> dash >> to) && dash == '-') {
-            inside = from <= at && at < to;
-        } else if (inside && line.rfind("THPeligible:", 0) == 0) {
-            return std::stoi(line.substr(12));
-        }
-    }
-    return -1;
-}
-
-bool thpOff() {
-    std::ifstream f("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string modes;
-    std::getline(f, modes);
-    return modes.empty() || modes.find("[never]") != std::string::npos;
-}
 
 TEST(PixelMemory, LargeBuffersStartOnHugePagesAndMayUseThem) {
     const size_t bytes = 5 * kHugePageBytes + 12345;
@@ -53,8 +26,11 @@ TEST(PixelMemory, LargeBuffersStartOnHugePagesAndMayUseThem) {
         ASSERT_EQ(p[k], static_cast<uint8_t>(k >> 12)) << k;
     }
     EXPECT_EQ(p[bytes - 1], 7);
-    if (!thpOff()) {
-        EXPECT_EQ(thpEligible(p), 1);
+    if (!test::transparentHugePagesOff()) {
+        const std::vector<test::MemoryMap> maps = test::memoryMaps("self");
+        const test::MemoryMap* map = test::mapHolding(maps, p);
+        ASSERT_NE(map, nullptr);
+        EXPECT_EQ(map->thpEligible, 1) << map->name;
     }
     releasePixelMemory(p, bytes);
 }

@@ -20,6 +20,7 @@ public:
     const std::string& line() const { return line_; } // "pyramid serve: http://HOST:PORT/"
     const std::string& host() const { return host_; }
     int port() const { return port_; }
+    int pid() const { return pid_; }
     const std::string& error() const { return error_; }
     // Sends SIGTERM and waits: the exit code (128 + signal for a signal's end).
     int stop();
