@@ -2,7 +2,7 @@
 # Installs the Debian packages libpyramid builds and tests with (needs root or sudo).
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build lld pkg-config git
   libtiff-dev libdeflate-dev libpng-dev libjpeg-dev zlib1g-dev libopenimageio-dev libopenexr-dev libsquish-dev libstb-dev libgeographiclib-dev libgeotiff-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev
   libcpp-httplib-dev libjs-three
