@@ -72,13 +72,16 @@ std::vector<uint8_t> encodeResidualBlob(std::span<const int16_t> residuals, int 
 namespace {
 
 // A context-coded blob, or any TIFF through libtiff (the reference, with its errors).
-std::vector<int16_t> decodeAnyResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where) {
-    return isContextResidualBlob(blob) ? decodeContextResiduals(blob, size, where) : decodeResidualTiff(blob, size, where);
+std::vector<int16_t> decodeAnyResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where,
+                                           std::span<const int32_t> parentPlane) {
+    return isContextResidualBlob(blob) ? decodeContextResiduals(blob, size, where, parentPlane)
+                                       : decodeResidualTiff(blob, size, where);
 }
 
 } // namespace
 
-void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::string& where, std::span<int16_t> out) {
+void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::string& where, std::span<int16_t> out,
+                            std::span<const int32_t> parentPlane) {
     if (out.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
         fail(where, "residual tile buffer of " + std::to_string(out.size()) + " samples for a tile of " +
                         std::to_string(size) + "x" + std::to_string(size));
@@ -86,16 +89,17 @@ void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::
     if (!isContextResidualBlob(blob) && decodePlainResidualTiff(blob, size, out)) {
         return;
     }
-    const std::vector<int16_t> samples = decodeAnyResidualBlob(blob, size, where);
+    const std::vector<int16_t> samples = decodeAnyResidualBlob(blob, size, where, parentPlane);
     std::copy(samples.begin(), samples.end(), out.begin());
 }
 
-std::vector<int16_t> decodeResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where) {
+std::vector<int16_t> decodeResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where,
+                                        std::span<const int32_t> parentPlane) {
     if (size < 1) {
-        return decodeAnyResidualBlob(blob, size, where); // which names the size's problem
+        return decodeAnyResidualBlob(blob, size, where, parentPlane); // which names the size's problem
     }
     std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
-    decodeResidualBlobInto(blob, size, where, out);
+    decodeResidualBlobInto(blob, size, where, out, parentPlane);
     return out;
 }
 

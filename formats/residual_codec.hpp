@@ -37,10 +37,14 @@ struct ResidualTileCoding {
 std::vector<uint8_t> encodeResidualBlob(std::span<const int16_t> residuals, int size, const ResidualTileCoding& coding);
 
 // Decodes a stored residual tile of any codec: a TIFF (2 x 8 or 1 x 16 bits, any compression
-// libtiff reads) or a context-coded blob, told apart by their first bytes.
-std::vector<int16_t> decodeResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where);
+// libtiff reads) or a context-coded blob, told apart by their first bytes. `parentPlane`: the
+// tile's parent plane (formats/residual_shadow.hpp), which only a context-coded blob in the
+// parent mode needs (contextBlobNeedsParent); ResidualFileReader supplies it.
+std::vector<int16_t> decodeResidualBlob(std::span<const uint8_t> blob, int size, const std::string& where,
+                                        std::span<const int32_t> parentPlane = {});
 // The same into `out` (size * size samples), for readers that reuse their buffers.
-void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::string& where, std::span<int16_t> out);
+void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::string& where, std::span<int16_t> out,
+                            std::span<const int32_t> parentPlane = {});
 
 // A stored tile's coding, for reports: "context" or describeTiff's name ("deflate", ...).
 std::string describeResidualBlob(std::span<const uint8_t> blob);

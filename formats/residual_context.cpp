@@ -1,5 +1,5 @@
 // Context-coded residual tiles (doc/format.md, 1.8): the public entry points, and the coder of
-// versions 0 and 1 (version 2's is in residual_context_v2.cpp, the shared parts in
+// versions 0 and 1 (versions 2 and 3, the parent mode, are in residual_context_v2.cpp, the shared parts in
 // residual_context_models.hpp).
 #include "formats/residual_context.hpp"
 
@@ -190,7 +190,21 @@ std::vector<uint8_t> encodeContextResiduals(std::span<const int16_t> residuals, 
     return best;
 }
 
-std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int size, const std::string& where) {
+bool contextBlobNeedsParent(std::span<const uint8_t> blob) {
+    return blob.size() >= kHeaderBytes && isContextResidualBlob(blob) && blob[7] == 3;
+}
+
+std::vector<uint8_t> encodeContextParentMode(std::span<const int16_t> residuals, int size,
+                                             std::span<const int32_t> parentPlane) {
+    const size_t samples = static_cast<size_t>(size) * static_cast<size_t>(size);
+    if (size < 1 || size > 65535 || residuals.size() != samples || parentPlane.size() != samples) {
+        fail("", "residual tile: buffers do not match " + std::to_string(size) + "x" + std::to_string(size));
+    }
+    return context_coding::encodeParentMode(residuals, size, parentPlane);
+}
+
+std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int size, const std::string& where,
+                                            std::span<const int32_t> parentPlane) {
     if (blob.size() < kHeaderBytes || !isContextResidualBlob(blob)) {
         fail(where, "not a context-coded residual tile");
     }
@@ -201,7 +215,7 @@ std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int s
     }
     const uint8_t mode = blob[6];
     const uint8_t version = blob[7];
-    if (version > 2 || mode > std::min<int>(version, 1) + 1) {
+    if (version > 3 || (version == 3 && mode != 3) || (version < 3 && mode > std::min<int>(version, 1) + 1)) {
         fail(where, "context-coded residual tile of an unknown kind (mode " + std::to_string(mode) + ", version " +
                         std::to_string(version) + ")");
     }
@@ -210,6 +224,11 @@ std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int s
         return decodeMode<0>(blob, size, mode, where);
     case 1:
         return decodeMode<1>(blob, size, mode, where);
+    case 3:
+        if (parentPlane.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
+            fail(where, "context-coded residual tile in the parent mode, read without its parent tile");
+        }
+        return decodeParentMode(blob, size, parentPlane, where);
     default:
         return decodeVersion2(blob, size, mode, where);
     }

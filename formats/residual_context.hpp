@@ -28,7 +28,20 @@ std::vector<uint8_t> encodeContextResiduals(std::span<const int16_t> residuals, 
 
 // Decodes a blob of encodeContextResiduals for a tile of `size` samples a side. Throws Error
 // with `where` for any blob the encoder cannot have written: another size, an unknown mode or
-// version (0, 1 and 2 are read), a stream that ends early or has bytes left over, values beyond int16.
-std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int size, const std::string& where);
+// version (0 to 3 are read), a stream that ends early or has bytes left over, values beyond int16.
+// `parentPlane`: the tile's parent plane (formats/residual_shadow.hpp), size x size, which a
+// blob of version 3 is decoded with (and without which it is refused); the other versions do
+// not use it.
+std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int size, const std::string& where,
+                                            std::span<const int32_t> parentPlane = {});
+
+// Version 3, the parent mode (doc/format.md 1.8): the residuals coded as version 2 codes them,
+// predicted from the tile's parent plane and its coded neighbours' shadows. Written by the
+// pass of libpyramid/encode/residual/residual_parent_pass.hpp where it is smaller, never by
+// encodeContextResiduals.
+std::vector<uint8_t> encodeContextParentMode(std::span<const int16_t> residuals, int size,
+                                             std::span<const int32_t> parentPlane);
+// True for a blob of version 3: decoding it needs the tile's parent plane.
+bool contextBlobNeedsParent(std::span<const uint8_t> blob);
 
 } // namespace pyramid

@@ -1,5 +1,6 @@
 #include "formats/residual_context_v2.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdlib>
@@ -22,12 +23,22 @@ constexpr int kModelledBits = 4;                        // the top bits below an
 constexpr size_t kPrefixes = size_t{1} << kModelledBits;
 constexpr size_t kEscapeTables = kActivityBins / 2;
 constexpr size_t kSignContexts = 4 * 27 * 3;
+// Version 3's parent mode: a sample's neighbours' shadows within this of each other are flat; a
+// shadow prediction must have done this much better than the grid predictor on the four nearest
+// samples of the same place in the grid to be chosen where they are not; predictions are held
+// within +-kPredictionLimit.
+constexpr int32_t kFlatSpread = 1;
+constexpr uint32_t kSwitchMargin = 32;
+constexpr int64_t kPredictionLimit = 65536;
 
+// Version 2's tables (one set), or version 3's (three: the grid predictor, a flat neighbourhood,
+// the shadow predictor chosen by past errors).
+template <size_t Sets>
 struct Models {
-    std::array<Model<kMagnitudes>, kModels> magnitudes;
+    std::array<Model<kMagnitudes>, kModels * Sets> magnitudes;
     std::array<Model<kExponents>, kEscapeTables> exponents;
     std::array<BitModel, kEscapeTables * kExponents * kPrefixes> bits;
-    std::array<BitModel, kSignContexts> signs;
+    std::array<BitModel, kSignContexts * Sets> signs;
     Models() {
         static const std::array<std::array<uint32_t, kMagnitudes>, kModels> initial = [] {
             std::array<std::array<uint32_t, kMagnitudes>, kModels> t{};
@@ -41,7 +52,7 @@ struct Models {
             return t;
         }();
         for (size_t k = 0; k < magnitudes.size(); ++k) {
-            magnitudes[k].start(initial[k]);
+            magnitudes[k].start(initial[k % kModels]);
         }
     }
 };
@@ -49,15 +60,19 @@ struct Models {
 int signOf(int32_t v) { return (v > 0) - (v < 0); }
 
 // The tile's residuals, values and magnitudes so far, each in a plane with two columns of zeros
-// on the left, one on the right and two rows below: a sample's neighbours outside the tile read
-// 0, as the format says, without a test.
+// on the left, three on the right and two rows below: a sample's neighbours outside the tile read
+// 0, as the format says, without a test. The parent mode also keeps the shadows and each
+// predictor's errors.
 struct Planes {
+    int size;
     size_t stride;
-    std::vector<int32_t> residual, value;
-    std::vector<uint32_t> magnitude;
-    explicit Planes(int size)
-        : stride(static_cast<size_t>(size) + 3), residual(stride * (static_cast<size_t>(size) + 2)),
-          value(residual.size()), magnitude(residual.size()) {}
+    std::vector<int32_t> residual, value, shadow;
+    std::vector<uint32_t> magnitude, gridError, shadowError;
+    const int32_t* parent = nullptr; // the parent plane, size x size (mode 3)
+    Planes(int size_, bool parentMode)
+        : size(size_), stride(static_cast<size_t>(size_) + 5), residual(stride * (static_cast<size_t>(size_) + 2)),
+          value(residual.size()), shadow(parentMode ? residual.size() : 0), magnitude(residual.size()),
+          gridError(shadow.size()), shadowError(shadow.size()) {}
     size_t at(int x, int y) const { return (static_cast<size_t>(y) + 2) * stride + static_cast<size_t>(x) + 2; }
 };
 
@@ -65,8 +80,63 @@ struct Planes {
 struct Context {
     int32_t prediction;
     size_t table;
-    size_t sign; // the sign context without the magnitude class
+    size_t sign;      // the sign context without the magnitude class
+    int32_t grid = 0; // mode 3: the grid predictor's and the shadow predictor's predictions
+    int32_t fromShadow = 0;
 };
+
+int32_t limitPrediction(int64_t p) { return static_cast<int32_t>(std::clamp(p, -kPredictionLimit, kPredictionLimit)); }
+
+// Shadows reach +-(2^30 + 2^15): their sums and differences are taken in 64 bits.
+int64_t median(int64_t a, int64_t b, int64_t c) {
+    return c >= std::max(a, b) ? std::min(a, b) : (c <= std::min(a, b) ? std::max(a, b) : a + b - c);
+}
+
+// Mode 3: the shadow predictor (the median predictor over the neighbours' shadows, less the
+// sample's parent plane) and the set of tables it codes with.
+Context parentContext(const Planes& planes, size_t i, int x, int y, int32_t grid, uint32_t activity) {
+    const size_t s = planes.stride;
+    const int32_t* h = planes.shadow.data();
+    const int32_t g = planes.parent[static_cast<size_t>(y) * static_cast<size_t>(planes.size) + static_cast<size_t>(x)];
+    int64_t w = h[i - 1], south = h[i - s], sw = h[i - s - 1], se = h[i - s + 1];
+    if (x == 0) {
+        w = sw = south;
+    }
+    if (y == 0) {
+        south = sw = se = w;
+    }
+    if (x + 1 == planes.size) {
+        se = south;
+    }
+    if (x == 0 && y == 0) {
+        w = south = sw = se = g;
+    }
+    const int32_t fromShadow = limitPrediction(median(w, south, sw) - g);
+    size_t set = 0;
+    int32_t p = grid;
+    const int64_t spread = std::max(std::max(w, south), std::max(sw, se)) - std::min(std::min(w, south), std::min(sw, se));
+    if (x > 0 && y > 0 && x + 1 < planes.size && spread <= kFlatSpread) {
+        set = 1;
+        p = fromShadow;
+    } else {
+        const auto past = [&](const std::vector<uint32_t>& e) {
+            return e[i - 2] + e[i - 2 * s] + e[i - 2 * s - 2] + e[i - 2 * s + 2];
+        };
+        if (past(planes.shadowError) + kSwitchMargin < past(planes.gridError)) {
+            set = 2;
+            p = fromShadow;
+        }
+    }
+    if (set != 1) {
+        activity += static_cast<uint32_t>(std::abs(p));
+    }
+    activity += 2 * static_cast<uint32_t>(std::abs(fromShadow - grid));
+    const int parity = (x & 1) + 2 * (y & 1);
+    const int west = signOf(planes.value[i - 1]);
+    const int below = signOf(planes.value[i - s]);
+    const auto sign = static_cast<size_t>(((parity * 3 + west + 1) * 3 + below + 1) * 3 + signOf(p) + 1) * 3;
+    return {p, static_cast<size_t>(tableOf(activity, x, y)) + set * kModels, sign + set * kSignContexts, grid, fromShadow};
+}
 
 template <int Mode>
 [[gnu::always_inline]] inline Context contextOf(const Planes& planes, size_t i, int x, int y) {
@@ -79,7 +149,7 @@ template <int Mode>
         const int32_t b = y > 0 ? r[i - s] : a;
         const int32_t c = x > 0 && y > 0 ? r[i - s - 1] : a;
         p = c >= std::max(a, b) ? std::min(a, b) : (c <= std::min(a, b) ? std::max(a, b) : a + b - c);
-    } else if constexpr (Mode == 2) {
+    } else if constexpr (Mode >= 2) {
         if (parity != 0) {
             const int* w = kPredictionWeights[parity - 1];
             p = (w[0] * r[i - 1] + w[1] * r[i - s] + w[2] * r[i - s - 1] + w[3] * r[i - s + 1] + w[4] * r[i - 2] +
@@ -88,6 +158,9 @@ template <int Mode>
     }
     const uint32_t* m = planes.magnitude.data();
     uint32_t activity = 2 * m[i - 1] + 2 * m[i - s] + m[i - s - 1] + m[i - s + 1] + m[i - 2] + m[i - 2 * s];
+    if constexpr (Mode == 3) {
+        return parentContext(planes, i, x, y, p, activity);
+    }
     if constexpr (Mode == 2) {
         activity += static_cast<uint32_t>(std::abs(p));
     }
@@ -106,10 +179,21 @@ template <uint32_t N>
     return s;
 }
 
+// Mode 3 keeps each sample's shadow and both predictors' errors for the samples after it.
+[[gnu::always_inline]] inline void keepParentState(Planes& planes, size_t i, int x, int y, int32_t residual, const Context& c) {
+    planes.shadow[i] = planes.parent[static_cast<size_t>(y) * static_cast<size_t>(planes.size) + static_cast<size_t>(x)] + residual;
+    planes.gridError[i] = static_cast<uint32_t>(std::abs(residual - c.grid));
+    planes.shadowError[i] = static_cast<uint32_t>(std::abs(residual - c.fromShadow));
+}
+
 template <int Mode>
-void encodeSamples(std::span<const int16_t> residuals, int size, RangeEncoder& coder) {
-    Planes planes(size);
-    const auto models = std::make_unique<Models>();
+using ModelsOf = Models<Mode == 3 ? 3 : 1>;
+
+template <int Mode>
+void encodeSamples(std::span<const int16_t> residuals, int size, const int32_t* parent, RangeEncoder& coder) {
+    Planes planes(size, Mode == 3);
+    planes.parent = parent;
+    const auto models = std::make_unique<ModelsOf<Mode>>();
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             const size_t i = planes.at(x, y);
@@ -120,6 +204,9 @@ void encodeSamples(std::span<const int16_t> residuals, int size, RangeEncoder& c
             const auto a = static_cast<uint32_t>(std::abs(v));
             planes.value[i] = v;
             planes.magnitude[i] = a;
+            if constexpr (Mode == 3) {
+                keepParentState(planes, i, x, y, residual, c);
+            }
             Model<kMagnitudes>& m = models->magnitudes[c.table];
             const uint32_t symbol = std::min(a, kDirectMagnitudes);
             coder.encode(m.cumulative(symbol), m.count[symbol], m.total);
@@ -127,7 +214,7 @@ void encodeSamples(std::span<const int16_t> residuals, int size, RangeEncoder& c
             if (symbol == kDirectMagnitudes) {
                 const uint32_t e = a - kDirectMagnitudes + 1; // 1 .. 2^17 - 1
                 const auto k = static_cast<uint32_t>(std::bit_width(e)) - 1;
-                const size_t escapes = c.table / 8;
+                const size_t escapes = (c.table % kModels) / 8;
                 Model<kExponents>& exponents = models->exponents[escapes];
                 coder.encode(exponents.cumulative(k), exponents.count[k], exponents.total);
                 exponents.update(k);
@@ -149,9 +236,10 @@ void encodeSamples(std::span<const int16_t> residuals, int size, RangeEncoder& c
 }
 
 template <int Mode>
-std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const std::string& where) {
-    Planes planes(size);
-    const auto models = std::make_unique<Models>();
+std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const int32_t* parent, const std::string& where) {
+    Planes planes(size, Mode == 3);
+    planes.parent = parent;
+    const auto models = std::make_unique<ModelsOf<Mode>>();
     std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
@@ -159,7 +247,7 @@ std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const std::str
             const Context c = contextOf<Mode>(planes, i, x, y);
             uint32_t a = decodeSymbol(coder, models->magnitudes[c.table]);
             if (a == kDirectMagnitudes) {
-                const size_t escapes = c.table / 8;
+                const size_t escapes = (c.table % kModels) / 8;
                 const uint32_t k = decodeSymbol(coder, models->exponents[escapes]);
                 const int modelled = std::min(static_cast<int>(k), kModelledBits);
                 size_t prefix = 1;
@@ -183,6 +271,9 @@ std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const std::str
             planes.residual[i] = residual;
             planes.value[i] = v;
             planes.magnitude[i] = a;
+            if constexpr (Mode == 3) {
+                keepParentState(planes, i, x, y, residual, c);
+            }
             out[static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)] = static_cast<int16_t>(residual);
         }
     }
@@ -198,11 +289,11 @@ std::vector<uint8_t> encodeVersion2(std::span<const int16_t> residuals, int size
     out.reserve(residuals.size() / 2 + kHeaderBytes);
     RangeEncoder coder(out);
     if (mode == 0) {
-        encodeSamples<0>(residuals, size, coder);
+        encodeSamples<0>(residuals, size, nullptr, coder);
     } else if (mode == 1) {
-        encodeSamples<1>(residuals, size, coder);
+        encodeSamples<1>(residuals, size, nullptr, coder);
     } else {
-        encodeSamples<2>(residuals, size, coder);
+        encodeSamples<2>(residuals, size, nullptr, coder);
     }
     coder.finish();
     return out;
@@ -210,9 +301,28 @@ std::vector<uint8_t> encodeVersion2(std::span<const int16_t> residuals, int size
 
 std::vector<int16_t> decodeVersion2(std::span<const uint8_t> blob, int size, uint8_t mode, const std::string& where) {
     RangeDecoder coder(blob.subspan(kHeaderBytes), where);
-    std::vector<int16_t> out = mode == 0   ? decodeSamples<0>(coder, size, where)
-                               : mode == 1 ? decodeSamples<1>(coder, size, where)
-                                           : decodeSamples<2>(coder, size, where);
+    std::vector<int16_t> out = mode == 0   ? decodeSamples<0>(coder, size, nullptr, where)
+                               : mode == 1 ? decodeSamples<1>(coder, size, nullptr, where)
+                                           : decodeSamples<2>(coder, size, nullptr, where);
+    coder.finish();
+    return out;
+}
+
+std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent) {
+    std::vector<uint8_t> out = {kContextResidualMagic[0], kContextResidualMagic[1], kContextResidualMagic[2],
+                                kContextResidualMagic[3], static_cast<uint8_t>(size & 0xff),
+                                static_cast<uint8_t>(size >> 8), 3, 3};
+    out.reserve(residuals.size() / 2 + kHeaderBytes);
+    RangeEncoder coder(out);
+    encodeSamples<3>(residuals, size, parent.data(), coder);
+    coder.finish();
+    return out;
+}
+
+std::vector<int16_t> decodeParentMode(std::span<const uint8_t> blob, int size, std::span<const int32_t> parent,
+                                      const std::string& where) {
+    RangeDecoder coder(blob.subspan(kHeaderBytes), where);
+    std::vector<int16_t> out = decodeSamples<3>(coder, size, parent.data(), where);
     coder.finish();
     return out;
 }

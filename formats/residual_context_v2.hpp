@@ -1,6 +1,7 @@
 // Version 2 of the context-coded residual tile (doc/format.md, 1.8): each value's magnitude from
 // the sample's activity table, its sign as a binary decision in the context of its neighbours'
-// signs and its prediction's, and the top bits of large magnitudes as binary decisions too.
+// signs and its prediction's, and the top bits of large magnitudes as binary decisions too; and
+// version 3, the same coding predicted from the tile's parent plane.
 // Internal to formats/residual_context*.cpp; formats/residual_context.hpp is the interface.
 #pragma once
 #include <cstdint>
@@ -14,5 +15,12 @@ namespace pyramid::context_coding {
 std::vector<uint8_t> encodeVersion2(std::span<const int16_t> residuals, int size, uint8_t mode);
 // The residuals of a version-2 blob whose header has been checked; throws Error with `where`.
 std::vector<int16_t> decodeVersion2(std::span<const uint8_t> blob, int size, uint8_t mode, const std::string& where);
+
+// Version 3, the parent mode (mode 3): version 2's coding of each value, predicted from the
+// tile's parent plane (`parent`, size x size: formats/residual_shadow.hpp) and the shadows of the
+// samples coded before it. Header included; the decoder's header has been checked.
+std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent);
+std::vector<int16_t> decodeParentMode(std::span<const uint8_t> blob, int size, std::span<const int32_t> parent,
+                                      const std::string& where);
 
 } // namespace pyramid::context_coding

@@ -8,6 +8,8 @@
 #include "formats/header_bytes.hpp"
 #include "formats/pyramid_file_rules.hpp"
 #include "formats/residual_codec.hpp"
+#include "formats/residual_context.hpp"
+#include "formats/residual_shadow.hpp"
 #include "formats/tiff_tile.hpp"
 
 namespace pyramid {
@@ -111,13 +113,72 @@ std::vector<uint8_t> ResidualFileReader::readTileBytes(int level, int tx, int ty
 }
 
 std::vector<int16_t> ResidualFileReader::readTile(int level, int tx, int ty) const {
-    const std::vector<uint8_t> blob = readTileBytes(level, tx, ty);
-    return decodeResidualBlob(blob, header_.tileSamples(level), tileName(path_, level, tx, ty));
+    std::vector<int16_t> out(static_cast<size_t>(header_.tileSamples(level)) * static_cast<size_t>(header_.tileSamples(level)));
+    readTileInto(level, tx, ty, out);
+    return out;
 }
 
 void ResidualFileReader::readTileInto(int level, int tx, int ty, std::span<int16_t> out) const {
     const std::vector<uint8_t> blob = readTileBytes(level, tx, ty);
-    decodeResidualBlobInto(blob, header_.tileSamples(level), tileName(path_, level, tx, ty), out);
+    const int size = header_.tileSamples(level);
+    const std::string where = tileName(path_, level, tx, ty);
+    if (!contextBlobNeedsParent(blob)) {
+        decodeResidualBlobInto(blob, size, where, out);
+        return;
+    }
+    const std::vector<int32_t> plane = parentPlane(level, tx, ty);
+    decodeResidualBlobInto(blob, size, where, out, plane);
+    // Its children will ask for it.
+    keepShadow(header_.tileIndex(level, tx, ty), std::make_shared<const std::vector<int32_t>>(shadowOf(plane, out)));
+}
+
+std::vector<int32_t> ResidualFileReader::parentPlane(int level, int tx, int ty) const {
+    tileRange(level, tx, ty); // throws for a tile outside the file
+    const int size = header_.tileSamples(level);
+    if (level == 0) {
+        return std::vector<int32_t>(static_cast<size_t>(size) * static_cast<size_t>(size), 0);
+    }
+    const ShadowParent p = shadowParentOf(header_, level, tx, ty);
+    const std::shared_ptr<const std::vector<int32_t>> above = shadow(p.level, p.tx, p.ty);
+    return upsampleShadow(*above, header_.tileSamples(p.level), size, p.px, p.py);
+}
+
+std::shared_ptr<const std::vector<int32_t>> ResidualFileReader::shadow(int level, int tx, int ty) const {
+    tileRange(level, tx, ty);
+    const int64_t index = header_.tileIndex(level, tx, ty);
+    {
+        const std::lock_guard lock(shadowsMutex_);
+        for (auto k = shadows_.begin(); k != shadows_.end(); ++k) {
+            if (k->first == index) {
+                shadows_.splice(shadows_.begin(), shadows_, k);
+                return shadows_.front().second;
+            }
+        }
+    }
+    const std::vector<int32_t> plane = parentPlane(level, tx, ty);
+    const int size = header_.tileSamples(level);
+    std::vector<int16_t> residuals(static_cast<size_t>(size) * static_cast<size_t>(size));
+    decodeResidualBlobInto(readTileBytes(level, tx, ty), size, tileName(path_, level, tx, ty), residuals, plane);
+    auto kept = std::make_shared<const std::vector<int32_t>>(shadowOf(plane, residuals));
+    keepShadow(index, kept);
+    return kept;
+}
+
+// A few levels' worth: a reader walking the quadtree down asks for each tile's parent, and for
+// the same parent four times.
+void ResidualFileReader::keepShadow(int64_t index, std::shared_ptr<const std::vector<int32_t>> kept) const {
+    constexpr size_t kShadowsKept = 32;
+    const std::lock_guard lock(shadowsMutex_);
+    for (auto k = shadows_.begin(); k != shadows_.end(); ++k) {
+        if (k->first == index) {
+            shadows_.erase(k);
+            break;
+        }
+    }
+    shadows_.emplace_front(index, std::move(kept));
+    if (shadows_.size() > kShadowsKept) {
+        shadows_.pop_back();
+    }
 }
 
 std::vector<uint8_t> packResidualHeader(const ResidualHeader& h) {

@@ -8,7 +8,9 @@
 // Tile arrays are row-major with row 0 = the tile's bottom row (j = 0), as stored.
 #pragma once
 #include <cstdint>
+#include <list>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -69,16 +71,26 @@ public:
     // The tile's byte range in the offset table (no read). Throws MissingTileError for a tile
     // outside the file.
     TileTable::Range tileRange(int level, int tx, int ty) const;
-    // The decoded residuals, tileSamples(level)^2 int16 values, row 0 = bottom.
+    // The decoded residuals, tileSamples(level)^2 int16 values, row 0 = bottom. A context-coded
+    // tile in the parent mode is decoded with its parent plane, from the tiles above it
+    // (formats/residual_shadow.hpp; the last few shadows are kept).
     std::vector<int16_t> readTile(int level, int tx, int ty) const;
     // The same into `out`, tileSamples(level)^2 values (a reader's reused buffer).
     void readTileInto(int level, int tx, int ty, std::span<int16_t> out) const;
+    // The tile's parent plane (formats/residual_shadow.hpp): 0 at level 0.
+    std::vector<int32_t> parentPlane(int level, int tx, int ty) const;
+    // The tile's shadow: its parent plane plus its residuals.
+    std::shared_ptr<const std::vector<int32_t>> shadow(int level, int tx, int ty) const;
 
 private:
     ResidualFileReader() = default;
+    void keepShadow(int64_t index, std::shared_ptr<const std::vector<int32_t>> shadow) const;
     std::string path_;
     ResidualHeader header_;
     std::unique_ptr<TileTable> table_;
+    // The shadows computed last, newest first.
+    mutable std::mutex shadowsMutex_;
+    mutable std::list<std::pair<int64_t, std::shared_ptr<const std::vector<int32_t>>>> shadows_;
 };
 
 // Streaming writer. Tiles may be written in any order; each is appended to a temporary file

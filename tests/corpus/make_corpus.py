@@ -363,7 +363,8 @@ def main():
 
     # ---- Context-coded residual tiles (doc/format.md 1.8): the 3 x 3 version-0 tile and the
     # 5 x 5 version-1 and version-2 tiles in mode 2 whose bytes tests/residual_codec_test.cpp and
-    # tests/residual_context_v2_test.cpp pin, and what a decoder must refuse
+    # tests/residual_context_v2_test.cpp pin, version 3's of tests/residual_parent_mode_test.cpp,
+    # and what a decoder must refuse
     context = bytes([0x50, 0x59, 0x52, 0x43, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00,
                      0x7a, 0x67, 0x99, 0x8e, 0xf7, 0xcd, 0xfa, 0x19, 0x7a])
     CT = "residual-tile 3"
@@ -373,7 +374,8 @@ def main():
     emit("context/header-only.pyrc", context[:8], CT, "damaged stream start")
     emit("context/wrong-size.pyrc", context, "residual-tile 4", "3 samples a side, expected 4")
     emit("context/mode-2.pyrc", context[:6] + b"\x02" + context[7:], CT, "unknown kind (mode 2, version 0)")
-    emit("context/version-3.pyrc", context[:7] + b"\x03" + context[8:], CT, "unknown kind")
+    emit("context/version-3.pyrc", context[:7] + b"\x03" + context[8:], CT, "unknown kind (mode 0, version 3)")
+    emit("context/version-4.pyrc", context[:6] + b"\x03\x04" + context[8:], CT, "unknown kind (mode 3, version 4)")
     version1 = bytes([0x50, 0x59, 0x52, 0x43, 0x05, 0x00, 0x02, 0x01, 0x00, 0x4d, 0xe4, 0x3f,
                       0xde, 0x30, 0x67, 0x74, 0xd7, 0xa7, 0x76, 0xe0, 0xfd, 0x7d, 0x80, 0x00])
     emit("valid/context-version-1-5.pyrc", version1, "residual-tile 5", "ok")
@@ -383,6 +385,11 @@ def main():
     version2 = bytes([0x50, 0x59, 0x52, 0x43, 0x05, 0x00, 0x02, 0x02, 0x00, 0x4c, 0x08, 0xb8,
                       0x5a, 0xe5, 0xb8, 0x6a, 0xb0, 0x6c, 0xa9, 0xe6, 0x9f, 0xb7, 0x00, 0x00])
     emit("valid/context-version-2-5.pyrc", version2, "residual-tile 5", "ok")
+    # The parent mode's 5 x 5 tile of tests/residual_parent_mode_test.cpp, read as a tile alone:
+    # without its parent plane it cannot be decoded.
+    parent = bytes([0x50, 0x59, 0x52, 0x43, 0x05, 0x00, 0x03, 0x03, 0x00, 0x42, 0x11, 0xc9,
+                    0x4a, 0x7b, 0x91, 0xa4, 0xc9, 0x4b, 0x21, 0x77, 0x19, 0x43, 0x5c, 0x00])
+    emit("context/version-3-alone.pyrc", parent, "residual-tile 5", "without its parent tile")
     emit("context/version-2-mode-3.pyrc", version2[:6] + b"\x03" + version2[7:], "residual-tile 5",
          "unknown kind (mode 3, version 2)")
     emit("context/version-2-truncated.pyrc", version2[:-1], "residual-tile 5", "the stream ends early")

@@ -8,17 +8,20 @@
 #include "formats/sparse_set.hpp"
 #include "formats/staging_directory.hpp"
 #include "formats/temporaries.hpp"
+#include "libpyramid/encode/residual/residual_parent_pass.hpp"
 #include "libpyramid/encode/residual/residual_pyramid_encoder.hpp"
 
 namespace pyramid {
 
 ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes,
-                               bool levelOrder)
-    : output_(output), header_(header), maxFileBytes_(maxFileBytes), levelOrder_(levelOrder && maxFileBytes == 0) {
+                               bool levelOrder, std::optional<int> parentModes)
+    : output_(output), header_(header), maxFileBytes_(maxFileBytes), levelOrder_(levelOrder && maxFileBytes == 0),
+      parentModes_(parentModes) {
     const std::filesystem::path outputPath(output);
-    // A set, or a file whose earlier run left files named after it (a set's index and regions, a
-    // sidecar): staged, so that the commit replaces those too.
-    if (maxFileBytes_ > 0 || !filesNamedAfter(output).empty()) {
+    // A set, a file whose earlier run left files named after it (a set's index and regions, a
+    // sidecar), or files rewritten in the parent mode when final: staged, so that the commit
+    // replaces those too.
+    if (maxFileBytes_ > 0 || parentModes_ || !filesNamedAfter(output).empty()) {
         const std::filesystem::path parent = outputPath.parent_path();
         staging_ = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
     }
@@ -38,7 +41,7 @@ ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& 
 
 ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes,
                                Sparse sparse)
-    : output_(output), header_(header), maxFileBytes_(maxFileBytes) {
+    : output_(output), header_(header), maxFileBytes_(maxFileBytes), parentModes_(sparse.parentModes) {
     const std::filesystem::path parent = std::filesystem::path(output).parent_path();
     staging_ = std::make_unique<StagingDirectory>(parent.empty() ? std::string(".") : parent.string());
     // The blobs wait beside the output, in a temporary that is never put in place.
@@ -47,10 +50,18 @@ ResidualOutput::ResidualOutput(const std::string& output, const ResidualHeader& 
 
 ResidualOutput::~ResidualOutput() = default;
 
-void ResidualOutput::placeStaged(const std::vector<std::pair<std::string, uint64_t>>& files,
+void ResidualOutput::placeStaged(std::vector<std::pair<std::string, uint64_t>> files,
                                  const std::vector<RegionRoot>& roots, bool index,
                                  const std::vector<CompanionFile>& companions, ResidualPyramidReport& report) {
     const std::string fileName = std::filesystem::path(output_).filename().string();
+    if (parentModes_) {
+        // Each file final: its tiles take the parent mode where smaller, from its own root.
+        for (auto& [name, bytes] : files) {
+            const std::string path = staging_->path(name);
+            rewriteInParentMode(path, path, *parentModes_)->commit();
+            bytes = std::filesystem::file_size(path);
+        }
+    }
     if (index) {
         writeRegionIndex(regionIndexPath(staging_->path(fileName)),
                          makeRegionIndex(staging_->path(fileName), PyramidKind::Residual, roots));

@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,13 +33,17 @@ public:
     // are staged as they come and written into `output` level by level, row by row, when it is
     // put in place: the order the set splitter gives a region file, so that a region built alone
     // (options.region) is byte for byte the file of a set.
+    // `parentModes` set: the tiles are context-coded, and each file, once final, takes the parent
+    // mode where it is smaller (residual_parent_pass.hpp), with that many threads (0: all cores);
+    // the pyramid is then staged.
     ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes,
-                   bool levelOrder = false);
+                   bool levelOrder = false, std::optional<int> parentModes = std::nullopt);
     // A sparse output (formats/sparse_set.hpp): the tiles and empty subtrees go to log(), and
     // place() writes the files that hold the data (at most `maxFileBytes` each, when not 0) and
     // the set's index; `zeroBlob` is a full-size tile of residual 0.
     struct Sparse {
         std::vector<uint8_t> zeroBlob;
+        std::optional<int> parentModes; // as above
     };
     ResidualOutput(const std::string& output, const ResidualHeader& header, uint64_t maxFileBytes, Sparse sparse);
     ~ResidualOutput();
@@ -54,13 +59,14 @@ public:
 
 private:
     void placeSparse(const std::vector<CompanionFile>& companions, ResidualPyramidReport& report);
-    void placeStaged(const std::vector<std::pair<std::string, uint64_t>>& files, const std::vector<RegionRoot>& roots,
+    void placeStaged(std::vector<std::pair<std::string, uint64_t>> files, const std::vector<RegionRoot>& roots,
                      bool index, const std::vector<CompanionFile>& companions, ResidualPyramidReport& report);
 
     std::string output_;
     ResidualHeader header_;
     uint64_t maxFileBytes_ = 0;
     bool levelOrder_ = false;
+    std::optional<int> parentModes_;
     std::unique_ptr<StagingDirectory> staging_;
     std::unique_ptr<ResidualFileWriter> writer_;
     std::unique_ptr<SparseTileLog> log_;

@@ -138,15 +138,19 @@ ResidualMergeReport mergeResidualParts(const std::vector<std::string>& paths, co
         // A sparse build's parts: their empty subtrees are records without statistics, and the
         // files hold only what its log chooses (formats/sparse_set.hpp).
         const bool sparse = top.value("sparse", false);
+        // The merge has no thread count of its own: all cores.
+        const std::optional<int> parentModes =
+            top.value("parent_modes", false) ? std::optional<int>(0) : std::nullopt;
         std::unique_ptr<ResidualOutput> sparseOut, denseOut;
         if (sparse) {
             const std::optional<std::vector<uint8_t>> empty = bytesOfHex(top.value("empty_tile", std::string()));
             if (!empty || empty->empty()) {
                 fail(topPath, "corrupt part file (a sparse pyramid without its empty tile)");
             }
-            sparseOut = std::make_unique<ResidualOutput>(output, header, maxFileBytes, ResidualOutput::Sparse{*empty});
+            sparseOut = std::make_unique<ResidualOutput>(output, header, maxFileBytes,
+                                                         ResidualOutput::Sparse{*empty, parentModes});
         } else {
-            denseOut = std::make_unique<ResidualOutput>(output, header, maxFileBytes);
+            denseOut = std::make_unique<ResidualOutput>(output, header, maxFileBytes, false, parentModes);
         }
         ResidualOutput& out = sparse ? *sparseOut : *denseOut;
         std::vector<LevelStats> stats(static_cast<size_t>(header.maxLevel) + 1);

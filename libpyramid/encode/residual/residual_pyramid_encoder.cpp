@@ -165,6 +165,9 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
     }
     const uint64_t partStart = share ? share->out->file().position() : 0;
     std::vector<uint8_t> partEmpty;
+    // Context-coded tiles take the parent mode where smaller once their file is final.
+    const std::optional<int> parentModes =
+        plan.coding.codec == ResidualCodec::Context ? std::optional<int>(threads) : std::nullopt;
     for (int attempt = 0;; ++attempt) {
         plan.scale = static_cast<float>(scale);
         plan.header.scale = plan.scale;
@@ -183,15 +186,16 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
             }
         } else if (region) {
             region->header.scale = plan.scale;
-            out = std::make_unique<ResidualOutput>(output, region->header, 0, true);
+            out = std::make_unique<ResidualOutput>(output, region->header, 0, true, parentModes);
             sink.writer = &out->writer();
             sink.region = &region->root;
         } else if (sparse) {
-            out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes,
-                                                   ResidualOutput::Sparse{zeroResidualBlob(plan.T + 5, plan.coding)});
+            out = std::make_unique<ResidualOutput>(
+                output, plan.header, options.maxFileBytes,
+                ResidualOutput::Sparse{zeroResidualBlob(plan.T + 5, plan.coding), parentModes});
             sink.log = out->log();
         } else {
-            out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes);
+            out = std::make_unique<ResidualOutput>(output, plan.header, options.maxFileBytes, false, parentModes);
             sink.writer = &out->writer();
         }
         if (gridNeeded && grid.height.empty()) {
@@ -248,6 +252,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                                     {"scales_tried", report.scalesTried},
                                     {"max_file_bytes", options.maxFileBytes},
                                     {"sparse", sparse},
+                                    {"parent_modes", parentModes.has_value()},
                                     {"empty_tile", sparse ? hexText(partEmpty) : std::string()},
                                     {"companions", companions}});
             report.bytes = share->out->file().position() - partStart;

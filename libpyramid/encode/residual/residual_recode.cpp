@@ -13,6 +13,7 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "formats/tile_table.hpp"
+#include "libpyramid/encode/residual/residual_parent_pass.hpp"
 #include "libpyramid/encode/residual/residual_parts.hpp"
 #include "libpyramid/support/parallel.hpp"
 
@@ -118,6 +119,10 @@ ResidualRecodeReport recodeResidualFile(const std::string& input, const std::str
         }
     }
     writer.commit();
+    if (options.tiles.codec == ResidualCodec::Context) {
+        // Its tiles take the parent mode where smaller (a second complete file, put in place the same way).
+        rewriteInParentMode(output, output, threads)->commit();
+    }
     report.tiles = static_cast<int64_t>(tiles.size());
     report.sharedTiles = writer.sharedTiles();
     report.bytes = std::filesystem::file_size(output);
