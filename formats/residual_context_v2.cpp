@@ -94,7 +94,8 @@ int64_t median(int64_t a, int64_t b, int64_t c) {
 
 // Mode 3: the shadow predictor (the median predictor over the neighbours' shadows, less the
 // sample's parent plane) and the set of tables it codes with.
-Context parentContext(const Planes& planes, size_t i, int x, int y, int32_t grid, uint32_t activity) {
+[[gnu::always_inline]] inline Context parentContext(const Planes& planes, size_t i, int x, int y, int32_t grid,
+                                                   uint32_t activity) {
     const size_t s = planes.stride;
     const int32_t* h = planes.shadow.data();
     const int32_t g = planes.parent[static_cast<size_t>(y) * static_cast<size_t>(planes.size) + static_cast<size_t>(x)];
