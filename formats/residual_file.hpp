@@ -49,6 +49,10 @@ struct ResidualHeader {
 // The header as stored: 28 little-endian bytes (not validated).
 std::vector<uint8_t> packResidualHeader(const ResidualHeader& h);
 
+// The quadrant offsets of doc/format.md 1.3: a child tile's sample (0, 0) sits on its parent's
+// sample (px, py), px = 1 + (tx % 2) * n / 2 for a child of n intervals (the same for y).
+inline int quadrantOffset(int t, int n) { return 1 + (t & 1) * (n / 2); }
+
 // Thread-safe reader: opens the file once, validates the header and the whole offset table
 // against the file size, then serves tiles to any number of threads (positional reads).
 class ResidualFileReader {

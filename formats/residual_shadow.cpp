@@ -20,8 +20,8 @@ ShadowParent shadowParentOf(const ResidualHeader& header, int level, int tx, int
         const int n = header.tileSize;
         p.tx = tx / 2;
         p.ty = ty / 2;
-        p.px = 1 + (tx % 2) * n / 2;
-        p.py = 1 + (ty % 2) * n / 2;
+        p.px = quadrantOffset(tx, n);
+        p.py = quadrantOffset(ty, n);
     }
     return p;
 }

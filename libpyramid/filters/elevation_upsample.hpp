@@ -6,6 +6,8 @@
 #pragma once
 #include <cstddef>
 
+#include "formats/residual_file.hpp" // quadrantOffset, the rule of the parent sample under a child
+
 namespace pyramid {
 
 // The 4-point interpolating filter (-1, 9, 9, -1)/16 on one line, in the documented order:
@@ -25,8 +27,5 @@ float predictElevation(const float* parent, size_t parentStride, int px, int py,
 // reconstructed elevations on return.
 void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int py,
                     float* out, size_t outStride);
-
-// The quadrant offsets of doc/format.md: px = 1 + (tx % 2) * n / 2.
-inline int quadrantOffset(int t, int n) { return 1 + (t & 1) * (n / 2); }
 
 } // namespace pyramid

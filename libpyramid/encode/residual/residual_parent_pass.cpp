@@ -1,55 +1,47 @@
 #include "libpyramid/encode/residual/residual_parent_pass.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <mutex>
 #include <unordered_map>
 #include <vector>
 
-#include "formats/error.hpp"
 #include "formats/residual_codec.hpp"
 #include "formats/residual_context.hpp"
 #include "formats/residual_shadow.hpp"
+#include "libpyramid/input/scratch_file.hpp"
 #include "libpyramid/support/parallel.hpp"
 
 namespace pyramid {
 
 namespace {
 
-// The blobs the pass chose, in a temporary file that goes with it; any thread may add one.
+// The blobs the pass chose, in a scratch file (input/scratch_file.hpp) that goes with it; any
+// thread may add one.
 class BlobSpool {
 public:
-    explicit BlobSpool(const std::string& where) : file_(std::tmpfile()), where_(where) {
-        if (!file_) {
-            fail(where_, "cannot create a temporary file for the parent mode's tiles");
-        }
-    }
-    ~BlobSpool() { std::fclose(file_); }
-    BlobSpool(const BlobSpool&) = delete;
-    BlobSpool& operator=(const BlobSpool&) = delete;
+    explicit BlobSpool(const std::string& where) : file_(where) {}
 
     void put(int64_t index, const std::vector<uint8_t>& blob) {
-        const std::lock_guard lock(mutex_);
-        if (std::fseek(file_, 0, SEEK_END) != 0 || std::fwrite(blob.data(), 1, blob.size(), file_) != blob.size()) {
-            fail(where_, "cannot write a temporary file for the parent mode's tiles");
+        uint64_t at = 0;
+        {
+            const std::lock_guard lock(mutex_);
+            at = end_;
+            end_ += blob.size();
+            kept_[index] = {at, blob.size()};
         }
-        kept_[index] = {end_, blob.size()};
-        end_ += blob.size();
+        file_.write(at, blob.data(), blob.size());
     }
     // Once every put is done.
     bool holds(int64_t index) const { return kept_.count(index) != 0; }
-    std::vector<uint8_t> get(int64_t index) {
+    std::vector<uint8_t> get(int64_t index) const {
         const auto [at, size] = kept_.at(index);
         std::vector<uint8_t> blob(size);
-        if (std::fseek(file_, static_cast<long>(at), SEEK_SET) != 0 || std::fread(blob.data(), 1, size, file_) != size) {
-            fail(where_, "cannot read back a temporary file for the parent mode's tiles");
-        }
+        file_.read(at, blob.data(), size);
         return blob;
     }
 
 private:
-    std::FILE* file_;
-    std::string where_;
+    ScratchFile file_;
     std::mutex mutex_;
     uint64_t end_ = 0;
     std::unordered_map<int64_t, std::pair<uint64_t, size_t>> kept_;
