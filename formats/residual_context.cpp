@@ -1,5 +1,5 @@
 // Context-coded residual tiles (doc/format.md, 1.8): the public entry points, and the coder of
-// versions 0 and 1 (versions 2 and 3, the parent mode, are in residual_context_v2.cpp, the shared parts in
+// versions 0 and 1 (versions 2 and 3, the parent modes, are in residual_context_v2.cpp, the shared parts in
 // residual_context_models.hpp).
 #include "formats/residual_context.hpp"
 
@@ -195,12 +195,15 @@ bool contextBlobNeedsParent(std::span<const uint8_t> blob) {
 }
 
 std::vector<uint8_t> encodeContextParentMode(std::span<const int16_t> residuals, int size,
-                                             std::span<const int32_t> parentPlane) {
+                                             std::span<const int32_t> parentPlane, int mode) {
     const size_t samples = static_cast<size_t>(size) * static_cast<size_t>(size);
     if (size < 1 || size > 65535 || residuals.size() != samples || parentPlane.size() != samples) {
         fail("", "residual tile: buffers do not match " + std::to_string(size) + "x" + std::to_string(size));
     }
-    return context_coding::encodeParentMode(residuals, size, parentPlane);
+    if (mode != -1 && mode != 3 && mode != 4) {
+        fail("", "context-coded residual tile: no mode " + std::to_string(mode) + " in version 3");
+    }
+    return context_coding::encodeParentMode(residuals, size, parentPlane, mode);
 }
 
 std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int size, const std::string& where,
@@ -215,7 +218,7 @@ std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int s
     }
     const uint8_t mode = blob[6];
     const uint8_t version = blob[7];
-    if (version > 3 || (version == 3 && mode != 3) || (version < 3 && mode > std::min<int>(version, 1) + 1)) {
+    if (version > 3 || (version == 3 && mode != 3 && mode != 4) || (version < 3 && mode > std::min<int>(version, 1) + 1)) {
         fail(where, "context-coded residual tile of an unknown kind (mode " + std::to_string(mode) + ", version " +
                         std::to_string(version) + ")");
     }

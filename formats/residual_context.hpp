@@ -35,12 +35,14 @@ std::vector<uint8_t> encodeContextResiduals(std::span<const int16_t> residuals, 
 std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int size, const std::string& where,
                                             std::span<const int32_t> parentPlane = {});
 
-// Version 3, the parent mode (doc/format.md 1.8): the residuals coded as version 2 codes them,
-// predicted from the tile's parent plane and its coded neighbours' shadows. Written by the
+// Version 3, the parent modes (doc/format.md 1.8): the residuals coded as version 2 codes them,
+// predicted from the tile's parent plane and its coded neighbours' shadows; mode 3, or mode 4
+// (steps: where land meets a flat sea behind a cliff). `mode` 3 or 4 codes in that mode; -1
+// in mode 3, or in mode 4 where the tile has such a step and that is smaller. Written by the
 // pass of libpyramid/encode/residual/residual_parent_pass.hpp where it is smaller, never by
 // encodeContextResiduals.
 std::vector<uint8_t> encodeContextParentMode(std::span<const int16_t> residuals, int size,
-                                             std::span<const int32_t> parentPlane);
+                                             std::span<const int32_t> parentPlane, int mode = -1);
 // True for a blob of version 3: decoding it needs the tile's parent plane.
 bool contextBlobNeedsParent(std::span<const uint8_t> blob);
 

@@ -9,6 +9,8 @@
 #include "formats/error.hpp"
 #include "formats/residual_context.hpp"
 #include "formats/residual_context_models.hpp"
+#include "formats/residual_context_parent.hpp"
+#include "formats/residual_context_state.hpp"
 #include "formats/residual_range_coder.hpp"
 
 namespace pyramid::context_coding {
@@ -22,23 +24,17 @@ constexpr uint32_t kExponents = 17;                     // an escape's bit lengt
 constexpr int kModelledBits = 4;                        // the top bits below an escape's leading one
 constexpr size_t kPrefixes = size_t{1} << kModelledBits;
 constexpr size_t kEscapeTables = kActivityBins / 2;
-constexpr size_t kSignContexts = 4 * 27 * 3;
-// Version 3's parent mode: a sample's neighbours' shadows within this of each other are flat; a
-// shadow prediction must have done this much better than the grid predictor on the four nearest
-// samples of the same place in the grid to be chosen where they are not; predictions are held
-// within +-kPredictionLimit.
-constexpr int32_t kFlatSpread = 1;
-constexpr uint32_t kSwitchMargin = 32;
-constexpr int64_t kPredictionLimit = 65536;
 
-// Version 2's tables (one set), or version 3's (three: the grid predictor, a flat neighbourhood,
-// the shadow predictor chosen by past errors).
+// Version 2's tables (one set), or version 3's (mode 3: three, the grid predictor, a flat
+// neighbourhood, the shadow predictor chosen by past errors; mode 4: those and a step's low and
+// high sides, and the step flags).
 template <size_t Sets>
 struct Models {
     std::array<Model<kMagnitudes>, kModels * Sets> magnitudes;
     std::array<Model<kExponents>, kEscapeTables> exponents;
     std::array<BitModel, kEscapeTables * kExponents * kPrefixes> bits;
     std::array<BitModel, kSignContexts * Sets> signs;
+    std::array<BitModel, Sets == 5 ? kStepContexts : 0> steps;
     Models() {
         static const std::array<std::array<uint32_t, kMagnitudes>, kModels> initial = [] {
             std::array<std::array<uint32_t, kMagnitudes>, kModels> t{};
@@ -57,88 +53,6 @@ struct Models {
     }
 };
 
-int signOf(int32_t v) { return (v > 0) - (v < 0); }
-
-// The tile's residuals, values and magnitudes so far, each in a plane with two columns of zeros
-// on the left, three on the right and two rows below: a sample's neighbours outside the tile read
-// 0, as the format says, without a test. The parent mode also keeps the shadows and each
-// predictor's errors.
-struct Planes {
-    int size;
-    size_t stride;
-    std::vector<int32_t> residual, value, shadow;
-    std::vector<uint32_t> magnitude, gridError, shadowError;
-    const int32_t* parent = nullptr; // the parent plane, size x size (mode 3)
-    Planes(int size_, bool parentMode)
-        : size(size_), stride(static_cast<size_t>(size_) + 5), residual(stride * (static_cast<size_t>(size_) + 2)),
-          value(residual.size()), shadow(parentMode ? residual.size() : 0), magnitude(residual.size()),
-          gridError(shadow.size()), shadowError(shadow.size()) {}
-    size_t at(int x, int y) const { return (static_cast<size_t>(y) + 2) * stride + static_cast<size_t>(x) + 2; }
-};
-
-// What a sample's coding depends on, from the values coded before it.
-struct Context {
-    int32_t prediction;
-    size_t table;
-    size_t sign;      // the sign context without the magnitude class
-    int32_t grid = 0; // mode 3: the grid predictor's and the shadow predictor's predictions
-    int32_t fromShadow = 0;
-};
-
-int32_t limitPrediction(int64_t p) { return static_cast<int32_t>(std::clamp(p, -kPredictionLimit, kPredictionLimit)); }
-
-// Shadows reach +-(2^30 + 2^15): their sums and differences are taken in 64 bits.
-int64_t median(int64_t a, int64_t b, int64_t c) {
-    return c >= std::max(a, b) ? std::min(a, b) : (c <= std::min(a, b) ? std::max(a, b) : a + b - c);
-}
-
-// Mode 3: the shadow predictor (the median predictor over the neighbours' shadows, less the
-// sample's parent plane) and the set of tables it codes with.
-[[gnu::always_inline]] inline Context parentContext(const Planes& planes, size_t i, int x, int y, int32_t grid,
-                                                   uint32_t activity) {
-    const size_t s = planes.stride;
-    const int32_t* h = planes.shadow.data();
-    const int32_t g = planes.parent[static_cast<size_t>(y) * static_cast<size_t>(planes.size) + static_cast<size_t>(x)];
-    int64_t w = h[i - 1], south = h[i - s], sw = h[i - s - 1], se = h[i - s + 1];
-    if (x == 0) {
-        w = sw = south;
-    }
-    if (y == 0) {
-        south = sw = se = w;
-    }
-    if (x + 1 == planes.size) {
-        se = south;
-    }
-    if (x == 0 && y == 0) {
-        w = south = sw = se = g;
-    }
-    const int32_t fromShadow = limitPrediction(median(w, south, sw) - g);
-    size_t set = 0;
-    int32_t p = grid;
-    const int64_t spread = std::max(std::max(w, south), std::max(sw, se)) - std::min(std::min(w, south), std::min(sw, se));
-    if (x > 0 && y > 0 && x + 1 < planes.size && spread <= kFlatSpread) {
-        set = 1;
-        p = fromShadow;
-    } else {
-        const auto past = [&](const std::vector<uint32_t>& e) {
-            return e[i - 2] + e[i - 2 * s] + e[i - 2 * s - 2] + e[i - 2 * s + 2];
-        };
-        if (past(planes.shadowError) + kSwitchMargin < past(planes.gridError)) {
-            set = 2;
-            p = fromShadow;
-        }
-    }
-    if (set != 1) {
-        activity += static_cast<uint32_t>(std::abs(p));
-    }
-    activity += 2 * static_cast<uint32_t>(std::abs(fromShadow - grid));
-    const int parity = (x & 1) + 2 * (y & 1);
-    const int west = signOf(planes.value[i - 1]);
-    const int below = signOf(planes.value[i - s]);
-    const auto sign = static_cast<size_t>(((parity * 3 + west + 1) * 3 + below + 1) * 3 + signOf(p) + 1) * 3;
-    return {p, static_cast<size_t>(tableOf(activity, x, y)) + set * kModels, sign + set * kSignContexts, grid, fromShadow};
-}
-
 template <int Mode>
 [[gnu::always_inline]] inline Context contextOf(const Planes& planes, size_t i, int x, int y) {
     const size_t s = planes.stride;
@@ -150,6 +64,8 @@ template <int Mode>
         const int32_t b = y > 0 ? r[i - s] : a;
         const int32_t c = x > 0 && y > 0 ? r[i - s - 1] : a;
         p = c >= std::max(a, b) ? std::min(a, b) : (c <= std::min(a, b) ? std::max(a, b) : a + b - c);
+    } else if constexpr (Mode == 4) {
+        p = clampedGridPrediction(planes, i, x, y, parity);
     } else if constexpr (Mode >= 2) {
         if (parity != 0) {
             const int* w = kPredictionWeights[parity - 1];
@@ -159,16 +75,18 @@ template <int Mode>
     }
     const uint32_t* m = planes.magnitude.data();
     uint32_t activity = 2 * m[i - 1] + 2 * m[i - s] + m[i - s - 1] + m[i - s + 1] + m[i - 2] + m[i - 2 * s];
-    if constexpr (Mode == 3) {
-        return parentContext(planes, i, x, y, p, activity);
+    if constexpr (Mode >= 3) {
+        return parentContext<Mode>(planes, i, x, y, p, activity);
     }
     if constexpr (Mode == 2) {
         activity += static_cast<uint32_t>(std::abs(p));
     }
-    const int west = signOf(planes.value[i - 1]);
-    const int south = signOf(planes.value[i - s]);
-    const auto sign = static_cast<size_t>(((parity * 3 + west + 1) * 3 + south + 1) * 3 + signOf(p) + 1) * 3;
-    return {p, static_cast<size_t>(tableOf(activity, x, y)), sign};
+    Context c;
+    c.prediction = p;
+    c.table = static_cast<size_t>(tableOf(activity, x, y));
+    c.pattern = static_cast<size_t>((parity * 3 + signOf(planes.value[i - 1]) + 1) * 3 + signOf(planes.value[i - s]) + 1);
+    c.sign = signModel(c.pattern, p, 0);
+    return c;
 }
 
 size_t magnitudeClass(uint32_t a) { return (a > 2 ? 1u : 0u) + (a > 8 ? 1u : 0u); }
@@ -180,32 +98,34 @@ template <uint32_t N>
     return s;
 }
 
-// Mode 3 keeps each sample's shadow and both predictors' errors for the samples after it.
-[[gnu::always_inline]] inline void keepParentState(Planes& planes, size_t i, int x, int y, int32_t residual, const Context& c) {
-    planes.shadow[i] = planes.parent[static_cast<size_t>(y) * static_cast<size_t>(planes.size) + static_cast<size_t>(x)] + residual;
-    planes.gridError[i] = static_cast<uint32_t>(std::abs(residual - c.grid));
-    planes.shadowError[i] = static_cast<uint32_t>(std::abs(residual - c.fromShadow));
-}
-
 template <int Mode>
-using ModelsOf = Models<Mode == 3 ? 3 : 1>;
+using ModelsOf = Models<Mode == 4 ? 5 : (Mode == 3 ? 3 : 1)>;
 
 template <int Mode>
 void encodeSamples(std::span<const int16_t> residuals, int size, const int32_t* parent, RangeEncoder& coder) {
-    Planes planes(size, Mode == 3);
+    Planes planes(size, Mode);
     planes.parent = parent;
+    if constexpr (Mode == 4) {
+        clampParentPlane(planes);
+    }
     const auto models = std::make_unique<ModelsOf<Mode>>();
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             const size_t i = planes.at(x, y);
             const int32_t residual = residuals[static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)];
             planes.residual[i] = residual;
-            const Context c = contextOf<Mode>(planes, i, x, y);
+            Context c = contextOf<Mode>(planes, i, x, y);
+            if constexpr (Mode == 4) {
+                if (c.step >= 0) { // the side nearer the residual, the low one on a tie
+                    const int high = std::abs(residual - c.high) < std::abs(residual - c.low) ? 1 : 0;
+                    resolveStep(c, coder.encodeBit(models->steps[static_cast<size_t>(c.step)], high), x, y);
+                }
+            }
             const int32_t v = residual - c.prediction;
             const auto a = static_cast<uint32_t>(std::abs(v));
             planes.value[i] = v;
             planes.magnitude[i] = a;
-            if constexpr (Mode == 3) {
+            if constexpr (Mode >= 3) {
                 keepParentState(planes, i, x, y, residual, c);
             }
             Model<kMagnitudes>& m = models->magnitudes[c.table];
@@ -238,14 +158,22 @@ void encodeSamples(std::span<const int16_t> residuals, int size, const int32_t* 
 
 template <int Mode>
 std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const int32_t* parent, const std::string& where) {
-    Planes planes(size, Mode == 3);
+    Planes planes(size, Mode);
     planes.parent = parent;
+    if constexpr (Mode == 4) {
+        clampParentPlane(planes);
+    }
     const auto models = std::make_unique<ModelsOf<Mode>>();
     std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             const size_t i = planes.at(x, y);
-            const Context c = contextOf<Mode>(planes, i, x, y);
+            Context c = contextOf<Mode>(planes, i, x, y);
+            if constexpr (Mode == 4) {
+                if (c.step >= 0) {
+                    resolveStep(c, coder.decodeBit(models->steps[static_cast<size_t>(c.step)]), x, y);
+                }
+            }
             uint32_t a = decodeSymbol(coder, models->magnitudes[c.table]);
             if (a == kDirectMagnitudes) {
                 const size_t escapes = (c.table % kModels) / 8;
@@ -272,7 +200,7 @@ std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const int32_t*
             planes.residual[i] = residual;
             planes.value[i] = v;
             planes.magnitude[i] = a;
-            if constexpr (Mode == 3) {
+            if constexpr (Mode >= 3) {
                 keepParentState(planes, i, x, y, residual, c);
             }
             out[static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)] = static_cast<int16_t>(residual);
@@ -309,21 +237,42 @@ std::vector<int16_t> decodeVersion2(std::span<const uint8_t> blob, int size, uin
     return out;
 }
 
-std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent) {
+namespace {
+
+template <int Mode>
+std::vector<uint8_t> encodeParentModeAs(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent) {
     std::vector<uint8_t> out = {kContextResidualMagic[0], kContextResidualMagic[1], kContextResidualMagic[2],
                                 kContextResidualMagic[3], static_cast<uint8_t>(size & 0xff),
-                                static_cast<uint8_t>(size >> 8), 3, 3};
+                                static_cast<uint8_t>(size >> 8), static_cast<uint8_t>(Mode), 3};
     out.reserve(residuals.size() / 2 + kHeaderBytes);
     RangeEncoder coder(out);
-    encodeSamples<3>(residuals, size, parent.data(), coder);
+    encodeSamples<Mode>(residuals, size, parent.data(), coder);
     coder.finish();
     return out;
+}
+
+} // namespace
+
+std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent,
+                                      int mode) {
+    if (mode == 4) {
+        return encodeParentModeAs<4>(residuals, size, parent);
+    }
+    std::vector<uint8_t> best = encodeParentModeAs<3>(residuals, size, parent);
+    if (mode == -1 && hasShoreSteps(residuals, size, parent)) {
+        std::vector<uint8_t> steps = encodeParentModeAs<4>(residuals, size, parent);
+        if (steps.size() < best.size()) {
+            best = std::move(steps);
+        }
+    }
+    return best;
 }
 
 std::vector<int16_t> decodeParentMode(std::span<const uint8_t> blob, int size, std::span<const int32_t> parent,
                                       const std::string& where) {
     RangeDecoder coder(blob.subspan(kHeaderBytes), where);
-    std::vector<int16_t> out = decodeSamples<3>(coder, size, parent.data(), where);
+    std::vector<int16_t> out = blob[6] == 4 ? decodeSamples<4>(coder, size, parent.data(), where)
+                                            : decodeSamples<3>(coder, size, parent.data(), where);
     coder.finish();
     return out;
 }

@@ -16,10 +16,12 @@ std::vector<uint8_t> encodeVersion2(std::span<const int16_t> residuals, int size
 // The residuals of a version-2 blob whose header has been checked; throws Error with `where`.
 std::vector<int16_t> decodeVersion2(std::span<const uint8_t> blob, int size, uint8_t mode, const std::string& where);
 
-// Version 3, the parent mode (mode 3): version 2's coding of each value, predicted from the
-// tile's parent plane (`parent`, size x size: formats/residual_shadow.hpp) and the shadows of the
-// samples coded before it. Header included; the decoder's header has been checked.
-std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent);
+// Version 3, the parent modes: version 2's coding of each value, predicted from the tile's parent
+// plane (`parent`, size x size: formats/residual_shadow.hpp) and the shadows of the samples coded
+// before it; `mode` 3 or 4, or -1: mode 3, or mode 4 (steps) where the tile has a shore's step
+// and that is smaller. Header included; the decoder's header has been checked (mode 3 or 4).
+std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent,
+                                      int mode);
 std::vector<int16_t> decodeParentMode(std::span<const uint8_t> blob, int size, std::span<const int32_t> parent,
                                       const std::string& where);
 

@@ -1,7 +1,8 @@
-// Version 3 of the context-coded tile, the parent mode (doc/format.md 1.8): the shadows' integer
-// upsampling, a tile's round trip with its parent plane (and its refusal without), pinned bytes,
-// and whole files: smaller on a coast, the same residuals, the same heights through sets and
-// runtime tiles of another size, the same bytes for any thread count.
+// Version 3 of the context-coded tile, the parent modes (doc/format.md 1.8): the shadows' integer
+// upsampling, a tile's round trip with its parent plane (and its refusal without) in modes 3 and
+// 4, pinned bytes of each, and whole files: smaller on a coast and behind cliffs (mode 4), the
+// same residuals, the same heights through sets and runtime tiles of another size, the same
+// bytes for any thread count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -94,6 +95,17 @@ TEST(ParentMode, ATileRoundTripsWithItsPlaneAndIsRefusedWithout) {
     other = blob;
     other[7] = 4;
     EXPECT_THROW(decodeContextResiduals(other, size, "t", parent), Error);
+    other = blob;
+    other[6] = 5;
+    EXPECT_THROW(decodeContextResiduals(other, size, "t", parent), Error);
+    EXPECT_THROW(encodeContextParentMode(residuals, size, parent, 2), Error);
+    // Mode 4 (steps) is only tried where the tile has a shore's step; forced, it round trips
+    // without one too, and at the extremes.
+    const std::vector<uint8_t> steps = encodeContextParentMode(residuals, size, parent, 4);
+    EXPECT_EQ(steps[6], 4);
+    EXPECT_EQ(decodeContextResiduals(steps, size, "t", parent), residuals);
+    test::expectContextBlobRefused(steps, size, "DEM.dat: tile (2,1,0)", "without its parent tile");
+    EXPECT_EQ(decodeContextResiduals(encodeContextParentMode(wild, size, edges, 4), size, "t", edges), wild);
 }
 
 // A coast: the parent holds land beside a flat sea at 0, along a ragged shore; the child's sea
@@ -121,6 +133,42 @@ TEST(ParentMode, TheShoresRingingCostsLessThanInVersion2) {
     EXPECT_EQ(decodeContextResiduals(encodeContextParentMode(residuals, size, up), size, "t", up), residuals);
 }
 
+// A sea behind cliffs: the parent holds land of 1200 m and more beside a sea at 0. The child's
+// heights are 0 in the sea and the land's plane beside it (plus noise): its residuals bring the
+// upsampled parent's ringing back to both, on either side of the cliff. Mode 4 codes on which
+// side of each step a sample lies, and each side from its own neighbours.
+bool cliffSea(int x, int y) { return x < 9 + (y * 5) % 4; }
+int32_t cliffLand(int x, int y) { return 1200 + 30 * y + 20 * x; }
+
+// The residuals of a child placed at (1, 1) of `parent`, whose sea is where the parent is 0.
+std::vector<int16_t> cliffResiduals(int size, const std::vector<int32_t>& parent, const std::vector<int32_t>& up) {
+    std::vector<int16_t> residuals = test::residualNoise(size, 2, 11);
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const size_t i = static_cast<size_t>(y * size + x);
+            const bool sea = parent[static_cast<size_t>((y / 2 + 1) * size + x / 2 + 1)] == 0;
+            const int32_t height = sea ? 0 : (2 * cliffLand(0, 0) + 30 * (y + 2) + 20 * (x + 2)) / 2 + residuals[i];
+            residuals[i] = static_cast<int16_t>(height - up[i]);
+        }
+    }
+    return residuals;
+}
+
+TEST(ParentMode, CliffsTakeTheStepModeAndRoundTrip) {
+    for (const int size : {37, 36}) { // an even size: the clamped plane's last odd column and row
+        const std::vector<int32_t> parent = plane(size, [](int x, int y) { return cliffSea(x, y) ? 0 : cliffLand(x, y); });
+        const std::vector<int32_t> up = upsampleShadow(parent, size, size, 1, 1);
+        const std::vector<int16_t> residuals = cliffResiduals(size, parent, up);
+        const std::vector<uint8_t> chosen = encodeContextParentMode(residuals, size, up);
+        const std::vector<uint8_t> mode3 = encodeContextParentMode(residuals, size, up, 3);
+        EXPECT_EQ(chosen[6], 4) << size;
+        EXPECT_EQ(mode3[6], 3);
+        EXPECT_LT(chosen.size(), mode3.size()) << size;
+        EXPECT_EQ(decodeContextResiduals(chosen, size, "t", up), residuals);
+        EXPECT_EQ(decodeContextResiduals(mode3, size, "t", up), residuals);
+    }
+}
+
 TEST(ParentMode, BytesOfAKnownTileArePinned) {
     const std::vector<int16_t> tile = {0, 1, -1, 2, 0, 3, -4, 0, 0, 1, 0, 0, 7, -2, 0, 1, 1, 0, 0, 0, -9, 2, 0, 0, 4};
     const std::vector<int32_t> parent = {0, 0, 5, 9, 12, 0, 0, 5, 9, 12, 0, 1, 6, 9, 13, 0, 1, 6, 10, 13, 0, 1, 6, 10, 14};
@@ -128,6 +176,15 @@ TEST(ParentMode, BytesOfAKnownTileArePinned) {
                                          0x4a, 0x7b, 0x91, 0xa4, 0xc9, 0x4b, 0x21, 0x77, 0x19, 0x43, 0x5c, 0x00};
     EXPECT_EQ(encodeContextParentMode(tile, 5, parent), pinned);
     EXPECT_EQ(decodeContextResiduals(pinned, 5, "tile", parent), tile);
+    // Mode 4: a 7 x 7 tile behind a cliff.
+    const std::vector<int32_t> cliffParent = plane(7, [](int x, int y) { return cliffSea(x + 7, y) ? 0 : cliffLand(x, y); });
+    const std::vector<int32_t> cliff = upsampleShadow(cliffParent, 7, 7, 1, 1);
+    const std::vector<int16_t> steps = cliffResiduals(7, cliffParent, cliff);
+    const std::vector<uint8_t> pinnedSteps = {0x50, 0x59, 0x52, 0x43, 0x07, 0x00, 0x04, 0x03, 0x00, 0x05, 0x01, 0x15, 0x57,
+                                              0x56, 0x24, 0xc6, 0x88, 0xa5, 0x7a, 0x21, 0x9e, 0xde, 0x78, 0x6b, 0x06, 0xde,
+                                              0x00, 0x35, 0x42, 0x4d, 0xea, 0xba, 0x94, 0xb2, 0x79, 0x9b, 0x00};
+    EXPECT_EQ(encodeContextParentMode(steps, 7, cliff), pinnedSteps); // the smaller mode
+    EXPECT_EQ(decodeContextResiduals(pinnedSteps, 7, "tile", cliff), steps);
 }
 
 // max(heights - 1500, 0): land rising from a flat sea at 0 m.
@@ -211,6 +268,48 @@ TEST(ParentMode, CoastFilesAreSmallerHoldTheSameResidualsAndVerify) {
     const ResidualRecodeReport recoded = recodeResidualFile(dir.file("deflate.dat"), dir.file("recoded.dat"), ro);
     EXPECT_EQ(recoded.bytes, context.bytes);
     expectSameResiduals(*deflate, *ResidualFileReader::open(dir.file("recoded.dat")));
+}
+
+// The heights below 1500 flooded to 0: a sea behind cliffs of 1500 m and more.
+TEST(ParentMode, SeasBehindCliffsTakeTheStepMode) {
+    test::TempDir dir;
+    const std::string input = dir.file("flooded.tif");
+    std::vector<float> heights = test::syntheticHeights(193, 193, 2500.0f);
+    for (float& v : heights) {
+        v = v < 1500.0f ? 0.0f : v;
+    }
+    test::writeFloatRaster(input, 193, 193, heights);
+    DemEncodeOptions o;
+    o.tileSize = 48;
+    o.rootTileSize = 12;
+    o.scale = 1.0;
+    encodeDem(input, dir.file("deflate.dat"), o);
+    o.tiles.codec = ResidualCodec::Context;
+    encodeDem(input, dir.file("context.dat"), o);
+    EXPECT_TRUE(verifyDem(dir.file("context.dat"), input, DemVerifyOptions{}).ok());
+    const auto deflate = ResidualFileReader::open(dir.file("deflate.dat"));
+    const auto coded = ResidualFileReader::open(dir.file("context.dat"));
+    expectSameResiduals(*deflate, *coded);
+    const ResidualHeader& h = coded->header();
+    int stepTiles = 0;
+    uint64_t stored = 0, asMode3 = 0;
+    for (int l = 0; l <= h.maxLevel; ++l) {
+        for (int ty = 0; ty < h.tilesPerSide(l); ++ty) {
+            for (int tx = 0; tx < h.tilesPerSide(l); ++tx) {
+                const std::vector<uint8_t> blob = coded->readTileBytes(l, tx, ty);
+                if (contextBlobNeedsParent(blob) && blob[6] == 4) {
+                    ++stepTiles;
+                    const std::vector<uint8_t> mode3 = encodeContextParentMode(deflate->readTile(l, tx, ty), h.tileSamples(l),
+                                                                               coded->parentPlane(l, tx, ty), 3);
+                    EXPECT_LT(blob.size(), mode3.size()) << l << "," << tx << "," << ty;
+                    stored += blob.size();
+                    asMode3 += mode3.size();
+                }
+            }
+        }
+    }
+    EXPECT_GT(stepTiles, 4);
+    EXPECT_LT(stored * 100, asMode3 * 95) << stored << " against " << asMode3;
 }
 
 // A set's files each decode alone (each from its own root), and producers of another tile size
