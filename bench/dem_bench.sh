@@ -19,8 +19,9 @@
 #   403 x 344 int16) that Debian's python-matplotlib-data ships as sample data (an .npz, turned
 #   into a GeoTIFF here without numpy);
 # * coasts (flat sea at 0 m, where LERC's constant blocks win): coast-900.tif, coast-1200.tif and
-#   flooded-1200.tif, made here from the Rainier tile (the land above 900 or 1200 m, lowered to
-#   start at 0 m at the shore; or the heights below 1200 m flooded to 0 behind cliffs), and
+#   flooded-600/900/1200/1500.tif, made here from the Rainier tile (the land above 900 or 1200 m,
+#   lowered to start at 0 m at the shore; or the heights below 600 to 1500 m flooded to 0 behind
+#   cliffs), srtm-flooded-1500.tif (srtm-4097.tif below, its heights below 1500 m flooded), and
 #   topobathy-sea0.tif, matplotlib's real topography-and-bathymetry sample (120 x 91, near
 #   Vancouver Island) with the sea clamped to 0 m;
 # * samples/dem.tif (385 x 385, from an 8-bit map: 39.2 m terraces) and srtm-4097.tif, a 641 x
@@ -80,7 +81,7 @@ if [ -f "$RAINIER" ]; then
     # as on a real coast (20 % of the area sea for L = 900, 46 % for 1200), and flooded-L.tif =
     # the heights below L set to 0, the same sea behind cliffs. The int16 samples go through
     # ENVI raw files (which keep the georeferencing) and Python without numpy.
-    for made in coast-900 coast-1200 flooded-1200; do
+    for made in coast-900 coast-1200 flooded-600 flooded-900 flooded-1200 flooded-1500; do
         if [ ! -f "$made.tif" ]; then
             gdal_translate -q -of ENVI mt_rainier_90m.tif "$made.raw"
             python3 - "$made.raw" "${made%-*}" "${made##*-}" <<'PY'
@@ -132,7 +133,20 @@ SAMPLE_DATA=/usr/share/matplotlib/mpl-data/sample_data
 # A real coast: topobathy.npz's topo.npy (topography and bathymetry, float32 metres, 91 x 120,
 # row 0 = south, near Vancouver Island), the sea clamped to 0 m.
 [ -f topobathy-sea0.tif ] || npz_to_tif "$SAMPLE_DATA/topobathy.npz" topo topobathy-sea0.tif sea0
-INPUTS+=(jacksboro-dem.tif topobathy-sea0.tif dem.tif srtm-4097.tif "synthetic-$SIZE.tif")
+# srtm-4097.tif's heights below 1500 m flooded to 0 (80 % of it): cliffs on smooth terrain.
+if [ ! -f srtm-flooded-1500.tif ]; then
+    gdal_translate -q -of ENVI srtm-4097.tif srtm-flooded.raw
+    python3 - srtm-flooded.raw <<'PY'
+import array, sys
+assert sys.byteorder == "little"
+h = array.array("f", open(sys.argv[1], "rb").read())
+open(sys.argv[1], "wb").write(array.array("f", (v if v >= 1500 else 0.0 for v in h)).tobytes())
+PY
+    gdal_translate -q -co COMPRESS=DEFLATE -co PREDICTOR=3 -co TILED=YES srtm-flooded.raw srtm-flooded-1500.part.tif
+    rm -f srtm-flooded.raw srtm-flooded.hdr srtm-flooded.raw.aux.xml
+    mv srtm-flooded-1500.part.tif srtm-flooded-1500.tif
+fi
+INPUTS+=(jacksboro-dem.tif topobathy-sea0.tif dem.tif srtm-4097.tif srtm-flooded-1500.tif "synthetic-$SIZE.tif")
 
 RESULTS=$WORK/results.tsv
 printf 'input\tvariant\twall_s\tpeak_rss_mb\tbytes\tinput_samples\tmax_error\ttile\tresiduals\tentropy\ttile_bytes\n' >"$RESULTS"
