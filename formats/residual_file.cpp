@@ -118,18 +118,61 @@ std::vector<int16_t> ResidualFileReader::readTile(int level, int tx, int ty) con
     return out;
 }
 
+namespace {
+
+// A few levels' worth: a reader walking the quadtree down asks for each tile's parent, and for
+// the same parent four times.
+constexpr size_t kRecentTiles = 32;
+
+template <class T>
+using Recent = std::list<std::pair<int64_t, std::shared_ptr<const std::vector<T>>>>;
+
+// The tile's entry, moved to the front; null if it is not kept. Under the reader's mutex.
+template <class T>
+std::shared_ptr<const std::vector<T>> findRecent(Recent<T>& recent, int64_t index) {
+    for (auto k = recent.begin(); k != recent.end(); ++k) {
+        if (k->first == index) {
+            recent.splice(recent.begin(), recent, k);
+            return recent.front().second;
+        }
+    }
+    return nullptr;
+}
+
+template <class T>
+void keepRecent(Recent<T>& recent, int64_t index, std::shared_ptr<const std::vector<T>> kept) {
+    if (findRecent(recent, index)) {
+        recent.front().second = std::move(kept);
+        return;
+    }
+    recent.emplace_front(index, std::move(kept));
+    if (recent.size() > kRecentTiles) {
+        recent.pop_back();
+    }
+}
+
+} // namespace
+
 void ResidualFileReader::readTileInto(int level, int tx, int ty, std::span<int16_t> out) const {
     const std::vector<uint8_t> blob = readTileBytes(level, tx, ty);
     const int size = header_.tileSamples(level);
     const std::string where = tileName(path_, level, tx, ty);
+    const int64_t index = header_.tileIndex(level, tx, ty);
     if (!contextBlobNeedsParent(blob)) {
         decodeResidualBlobInto(blob, size, where, out);
+        if (level < header_.maxLevel && isContextResidualBlob(blob)) { // its children may be in the parent mode
+            auto kept = std::make_shared<const std::vector<int16_t>>(out.begin(), out.end());
+            const std::lock_guard lock(recentMutex_);
+            keepRecent(residuals_, index, std::move(kept));
+        }
         return;
     }
     const std::vector<int32_t> plane = parentPlane(level, tx, ty);
     decodeResidualBlobInto(blob, size, where, out, plane);
     // Its children will ask for it.
-    keepShadow(header_.tileIndex(level, tx, ty), std::make_shared<const std::vector<int32_t>>(shadowOf(plane, out)));
+    auto kept = std::make_shared<const std::vector<int32_t>>(shadowOf(plane, out));
+    const std::lock_guard lock(recentMutex_);
+    keepRecent(shadows_, index, std::move(kept));
 }
 
 std::vector<int32_t> ResidualFileReader::parentPlane(int level, int tx, int ty) const {
@@ -146,39 +189,25 @@ std::vector<int32_t> ResidualFileReader::parentPlane(int level, int tx, int ty) 
 std::shared_ptr<const std::vector<int32_t>> ResidualFileReader::shadow(int level, int tx, int ty) const {
     tileRange(level, tx, ty);
     const int64_t index = header_.tileIndex(level, tx, ty);
+    std::shared_ptr<const std::vector<int16_t>> residuals;
     {
-        const std::lock_guard lock(shadowsMutex_);
-        for (auto k = shadows_.begin(); k != shadows_.end(); ++k) {
-            if (k->first == index) {
-                shadows_.splice(shadows_.begin(), shadows_, k);
-                return shadows_.front().second;
-            }
+        const std::lock_guard lock(recentMutex_);
+        if (auto kept = findRecent(shadows_, index)) {
+            return kept;
         }
+        residuals = findRecent(residuals_, index);
     }
     const std::vector<int32_t> plane = parentPlane(level, tx, ty);
-    const int size = header_.tileSamples(level);
-    std::vector<int16_t> residuals(static_cast<size_t>(size) * static_cast<size_t>(size));
-    decodeResidualBlobInto(readTileBytes(level, tx, ty), size, tileName(path_, level, tx, ty), residuals, plane);
-    auto kept = std::make_shared<const std::vector<int32_t>>(shadowOf(plane, residuals));
-    keepShadow(index, kept);
+    if (!residuals) { // not read lately: decoded here
+        const int size = header_.tileSamples(level);
+        auto decoded = std::make_shared<std::vector<int16_t>>(static_cast<size_t>(size) * static_cast<size_t>(size));
+        decodeResidualBlobInto(readTileBytes(level, tx, ty), size, tileName(path_, level, tx, ty), *decoded, plane);
+        residuals = std::move(decoded);
+    }
+    auto kept = std::make_shared<const std::vector<int32_t>>(shadowOf(plane, *residuals));
+    const std::lock_guard lock(recentMutex_);
+    keepRecent(shadows_, index, kept);
     return kept;
-}
-
-// A few levels' worth: a reader walking the quadtree down asks for each tile's parent, and for
-// the same parent four times.
-void ResidualFileReader::keepShadow(int64_t index, std::shared_ptr<const std::vector<int32_t>> kept) const {
-    constexpr size_t kShadowsKept = 32;
-    const std::lock_guard lock(shadowsMutex_);
-    for (auto k = shadows_.begin(); k != shadows_.end(); ++k) {
-        if (k->first == index) {
-            shadows_.erase(k);
-            break;
-        }
-    }
-    shadows_.emplace_front(index, std::move(kept));
-    if (shadows_.size() > kShadowsKept) {
-        shadows_.pop_back();
-    }
 }
 
 std::vector<uint8_t> packResidualHeader(const ResidualHeader& h) {

@@ -88,13 +88,16 @@ public:
 
 private:
     ResidualFileReader() = default;
-    void keepShadow(int64_t index, std::shared_ptr<const std::vector<int32_t>> shadow) const;
+    template <class T>
+    using Recent = std::list<std::pair<int64_t, std::shared_ptr<const std::vector<T>>>>;
     std::string path_;
     ResidualHeader header_;
     std::unique_ptr<TileTable> table_;
-    // The shadows computed last, newest first.
-    mutable std::mutex shadowsMutex_;
-    mutable std::list<std::pair<int64_t, std::shared_ptr<const std::vector<int32_t>>>> shadows_;
+    // The shadows computed last, and the residuals of the context-coded tiles read last that
+    // were not in the parent mode (a child in the parent mode needs their shadow), newest first.
+    mutable std::mutex recentMutex_;
+    mutable Recent<int32_t> shadows_;
+    mutable Recent<int16_t> residuals_;
 };
 
 // Streaming writer. Tiles may be written in any order; each is appended to a temporary file
