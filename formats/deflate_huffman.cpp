@@ -180,23 +180,30 @@ void putDynamicHeader(BitWriter& w, bool final, const uint8_t* literalLengths, i
     }
 }
 
-// Four tables, so that runs of one value do not wait on one counter.
-void countBytes(std::span<const uint8_t> bytes, uint32_t* counts) {
-    std::array<std::array<uint32_t, 256>, 4> tables{};
-    const size_t n = bytes.size(), quads = n / 4 * 4;
-    const uint8_t* p = bytes.data();
+void ByteCounts::add(const uint8_t* p, size_t n) {
+    const size_t quads = n / 4 * 4;
     for (size_t k = 0; k < quads; k += 4) {
-        ++tables[0][p[k]];
-        ++tables[1][p[k + 1]];
-        ++tables[2][p[k + 2]];
-        ++tables[3][p[k + 3]];
+        ++tables_[0][p[k]];
+        ++tables_[1][p[k + 1]];
+        ++tables_[2][p[k + 2]];
+        ++tables_[3][p[k + 3]];
     }
     for (size_t k = quads; k < n; ++k) {
-        ++tables[0][p[k]];
+        ++tables_[0][p[k]];
     }
+}
+
+void ByteCounts::addTo(uint32_t* counts) const {
     for (size_t v = 0; v < 256; ++v) {
-        counts[v] = tables[0][v] + tables[1][v] + tables[2][v] + tables[3][v];
+        counts[v] += tables_[0][v] + tables_[1][v] + tables_[2][v] + tables_[3][v];
     }
+}
+
+void countBytes(std::span<const uint8_t> bytes, uint32_t* counts) {
+    ByteCounts tables;
+    tables.add(bytes.data(), bytes.size());
+    std::fill_n(counts, 256, 0u);
+    tables.addTo(counts);
 }
 
 void putZlibHeader(uint8_t* out) {

@@ -15,6 +15,18 @@ namespace pyramid::deflate {
 // frequency 0. At least two frequencies are non-zero.
 void huffmanLengths(const uint32_t* frequencies, int count, int limit, uint8_t* lengths);
 
+// Counts of byte values over any number of spans: four tables, so that runs of one value do
+// not wait on one counter.
+class ByteCounts {
+public:
+    void add(const uint8_t* p, size_t n);
+    // Adds the counts of each value to counts[0..255].
+    void addTo(uint32_t* counts) const;
+
+private:
+    uint32_t tables_[4][256] = {};
+};
+
 // Counts the bytes of each value into counts[0..255].
 void countBytes(std::span<const uint8_t> bytes, uint32_t* counts);
 

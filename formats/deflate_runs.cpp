@@ -96,20 +96,22 @@ size_t deflateRuns(std::span<const uint8_t> bytes, int pixelBytes, std::vector<u
     thread_local std::vector<Run> runs;
     findRuns(p, n, static_cast<size_t>(pixelBytes), runs);
 
-    // Symbol counts: every byte, less those inside runs; a length and a distance per run.
-    // Distances 1 to 4 are symbols 0 to 3 (no extra bits).
+    // Symbol counts: the bytes between runs (those inside runs are not coded as literals); a
+    // length and a distance per run. Distances 1 to 4 are symbols 0 to 3 (no extra bits).
     std::array<uint32_t, 286> literalFreq{};
-    deflate::countBytes(bytes, literalFreq.data());
     std::array<uint32_t, 30> distanceFreq{};
     const auto& lengths = lengthCodes();
-    for (const Run& r : runs) {
-        // A run repeats the `distance` bytes before it: byte j of them recurs at every
-        // distance-th place from j.
-        for (uint32_t j = 0; j < r.distance && j < r.length; ++j) {
-            literalFreq[p[r.position - r.distance + j]] -= (r.length - j + r.distance - 1u) / r.distance;
+    {
+        deflate::ByteCounts counts;
+        size_t at = 0;
+        for (const Run& r : runs) {
+            counts.add(p + at, r.position - at);
+            at = r.position + r.length;
+            ++literalFreq[lengths[r.length - 3u].symbol];
+            ++distanceFreq[r.distance - 1u];
         }
-        ++literalFreq[lengths[r.length - 3u].symbol];
-        ++distanceFreq[r.distance - 1u];
+        counts.add(p + at, n - at);
+        counts.addTo(literalFreq.data());
     }
     literalFreq[kEndOfBlock] = 1;
     if (std::count_if(literalFreq.begin(), literalFreq.end(), [](uint32_t f) { return f != 0; }) < 2) {

@@ -50,6 +50,13 @@ std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level)
 namespace {
 
 constexpr size_t kSample = 4096;
+// Below this, libdeflate's stream of the sample is mostly its header and a few long matches (a
+// dark, flat or blank strip), and libdeflate often codes it with the fixed codes, which need no
+// header. The runs coder always writes a dynamic block whose header (code lengths) takes up to
+// about kHeaderAllowance bytes: the strip pays that once, not once per 4 KB sample, so the
+// comparison allows for it there.
+constexpr size_t kSmallSample = 512;
+constexpr size_t kHeaderAllowance = 48;
 
 // How a strip of image bytes is best coded, judged on a sample of them (4 KB from the middle; a
 // larger one decides a little better, but the sample's libdeflate run then costs more than the
@@ -58,7 +65,8 @@ constexpr size_t kSample = 4096;
 //     (below that, runs and repeats are everywhere) and libdeflate's stream of the sample is no
 //     smaller than that code: sensor noise after the predictor, grainy residuals;
 //   - literals and runs (deflate_runs.hpp), where that coder's stream of the sample is at most
-//     3 % larger than libdeflate's: most natural imagery, whose matches are mostly runs;
+//     3 % larger than libdeflate's (with kHeaderAllowance on a small one): most natural imagery,
+//     whose matches are mostly runs, and dark or flat strips;
 //   - libdeflate otherwise: texture that repeats farther away, which matches well.
 // Both faster coders take about half of libdeflate level 1's time or less.
 enum class StripCoder { Libdeflate, Literals, Runs };
@@ -71,7 +79,8 @@ StripCoder chooseCoder(std::span<const uint8_t> bytes, int level, int pixelBytes
         return StripCoder::Literals;
     }
     thread_local std::vector<uint8_t> out;
-    if (deflateRuns(sample, pixelBytes, out) * 100 <= deflated * 103) {
+    const size_t allowance = deflated < kSmallSample ? kHeaderAllowance : 0;
+    if (deflateRuns(sample, pixelBytes, out) * 100 <= (deflated * 103) + allowance * 100) {
         return StripCoder::Runs;
     }
     return StripCoder::Libdeflate;
