@@ -4,6 +4,7 @@
 // and leaves the previous outputs.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "formats/ortho_file.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/runtime/colour_producer.hpp"
 #include "libpyramid/verify/ortho_verify.hpp"
 #include "tests/support/ortho_images.hpp"
@@ -57,6 +59,76 @@ TEST(OrthoEncoder, IdenticalFilesForAnyThreadCount) {
         EXPECT_EQ(a, test::readFile(dir.file("single2") + f)) << f;
         EXPECT_EQ(a, test::readFile(dir.file("single3") + f)) << f;
     }
+}
+
+// Computed colours whose reads are counted (pixels read, every channel range alike).
+class CountedPixels final : public BytePixels {
+public:
+    void readBytes(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out) const override {
+        read += int64_t{x1 - x0} * (y1 - y0);
+        for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; ++x) {
+                for (int c = c0; c < c1; ++c) {
+                    *out++ = static_cast<uint8_t>((x * 7 + y * 13 + c * 85 + (x * y) % 23) & 0xff);
+                }
+            }
+        }
+    }
+    mutable std::atomic<int64_t> read{0};
+};
+
+// A build in two walks keeps the first walk's subtrees for the second when they fit in
+// keptSubtreeBytes: the input is then read once instead of twice, and the files are the same
+// bytes as those of the build that reads it again (0, or a budget they do not fit), whatever
+// the thread count; so are the rebuilt colours handed out and the progress.
+TEST(OrthoEncoder, TheSecondWalkEncodesTheFirstWalksSubtreesWhenTheyFit) {
+    test::TempDir dir;
+    RasterInfo info;
+    info.width = 100;
+    info.height = 70;
+    info.channels = 3;
+    info.type = SampleType::UInt8;
+    const auto pixels = std::make_shared<CountedPixels>();
+    const auto source = RasterSource::fromPixels("counted", info, pixels);
+    OrthoEncodeOptions o = smallOrtho();
+    o.levels.tileSize = 8; // M = 4, subtrees of levels 3 and 4: 64 of 5 tiles (12^2 x 3 bytes each)
+    const int64_t needed = 64 * 5 * 12 * 12 * 3;
+    struct Run {
+        std::string name;
+        int64_t budget;
+        int threads;
+    };
+    std::map<std::string, int64_t> reads;
+    std::map<std::string, std::vector<std::tuple<int, int, int, std::vector<uint8_t>>>> recon;
+    std::map<std::string, int64_t> steps;
+    for (const Run& run : {Run{"kept1", needed, 1}, Run{"kept3", int64_t{64} << 20, 3}, Run{"again1", 0, 1},
+                           Run{"again2", needed - 1, 2}}) {
+        o.keptSubtreeBytes = run.budget;
+        o.levels.threads = run.threads;
+        o.colourReconstruction = [&](int l, int tx, int ty, const std::vector<uint8_t>& r) {
+            recon[run.name].emplace_back(l, tx, ty, r);
+        };
+        o.progress = [&](int64_t done, int64_t) { steps[run.name] = done; };
+        pixels->read = 0;
+        const OrthoReport report = encodeOrtho(*source, dir.file(run.name), o);
+        ASSERT_EQ(report.maxLevel, 4);
+        reads[run.name] = pixels->read;
+    }
+    // The finest level is 128^2, sampled from the input's 100 x 70 (with the footprints' borders).
+    EXPECT_GT(reads["kept1"], 100 * 70);
+    EXPECT_EQ(reads["kept3"], reads["kept1"]);
+    EXPECT_EQ(reads["again1"], 2 * reads["kept1"]);
+    EXPECT_EQ(reads["again2"], reads["again1"]);
+    for (const char* f : {"/RGB.dat", "/dxt/RGB.dat", "/residuals/RGB.dat"}) {
+        const std::string a = test::readFile(dir.file("kept1") + f);
+        EXPECT_GT(a.size(), 500u) << f;
+        for (const char* other : {"kept3", "again1", "again2"}) {
+            EXPECT_EQ(a, test::readFile(dir.file(other) + f)) << other << f;
+        }
+    }
+    EXPECT_EQ(recon["kept1"], recon["again1"]);
+    EXPECT_EQ(steps["kept1"], steps["again1"]);
+    EXPECT_EQ(steps["kept3"], steps["again2"]);
 }
 
 // The default outputs take two walks (TIFF and DXT tiles first, then the subtrees' residuals):

@@ -17,6 +17,7 @@
 #include "formats/error.hpp"
 #include "formats/part_file.hpp"
 #include "libpyramid/encode/ortho/ortho_item_encoder.hpp"
+#include "libpyramid/encode/ortho/ortho_kept_subtrees.hpp"
 #include "libpyramid/encode/ortho/ortho_output.hpp"
 #include "libpyramid/encode/ortho/ortho_outputs.hpp"
 #include "libpyramid/encode/ortho/ortho_region.hpp"
@@ -102,7 +103,8 @@ OrthoReport encodeOrthoLevels(const OrthoLevels& levels, const std::string& dire
     // reconstruction of level C the first left. The subtrees of the first walk need no parent,
     // so they start on an input still being decoded; the TIFF and DXT files are those of a
     // build without residuals. Either way the input is sampled twice, as a CoarseFirst walk
-    // does (once for levels 0..C, once for the subtrees).
+    // does (once for levels 0..C, once for the subtrees), unless the first walk's subtrees are
+    // kept for the second (KeptSubtrees).
     const bool twoWalks = !region && o.writeResiduals && (o.writeTiff || o.writeDxt) &&
                           levels.subtreeItems(OrthoLevels::WalkOrder::SinglePass) > 0;
     const auto order = region                            ? region->order
@@ -276,6 +278,10 @@ OrthoReport encodeOrthoLevels(const OrthoLevels& levels, const std::string& dire
         }
     });
     int64_t walked = 0; // the walks' items so far
+    // A whole build's second walk encodes the first walk's subtrees again when they fit in
+    // keptSubtreeBytes (ortho_kept_subtrees.hpp), instead of sampling the input again.
+    KeptSubtrees kept(levels, order, twoWalks && !share ? items : 0, o.keptSubtreeBytes);
+    bool keeping = kept.active(); // the first walk
     const auto encodeWalk = [&](const OrthoLevels::Range* walkRange) {
         const int64_t first = walked;
         std::atomic<bool> stopped{false};
@@ -303,14 +309,22 @@ OrthoReport encodeOrthoLevels(const OrthoLevels& levels, const std::string& dire
         OrthoLevels::Sink sink;
         sink.subtree = [&](int64_t i, TileBatch& item) {
             keep(item);
-            return hand(i, encoder.encodeSubtree(item));
+            EncodedItem e = encoder.encodeSubtree(item);
+            if (keeping) {
+                kept.keep(i, std::move(item));
+            }
+            return hand(i, std::move(e));
         };
         sink.level = [&](int64_t i, TileBatch& item) {
             keep(item);
             return hand(i, encoder.encodeLevel(item));
         };
         sink.failed = [&](int64_t i) { writer.stopAt(first + i); }; // items after it are not awaited
-        walked += levels.walk(sink, order, walkRange, pruned);
+        if (kept.active() && !keeping) {
+            walked += kept.encode(encoder, levels.threads(), hand, sink.failed);
+        } else {
+            walked += levels.walk(sink, order, walkRange, pruned);
+        }
         if (stopped) {
             writer.finish(first); // a write failed: rethrows its error
         }
@@ -322,6 +336,7 @@ OrthoReport encodeOrthoLevels(const OrthoLevels& levels, const std::string& dire
         const OrthoLevels::Range first{range.begin, range.end, true};
         encodeWalk(share ? &first : nullptr);
         encoder.setSubtreeOutputs(residualsOnly);
+        keeping = false;
         secondWalk.store(walked, std::memory_order_release);
         const OrthoLevels::Range second{range.begin, range.end, false};
         encodeWalk(&second);

@@ -85,6 +85,11 @@ struct OrthoEncodeOptions {
     const OrthoShare* share = nullptr;
     int pyramid = 0;
     int pyramids = 1;
+    // A build in two walks (colour residuals beside TIFF or DXT tiles) keeps the first walk's
+    // subtrees for the second when they fit in this many bytes (ortho_kept_subtrees.hpp): the
+    // input is then sampled once. 0: never (the second walk samples the input again). The
+    // files are the same bytes either way.
+    int64_t keptSubtreeBytes = int64_t{64} << 20;
     std::function<void(int64_t, int64_t)> progress;       // (tiles done, total), one thread at a time
     // Asked after every tile, from one thread at a time: true stops the encoding, which throws
     // Cancelled (formats/error.hpp) and leaves no file behind.

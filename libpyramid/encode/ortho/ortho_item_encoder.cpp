@@ -76,20 +76,32 @@ EncodedItem OrthoItemEncoder::encodeLevel(const TileBatch& batch) {
 }
 
 EncodedItem OrthoItemEncoder::encodeSubtree(const TileBatch& item) const {
+    return encodeSubtreeTiles(item, nullptr);
+}
+
+EncodedItem OrthoItemEncoder::encodeSubtree(TileBatch&& item) const {
+    return encodeSubtreeTiles(item, &item);
+}
+
+EncodedItem OrthoItemEncoder::encodeSubtreeTiles(const TileBatch& item, TileBatch* release) const {
     std::map<TileKey, const std::vector<uint8_t>*> local;
     EncodedItem out;
     out.reserve(item.size());
-    for (const TrueTile& t : item) {
+    for (size_t k = 0; k < item.size(); ++k) {
+        const TrueTile& t = item[k];
         if (!subtreeResiduals_) {
             encodeInto(*subtree_, false, t, nullptr, out); // no tile depends on its parent
-            continue;
+        } else {
+            const auto key = parentOf(t);
+            const auto it = local.find(key);
+            const std::vector<uint8_t>* parent = it != local.end() ? it->second : shallowRecon_.at(key).get();
+            const size_t own = out.size();
+            encodeInto(*subtree_, true, t, parent, out);
+            local[{t.level, t.tx, t.ty}] = out[own].recon.get();
         }
-        const auto key = parentOf(t);
-        const auto it = local.find(key);
-        const std::vector<uint8_t>* parent = it != local.end() ? it->second : shallowRecon_.at(key).get();
-        const size_t own = out.size();
-        encodeInto(*subtree_, true, t, parent, out);
-        local[{t.level, t.tx, t.ty}] = out[own].recon.get();
+        if (release) {
+            (*release)[k].pixels = Image8();
+        }
     }
     if (!handOutRecon_) {
         for (EncodedOrthoTile& e : out) {

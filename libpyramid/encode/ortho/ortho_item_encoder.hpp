@@ -43,6 +43,9 @@ public:
     // A subtree, in pre-order (its parents before its children), on the calling thread; called
     // by several threads at once, never while a level is encoded.
     EncodedItem encodeSubtree(const TileBatch& item) const;
+    // The same, letting go of each tile's pixels once it is encoded (a tile's children need its
+    // rebuilt colours, not its pixels), so that the tiles encoded next reuse that memory.
+    EncodedItem encodeSubtree(TileBatch&& item) const;
 
 private:
     using TileKey = std::tuple<int, int, int>; // level, tx, ty
@@ -52,6 +55,8 @@ private:
     // subtree and (`residuals`) its blank subtree's colour residuals.
     void encodeInto(const OrthoTileEncoder& encoder, bool residuals, const TrueTile& t,
                     const std::vector<uint8_t>* parent, EncodedItem& out) const;
+    // `release`: the item itself, whose tiles' pixels are let go once encoded (or none).
+    EncodedItem encodeSubtreeTiles(const TileBatch& item, TileBatch* release) const;
     void blankResiduals(int level, int tx, int ty, const std::vector<uint8_t>* parent, const Image8* zero,
                         EncodedItem& out) const;
 
