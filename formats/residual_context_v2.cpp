@@ -63,7 +63,7 @@ template <int Mode>
         const int32_t a = x > 0 ? r[i - 1] : (y > 0 ? r[i - s] : 0);
         const int32_t b = y > 0 ? r[i - s] : a;
         const int32_t c = x > 0 && y > 0 ? r[i - s - 1] : a;
-        p = c >= std::max(a, b) ? std::min(a, b) : (c <= std::min(a, b) ? std::max(a, b) : a + b - c);
+        p = static_cast<int32_t>(median(a, b, c));
     } else if constexpr (Mode == 4) {
         p = clampedGridPrediction(planes, i, x, y, parity);
     } else if constexpr (Mode >= 2) {

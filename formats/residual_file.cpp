@@ -124,12 +124,9 @@ namespace {
 // the same parent four times.
 constexpr size_t kRecentTiles = 32;
 
-template <class T>
-using Recent = std::list<std::pair<int64_t, std::shared_ptr<const std::vector<T>>>>;
-
 // The tile's entry, moved to the front; null if it is not kept. Under the reader's mutex.
 template <class T>
-std::shared_ptr<const std::vector<T>> findRecent(Recent<T>& recent, int64_t index) {
+std::shared_ptr<const std::vector<T>> findRecent(RecentTiles<T>& recent, int64_t index) {
     for (auto k = recent.begin(); k != recent.end(); ++k) {
         if (k->first == index) {
             recent.splice(recent.begin(), recent, k);
@@ -140,7 +137,7 @@ std::shared_ptr<const std::vector<T>> findRecent(Recent<T>& recent, int64_t inde
 }
 
 template <class T>
-void keepRecent(Recent<T>& recent, int64_t index, std::shared_ptr<const std::vector<T>> kept) {
+void keepRecent(RecentTiles<T>& recent, int64_t index, std::shared_ptr<const std::vector<T>> kept) {
     if (findRecent(recent, index)) {
         recent.front().second = std::move(kept);
         return;

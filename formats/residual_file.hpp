@@ -53,6 +53,10 @@ std::vector<uint8_t> packResidualHeader(const ResidualHeader& h);
 // sample (px, py), px = 1 + (tx % 2) * n / 2 for a child of n intervals (the same for y).
 inline int quadrantOffset(int t, int n) { return 1 + (t & 1) * (n / 2); }
 
+// Tiles a residual reader keeps by their index in the file, newest first.
+template <class T>
+using RecentTiles = std::list<std::pair<int64_t, std::shared_ptr<const std::vector<T>>>>;
+
 // Thread-safe reader: opens the file once, validates the header and the whole offset table
 // against the file size, then serves tiles to any number of threads (positional reads).
 class ResidualFileReader {
@@ -88,16 +92,14 @@ public:
 
 private:
     ResidualFileReader() = default;
-    template <class T>
-    using Recent = std::list<std::pair<int64_t, std::shared_ptr<const std::vector<T>>>>;
     std::string path_;
     ResidualHeader header_;
     std::unique_ptr<TileTable> table_;
     // The shadows computed last, and the residuals of the context-coded tiles read last that
     // were not in the parent mode (a child in the parent mode needs their shadow), newest first.
     mutable std::mutex recentMutex_;
-    mutable Recent<int32_t> shadows_;
-    mutable Recent<int16_t> residuals_;
+    mutable RecentTiles<int32_t> shadows_;
+    mutable RecentTiles<int16_t> residuals_;
 };
 
 // Streaming writer. Tiles may be written in any order; each is appended to a temporary file
