@@ -99,7 +99,13 @@ void AtomicFile::commit() {
         committed_ = true;
         unregisterTemporary(tmp_);
     }
-    // The rename itself survives a crash only once the directory entry is on disk.
+    // The rename itself survives a crash only once the directory entry is on disk. Not for a
+    // file inside a staging directory: the staging directory's commit makes its files' entries
+    // durable where they end up (staging_directory.hpp), and until its journal is on disk a
+    // crash leaves the staging directory to be removed whole.
+    if (insideStagingDirectory(path_)) {
+        return;
+    }
     const size_t slash = path_.rfind('/');
     const std::string directory = slash == std::string::npos ? "." : (slash == 0 ? "/" : path_.substr(0, slash));
     const int dirFd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);

@@ -1,7 +1,8 @@
 // A set of outputs that appear together (the files of an ortho pyramid, the six faces of a
 // planet): they are written into a hidden staging directory inside the destination directory,
 // `.staging-<pid>-<hex>/` (registered while it exists: formats/temporaries.hpp), each
-// atomically as usual, and commit() puts the whole set in place, or none of it. Destroyed
+// atomically as usual (but for the flush of its directory entry, which only the entry in the
+// destination needs: step 5), and commit() puts the whole set in place, or none of it. Destroyed
 // before commit(), the staging directory and everything in it are removed, so a run that
 // fails at its fifth face leaves none of the first four behind, and so are the destination
 // directory and its parents when this object created them and they are empty.

@@ -130,11 +130,24 @@ std::string temporaryFileName(const std::string& path, const std::string& suffix
 
 std::string stagingDirectoryName() { return kStaging + temporaryTag(); }
 
+namespace {
+
+bool isStagingName(const std::string& name) {
+    return name.rfind(kStaging, 0) == 0 && parseTag(name.substr(std::strlen(kStaging)), true) != 0;
+}
+
+} // namespace
+
+bool insideStagingDirectory(const std::string& path) {
+    const fs::path p(path);
+    return std::any_of(p.begin(), p.end(), [](const fs::path& part) { return isStagingName(part.string()); });
+}
+
 std::string outputName(const std::string& path) {
     fs::path out;
     for (const fs::path& part : fs::path(path)) {
         const std::string name = part.string();
-        if (name.rfind(kStaging, 0) == 0 && parseTag(name.substr(std::strlen(kStaging)), true) != 0) {
+        if (isStagingName(name)) {
             if (out == ".") {
                 out.clear(); // staged in the working directory: the output named as given, "DEM.dat"
             }

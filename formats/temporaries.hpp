@@ -50,6 +50,9 @@ std::string stagingDirectoryName();
 // `path` as a user knows it: without the staging directory a file is written in
 // ("out/.staging-12-ab34cd56/dxt/RGB.dat" -> "out/dxt/RGB.dat").
 std::string outputName(const std::string& path);
+// Whether `path` lies inside a staging directory (one of its components is a staging
+// directory's name).
+bool insideStagingDirectory(const std::string& path);
 
 // Removes, in `directory`, the temporaries of runs that are gone: regular files named
 // `NAME.tmp-<pid>-<hex>` (or `NAME.tmp-<pid>-<hex>.EXT`) and directories named `.staging-<pid>`

@@ -165,5 +165,16 @@ TEST_F(StagingCommit, StagedFilesAreNamedAsTheOutputsInMessages) {
     EXPECT_EQ(outputName("DEM.dat"), "DEM.dat");
 }
 
+// A file staged for a commit is known as such (its own rename needs no directory flush: the
+// commit flushes the directories it ends up in); a name that merely looks like one is not.
+TEST_F(StagingCommit, StagedFilesAreToldFromOthers) {
+    EXPECT_TRUE(insideStagingDirectory("out/.staging-12-ab34cd56/dxt/RGB.dat"));
+    EXPECT_TRUE(insideStagingDirectory(".staging-12-ab34cd56/DEM.dat"));
+    EXPECT_FALSE(insideStagingDirectory("out/.staging-x/RGB.dat"));
+    EXPECT_FALSE(insideStagingDirectory("out//dxt/RGB.dat"));
+    EXPECT_FALSE(insideStagingDirectory("./DEM.dat"));
+    EXPECT_FALSE(insideStagingDirectory("DEM.dat.tmp-12-ab34cd56"));
+}
+
 } // namespace
 } // namespace pyramid
