@@ -7,10 +7,13 @@ namespace pyramid {
 KeptSubtrees::KeptSubtrees(const OrthoLevels& levels, OrthoLevels::WalkOrder order, int64_t items,
                            int64_t budgetBytes) {
     const int depth = levels.maxLevel() - levels.topLevels(order); // levels C + 1..M
+    if (items <= 0 || budgetBytes <= 0 || depth >= 16) {
+        return;
+    }
     const int64_t tiles = ((int64_t{1} << (2 * depth)) - 1) / 3;
     const int64_t side = levels.tileSize() + 4;
-    const int64_t bytes = items * tiles * side * side * levels.channels();
-    if (items > 0 && depth < 16 && bytes <= budgetBytes) {
+    const int64_t itemBytes = tiles * side * side * levels.channels(); // tiles < 2^30: no overflow
+    if (items <= budgetBytes / itemBytes) {
         kept_.resize(static_cast<size_t>(items));
     }
 }
