@@ -86,6 +86,35 @@ private:
     int pending_ = 0;
 };
 
+// The literal codes of bytes p[from, to), `packed` holding each byte value's code | length << 16
+// and `longest` the longest of those lengths, then a flush. Between flushes (at most 7 bits
+// pending after one) go as many codes as fit the writer's 64 bits: four of at most 14 bits,
+// else three of at most 15. The bits are the same whatever the grouping.
+inline void putLiterals(BitWriter& w, const uint32_t* packed, int longest, const uint8_t* p, size_t from, size_t to) {
+    const auto put = [&](uint32_t c) { w.put(c & 0xffffu, static_cast<int>(c >> 16)); };
+    if (longest <= 14) {
+        for (; from + 4 <= to; from += 4) {
+            const uint32_t a = packed[p[from]], b = packed[p[from + 1]], c = packed[p[from + 2]], d = packed[p[from + 3]];
+            put(a);
+            put(b);
+            put(c);
+            put(d);
+            w.flush();
+        }
+    }
+    for (; from + 3 <= to; from += 3) {
+        const uint32_t a = packed[p[from]], b = packed[p[from + 1]], c = packed[p[from + 2]];
+        put(a);
+        put(b);
+        put(c);
+        w.flush();
+    }
+    for (; from < to; ++from) { // at most two: 30 bits
+        put(packed[p[from]]);
+    }
+    w.flush();
+}
+
 // The most bytes putDynamicHeader writes.
 constexpr size_t kDynamicHeaderBytes = 320;
 

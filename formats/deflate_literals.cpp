@@ -42,24 +42,15 @@ size_t deflateLiterals(std::span<const uint8_t> bytes, const LiteralCost& cost, 
     deflate::putZlibHeader(out.data());
     deflate::BitWriter w(out.data() + 2);
     deflate::putDynamicHeader(w, true, cost.lengths, 257, &kDistanceLength, 1);
-    // The literals, three codes (at most 45 bits) between flushes.
     std::array<uint32_t, 256> packed{}; // code | length << 16
+    int longest = 0;
     for (size_t v = 0; v < 256; ++v) {
         packed[v] = codes[v] | static_cast<uint32_t>(cost.lengths[v]) << 16;
+        longest = std::max<int>(longest, cost.lengths[v]);
     }
     const uint8_t* p = bytes.data();
-    const size_t n = bytes.size(), triples = n / 3 * 3;
-    for (size_t k = 0; k < triples; k += 3) {
-        const uint32_t a = packed[p[k]], b = packed[p[k + 1]], c = packed[p[k + 2]];
-        w.put(a & 0xffffu, static_cast<int>(a >> 16));
-        w.put(b & 0xffffu, static_cast<int>(b >> 16));
-        w.put(c & 0xffffu, static_cast<int>(c >> 16));
-        w.flush();
-    }
-    for (size_t k = triples; k < n; ++k) {
-        w.put(packed[p[k]] & 0xffffu, static_cast<int>(packed[p[k]] >> 16));
-        w.flush();
-    }
+    const size_t n = bytes.size();
+    deflate::putLiterals(w, packed.data(), longest, p, 0, n);
     w.put(codes[kEndOfBlock], cost.lengths[kEndOfBlock]);
     return static_cast<size_t>(deflate::putAdler32(w.finish(), p, n) - out.data());
 }

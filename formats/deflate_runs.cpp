@@ -152,23 +152,12 @@ size_t deflateRuns(std::span<const uint8_t> bytes, int pixelBytes, std::vector<u
     deflate::putDynamicHeader(w, true, literalBits.data(), literalCount, distanceBits.data(), distanceCount);
 
     std::array<uint32_t, 256> packed{}; // code | length << 16
+    int longest = 0;
     for (size_t v = 0; v < 256; ++v) {
         packed[v] = literalCodes[v] | static_cast<uint32_t>(literalBits[v]) << 16;
+        longest = std::max<int>(longest, literalBits[v]);
     }
-    // Literals [from, to), three codes (at most 45 bits) between flushes.
-    auto putLiterals = [&](size_t from, size_t to) {
-        for (; from + 3 <= to; from += 3) {
-            const uint32_t a = packed[p[from]], b = packed[p[from + 1]], c = packed[p[from + 2]];
-            w.put(a & 0xffffu, static_cast<int>(a >> 16));
-            w.put(b & 0xffffu, static_cast<int>(b >> 16));
-            w.put(c & 0xffffu, static_cast<int>(c >> 16));
-            w.flush();
-        }
-        for (; from < to; ++from) {
-            w.put(packed[p[from]] & 0xffffu, static_cast<int>(packed[p[from]] >> 16));
-        }
-        w.flush();
-    };
+    const auto putLiterals = [&](size_t from, size_t to) { deflate::putLiterals(w, packed.data(), longest, p, from, to); };
     size_t at = 0;
     for (const Run& r : runs) {
         putLiterals(at, r.position);

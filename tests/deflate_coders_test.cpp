@@ -95,6 +95,29 @@ TEST(DeflateLiterals, CodesAreLimitedTo15Bits) {
     EXPECT_EQ(back, bytes);
 }
 
+// Literal codes go to the stream four at a time when none is longer than 14 bits, three at a
+// time otherwise (deflate_huffman.hpp, putLiterals): bytes whose longest literal code is exactly
+// 14 bits, and exactly 15, decode back to themselves through both coders.
+TEST(DeflateLiterals, LiteralsOfFourteenAndFifteenBitsDecode) {
+    for (const int longest : {14, 15}) {
+        // `longest` values with counts 1, 2, 4, ...: with the end of block (count 1), a chain of
+        // longest + 1 codes, whose two rarest are `longest` bits long, under the 15-bit limit.
+        std::vector<uint8_t> bytes;
+        for (int v = 0; v < longest; ++v) {
+            bytes.insert(bytes.end(), size_t{1} << v, static_cast<uint8_t>(v * 17));
+        }
+        std::shuffle(bytes.begin(), bytes.end(), std::mt19937(longest));
+        const LiteralCost cost = literalCost(bytes);
+        ASSERT_EQ(*std::max_element(std::begin(cost.lengths), std::begin(cost.lengths) + 256), longest);
+        std::vector<uint8_t> stream;
+        const size_t size = deflateLiterals(bytes, cost, stream);
+        expectInflatesTo(stream, size, bytes);
+        for (int pixel = 1; pixel <= 4; ++pixel) {
+            expectInflatesTo(stream, deflateRuns(bytes, pixel, stream), bytes);
+        }
+    }
+}
+
 // A 196^2 RGB tile: smooth gradients and sensor noise of sigma 6, or the gradients alone.
 std::vector<uint8_t> gradientTile(double sigma) {
     std::mt19937 random(6);

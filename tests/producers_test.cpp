@@ -2,6 +2,7 @@
 // producer, on small pyramids written here with hand-picked values.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <tuple>
 
@@ -335,7 +336,7 @@ TEST(ColourProducer, RebuildsChildrenFromResiduals) {
 // The row predictor sums the same integers as the per-sample formula, in another order: equal
 // for every channel count, quadrant, row and column (parents with extreme values included).
 TEST(OrthoUpsample, RowPredictionIsThePerSampleFormula) {
-    for (const int tileSize : {2, 8, 30}) {
+    for (const int tileSize : {2, 8, 30, 31}) { // 31: a side of odd width
         const int side = tileSize + 4;
         for (int channels = 1; channels <= 4; ++channels) {
             const size_t rowBytes = static_cast<size_t>(side) * channels;
@@ -359,6 +360,39 @@ TEST(OrthoUpsample, RowPredictionIsThePerSampleFormula) {
                 }
             }
         }
+    }
+}
+
+// The encoder's one pass over a row of Deflate residuals gives the stored values and rebuilt
+// samples of the two formulas, for every value and prediction; its error count is the number
+// of rebuilt samples off their values (each by one, none clamped) and its spread the sum of
+// |stored - 128|.
+TEST(OrthoUpsample, ResidualsAndRebuiltSamplesInOnePassAreTheFormulas) {
+    std::vector<uint8_t> values, predictions;
+    for (int v = 0; v < 256; ++v) {
+        for (int p = 0; p < 256; ++p) {
+            values.push_back(static_cast<uint8_t>(v));
+            predictions.push_back(static_cast<uint8_t>(p));
+        }
+    }
+    for (const size_t count : {values.size(), size_t{37}}) { // a whole vector's worth, and a remainder
+        std::vector<uint8_t> rebuilt(predictions.begin(), predictions.begin() + static_cast<std::ptrdiff_t>(count));
+        std::vector<uint8_t> stored(count);
+        const RebuiltRow row = encodeColourResidualsRebuilt(values.data(), rebuilt.data(), count, stored.data());
+        int64_t errors = 0, spread = 0;
+        for (size_t k = 0; k < count; ++k) {
+            bool clamped = true;
+            ASSERT_EQ(stored[k], encodeColourResidual(values[k], predictions[k], &clamped)) << k;
+            EXPECT_FALSE(clamped);
+            ASSERT_EQ(rebuilt[k], applyColourResidual(predictions[k], stored[k])) << k;
+            const int error = std::abs(rebuilt[k] - values[k]);
+            ASSERT_LE(error, 1);
+            errors += error;
+            spread += std::abs(stored[k] - 128);
+        }
+        EXPECT_EQ(row.errors, errors);
+        EXPECT_EQ(row.spread, spread);
+        EXPECT_GT(errors, 0);
     }
 }
 

@@ -23,31 +23,29 @@ const std::array<uint32_t, 256>& decodeTable() {
     return table;
 }
 
-// The 8-bit sRGB value whose linear value is nearest to `linear` (ties to the lower value).
-uint8_t nearestSrgb(uint32_t linear) {
-    const auto& t = decodeTable();
-    const auto it = std::lower_bound(t.begin(), t.end(), linear);
-    if (it == t.begin()) {
-        return 0;
-    }
-    if (it == t.end()) {
-        return 255;
-    }
-    const auto hi = static_cast<size_t>(it - t.begin());
-    const uint32_t above = *it - linear;
-    const uint32_t below = linear - t[hi - 1];
-    return static_cast<uint8_t>(below <= above ? hi - 1 : hi);
-}
-
-// nearestSrgb for every linear value 0..65535 (an average of four table entries never exceeds
-// 65535): one lookup per averaged sample instead of a binary search.
+// For every linear value 0..65535 (an average of four table entries never exceeds 65535), the
+// 8-bit sRGB value whose linear value is nearest (ties to the lower value): one lookup per
+// averaged sample. Built in one walk up both scales (the first entry at or above each value
+// only moves up), the same table as a binary search per value, without 65,536 of them on the
+// thread that first averages.
 const std::array<uint8_t, 65536>& encodeTable() {
     static const std::array<uint8_t, 65536> table = [] {
-        std::array<uint8_t, 65536> t{};
-        for (uint32_t v = 0; v < t.size(); ++v) {
-            t[v] = nearestSrgb(v);
+        const auto& t = decodeTable();
+        std::array<uint8_t, 65536> e{};
+        size_t hi = 0; // the first entry >= v (256: none)
+        for (uint32_t v = 0; v < e.size(); ++v) {
+            while (hi < t.size() && t[hi] < v) {
+                ++hi;
+            }
+            if (hi == 0) {
+                e[v] = 0;
+            } else if (hi == t.size()) {
+                e[v] = 255;
+            } else {
+                e[v] = static_cast<uint8_t>(v - t[hi - 1] <= t[hi] - v ? hi - 1 : hi);
+            }
         }
-        return t;
+        return e;
     }();
     return table;
 }

@@ -1,5 +1,6 @@
 #include "libpyramid/filters/colour_upsample.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -24,7 +25,7 @@ void blendRows(const uint8_t* __restrict r0, const uint8_t* __restrict r1, unsig
 }
 
 // out[s] = (a p[s] + b p[s + step]) >> 4 for s < count: `count` predictions from a blended row.
-void weightedRun(const uint16_t* __restrict p, size_t step, unsigned a, unsigned b, size_t count,
+[[gnu::always_inline]] inline void weightedRun(const uint16_t* __restrict p, size_t step, unsigned a, unsigned b, size_t count,
                  uint8_t* __restrict out) {
     for (size_t s = 0; s < count; ++s) {
         out[s] = static_cast<uint8_t>((a * p[s] + b * p[s + step]) >> 4);
@@ -37,7 +38,7 @@ void weightedRun(const uint16_t* __restrict p, size_t step, unsigned a, unsigned
 // pixels' and the odd pixels' (each a vectorised loop over consecutive samples of the blended
 // row), then interleaved pixel by pixel: the same sums as pixel by pixel.
 template <int C>
-void predictFromBlend(const uint16_t* __restrict v, int rx, int side, uint8_t* __restrict out) {
+[[gnu::always_inline]] inline void predictFromBlend(const uint16_t* __restrict v, int rx, int side, uint8_t* __restrict out) {
     const uint16_t* w = v + static_cast<size_t>(rx) * C;
     const size_t evenSamples = static_cast<size_t>((side + 1) / 2) * C; // x = 2m: m < (side + 1) / 2
     const size_t oddSamples = static_cast<size_t>(side / 2) * C;        // x = 2m + 1: m < side / 2
@@ -49,11 +50,37 @@ void predictFromBlend(const uint16_t* __restrict v, int rx, int side, uint8_t* _
     // x = 2m + 1: bx = m + 1 + rx, so 3 x column m + rx + 1, 1 x column m + rx + 2.
     weightedRun(w, C, 1u, 3u, evenSamples, even);
     weightedRun(w + C, C, 3u, 1u, oddSamples, odd);
-    for (int x = 0; x < side; ++x) {
-        const uint8_t* from = (x & 1 ? odd : even) + static_cast<size_t>(x / 2) * C;
-        // A copy of a constant size, done in registers (a loop over the C bytes was compiled
-        // into a call to memmove per pixel).
-        std::memcpy(out + static_cast<size_t>(x) * C, from, C);
+    // Interleaved pixel pair by pixel pair, by copies of a constant size done in registers (a
+    // loop over the C bytes was compiled into a call to memmove per pixel). Three-byte pixels
+    // move as four bytes, the fourth overwritten by the next copy: all but the last pair.
+    const int pairs = side / 2;
+    int m = 0;
+    if constexpr (C == 3) {
+        for (; m + 1 < pairs; ++m) {
+            uint8_t* o = out + static_cast<size_t>(m) * 2 * C;
+            std::memcpy(o, even + static_cast<size_t>(m) * C, 4);
+            std::memcpy(o + C, odd + static_cast<size_t>(m) * C, 4);
+        }
+    }
+    for (; m < pairs; ++m) {
+        uint8_t* o = out + static_cast<size_t>(m) * 2 * C;
+        std::memcpy(o, even + static_cast<size_t>(m) * C, C);
+        std::memcpy(o + C, odd + static_cast<size_t>(m) * C, C);
+    }
+    if (side % 2 != 0) {
+        std::memcpy(out + static_cast<size_t>(side - 1) * C, even + static_cast<size_t>(pairs) * C, C);
+    }
+}
+
+// predictFromBlend for any channel count, compiled for AVX2 too (the same integers): the
+// channel count known at compile time inside each clone, into which the loops above are inlined.
+PYRAMID_VECTOR_CLONES
+void predictFromBlendOf(const uint16_t* v, int channels, int rx, int side, uint8_t* out) {
+    switch (channels) {
+    case 1: return predictFromBlend<1>(v, rx, side, out);
+    case 2: return predictFromBlend<2>(v, rx, side, out);
+    case 3: return predictFromBlend<3>(v, rx, side, out);
+    default: return predictFromBlend<4>(v, rx, side, out);
     }
 }
 
@@ -79,6 +106,28 @@ void applyColourResiduals(uint8_t* __restrict values, const uint8_t* __restrict 
     }
 }
 
+// Summed in 32 bits (a row of up to 2^23 samples cannot overflow them), which vectorises.
+PYRAMID_VECTOR_CLONES
+RebuiltRow encodeColourResidualsRebuilt(const uint8_t* __restrict value, uint8_t* __restrict rebuilt, size_t count,
+                                        uint8_t* __restrict stored) {
+    RebuiltRow totals;
+    for (size_t first = 0; first < count; first += size_t{1} << 23) {
+        const size_t last = std::min(count, first + (size_t{1} << 23));
+        uint32_t odd = 0, spread = 0;
+        for (size_t k = first; k < last; ++k) {
+            const int v = value[k], p = rebuilt[k];
+            const int half = (v - p) / 2; // C division, truncation toward zero
+            stored[k] = static_cast<uint8_t>(half + 128);
+            rebuilt[k] = static_cast<uint8_t>(p + 2 * half);
+            odd += static_cast<uint32_t>((v ^ p) & 1);
+            spread += static_cast<uint32_t>(half < 0 ? -half : half);
+        }
+        totals.errors += odd;
+        totals.spread += spread;
+    }
+    return totals;
+}
+
 void predictColourRow(const uint8_t* parent, size_t rowBytes, int channels, int rx, int ry, int y, int side,
                      uint8_t* out) {
     const size_t by = static_cast<size_t>((y + 1) / 2 + ry);
@@ -86,12 +135,7 @@ void predictColourRow(const uint8_t* parent, size_t rowBytes, int channels, int 
     thread_local std::vector<uint16_t> blended;
     blended.resize(rowBytes);
     blendRows(parent + by * rowBytes, parent + (by + 1) * rowBytes, wy0, 4u - wy0, rowBytes, blended.data());
-    switch (channels) {
-    case 1: return predictFromBlend<1>(blended.data(), rx, side, out);
-    case 2: return predictFromBlend<2>(blended.data(), rx, side, out);
-    case 3: return predictFromBlend<3>(blended.data(), rx, side, out);
-    default: return predictFromBlend<4>(blended.data(), rx, side, out);
-    }
+    predictFromBlendOf(blended.data(), channels, rx, side, out);
 }
 
 uint8_t predictColour(const uint8_t* parent, size_t rowBytes, int channels, int channel, int rx, int ry,

@@ -48,6 +48,20 @@ inline uint8_t encodeColourResidual(uint8_t value, uint8_t prediction, bool* cla
 int64_t encodeColourResiduals(const uint8_t* value, const uint8_t* prediction, size_t count, uint8_t* stored);
 void applyColourResiduals(uint8_t* values, const uint8_t* stored, size_t count);
 
+// Both at once, as the encoder does with residuals that are stored losslessly: stored[k] =
+// encodeColourResidual(value[k], rebuilt[k]) and then, in place, rebuilt[k] =
+// applyColourResidual(rebuilt[k], stored[k]) (rebuilt holding the predictions on entry). For
+// 8-bit values neither step clamps (the difference d is within +-255, so d / 2 + 128 is within
+// 1..255, and prediction + 2 (d / 2) lies between prediction and value), so a rebuilt sample is
+// its value, or one off where d is odd: `errors` is both the number of errors and the sum of
+// their squares. `spread` is the sum of |stored[k] - 128|. One pass over the row, compiled for
+// AVX2 too where the CPU has it (the same integers).
+struct RebuiltRow {
+    int64_t errors = 0;
+    int64_t spread = 0;
+};
+RebuiltRow encodeColourResidualsRebuilt(const uint8_t* value, uint8_t* rebuilt, size_t count, uint8_t* stored);
+
 // Rebuilds a whole child tile: out = applyColourResidual(predictColour(parent...), residual)
 // for every pixel and channel. `residual` and `out` are (T+4)^2 x channels bytes; pass
 // residual = nullptr for "no residual" (every stored value 128).

@@ -4,6 +4,7 @@
 #pragma once
 #include <omp.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <exception>
 #include <limits>
@@ -28,12 +29,16 @@ inline int workerThreads(int requested) {
     return requested > 0 ? requested : omp_get_max_threads();
 }
 
+// No more threads than items: a worker without one would only wait at the loop's end, and
+// libgomp's waiting worker spins, holding a core that the program's other threads (a decoder,
+// a writer) could use.
 template <class Body>
 void parallelFor(int64_t count, int threads, const Body& body) {
     std::exception_ptr error;
     int64_t errorIndex = std::numeric_limits<int64_t>::max();
     std::mutex mutex;
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
+    const int team = static_cast<int>(std::clamp<int64_t>(count, 1, std::max(threads, 1)));
+#pragma omp parallel for schedule(dynamic) num_threads(team)
     for (int64_t i = 0; i < count; ++i) {
         {
             std::lock_guard<std::mutex> lock(mutex);

@@ -51,22 +51,14 @@ std::vector<uint8_t> crop(const Image8& tile, int border) {
 // doc/ortho-encoding.md, "Compression policy of TIFF tiles"). Residuals that are smooth (their
 // mean distance from 128 below 1/2: most are 128) compress fastest and smallest at level 2;
 // grainy residuals take about half again as long at level 2 as at level 1, for 5 to 8 % fewer
-// bytes, and get level 1. The root tile stores colours, not residuals: level 2.
-int autoResidualDeflateLevel(std::span<const uint8_t> stored, int level) {
+// bytes, and get level 1. The root tile stores colours, not residuals: level 2. `distance` is
+// the sum of the `samples` stored values' distances from 128, summed as they are computed
+// (colour_upsample.hpp, RebuiltRow); JPEG residuals take no Deflate level.
+int autoResidualDeflateLevel(uint64_t distance, size_t samples, int level) {
     if (level == 0) {
         return 2;
     }
-    // Summed in 32 bits over pieces of 2^16 samples (at most 2^23 each), which vectorises well.
-    uint64_t distance = 0;
-    for (size_t first = 0; first < stored.size(); first += size_t{1} << 16) {
-        const size_t last = std::min(stored.size(), first + (size_t{1} << 16));
-        uint32_t piece = 0;
-        for (size_t k = first; k < last; ++k) {
-            piece += static_cast<uint32_t>(stored[k] >= 128 ? stored[k] - 128 : 128 - stored[k]);
-        }
-        distance += piece;
-    }
-    return 2 * distance < stored.size() ? 2 : 1;
+    return 2 * distance < samples ? 2 : 1;
 }
 
 // The largest absolute difference between two runs of samples and the sum of its squares.
@@ -259,6 +251,7 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
     uint8_t* const recon = reconBuffer.data();
     int maxError = 0;
     int64_t squares = 0, clampedCount = 0;
+    uint64_t spread = 0; // of the stored values from 128, while they are computed (Deflate)
     const auto measure = [&](const uint8_t* rebuilt, const uint8_t* original, size_t n) {
         const ErrorTotals row = errorTotals(rebuilt, original, n);
         maxError = std::max(maxError, row.maxError);
@@ -273,17 +266,21 @@ void OrthoTileEncoder::encodeResidual(const TrueTile& t, const std::vector<uint8
             uint8_t* storedRow = stored + offset;
             uint8_t* row = recon + offset;
             predictColourRow(parent->data(), rowBytes, channels_, rx, ry, y, side, row);
-            clampedCount += encodeColourResiduals(trueRow, row, rowBytes, storedRow);
-            if (!jpeg) {
-                applyColourResiduals(row, storedRow, rowBytes);
-                measure(row, trueRow, rowBytes);
+            if (jpeg) {
+                clampedCount += encodeColourResiduals(trueRow, row, rowBytes, storedRow);
+            } else {
+                // Nothing clamps, and every error is 0 or 1 (colour_upsample.hpp).
+                const RebuiltRow r = encodeColourResidualsRebuilt(trueRow, row, rowBytes, storedRow);
+                maxError = std::max(maxError, r.errors > 0 ? 1 : 0);
+                squares += r.errors;
+                spread += static_cast<uint64_t>(r.spread);
             }
         }
         e.stats.clamped += clampedCount;
     }
     const std::span<const uint8_t> storedTile(t.level == 0 ? truth.data() : stored, count);
-    const int deflateLevel =
-        o_.residualDeflateLevel != 0 ? o_.residualDeflateLevel : autoResidualDeflateLevel(storedTile, t.level);
+    const int deflateLevel = o_.residualDeflateLevel != 0 ? o_.residualDeflateLevel
+                                                          : autoResidualDeflateLevel(spread, count, t.level);
     std::vector<uint8_t> residual = encodeTiff8(storedTile, side, side, channels_,
                                                 jpeg ? TiffCompression::Jpeg : TiffCompression::Deflate, o_.jpegQuality,
                                                 deflateLevel);

@@ -18,8 +18,8 @@ namespace {
 //
 // Input row `in` interpolated at `columns` output columns: column i lies between the input
 // pixels at element offsets first[i] and second[i], at `weight[i]` from the first.
-template <int Channels>
-void interpolateRowOf(const uint16_t* __restrict in, const size_t* __restrict first, const size_t* __restrict second,
+template <int Channels, typename Sample>
+void interpolateRowOf(const Sample* __restrict in, const size_t* __restrict first, const size_t* __restrict second,
                       const double* __restrict weight, int columns, double* __restrict out) {
     for (int i = 0; i < columns; ++i) {
         const double fx = weight[i];
@@ -32,6 +32,18 @@ void interpolateRowOf(const uint16_t* __restrict in, const size_t* __restrict fi
 
 PYRAMID_VECTOR_CLONES
 void interpolateRow(const uint16_t* in, const size_t* first, const size_t* second, const double* weight,
+                    int columns, int channels, double* out) {
+    switch (channels) {
+    case 1: return interpolateRowOf<1>(in, first, second, weight, columns, out);
+    case 2: return interpolateRowOf<2>(in, first, second, weight, columns, out);
+    case 3: return interpolateRowOf<3>(in, first, second, weight, columns, out);
+    default: return interpolateRowOf<4>(in, first, second, weight, columns, out);
+    }
+}
+
+// The same from 8-bit samples as stored (each converts to the same double as when widened).
+PYRAMID_VECTOR_CLONES
+void interpolateRow(const uint8_t* in, const size_t* first, const size_t* second, const double* weight,
                     int columns, int channels, double* out) {
     switch (channels) {
     case 1: return interpolateRowOf<1>(in, first, second, weight, columns, out);
@@ -141,10 +153,18 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     const int ww = cx1 - cx0 + 1;
     // Every sample of the window is read next: not cleared first. One window per thread, kept
     // from subtree to subtree (it only grows): a fresh one would fault its pages in again for
-    // every subtree.
-    thread_local std::vector<uint16_t, DefaultInitAllocator<uint16_t>> window;
-    window.resize(static_cast<size_t>(ww) * static_cast<size_t>(ry1 - ry0 + 1) * channels_);
-    source_.readUInt16(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels_, window.data());
+    // every subtree. 8-bit samples are kept as they are (half the bytes, and no widening).
+    thread_local std::vector<uint16_t, DefaultInitAllocator<uint16_t>> window16;
+    thread_local std::vector<uint8_t, DefaultInitAllocator<uint8_t>> window8;
+    const size_t windowSamples = static_cast<size_t>(ww) * static_cast<size_t>(ry1 - ry0 + 1) * channels_;
+    if (sixteen_) {
+        window16.resize(windowSamples);
+        source_.readUInt16(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels_, window16.data());
+    } else {
+        window8.resize(windowSamples);
+        source_.readUInt8(cx0, ry0, cx1 + 1, ry1 + 1, 0, channels_, window8.data(),
+                          static_cast<std::ptrdiff_t>(ww) * channels_);
+    }
     // The columns' neighbours and weights are the same on every row: computed once (the
     // same values as per pixel, so the same bytes). Columns inside the input are a prefix
     // [0, insideEnd), as positions grow with the column.
@@ -169,8 +189,12 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     const size_t rowSamples = static_cast<size_t>(insideEnd) * channels_;
     RowPairCache rows(rowSamples);
     const auto horizontal = [&](int64_t r, double* interpolated) {
-        interpolateRow(&window[static_cast<size_t>(r - ry0) * ww * channels_], off0.data(), off1.data(),
-                       colFx.data(), insideEnd, channels_, interpolated);
+        const size_t at = static_cast<size_t>(r - ry0) * ww * channels_;
+        if (sixteen_) {
+            interpolateRow(&window16[at], off0.data(), off1.data(), colFx.data(), insideEnd, channels_, interpolated);
+        } else {
+            interpolateRow(&window8[at], off0.data(), off1.data(), colFx.data(), insideEnd, channels_, interpolated);
+        }
     };
     const size_t rowBytes = static_cast<size_t>(w) * channels_;
     for (int j = 0; j < h; ++j) {
@@ -188,7 +212,7 @@ Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
             // 8-bit input pixels are the finest pixels (every column inside the input): the
             // interpolation and conversion below would give each sample unchanged.
             const size_t first = (static_cast<size_t>(r0 - ry0) * ww + static_cast<size_t>(x0 - cx0)) * channels_;
-            std::copy_n(&window[first], static_cast<size_t>(w) * channels_, row);
+            std::copy_n(&window8[first], static_cast<size_t>(w) * channels_, row);
             continue;
         }
         const double* top = rows.row(r0, r1, horizontal);
