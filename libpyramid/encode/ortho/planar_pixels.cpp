@@ -19,8 +19,9 @@ namespace {
 // Input row `in` interpolated at `columns` output columns: column i lies between the input
 // pixels at element offsets first[i] and second[i], at `weight[i]` from the first.
 template <int Channels, typename Sample>
-void interpolateRowOf(const Sample* __restrict in, const size_t* __restrict first, const size_t* __restrict second,
-                      const double* __restrict weight, int columns, double* __restrict out) {
+[[gnu::always_inline]] inline void interpolateRowOf(const Sample* __restrict in, const size_t* __restrict first,
+                                                    const size_t* __restrict second, const double* __restrict weight,
+                                                    int columns, double* __restrict out) {
     for (int i = 0; i < columns; ++i) {
         const double fx = weight[i];
         for (int ch = 0; ch < Channels; ++ch) {
@@ -30,9 +31,11 @@ void interpolateRowOf(const Sample* __restrict in, const size_t* __restrict firs
     }
 }
 
-PYRAMID_VECTOR_CLONES
-void interpolateRow(const uint16_t* in, const size_t* first, const size_t* second, const double* weight,
-                    int columns, int channels, double* out) {
+// By channel count; inlined into each clone below, for 16-bit samples and for 8-bit samples as
+// stored (each converts to the same double as when widened).
+template <typename Sample>
+[[gnu::always_inline]] inline void interpolateRowAny(const Sample* in, const size_t* first, const size_t* second,
+                                                     const double* weight, int columns, int channels, double* out) {
     switch (channels) {
     case 1: return interpolateRowOf<1>(in, first, second, weight, columns, out);
     case 2: return interpolateRowOf<2>(in, first, second, weight, columns, out);
@@ -41,16 +44,16 @@ void interpolateRow(const uint16_t* in, const size_t* first, const size_t* secon
     }
 }
 
-// The same from 8-bit samples as stored (each converts to the same double as when widened).
+PYRAMID_VECTOR_CLONES
+void interpolateRow(const uint16_t* in, const size_t* first, const size_t* second, const double* weight,
+                    int columns, int channels, double* out) {
+    interpolateRowAny(in, first, second, weight, columns, channels, out);
+}
+
 PYRAMID_VECTOR_CLONES
 void interpolateRow(const uint8_t* in, const size_t* first, const size_t* second, const double* weight,
                     int columns, int channels, double* out) {
-    switch (channels) {
-    case 1: return interpolateRowOf<1>(in, first, second, weight, columns, out);
-    case 2: return interpolateRowOf<2>(in, first, second, weight, columns, out);
-    case 3: return interpolateRowOf<3>(in, first, second, weight, columns, out);
-    default: return interpolateRowOf<4>(in, first, second, weight, columns, out);
-    }
+    interpolateRowAny(in, first, second, weight, columns, channels, out);
 }
 
 // The documented conversion, v8 = lround(v * 255 / full), of values v in [0, full]: there the
