@@ -30,14 +30,12 @@ struct SolidPair {
     uint8_t a = 0, b = 0;
 };
 
-// Built while compiling (no work at every program's start) from the colours the pairs can make: for each colour c, the pair making it
+// Built at start-up from the colours the pairs can make: for each colour c, the pair making it
 // with the closest endpoints (the first in (a, b) order of those); then for each value, the
 // closest colour, equally close ones by their pair's endpoints, then order. The same table as
 // trying every pair for every value, in 256 x 256 steps instead of 256 x 4096.
-constexpr int distance(int a, int b) { return a < b ? b - a : a - b; }
-
 template <int Bits>
-constexpr std::array<SolidPair, 256> solidPairs() {
+std::array<SolidPair, 256> solidPairs() {
     constexpr int n = 1 << Bits;
     const auto expand = [](int q) { return Bits == 5 ? expand5(q) : expand6(q); };
     std::array<int, 256> spread{}, order{}; // per colour; spread -1: no pair makes it
@@ -46,7 +44,7 @@ constexpr std::array<SolidPair, 256> solidPairs() {
         for (int b = 0; b < n; ++b) {
             const int ea = expand(a), eb = expand(b);
             const auto c = static_cast<size_t>((2 * ea + eb) / 3);
-            const int s = distance(ea, eb);
+            const int s = std::abs(ea - eb);
             if (spread[c] < 0 || s < spread[c]) {
                 spread[c] = s;
                 order[c] = a * n + b;
@@ -61,7 +59,7 @@ constexpr std::array<SolidPair, 256> solidPairs() {
             if (spread[k] < 0) {
                 continue;
             }
-            const int cost = distance(c, v) * 256 + spread[k];
+            const int cost = std::abs(c - v) * 256 + spread[k];
             if (cost < best || (cost == best && order[k] < pair)) {
                 best = cost;
                 pair = order[k];
@@ -72,8 +70,8 @@ constexpr std::array<SolidPair, 256> solidPairs() {
     return table;
 }
 
-constexpr std::array<SolidPair, 256> kSolid5 = solidPairs<5>();
-constexpr std::array<SolidPair, 256> kSolid6 = solidPairs<6>();
+const std::array<SolidPair, 256> kSolid5 = solidPairs<5>();
+const std::array<SolidPair, 256> kSolid6 = solidPairs<6>();
 
 #define PYRAMID_INLINE [[gnu::always_inline]] inline
 
