@@ -116,9 +116,9 @@ RebuiltRow encodeColourResidualsRebuilt(const uint8_t* __restrict value, uint8_t
         uint32_t odd = 0, spread = 0;
         for (size_t k = first; k < last; ++k) {
             const int v = value[k], p = rebuilt[k];
-            const int half = (v - p) / 2; // C division, truncation toward zero
-            stored[k] = static_cast<uint8_t>(half + 128);
-            rebuilt[k] = static_cast<uint8_t>(p + 2 * half);
+            const int s = colourResidualUnclamped(v, p), half = s - 128;
+            stored[k] = static_cast<uint8_t>(s);
+            rebuilt[k] = static_cast<uint8_t>(colourValueUnclamped(p, s));
             odd += static_cast<uint32_t>((v ^ p) & 1);
             spread += static_cast<uint32_t>(half < 0 ? -half : half);
         }

@@ -23,17 +23,27 @@ uint8_t predictColour(const uint8_t* parent, size_t parentRowBytes, int channels
 void predictColourRow(const uint8_t* parent, size_t parentRowBytes, int channels, int rx, int ry, int y, int side,
                      uint8_t* out);
 
+// The residual rule before any clamp, one owner for both directions: a value is stored as
+// (value - prediction) / 2 + 128 (C division, truncation toward zero) and decoded as
+// prediction + 2 * (stored - 128).
+inline int colourResidualUnclamped(int value, int prediction) {
+    return (value - prediction) / 2 + 128;
+}
+inline int colourValueUnclamped(int prediction, int stored) {
+    return prediction + 2 * (stored - 128);
+}
+
 // Decodes a stored colour residual against its prediction:
 // value = clamp(prediction + 2 * (stored - 128), 0, 255).
 inline uint8_t applyColourResidual(uint8_t prediction, uint8_t stored) {
-    const int v = static_cast<int>(prediction) + 2 * (static_cast<int>(stored) - 128);
+    const int v = colourValueUnclamped(prediction, stored);
     return static_cast<uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
 }
 
 // Encodes value against prediction: (value - prediction) / 2 + 128 (C division, truncation
 // toward zero), clamped to 0..255. `clamped` is set when the clamp changed the result.
 inline uint8_t encodeColourResidual(uint8_t value, uint8_t prediction, bool* clamped = nullptr) {
-    const int r = (static_cast<int>(value) - static_cast<int>(prediction)) / 2 + 128;
+    const int r = colourResidualUnclamped(value, prediction);
     const int c = r < 0 ? 0 : (r > 255 ? 255 : r);
     if (clamped) {
         *clamped = (c != r);
@@ -55,7 +65,8 @@ void applyColourResiduals(uint8_t* values, const uint8_t* stored, size_t count);
 // 1..255, and prediction + 2 (d / 2) lies between prediction and value), so a rebuilt sample is
 // its value, or one off where d is odd: `errors` is both the number of errors and the sum of
 // their squares. `spread` is the sum of |stored[k] - 128|. One pass over the row, compiled for
-// AVX2 too where the CPU has it (the same integers).
+// AVX2 too where the CPU has it (the same integers). It calls the unclamped rule above, since
+// the clamps cannot act and GCC keeps them in the vector loop otherwise.
 struct RebuiltRow {
     int64_t errors = 0;
     int64_t spread = 0;
