@@ -146,12 +146,8 @@ void StagingDirectory::commit() {
     }
     std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.relative < b.relative; });
 
-    // 1. The new files on disk; every destination replaceable.
-    for (const Entry& e : entries) {
-        if (!e.drop && !fsyncPath((staging / e.relative).string(), false)) {
-            fail(outputName((staging / e.relative).string()), "cannot write (flush): " + systemWords(errno));
-        }
-    }
+    // 1. Every destination replaceable. The new files are on disk already: each was written
+    // by an AtomicFile, whose commit flushed it before renaming it into the staging tree.
     auto lock = lockTemporaries();
     for (Entry& e : entries) {
         const fs::path target = destination / e.relative;

@@ -8,8 +8,9 @@
 // directory and its parents when this object created them and they are empty.
 //
 // commit(), under the registry's lock (a signal's cleanup waits for it to end):
-//   1. every staged file is fsync'd; a destination that exists and is not a file (a
-//      directory) fails the commit here, with nothing moved;
+//   1. a destination that exists and is not a file (a directory) fails the commit here, with
+//      nothing moved (the staged files are on disk already: an AtomicFile's commit fsyncs
+//      its file before renaming it into the staging tree, and every output goes through one);
 //   2. each existing destination file is hard-linked into `.staging-…/.old/` (a backup that
 //      costs no space; the destination itself is untouched);
 //   3. the journal `.staging-…/.commit` (which destinations had an old file) is written,
