@@ -30,7 +30,7 @@ struct SolidPair {
     uint8_t a = 0, b = 0;
 };
 
-// Built at start-up from the colours the pairs can make: for each colour c, the pair making it
+// Built from the colours the pairs can make: for each colour c, the pair making it
 // with the closest endpoints (the first in (a, b) order of those); then for each value, the
 // closest colour, equally close ones by their pair's endpoints, then order. The same table as
 // trying every pair for every value, in 256 x 256 steps instead of 256 x 4096.
@@ -70,8 +70,16 @@ std::array<SolidPair, 256> solidPairs() {
     return table;
 }
 
-const std::array<SolidPair, 256> kSolid5 = solidPairs<5>();
-const std::array<SolidPair, 256> kSolid6 = solidPairs<6>();
+struct SolidTables {
+    std::array<SolidPair, 256> five = solidPairs<5>();
+    std::array<SolidPair, 256> six = solidPairs<6>();
+};
+
+// Built on first use, so that programs which never write DXT do not build them at start-up.
+const SolidTables& solidTables() {
+    static const SolidTables tables;
+    return tables;
+}
 
 #define PYRAMID_INLINE [[gnu::always_inline]] inline
 
@@ -187,6 +195,7 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
     // of words, then the channels split and converted a vector at a time (not byte by byte).
     alignas(64) uint32_t words[16][kLanes];
     int rounded[3][kLanes];
+    const SolidTables& solid = solidTables();
     for (int l = 0; l < kLanes; ++l) {
         const uint8_t* block = blocks[l < count ? l : 0];
         for (int k = 0; k < 16; ++k) {
@@ -262,9 +271,9 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
     }
     ints solidA, solidB;
     for (int l = 0; l < kLanes; ++l) {
-        const SolidPair r = kSolid5[static_cast<size_t>(rounded[0][l])];
-        const SolidPair g = kSolid6[static_cast<size_t>(rounded[1][l])];
-        const SolidPair b = kSolid5[static_cast<size_t>(rounded[2][l])];
+        const SolidPair r = solid.five[static_cast<size_t>(rounded[0][l])];
+        const SolidPair g = solid.six[static_cast<size_t>(rounded[1][l])];
+        const SolidPair b = solid.five[static_cast<size_t>(rounded[2][l])];
         solidA[l] = (r.a << 11) | (g.a << 5) | b.a;
         solidB[l] = (r.b << 11) | (g.b << 5) | b.b;
     }
