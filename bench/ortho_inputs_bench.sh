@@ -20,6 +20,11 @@
 #   bluemarble-2700.tif, citylights-2700.tif  marble-qt-data's 2700 x 1350 composites at their
 #                           own size (resampled into the upper half of a 3072^2 quad)
 #   bluemarble-jpeg.jpg, citylights-jpeg.jpg  the same composites as shipped: baseline JPEG
+#   moon-jpeg.jpg           stellarium-data's Moon (textures/moon_4k.jpg, 4096 x 2048 baseline JPEG: a
+#                           lunar albedo map, grey with a constant tint), as shipped; default tiles
+#                           (resampled into the upper half of a 6144^2 quad: 2.25 times its pixels).
+#                           Added after the others had been tuned on, and not tuned on since
+#   moon-jpeg-256           the same file with --tile-size 256 (4096 = 256 x 16: pixel for pixel)
 #   landsat-3072.tif        r-cran-stars' Landsat 7 scene (L7_ETMs.tif, 349 x 352, bands 3, 2, 1:
 #                           true colour) repeated 9 x 9 and cut to 3072^2, --tile-size 192
 #   landsat-352.tif         the same scene at its own size (default tiles)
@@ -86,6 +91,9 @@ make_input bluemarble-6144x3072 oiiotool bluemarble-2700.tif --resize 6144x3072 
 [ -f bluemarble-jpeg.jpg ] || cp "$MARBLE/bluemarble/bluemarble.jpg" bluemarble-jpeg.jpg
 [ -f citylights-jpeg.jpg ] || cp "$MARBLE/citylights/citylights.jpg" citylights-jpeg.jpg
 
+unpack stellarium-data
+[ -f moon-jpeg.jpg ] || cp debs/stellarium-data/usr/share/stellarium/textures/moon_4k.jpg moon-jpeg.jpg
+
 unpack r-cran-stars
 LANDSAT=debs/r-cran-stars/usr/lib/R/site-library/stars/tif/L7_ETMs.tif
 # Bands 3, 2, 1 (red, green, blue) of the 6-band scene, as an RGB TIFF.
@@ -116,11 +124,12 @@ kodak_6144() {
 }
 make_input kodak-6144 kodak_6144
 
-INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg}
-# input NAME: the file of input NAME (NAME.jpg for the shipped JPEGs, else NAME.tif).
-input() { if [ -f "$1.jpg" ]; then echo "$1.jpg"; else echo "$1.tif"; fi; }
+INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg moon-jpeg moon-jpeg-256}
+# input NAME: the file of input NAME (NAME.jpg for the shipped JPEGs, moon-jpeg.jpg for moon-jpeg-256,
+# else NAME.tif).
+input() { if [ "$1" = moon-jpeg-256 ]; then echo moon-jpeg.jpg; elif [ -f "$1.jpg" ]; then echo "$1.jpg"; else echo "$1.tif"; fi; }
 # tile_args NAME: inputs whose side is 192 << M are encoded pixel for pixel (the COG's pixels).
-tile_args() { case $1 in noisy-6144 | synthetic-6144 | kodak-6144 | landsat-3072) echo "--tile-size 192" ;; esac; }
+tile_args() { case $1 in noisy-6144 | synthetic-6144 | kodak-6144 | landsat-3072) echo "--tile-size 192" ;; moon-jpeg-256) echo "--tile-size 256" ;; esac; }
 
 OURS=("$ORTHO" --quiet --threads "$THREADS" --report report.json)
 COG=(gdal_translate -q -of COG -co COMPRESS=DEFLATE -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
