@@ -24,7 +24,7 @@
 #                           lunar albedo map, grey with a constant tint), as shipped; default tiles
 #                           (resampled into the upper half of a 6144^2 quad: 2.25 times its pixels).
 #                           Added after the others had been tuned on, and not tuned on since
-#   moon-jpeg-256           the same file with --tile-size 256 (4096 = 256 x 16: pixel for pixel)
+#   moon-jpeg-auto          the same file with --tile-size auto (256-tiles: 4096 = 256 x 16, pixel for pixel)
 #   landsat-3072.tif        r-cran-stars' Landsat 7 scene (L7_ETMs.tif, 349 x 352, bands 3, 2, 1:
 #                           true colour) repeated 9 x 9 and cut to 3072^2, --tile-size 192
 #   landsat-352.tif         the same scene at its own size (default tiles)
@@ -124,12 +124,12 @@ kodak_6144() {
 }
 make_input kodak-6144 kodak_6144
 
-INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg moon-jpeg moon-jpeg-256}
-# input NAME: the file of input NAME (NAME.jpg for the shipped JPEGs, moon-jpeg.jpg for moon-jpeg-256,
+INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg moon-jpeg moon-jpeg-auto}
+# input NAME: the file of input NAME (NAME.jpg for the shipped JPEGs, moon-jpeg.jpg for moon-jpeg-auto,
 # else NAME.tif).
-input() { if [ "$1" = moon-jpeg-256 ]; then echo moon-jpeg.jpg; elif [ -f "$1.jpg" ]; then echo "$1.jpg"; else echo "$1.tif"; fi; }
+input() { if [ "$1" = moon-jpeg-auto ]; then echo moon-jpeg.jpg; elif [ -f "$1.jpg" ]; then echo "$1.jpg"; else echo "$1.tif"; fi; }
 # tile_args NAME: inputs whose side is 192 << M are encoded pixel for pixel (the COG's pixels).
-tile_args() { case $1 in noisy-6144 | synthetic-6144 | kodak-6144 | landsat-3072) echo "--tile-size 192" ;; moon-jpeg-256) echo "--tile-size 256" ;; esac; }
+tile_args() { case $1 in noisy-6144 | synthetic-6144 | kodak-6144 | landsat-3072) echo "--tile-size 192" ;; moon-jpeg-auto) echo "--tile-size auto" ;; esac; }
 
 OURS=("$ORTHO" --quiet --threads "$THREADS" --report report.json)
 COG=(gdal_translate -q -of COG -co COMPRESS=DEFLATE -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")

@@ -16,7 +16,8 @@ CommandRunner setupOrthoCommand(CLI::App& app) {
     auto target = std::make_shared<PlanarTargetArgs>();
     addOrthoOptions(app, a, "Imagery: 1-4 channels of 8 or 16 bits (any format OpenImageIO reads)",
                     "Output directory: NAME.dat, dxt/NAME.dat, residuals/NAME.dat",
-                    "The files' maxLevel (default: the smallest whose tile-size << maxLevel holds the longer side)");
+                    "The files' maxLevel (default: the smallest whose tile-size << maxLevel holds the longer side)",
+                    true);
     app.add_flag("--stretch", a->options.levels.stretch,
                  "Stretch width and height independently onto the square root quad");
     addPlanarTargetOptions(app, *target);

@@ -49,13 +49,29 @@ void parseOutputs(const std::string& text, OrthoEncodeOptions& o) {
 } // namespace
 
 void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const char* inputHelp, const char* outputHelp,
-                     const char* maxLevelHelp) {
+                     const char* maxLevelHelp, bool tileSizeAuto) {
     OrthoEncodeOptions& o = a->options;
     addInputOptions(app, a->input, inputHelp);
     app.add_option("-o,--output", a->output, outputHelp)->required();
     app.add_option("--outputs", a->outputs, "Which files: a comma list of tiff, dxt, residuals")->capture_default_str();
     app.add_option("--name", o.name, "Base name of the files")->capture_default_str();
-    app.add_option("--tile-size", o.levels.tileSize, "Tile size in pixels, without borders")->capture_default_str();
+    app.add_option("--tile-size", a->tileSize,
+                   tileSizeAuto ? "Tile size in pixels, without borders, or 'auto': the tile size (a multiple of 4, "
+                                  "at most 256) and levels whose finest level fits the input's longer side with "
+                                  "the least resampling"
+                                : "Tile size in pixels, without borders")
+        ->capture_default_str()
+        ->type_name(tileSizeAuto ? "INT|auto" : "INT")
+        ->check([tileSizeAuto](const std::string& text) -> std::string {
+            if (text == "auto") {
+                return tileSizeAuto ? std::string()
+                                    : "'auto' fits a planar input (preprocessOrtho); cube faces take a number of "
+                                      "pixels, e.g. 192";
+            }
+            return readWholeNumber<int>(text) ? std::string()
+                                              : "'" + text + "' is not a whole number of pixels" +
+                                                    (tileSizeAuto ? " nor 'auto'" : "");
+        });
     app.add_option("--max-level", o.levels.maxLevel, maxLevelHelp);
     app.add_option("--channels", o.levels.channels, "Use the first N channels (default: all, 1 to 4)");
     app.add_option("--border", o.border, "Tile border in pixels, 2 (as the original) or 0")->capture_default_str();
@@ -106,6 +122,14 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, bool
 
 OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     OrthoEncodeOptions options = a.options;
+    if (a.tileSize == "auto") {
+        if (options.levels.maxLevel) {
+            fail("--max-level", "is chosen by --tile-size auto: give one or the other");
+        }
+        options.levels.fitTiles = true;
+    } else {
+        options.levels.tileSize = *readWholeNumber<int>(a.tileSize); // a whole number: checked while parsing
+    }
     options.layout = a.layout == "dense" ? PyramidLayout::Dense : PyramidLayout::Sparse;
     parseOutputs(a.outputs, options);
     options.compression = parsePolicy("--compression", a.compression,

@@ -18,6 +18,7 @@ namespace pyramid::cli {
 
 struct OrthoArgs {
     InputArgs input;
+    std::string tileSize = "192"; // a whole number, or "auto" where the command takes it
     std::string output, outputs = "tiff,dxt,residuals", compression = "deflate",
                                residualCompression = "deflate", residualDeflateLevel = "auto", colourSpace = "srgb",
                                report;
@@ -29,9 +30,10 @@ struct OrthoArgs {
     OrthoEncodeOptions options;
 };
 
-// Declares INPUT, -o and the shared options on `app`, bound to `args`.
+// Declares INPUT, -o and the shared options on `app`, bound to `args`; with `tileSizeAuto`,
+// --tile-size takes "auto" too (tiles fitted to a planar input: OrthoLevelsOptions::fitTiles).
 void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& args, const char* inputHelp,
-                     const char* outputHelp, const char* maxLevelHelp);
+                     const char* outputHelp, const char* maxLevelHelp, bool tileSizeAuto = false);
 
 // Declares --threads, --cache-mb, --max-file-bytes, --report and --quiet (after any
 // command-specific options), and with `faces` --layout.

@@ -291,6 +291,25 @@ int main(void) {
             CHECK(memcmp(&tile[((2 + 31) * 36 + 2) * 3], &pixels[0], 3) == 0);
             CHECK(memcmp(&tile[((2 + 31 - 5) * 36 + 2 + 9) * 3], &pixels[(5 * 64 + 9) * 3], 3) == 0);
             pyramid_ortho_close(ortho);
+            ortho = NULL;
+        }
+        remove(ortho_file);
+        /* fit_tiles (0 by default): one 64-pixel tile holds the 64 x 64 image, the given 32 and
+         * max_level ignored. */
+        pyramid_ortho_encode_defaults(&o);
+        CHECK(o.fit_tiles == 0);
+        o.fit_tiles = 1;
+        o.tile_size = 32;
+        o.max_level = 3;
+        o.name = "IMG";
+        o.outputs = PYRAMID_ORTHO_TIFF;
+        CHECK(pyramid_encode_ortho(&colours, &o, ortho_dir) == PYRAMID_OK);
+        CHECK(pyramid_ortho_open(ortho_file, 0, 4, &ortho) == PYRAMID_OK);
+        if (ortho) {
+            int side = 0, channels = 0;
+            CHECK(pyramid_ortho_layout(ortho, &side, &channels) == PYRAMID_OK);
+            CHECK(side == 68 && channels == 3);
+            pyramid_ortho_close(ortho);
         }
         remove(ortho_file);
         rmdir(ortho_dir);

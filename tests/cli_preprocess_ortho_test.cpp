@@ -1,4 +1,5 @@
-// preprocessOrtho as a user runs it: a build checked and verified, failing cleanly; the residual
+// preprocessOrtho as a user runs it: a build checked and verified, failing cleanly; tiles fitted
+// to the input (--tile-size auto); the residual
 // Deflate level reaching the encoder; tiles beyond the cache naming its flag; the report's JPEG
 // error as `pyramid verify` measures it; YCbCr JPEG tiles warned of and verified.
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <OpenImageIO/imageio.h>
@@ -60,6 +62,47 @@ TEST(PreprocessOrthoCli, BuildsVerifiesAndFailsCleanly) {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << r.err;
         EXPECT_FALSE(test::fileExists(dir.file("bad"))) << args;
     }
+}
+
+// --tile-size auto fits the tiles to the input: a 512 x 256 map is the upper half of a quad of
+// 256-tiles pixel for pixel (192-tiles would resample it onto 768), a 300 x 150 one takes
+// 152-tiles (a multiple of 4 for DXT); with --max-level or on cube faces it is refused.
+TEST(PreprocessOrthoCli, TileSizeAutoFitsTheInput) {
+    test::TempDir dir;
+    for (const auto& [width, tileSize, maxLevel] : {std::tuple{512, 256, 1}, std::tuple{300, 152, 1}}) {
+        const int height = width / 2;
+        std::vector<uint16_t> px(static_cast<size_t>(width * height * 3));
+        for (size_t k = 0; k < px.size(); ++k) {
+            px[k] = static_cast<uint16_t>((k * 37) % 251);
+        }
+        const std::string in = dir.file("in" + std::to_string(width) + ".png");
+        const std::string out = dir.file("auto" + std::to_string(width));
+        test::writeImage(in, width, height, 3, px, false);
+        auto r = test::run(test::programPath("preprocessOrtho") + " '" + in + "' -o '" + out +
+                           "' --tile-size auto --quiet --report '" + out + ".json'");
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const auto report = nlohmann::json::parse(test::readFile(out + ".json"));
+        EXPECT_EQ(report["tile_size"], tileSize) << width;
+        EXPECT_EQ(report["max_level"], maxLevel) << width;
+        const auto file = OrthoFileReader::open(out + "/dxt/RGB.dat");
+        EXPECT_EQ(file->header().tileSize, tileSize);
+        r = test::run(test::programPath("pyramid") + " verify --json '" + out + "/RGB.dat' --source '" + in + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+        if (width == 512) {
+            EXPECT_EQ(nlohmann::json::parse(r.out)["levels"][maxLevel]["max_error"], 0); // the input's own pixels
+        }
+    }
+    const std::string in = dir.file("in512.png");
+    auto r = test::run(test::programPath("preprocessOrtho") + " '" + in + "' -o '" + dir.file("bad") +
+                       "' --tile-size auto --max-level 2");
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.err, "preprocessOrtho: --max-level: is chosen by --tile-size auto: give one or the other\n");
+    r = test::run(test::programPath("preprocessSphericalOrtho") + " '" + in + "' -o '" + dir.file("bad") +
+                  "' --tile-size auto");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("--tile-size: 'auto' fits a planar input"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(test::fileExists(dir.file("bad")));
 }
 
 // --residual-deflate-level reaches the encoder: auto (the default) keeps level 2 for the root's

@@ -11,11 +11,13 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "formats/ortho_file.hpp"
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
+#include "libpyramid/encode/ortho/ortho_levels.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/verify/ortho_verify.hpp"
 #include "tests/support/ortho_images.hpp"
@@ -76,6 +78,21 @@ TEST(OrthoEncoder, LosslessLevelsAreTheInputAndItsAverages) {
 // Uncompressed striped TIFF inputs are read directly from the file (tiff_pixel_reader.hpp),
 // other inputs through OpenImageIO: the same pixels give the same files, byte for byte, pixel
 // exact or resampled, with all three outputs.
+// The tiles fitted to a longer side: the fewest levels of tiles of at most 256 pixels, then the
+// smallest multiple of 4 that holds it.
+TEST(OrthoEncoder, FittedTilesHoldTheLongerSideWithTheLeastResampling) {
+    const std::vector<std::tuple<int64_t, int, int>> cases = {
+        {1, 4, 0},       {256, 256, 0},  {257, 132, 1},  {300, 152, 1},   {1350, 172, 3},
+        {2700, 172, 4},  {4096, 256, 4}, {6144, 192, 5}, {21600, 172, 7}, {86400, 172, 9}};
+    for (const auto& [side, tileSize, maxLevel] : cases) {
+        const OrthoTileFit fit = fitOrthoTiles(side);
+        EXPECT_EQ(fit.tileSize, tileSize) << side;
+        EXPECT_EQ(fit.maxLevel, maxLevel) << side;
+        EXPECT_GE(static_cast<int64_t>(fit.tileSize) << fit.maxLevel, side);
+        EXPECT_LT((static_cast<int64_t>(fit.tileSize) << fit.maxLevel) - side, int64_t{4} << fit.maxLevel);
+    }
+}
+
 TEST(OrthoEncoder, UncompressedTiffInputGivesTheSameFilesAsPng) {
     for (const auto& [w, h] : {std::pair{64, 64}, std::pair{50, 30}}) {
         SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));

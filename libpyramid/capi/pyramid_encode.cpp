@@ -162,6 +162,7 @@ void pyramid_ortho_encode_defaults(pyramid_ortho_encode_options* options) {
     o.max_level = -1;
     o.name = "RGB";
     o.outputs = PYRAMID_ORTHO_TIFF | PYRAMID_ORTHO_DXT | PYRAMID_ORTHO_RESIDUALS;
+    o.fit_tiles = 0;
     writeSized(o, options, "pyramid_ortho_encode_defaults");
 }
 
@@ -189,7 +190,8 @@ pyramid_status pyramid_encode_ortho(const pyramid_colour_source* source, const p
         }
         pyramid::OrthoEncodeOptions o;
         o.levels.tileSize = c.tile_size;
-        if (c.max_level != -1) { // -1: the default; other negative levels are refused
+        o.levels.fitTiles = c.fit_tiles != 0;
+        if (c.max_level != -1 && !o.levels.fitTiles) { // -1: the default; other negative levels are refused
             o.levels.maxLevel = c.max_level;
         }
         o.levels.threads = c.threads;

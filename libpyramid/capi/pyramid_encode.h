@@ -105,6 +105,10 @@ typedef struct pyramid_ortho_encode_options {
     pyramid_progress_fn progress;
     pyramid_cancel_fn cancel;
     void* user;
+    /* 1: tile_size and max_level are chosen (and those given ignored) so that the finest level
+     * fits the image's longer side with the least resampling, as preprocessOrtho --tile-size
+     * auto does. */
+    int fit_tiles;
 } pyramid_ortho_encode_options;
 
 PYRAMID_API void pyramid_ortho_encode_defaults(pyramid_ortho_encode_options* options);

@@ -126,7 +126,8 @@ class pyramid_colour_source(ctypes.Structure):
 class pyramid_ortho_encode_options(ctypes.Structure):
     _fields_ = [("struct_size", c_size_t), ("tile_size", c_int), ("max_level", c_int),
                 ("name", ctypes.c_char_p), ("outputs", c_int), ("threads", c_int),
-                ("progress", PROGRESS_FN), ("cancel", CANCEL_FN), ("user", ctypes.c_void_p)]
+                ("progress", PROGRESS_FN), ("cancel", CANCEL_FN), ("user", ctypes.c_void_p),
+                ("fit_tiles", c_int)]
 
 
 def sized(struct_type):

@@ -142,6 +142,17 @@ def test_encode_ortho_round_trip_is_lossless(tmp_path):
             assert residuals.colour_residuals and difference.max() <= 1
 
 
+def test_encode_ortho_fits_the_tiles_to_the_image(tmp_path):
+    # 512 x 256: 256-tiles, the image pixel for pixel (the default 192-tiles resample it onto 768).
+    image = np.random.default_rng(7).integers(0, 256, (256, 512, 3), dtype=np.uint8)
+    report = libpyramid.encode_ortho(image, tmp_path / "a", outputs=["tiff"], tile_size="auto", max_level=5)
+    assert (report["header"]["tile_size"], report["header"]["max_level"]) == (256, 1)
+    with libpyramid.open(tmp_path / "a" / "RGB.dat") as tiff:
+        assert np.array_equal(finest_image(tiff)[:256], image)
+    report = libpyramid.encode_ortho(image, tmp_path / "b", outputs=["tiff"])
+    assert (report["header"]["tile_size"], report["header"]["max_level"]) == (192, 2)
+
+
 def test_encode_ortho_callable_and_errors(tmp_path):
     image = np.random.default_rng(6).integers(0, 256, (200, 300, 3), dtype=np.uint8)
     libpyramid.encode_ortho(image, tmp_path / "a", outputs="tiff")

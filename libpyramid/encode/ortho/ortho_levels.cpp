@@ -21,7 +21,21 @@ constexpr int64_t kSinglePassLevelBytes = int64_t{64} << 20;
 
 } // namespace
 
+OrthoTileFit fitOrthoTiles(int64_t side) {
+    constexpr int64_t kLargest = 256;
+    OrthoTileFit fit;
+    while ((kLargest << fit.maxLevel) < side) {
+        ++fit.maxLevel;
+    }
+    const int64_t level = int64_t{1} << fit.maxLevel;
+    fit.tileSize = static_cast<int>(((side + level - 1) / level + 3) / 4 * 4);
+    return fit;
+}
+
 void OrthoLevelsOptions::validate() const {
+    if (fitTiles && maxLevel) {
+        failOption("maxLevel", "is chosen with the tile size when the tiles are fitted to the input: give one or the other");
+    }
     requireEncodableTileSize(tileSize);
     if (maxLevel && (*maxLevel < 0 || *maxLevel > 20)) {
         failOption("maxLevel", std::to_string(*maxLevel) + " is outside 0..20");
@@ -49,7 +63,11 @@ void OrthoLevels::Impl::init(const OrthoLevelsOptions& o, int64_t wanted) {
     channels = o.channels.value_or(info.channels);
     T = o.tileSize;
     M = o.maxLevel.value_or(0);
-    if (!o.maxLevel) {
+    if (o.fitTiles) {
+        const OrthoTileFit fit = fitOrthoTiles(wanted);
+        T = fit.tileSize;
+        M = fit.maxLevel;
+    } else if (!o.maxLevel) {
         while ((static_cast<int64_t>(T) << M) < wanted) {
             ++M;
         }
@@ -110,6 +128,9 @@ OrthoLevels::OrthoLevels(const RasterSource& source, const MapPlacement& placeme
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     o.validate();
+    if (o.fitTiles) {
+        failOption("tileSize", "is fitted to planar inputs only: a cube face takes a number, e.g. 192");
+    }
     if (o.tileSize < 4) {
         // The level images reach 4 / tileSize of a face beyond its edges; more than half a
         // face would fold past the neighbour face.

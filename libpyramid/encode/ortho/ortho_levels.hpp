@@ -73,6 +73,11 @@ struct OrthoLevelsOptions {
     int tileSize = 192;
     // 0 to 20; none: the smallest level whose width holds the input's longer side (face: width / 4).
     std::optional<int> maxLevel;
+    // Planar only, without maxLevel: tileSize and maxLevel fitted to the input's longer side L
+    // instead (fitOrthoTiles): the fewest levels whose tiles of at most 256 pixels hold L, and the
+    // smallest tile size, a multiple of 4 (DXT blocks), that does, so that the finest level is
+    // L pixels wide or at most 4 x 2^M - 1 more (192-tiles resample a 4096-pixel map onto 6144).
+    bool fitTiles = false;
     std::optional<int> channels; // the first `channels` (1 to min(4, the input's)); none: every input channel (1..4)
     ColourSpace colourSpace = ColourSpace::Srgb;
     bool stretch = false; // planar only
@@ -84,6 +89,15 @@ struct OrthoLevelsOptions {
     // OrthoLevels checks the others against it. Throws OptionError naming the field.
     void validate() const;
 };
+
+// The tile size and maxLevel OrthoLevelsOptions::fitTiles chooses for a longer side of `side`
+// pixels (at least 1): maxLevel M the smallest with 256 << M >= side, tileSize the smallest
+// multiple of 4 with tileSize << M >= side.
+struct OrthoTileFit {
+    int tileSize = 0;
+    int maxLevel = 0;
+};
+OrthoTileFit fitOrthoTiles(int64_t side);
 
 // One tile of the pyramid with a 2-pixel border: (tileSize + 4)^2 x channels, row 0 = south.
 struct TrueTile {
