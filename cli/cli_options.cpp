@@ -1,5 +1,6 @@
 // The options every preprocessor takes alike (cli_common.hpp): the inputs, --crs and --extent,
-// --threads, --cache-mb, --max-file-bytes, --region and --parent, the residual tiles' coding.
+// --threads, --cache-mb, --tile-size's text, --max-file-bytes, --region and --parent, the
+// residual tiles' coding.
 #include "cli/cli_common.hpp"
 
 #include <algorithm>
@@ -22,6 +23,19 @@ void addThreadsOption(CLI::App& app, int& threads) {
 
 void addCacheOption(CLI::App& app, int& cacheMegabytes) {
     app.add_option("--cache-mb", cacheMegabytes, "Input cache budget in MB, at least 1")->capture_default_str();
+}
+
+std::string checkTileSizeText(const std::string& text, const std::string& unit, bool autoAllowed,
+                              const std::string& planarCommand) {
+    if (text == "auto") {
+        return autoAllowed ? std::string()
+                           : "'auto' fits a planar input (" + planarCommand + "); cube faces take a number of " + unit +
+                                 ", e.g. 192";
+    }
+    if (!readWholeNumber<int>(text)) {
+        return "'" + text + "' is not a whole number of " + unit + (autoAllowed ? " nor 'auto'" : "");
+    }
+    return {};
 }
 
 std::vector<std::string> InputArgs::resolve() const {

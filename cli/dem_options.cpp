@@ -25,20 +25,6 @@ void warnUnreadableTiles(int tileSize, bool quiet) {
     }
 }
 
-// --tile-size: a whole number (its range is DemEncodeOptions::validate()'s), or "auto" where
-// the command takes it.
-std::string checkTileSize(const std::string& text, bool tileSizeAuto) {
-    if (text == "auto") {
-        return tileSizeAuto ? std::string()
-                            : "'auto' fits a planar input's grid (preprocessDem); cube faces take a number of "
-                              "intervals, e.g. 192";
-    }
-    if (!readWholeNumber<int>(text)) {
-        return "'" + text + "' is not a whole number of intervals" + (tileSizeAuto ? " nor 'auto'" : "");
-    }
-    return {};
-}
-
 } // namespace
 
 void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const char* inputHelp, const char* outputHelp,
@@ -53,7 +39,9 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
                                 : "Tile size in intervals, without borders (tiles are size+5 samples)")
         ->capture_default_str()
         ->type_name(tileSizeAuto ? "INT|auto" : "INT")
-        ->check([tileSizeAuto](const std::string& text) { return checkTileSize(text, tileSizeAuto); });
+        ->check([tileSizeAuto](const std::string& text) {
+            return checkTileSizeText(text, "intervals", tileSizeAuto, "preprocessDem");
+        });
     args->rootTileSizeOption = app.add_option("--root-tile-size", o.rootTileSize,
                    "Intervals of the level-0 tile; minLevel = log2(tile-size / root-tile-size)")
         ->capture_default_str();

@@ -62,15 +62,8 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
                                 : "Tile size in pixels, without borders")
         ->capture_default_str()
         ->type_name(tileSizeAuto ? "INT|auto" : "INT")
-        ->check([tileSizeAuto](const std::string& text) -> std::string {
-            if (text == "auto") {
-                return tileSizeAuto ? std::string()
-                                    : "'auto' fits a planar input (preprocessOrtho); cube faces take a number of "
-                                      "pixels, e.g. 192";
-            }
-            return readWholeNumber<int>(text) ? std::string()
-                                              : "'" + text + "' is not a whole number of pixels" +
-                                                    (tileSizeAuto ? " nor 'auto'" : "");
+        ->check([tileSizeAuto](const std::string& text) {
+            return checkTileSizeText(text, "pixels", tileSizeAuto, "preprocessOrtho");
         });
     app.add_option("--max-level", o.levels.maxLevel, maxLevelHelp);
     app.add_option("--channels", o.levels.channels, "Use the first N channels (default: all, 1 to 4)");

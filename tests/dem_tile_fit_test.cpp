@@ -275,7 +275,7 @@ TEST(DemTileFit, SphericalDemRefusesAuto) {
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.err.find("--tile-size"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("'auto' fits a planar input's grid"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("'auto' fits a planar input (preprocessDem)"), std::string::npos) << r.err;
     EXPECT_FALSE(test::fileExists(dir.file("out")));
 }
 
