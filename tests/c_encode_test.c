@@ -294,12 +294,12 @@ int main(void) {
             ortho = NULL;
         }
         remove(ortho_file);
-        /* fit_tiles (0 by default): one 64-pixel tile holds the 64 x 64 image, the given 32 and
-         * max_level ignored. */
+        /* fit_tiles (0 by default): one 64-pixel tile holds the 64 x 64 image, the tile size and
+         * max_level given ignored. */
         pyramid_ortho_encode_defaults(&o);
         CHECK(o.fit_tiles == 0);
         o.fit_tiles = 1;
-        o.tile_size = 32;
+        o.tile_size = 0;
         o.max_level = 3;
         o.name = "IMG";
         o.outputs = PYRAMID_ORTHO_TIFF;

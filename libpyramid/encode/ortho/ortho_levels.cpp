@@ -36,7 +36,9 @@ void OrthoLevelsOptions::validate() const {
     if (fitTiles && maxLevel) {
         failOption("maxLevel", "is chosen with the tile size when the tiles are fitted to the input: give one or the other");
     }
-    requireEncodableTileSize(tileSize);
+    if (!fitTiles) {
+        requireEncodableTileSize(tileSize); // a fitted one is (fitOrthoTiles)
+    }
     if (maxLevel && (*maxLevel < 0 || *maxLevel > 20)) {
         failOption("maxLevel", std::to_string(*maxLevel) + " is outside 0..20");
     }
