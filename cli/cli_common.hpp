@@ -152,11 +152,11 @@ void addThreadsOption(CLI::App& app, int& threads);
 // --cache-mb N: the input cache budget in MB (the library refuses less than 1).
 void addCacheOption(CLI::App& app, int& cacheMegabytes);
 
-// --tile-size's text, as a CLI11 check: a whole number of `unit` ("pixels", "intervals"; its
-// range is the encoder's to check), or "auto" when `autoAllowed` (a planar command; cube faces
-// are refused, naming `planarCommand`, which takes it); "" when it is valid, else the reason.
-std::string checkTileSizeText(const std::string& text, const std::string& unit, bool autoAllowed,
-                              const std::string& planarCommand);
+// --tile-size, as the preprocessors take it into `text`: a whole number of `unit` ("pixels",
+// "intervals"; its range is the encoder's to check), or "auto" when `autoAllowed` (a planar
+// command; cube faces are refused, naming `planarCommand`, which takes it), with `help`.
+void addTileSizeOption(CLI::App& app, std::string& text, const std::string& help, const std::string& unit,
+                       bool autoAllowed, const std::string& planarCommand);
 
 // Writes a report, `json` (pretty, with a final newline), to `path` atomically; "-" means
 // stdout. An object without "ok" gets "ok": true (a failed run's report is runProgram's).

@@ -1,5 +1,5 @@
 // The options every preprocessor takes alike (cli_common.hpp): the inputs, --crs and --extent,
-// --threads, --cache-mb, --tile-size's text, --max-file-bytes, --region and --parent, the
+// --threads, --cache-mb, --tile-size, --max-file-bytes, --region and --parent, the
 // residual tiles' coding.
 #include "cli/cli_common.hpp"
 
@@ -25,17 +25,22 @@ void addCacheOption(CLI::App& app, int& cacheMegabytes) {
     app.add_option("--cache-mb", cacheMegabytes, "Input cache budget in MB, at least 1")->capture_default_str();
 }
 
-std::string checkTileSizeText(const std::string& text, const std::string& unit, bool autoAllowed,
-                              const std::string& planarCommand) {
-    if (text == "auto") {
-        return autoAllowed ? std::string()
-                           : "'auto' fits a planar input (" + planarCommand + "); cube faces take a number of " + unit +
-                                 ", e.g. 192";
-    }
-    if (!readWholeNumber<int>(text)) {
-        return "'" + text + "' is not a whole number of " + unit + (autoAllowed ? " nor 'auto'" : "");
-    }
-    return {};
+void addTileSizeOption(CLI::App& app, std::string& text, const std::string& help, const std::string& unit,
+                       bool autoAllowed, const std::string& planarCommand) {
+    app.add_option("--tile-size", text, help)
+        ->capture_default_str()
+        ->type_name(autoAllowed ? "INT|auto" : "INT")
+        ->check([unit, autoAllowed, planarCommand](const std::string& value) -> std::string {
+            if (value == "auto") {
+                return autoAllowed ? std::string()
+                                   : "'auto' fits a planar input (" + planarCommand + "); cube faces take a number of " +
+                                         unit + ", e.g. 192";
+            }
+            if (!readWholeNumber<int>(value)) {
+                return "'" + value + "' is not a whole number of " + unit + (autoAllowed ? " nor 'auto'" : "");
+            }
+            return {};
+        });
 }
 
 std::vector<std::string> InputArgs::resolve() const {

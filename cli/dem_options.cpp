@@ -32,16 +32,12 @@ void addDemOptions(CLI::App& app, const std::shared_ptr<DemArgs>& args, const ch
     DemEncodeOptions& o = args->options;
     addInputOptions(app, args->input, inputHelp);
     app.add_option("-o,--output", args->output, outputHelp)->required();
-    app.add_option("--tile-size", args->tileSize,
-                   tileSizeAuto ? "Tile size in intervals, without borders (tiles are size+5 samples), or 'auto': the "
-                                  "tile size, root tile size and levels whose finest level is the input's own grid "
-                                  "(vertex-registered, no resampling), or the least resampling where none is"
-                                : "Tile size in intervals, without borders (tiles are size+5 samples)")
-        ->capture_default_str()
-        ->type_name(tileSizeAuto ? "INT|auto" : "INT")
-        ->check([tileSizeAuto](const std::string& text) {
-            return checkTileSizeText(text, "intervals", tileSizeAuto, "preprocessDem");
-        });
+    addTileSizeOption(app, args->tileSize,
+                      tileSizeAuto ? "Tile size in intervals, without borders (tiles are size+5 samples), or 'auto': "
+                                     "the tile size, root tile size and levels whose finest level is the input's own "
+                                     "grid (vertex-registered, no resampling), or the least resampling where none is"
+                                   : "Tile size in intervals, without borders (tiles are size+5 samples)",
+                      "intervals", tileSizeAuto, "preprocessDem");
     args->rootTileSizeOption = app.add_option("--root-tile-size", o.rootTileSize,
                    "Intervals of the level-0 tile; minLevel = log2(tile-size / root-tile-size)")
         ->capture_default_str();

@@ -55,16 +55,12 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
     app.add_option("-o,--output", a->output, outputHelp)->required();
     app.add_option("--outputs", a->outputs, "Which files: a comma list of tiff, dxt, residuals")->capture_default_str();
     app.add_option("--name", o.name, "Base name of the files")->capture_default_str();
-    app.add_option("--tile-size", a->tileSize,
-                   tileSizeAuto ? "Tile size in pixels, without borders, or 'auto': the tile size (a multiple of 4, "
-                                  "at most 256) and levels whose finest level fits the input's longer side with "
-                                  "the least resampling"
-                                : "Tile size in pixels, without borders")
-        ->capture_default_str()
-        ->type_name(tileSizeAuto ? "INT|auto" : "INT")
-        ->check([tileSizeAuto](const std::string& text) {
-            return checkTileSizeText(text, "pixels", tileSizeAuto, "preprocessOrtho");
-        });
+    addTileSizeOption(app, a->tileSize,
+                      tileSizeAuto ? "Tile size in pixels, without borders, or 'auto': the tile size (a multiple of 4, "
+                                     "at most 256) and levels whose finest level fits the input's longer side with "
+                                     "the least resampling"
+                                   : "Tile size in pixels, without borders",
+                      "pixels", tileSizeAuto, "preprocessOrtho");
     app.add_option("--max-level", o.levels.maxLevel, maxLevelHelp);
     app.add_option("--channels", o.levels.channels, "Use the first N channels (default: all, 1 to 4)");
     app.add_option("--border", o.border, "Tile border in pixels, 2 (as the original) or 0")->capture_default_str();
