@@ -155,7 +155,7 @@ void addCacheOption(CLI::App& app, int& cacheMegabytes);
 // --tile-size, as the preprocessors take it into `text`: a whole number of `unit` ("pixels",
 // "intervals"; its range is the encoder's to check), or "auto" when `autoAllowed` (a planar
 // command; cube faces are refused, naming `planarCommand`, which takes it), with `help`.
-void addTileSizeOption(CLI::App& app, std::string& text, const std::string& help, const std::string& unit,
+CLI::Option* addTileSizeOption(CLI::App& app, std::string& text, const std::string& help, const std::string& unit,
                        bool autoAllowed, const std::string& planarCommand);
 
 // Writes a report, `json` (pretty, with a final newline), to `path` atomically; "-" means

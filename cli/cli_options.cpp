@@ -25,9 +25,9 @@ void addCacheOption(CLI::App& app, int& cacheMegabytes) {
     app.add_option("--cache-mb", cacheMegabytes, "Input cache budget in MB, at least 1")->capture_default_str();
 }
 
-void addTileSizeOption(CLI::App& app, std::string& text, const std::string& help, const std::string& unit,
-                       bool autoAllowed, const std::string& planarCommand) {
-    app.add_option("--tile-size", text, help)
+CLI::Option* addTileSizeOption(CLI::App& app, std::string& text, const std::string& help, const std::string& unit,
+                               bool autoAllowed, const std::string& planarCommand) {
+    return app.add_option("--tile-size", text, help)
         ->capture_default_str()
         ->type_name(autoAllowed ? "INT|auto" : "INT")
         ->check([unit, autoAllowed, planarCommand](const std::string& value) -> std::string {

@@ -55,12 +55,16 @@ void addOrthoOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, const c
     app.add_option("-o,--output", a->output, outputHelp)->required();
     app.add_option("--outputs", a->outputs, "Which files: a comma list of tiff, dxt, residuals")->capture_default_str();
     app.add_option("--name", o.name, "Base name of the files")->capture_default_str();
-    addTileSizeOption(app, a->tileSize,
-                      tileSizeAuto ? "Tile size in pixels, without borders, or 'auto': the tile size (a multiple of 4, "
-                                     "at most 256) and levels whose finest level fits the input's longer side with "
-                                     "the least resampling"
-                                   : "Tile size in pixels, without borders",
-                      "pixels", tileSizeAuto, "preprocessOrtho");
+    if (tileSizeAuto) {
+        a->tileSize = "auto";
+    }
+    a->tileSizeOption = addTileSizeOption(
+        app, a->tileSize,
+        tileSizeAuto ? "Tile size in pixels, without borders, or 'auto': the tile size (a multiple of 4, at most 256) "
+                       "and levels whose finest level fits the input's longer side with the least resampling (192, the "
+                       "original tools' size, where --max-level is given without --tile-size)"
+                     : "Tile size in pixels, without borders",
+        "pixels", tileSizeAuto, "preprocessOrtho");
     app.add_option("--max-level", o.levels.maxLevel, maxLevelHelp);
     app.add_option("--channels", o.levels.channels, "Use the first N channels (default: all, 1 to 4)");
     app.add_option("--border", o.border, "Tile border in pixels, 2 (as the original) or 0")->capture_default_str();
@@ -111,7 +115,10 @@ void addOrthoRunOptions(CLI::App& app, const std::shared_ptr<OrthoArgs>& a, bool
 
 OrthoEncodeOptions resolveOrthoOptions(const OrthoArgs& a) {
     OrthoEncodeOptions options = a.options;
-    if (a.tileSize == "auto") {
+    const bool tileSizeGiven = a.tileSizeOption != nullptr && a.tileSizeOption->count() > 0;
+    if (a.tileSize == "auto" && options.levels.maxLevel && !tileSizeGiven) {
+        options.levels.tileSize = OrthoLevelsOptions{}.tileSize; // levels given: the original tools' 192
+    } else if (a.tileSize == "auto") {
         if (options.levels.maxLevel) {
             fail("--max-level", "is chosen by --tile-size auto: give one or the other");
         }

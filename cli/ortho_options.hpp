@@ -18,7 +18,10 @@ namespace pyramid::cli {
 
 struct OrthoArgs {
     InputArgs input;
-    std::string tileSize = "192"; // a whole number, or "auto" where the command takes it
+    // A whole number, or "auto" where the command takes it (its default there; the original
+    // tools' 192 on cube faces, and where --max-level is given without --tile-size).
+    std::string tileSize = "192";
+    CLI::Option* tileSizeOption = nullptr; // to tell a --tile-size given from the default
     std::string output, outputs = "tiff,dxt,residuals", compression = "deflate",
                                residualCompression = "deflate", residualDeflateLevel = "auto", colourSpace = "srgb",
                                report;

@@ -66,8 +66,9 @@ TEST(PreprocessOrthoCli, BuildsVerifiesAndFailsCleanly) {
 
 // --tile-size auto fits the tiles to the input: a 512 x 256 map is the upper half of a quad of
 // 256-tiles pixel for pixel (192-tiles would resample it onto 768), a 300 x 150 one takes
-// 152-tiles (a multiple of 4 for DXT); with --max-level or on cube faces it is refused.
-TEST(PreprocessOrthoCli, TileSizeAutoFitsTheInput) {
+// 152-tiles (a multiple of 4 for DXT); it is the default; given with --max-level or on cube
+// faces it is refused.
+TEST(PreprocessOrthoCli, TileSizeAutoFitsTheInputByDefault) {
     test::TempDir dir;
     for (const auto& [width, tileSize, maxLevel] : {std::tuple{512, 256, 1}, std::tuple{300, 152, 1}}) {
         const int height = width / 2;
@@ -92,9 +93,21 @@ TEST(PreprocessOrthoCli, TileSizeAutoFitsTheInput) {
             EXPECT_EQ(nlohmann::json::parse(r.out)["levels"][maxLevel]["max_error"], 0); // the input's own pixels
         }
     }
+    // auto is the default: the same files without --tile-size; --max-level alone keeps the
+    // original tools' 192-tiles (a command naming its levels keeps its layout).
     const std::string in = dir.file("in512.png");
-    auto r = test::run(test::programPath("preprocessOrtho") + " '" + in + "' -o '" + dir.file("bad") +
-                       "' --tile-size auto --max-level 2");
+    auto r = test::run(test::programPath("preprocessOrtho") + " '" + in + "' -o '" + dir.file("default") + "' --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* file : {"/RGB.dat", "/dxt/RGB.dat", "/residuals/RGB.dat"}) {
+        EXPECT_EQ(test::readFile(dir.file("default") + file), test::readFile(dir.file("auto512") + file)) << file;
+    }
+    r = test::run(test::programPath("preprocessOrtho") + " '" + in + "' -o '" + dir.file("levels") +
+                  "' --max-level 2 --outputs tiff --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(OrthoFileReader::open(dir.file("levels") + "/RGB.dat")->header().tileSize, 192);
+    EXPECT_EQ(OrthoFileReader::open(dir.file("levels") + "/RGB.dat")->header().maxLevel, 2);
+    r = test::run(test::programPath("preprocessOrtho") + " '" + in + "' -o '" + dir.file("bad") +
+                  "' --tile-size auto --max-level 2");
     EXPECT_EQ(r.exitCode, 1) << r.err;
     EXPECT_EQ(r.err, "preprocessOrtho: --max-level: is chosen by --tile-size auto: give one or the other\n");
     r = test::run(test::programPath("preprocessSphericalOrtho") + " '" + in + "' -o '" + dir.file("bad") +

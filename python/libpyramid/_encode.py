@@ -192,8 +192,8 @@ def encode_ortho(source, directory, *, tile_size=None, max_level=None, name=None
     array`` with `width`, `height` and `channels`; or input path(s) as preprocessOrtho takes
     them (`program_options` as its ``--kebab-case`` options).
 
-    Options (None: the defaults): `tile_size` (or "auto": fitted to the image, as preprocessOrtho
-    --tile-size auto), `max_level`, `name` ("RGB"), `outputs` (some of
+    Options (None: the defaults): `tile_size` ("auto", the default: fitted to the image, as
+    preprocessOrtho --tile-size auto; 192 when only `max_level` is given), `max_level`, `name` ("RGB"), `outputs` (some of
     "tiff", "dxt", "residuals"; all three by default), `threads`; `progress`, `cancel` and Ctrl-C
     as for encode_dem: the files appear together, or none does.
     """
@@ -228,7 +228,7 @@ def encode_ortho(source, directory, *, tile_size=None, max_level=None, name=None
         src.read = _capi.READ_COLOURS_FN(_Windows(call, fetch, lambda cw, ch: (ch, cw, c), np.uint8, "encode_ortho"))
     o = _capi.sized(_capi.pyramid_ortho_encode_options)
     lib.pyramid_ortho_encode_defaults(ctypes.byref(o))
-    if tile_size == "auto":
+    if tile_size == "auto" or (tile_size is None and max_level is None):  # preprocessOrtho's default
         o.fit_tiles = 1
     elif tile_size is not None:
         o.tile_size = tile_size

@@ -143,13 +143,16 @@ def test_encode_ortho_round_trip_is_lossless(tmp_path):
 
 
 def test_encode_ortho_fits_the_tiles_to_the_image(tmp_path):
-    # 512 x 256: 256-tiles, the image pixel for pixel (the default 192-tiles resample it onto 768).
+    # 512 x 256: 256-tiles, the image pixel for pixel (192-tiles would resample it onto 768), by
+    # default as with "auto" (whose fit ignores the C struct's max_level).
     image = np.random.default_rng(7).integers(0, 256, (256, 512, 3), dtype=np.uint8)
-    report = libpyramid.encode_ortho(image, tmp_path / "a", outputs=["tiff"], tile_size="auto", max_level=5)
-    assert (report["header"]["tile_size"], report["header"]["max_level"]) == (256, 1)
-    with libpyramid.open(tmp_path / "a" / "RGB.dat") as tiff:
-        assert np.array_equal(finest_image(tiff)[:256], image)
-    report = libpyramid.encode_ortho(image, tmp_path / "b", outputs=["tiff"])
+    for name, options in (("a", dict(tile_size="auto", max_level=5)), ("b", {})):
+        report = libpyramid.encode_ortho(image, tmp_path / name, outputs=["tiff"], **options)
+        assert (report["header"]["tile_size"], report["header"]["max_level"]) == (256, 1)
+        with libpyramid.open(tmp_path / name / "RGB.dat") as tiff:
+            assert np.array_equal(finest_image(tiff)[:256], image)
+    # Levels given without a tile size: the original tools' 192, as preprocessOrtho --max-level.
+    report = libpyramid.encode_ortho(image, tmp_path / "c", outputs=["tiff"], max_level=2)
     assert (report["header"]["tile_size"], report["header"]["max_level"]) == (192, 2)
 
 

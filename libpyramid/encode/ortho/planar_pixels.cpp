@@ -116,9 +116,11 @@ PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t wid
         const int64_t longest = std::max(info.width, info.height);
         ax_.scale = ay_.scale = static_cast<double>(longest) / static_cast<double>(W);
         inPlace_ = info.width == W; // and so longest == W: scale 1, the height below W
-        sampling_ = "bilinear resampling onto " + std::to_string(W) + "x" + std::to_string(W) +
-                    " pixels, aspect ratio kept" +
-                    (info.width != info.height ? ", input at the north-west corner, the rest black and transparent" : "");
+        const std::string placed =
+            info.width != info.height ? ", input at the north-west corner, the rest black and transparent" : "";
+        sampling_ = longest == W ? "input pixels are the finest level's pixels (no resampling)" + placed
+                                 : "bilinear resampling onto " + std::to_string(W) + "x" + std::to_string(W) +
+                                       " pixels, aspect ratio kept" + placed;
     }
 }
 
