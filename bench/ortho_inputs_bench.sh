@@ -13,23 +13,32 @@
 # Inputs (made in $WORK once; network only through apt-get download, the packages unpacked with
 # dpkg -x, nothing installed):
 #   noisy-6144.tif          smooth gradients plus Gaussian noise of sigma 6 per sample, 6144^2
-#                           (bench/ortho_synthetic_image.cpp, `noise 6`), --tile-size 192
-#   synthetic-6144.tif      the synthetic image of bench/ortho_bench.sh, --tile-size 192
+#                           (bench/ortho_synthetic_image.cpp, `noise 6`)
+#   synthetic-6144.tif      the synthetic image of bench/ortho_bench.sh
 #   bluemarble-6144x3072.tif  marble-qt-data's 2700 x 1350 Blue Marble upsampled (oiiotool
-#                           --resize, smooth), default tiles: the upper half of a 6144^2 quad
+#                           --resize, smooth): the upper half of a 6144^2 quad
 #   bluemarble-2700.tif, citylights-2700.tif  marble-qt-data's 2700 x 1350 composites at their
-#                           own size (resampled into the upper half of a 3072^2 quad)
+#                           own size (resampled onto 172-tiles, the upper half of a 2752^2 quad)
 #   bluemarble-jpeg.jpg, citylights-jpeg.jpg  the same composites as shipped: baseline JPEG
 #   moon-jpeg.jpg           stellarium-data's Moon (textures/moon_4k.jpg, 4096 x 2048 baseline JPEG: a
-#                           lunar albedo map, grey with a constant tint), as shipped; default tiles
-#                           (resampled into the upper half of a 6144^2 quad: 2.25 times its pixels).
-#                           Added after the others had been tuned on, and not tuned on since
-#   moon-jpeg-auto          the same file with --tile-size auto (256-tiles: 4096 = 256 x 16, pixel for pixel)
+#                           lunar albedo map, grey with a constant tint), as shipped (256-tiles:
+#                           4096 = 256 x 16, pixel for pixel). Added after the others had been
+#                           tuned on, and not tuned on since
+#   moon-jpeg-192           the same file with --tile-size 192, the original tools' tiles (resampled
+#                           into the upper half of a 6144^2 quad: 2.25 times its pixels)
+#   schagen-jpeg.jpg, clementine-jpeg.jpg  marble-qt-data's Schagen world map of 1689 (a painted
+#                           map on paper) and Clementine Moon mosaic, 2700 x 1350 baseline JPEGs
+#                           as shipped (172-tiles); milkyway-png.png stellarium-data's Milky Way
+#                           (textures/milkyway.png, 2048 x 1024 RGBA PNG: 256-tiles, pixel for
+#                           pixel). The three were added with the Moon's change of defaults, and
+#                           not tuned on
 #   landsat-3072.tif        r-cran-stars' Landsat 7 scene (L7_ETMs.tif, 349 x 352, bands 3, 2, 1:
-#                           true colour) repeated 9 x 9 and cut to 3072^2, --tile-size 192
-#   landsat-352.tif         the same scene at its own size (default tiles)
+#                           true colour) repeated 9 x 9 and cut to 3072^2
+#   landsat-352.tif         the same scene at its own size (176-tiles, pixel for pixel)
 #   kodak-6144.tif          librust-tiff-dev's Kodak photos kodim02 and kodim07 (768 x 512)
-#                           alternated in a 9 x 12 mosaic cut to 6144^2, --tile-size 192
+#                           alternated in a 9 x 12 mosaic cut to 6144^2
+# Every run takes the default tiles (--tile-size auto), which encode the 6144^2 and 3072^2 inputs
+# pixel for pixel on 192-tiles, as the COG stores them.
 # Every input but the shipped JPEGs is an uncompressed striped RGB TIFF; all are read by both
 # tools from the page cache.
 #
@@ -90,9 +99,13 @@ make_input bluemarble-6144x3072 oiiotool bluemarble-2700.tif --resize 6144x3072 
 # The composites as the package ships them (baseline JPEG, 2700 x 1350): read as they are.
 [ -f bluemarble-jpeg.jpg ] || cp "$MARBLE/bluemarble/bluemarble.jpg" bluemarble-jpeg.jpg
 [ -f citylights-jpeg.jpg ] || cp "$MARBLE/citylights/citylights.jpg" citylights-jpeg.jpg
+# Added after the others had been tuned on: a painted map of 1689 and the Moon's Clementine mosaic.
+[ -f schagen-jpeg.jpg ] || cp "$MARBLE/schagen1689/schagen1689.jpg" schagen-jpeg.jpg
+[ -f clementine-jpeg.jpg ] || cp "$MARBLE/../moon/clementine/clementine.jpg" clementine-jpeg.jpg
 
 unpack stellarium-data
 [ -f moon-jpeg.jpg ] || cp debs/stellarium-data/usr/share/stellarium/textures/moon_4k.jpg moon-jpeg.jpg
+[ -f milkyway-png.png ] || cp debs/stellarium-data/usr/share/stellarium/textures/milkyway.png milkyway-png.png
 
 unpack r-cran-stars
 LANDSAT=debs/r-cran-stars/usr/lib/R/site-library/stars/tif/L7_ETMs.tif
@@ -124,12 +137,12 @@ kodak_6144() {
 }
 make_input kodak-6144 kodak_6144
 
-INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg moon-jpeg moon-jpeg-auto}
-# input NAME: the file of input NAME (NAME.jpg for the shipped JPEGs, moon-jpeg.jpg for moon-jpeg-auto,
-# else NAME.tif).
-input() { if [ "$1" = moon-jpeg-auto ]; then echo moon-jpeg.jpg; elif [ -f "$1.jpg" ]; then echo "$1.jpg"; else echo "$1.tif"; fi; }
-# tile_args NAME: inputs whose side is 192 << M are encoded pixel for pixel (the COG's pixels).
-tile_args() { case $1 in noisy-6144 | synthetic-6144 | kodak-6144 | landsat-3072) echo "--tile-size 192" ;; moon-jpeg-auto) echo "--tile-size auto" ;; esac; }
+INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg moon-jpeg moon-jpeg-192 schagen-jpeg clementine-jpeg milkyway-png}
+# input NAME: the file of input NAME (NAME.jpg or NAME.png for the shipped images, moon-jpeg.jpg for
+# moon-jpeg-192, else NAME.tif).
+input() { if [ "$1" = moon-jpeg-192 ]; then echo moon-jpeg.jpg; elif [ -f "$1.jpg" ]; then echo "$1.jpg"; elif [ -f "$1.png" ]; then echo "$1.png"; else echo "$1.tif"; fi; }
+# tile_args NAME: the options of input NAME beyond the defaults.
+tile_args() { case $1 in moon-jpeg-192) echo "--tile-size 192" ;; esac; }
 
 OURS=("$ORTHO" --quiet --threads "$THREADS" --report report.json)
 COG=(gdal_translate -q -of COG -co COMPRESS=DEFLATE -co OVERVIEWS=AUTO -co NUM_THREADS="$THREADS")
