@@ -156,7 +156,7 @@ void addCacheOption(CLI::App& app, int& cacheMegabytes);
 // "intervals"; its range is the encoder's to check), or "auto" when `autoAllowed` (a planar
 // command; cube faces are refused, naming `planarCommand`, which takes it), with `help`.
 CLI::Option* addTileSizeOption(CLI::App& app, std::string& text, const std::string& help, const std::string& unit,
-                       bool autoAllowed, const std::string& planarCommand);
+                               bool autoAllowed, const std::string& planarCommand);
 
 // Writes a report, `json` (pretty, with a final newline), to `path` atomically; "-" means
 // stdout. An object without "ok" gets "ok": true (a failed run's report is runProgram's).
