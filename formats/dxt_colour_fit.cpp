@@ -5,6 +5,7 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #include <array>
+#include <bit>
 #include <cstdlib>
 #include <cstring>
 
@@ -191,16 +192,19 @@ PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, ints allowed) {
 
 PYRAMID_WIDE_VECTOR_CLONES // the same bytes in wider vectors where the CPU has them
 void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
-    // Pixel k of every lane's block as one word (R, G, B in its low three bytes): a transposition
+    // Pixel k of every lane's block as one word (R, G, B, A from its lowest byte): a transposition
     // of words, then the channels split and converted a vector at a time (not byte by byte).
     alignas(64) uint32_t words[16][kLanes];
     int rounded[3][kLanes];
     const SolidTables& solid = solidTables();
     for (int l = 0; l < kLanes; ++l) {
-        const uint8_t* block = blocks[l < count ? l : 0];
+        uint32_t pixels[16]; // in memory order: R, G, B, A from the lowest byte on little-endian machines
+        std::memcpy(pixels, blocks[l < count ? l : 0], sizeof(pixels));
         for (int k = 0; k < 16; ++k) {
-            const uint8_t* px = block + 4 * k;
-            words[k][l] = px[0] | static_cast<uint32_t>(px[1]) << 8 | static_cast<uint32_t>(px[2]) << 16;
+            const uint32_t v = pixels[k];
+            words[k][l] = std::endian::native == std::endian::little
+                              ? v
+                              : (v >> 24) | ((v >> 8) & 0xff00u) | ((v << 8) & 0xff0000u) | (v << 24);
         }
     }
     Pixels p;
@@ -209,7 +213,7 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
         std::memcpy(&w, words[k], sizeof(w));
         p.r[k] = __builtin_convertvector(w & 255, floats);
         p.g[k] = __builtin_convertvector((w >> 8) & 255, floats);
-        p.b[k] = __builtin_convertvector(w >> 16, floats);
+        p.b[k] = __builtin_convertvector((w >> 16) & 255, floats); // alpha, in the top byte, ignored
     }
 
     // The mean (exact: a sum of integers over 16) and the covariance, in a fixed order.
