@@ -94,12 +94,14 @@ PYRAMID_INLINE floats truncated(floats v) { return __builtin_convertvector(__bui
 // The 16 pixels of the lanes' blocks: r[k] holds pixel k of every block.
 struct Pixels {
     floats r[16], g[16], b[16];
+    floats squares; // the sum of the pixels' squared channels
 };
 
-// A candidate's endpoint codes (c0 >= c1), indices and squared error, per lane.
+// A candidate's endpoint codes (c0 >= c1), indices (pixel k's in bits 2k and 2k + 1) and
+// squared error, per lane.
 struct Fit {
     ints c0, c1;
-    ints index[16];
+    uints indices;
     floats error;
 };
 
@@ -151,22 +153,32 @@ PYRAMID_INLINE Fit evaluate(const Pixels& p, ints a, ints b) {
     pr[3] = four ? truncated((pr[0] + 2.0f * pr[1]) / 3.0f) : pr[0];
     pg[3] = four ? truncated((pg[0] + 2.0f * pg[1]) / 3.0f) : pg[0];
     pb[3] = four ? truncated((pb[0] + 2.0f * pb[1]) / 3.0f) : pb[0];
-    floats best[16];
+    // Pixel by pixel: its nearest colour (the first of equally near ones). Colour c's squared
+    // distance less |p|^2 is e = |c|^2 - 2 p.c; the least of 4 e + c over the four colours is
+    // the nearest colour's e and, in its low two bits, its index (the lower index of equal e).
+    // Every term is an integer below 2^24, so all of this is exact, and so is the error, |p|^2
+    // summed once plus the least e of each pixel.
+    floats key[4], tr[4], tg[4], tb[4];
+    for (int c = 0; c < 4; ++c) {
+        key[c] = (pr[c] * pr[c] + pg[c] * pg[c] + pb[c] * pb[c]) * 4.0f + static_cast<float>(c);
+        tr[c] = pr[c] * 8.0f;
+        tg[c] = pg[c] * 8.0f;
+        tb[c] = pb[c] * 8.0f;
+    }
+    uints indices{};
+    ints error{};
     for (int k = 0; k < 16; ++k) {
-        const floats dr = p.r[k] - pr[0], dg = p.g[k] - pg[0], db = p.b[k] - pb[0];
-        best[k] = dr * dr + dg * dg + db * db;
-        f.index[k] = splat(0);
-    }
-    for (int c = 1; c < 4; ++c) {
-        for (int k = 0; k < 16; ++k) {
-            const floats dr = p.r[k] - pr[c], dg = p.g[k] - pg[c], db = p.b[k] - pb[c];
-            const floats d = dr * dr + dg * dg + db * db;
-            const ints closer = d < best[k];
-            best[k] = closer ? d : best[k];
-            f.index[k] = closer ? splat(c) : f.index[k];
+        const floats red = p.r[k], green = p.g[k], blue = p.b[k];
+        floats least = key[0] - (red * tr[0] + green * tg[0] + blue * tb[0]);
+        for (int c = 1; c < 4; ++c) {
+            least = vmin(least, key[c] - (red * tr[c] + green * tg[c] + blue * tb[c]));
         }
+        const ints q = __builtin_convertvector(least, ints);
+        error += q >> 2;
+        indices |= __builtin_convertvector(q & 3, uints) << (2 * k);
     }
-    f.error = sum16(best);
+    f.indices = indices;
+    f.error = p.squares + __builtin_convertvector(error, floats);
     return f;
 }
 
@@ -184,9 +196,7 @@ PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, ints allowed) {
     best.c0 = take ? candidate.c0 : best.c0;
     best.c1 = take ? candidate.c1 : best.c1;
     best.error = take ? candidate.error : best.error;
-    for (int k = 0; k < 16; ++k) {
-        best.index[k] = take ? candidate.index[k] : best.index[k];
-    }
+    best.indices = take ? candidate.indices : best.indices;
     return true;
 }
 
@@ -214,6 +224,10 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
         p.r[k] = __builtin_convertvector(w & 255, floats);
         p.g[k] = __builtin_convertvector((w >> 8) & 255, floats);
         p.b[k] = __builtin_convertvector((w >> 16) & 255, floats); // alpha, in the top byte, ignored
+    }
+    p.squares = splat(0.0f);
+    for (int k = 0; k < 16; ++k) {
+        p.squares += p.r[k] * p.r[k] + p.g[k] * p.g[k] + p.b[k] * p.b[k];
     }
 
     // The mean (exact: a sum of integers over 16) and the covariance, in a fixed order.
@@ -288,7 +302,7 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
     for (int it = 0; it < refinements; ++it) {
         floats waa[16], wab[16], wbb[16], war[16], wag[16], wab2[16], wbr[16], wbg[16], wbb2[16];
         for (int k = 0; k < 16; ++k) {
-            const ints i = best.index[k];
+            const ints i = __builtin_convertvector((best.indices >> (2 * k)) & 3u, ints);
             const floats a = __builtin_convertvector(i == 0 ? splat(3) : i == 1 ? splat(0) : 4 - i, floats);
             const floats b = 3.0f - a;
             waa[k] = a * a;
@@ -316,10 +330,7 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
         }
     }
 
-    uints indices{};
-    for (int k = 0; k < 16; ++k) {
-        indices |= __builtin_convertvector(best.index[k], uints) << (2 * k);
-    }
+    const uints indices = best.indices;
     for (int l = 0; l < count; ++l) {
         uint8_t* o = out[l];
         const auto c0 = static_cast<uint32_t>(best.c0[l]), c1 = static_cast<uint32_t>(best.c1[l]);
