@@ -197,7 +197,7 @@ void TileTableWriter::write(int64_t index, std::span<const uint8_t> blob) {
         return;
     }
     // CRC-32 (libdeflate's, vectorised) as the content hash: faster than std::hash over the
-    // bytes (10 against 6 GB/s here) on this thread, which writes every tile of the run; a
+    // bytes (10 against 6 GB/s here) in this serial step, which sees every tile of the run; a
     // collision only costs the byte-for-byte comparison below.
     const size_t hash = libdeflate_crc32(0, blob.data(), blob.size());
     auto [first, last] = w.byHash.equal_range(hash);

@@ -1,6 +1,7 @@
 // The ordered writer of the encoders: items delivered in any order by many threads are written
-// in index order, at most `window` items are admitted ahead of the oldest unwritten one, and a
-// failure (a producer's, or the writer's) stops the run without hanging.
+// in index order, by the producer whose item is written next, at most `window` items are
+// admitted ahead of the oldest unwritten one, and a failure (a producer's, or a write's) stops
+// the run without hanging.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -43,6 +44,27 @@ TEST(OrderedWriter, WritesInIndexOrderWithinTheWindow) {
         EXPECT_EQ(written[static_cast<size_t>(m)], m);
     }
     EXPECT_LT(worst.load(), kWindow);
+}
+
+TEST(OrderedWriter, TheProducerOfTheNextItemWritesItAndTheDeliveredOnesAfterIt) {
+    std::vector<int64_t> written;
+    std::vector<std::thread::id> writers;
+    OrderedWriter<int> writer(4, [&](int64_t m, int&) {
+        written.push_back(m);
+        writers.push_back(std::this_thread::get_id());
+    });
+    writer.deliver(2, 0);
+    writer.deliver(1, 0);
+    EXPECT_TRUE(written.empty()); // item 0 is not there yet
+    writer.deliver(0, 0);
+    EXPECT_EQ(written, (std::vector<int64_t>{0, 1, 2})); // before deliver() returned
+    EXPECT_EQ(writer.next(), 3);
+    std::thread other([&] { writer.deliver(3, 0); });
+    other.join();
+    writer.finish(4);
+    ASSERT_EQ(writers.size(), 4u);
+    EXPECT_EQ(writers[0], std::this_thread::get_id());
+    EXPECT_NE(writers[3], std::this_thread::get_id()); // the other thread's item, written there
 }
 
 TEST(OrderedWriter, AProducerFailureStopsTheRunAtItsItem) {

@@ -218,16 +218,16 @@ OrthoReport encodeOrthoLevels(const OrthoLevels& levels, const std::string& dire
     // What the writer writes of each tile of the first walk (or the only one), and of the second.
     const OutputSet residualsOut{false, false, true};
     const OutputSet firstOut = twoWalks ? OutputSet{o.writeTiff, o.writeDxt, false} : OutputSet::of(o);
-    // The walk's items are written (content hashes, file writes: serial, in the walk's order) by
-    // the writer's thread, each as soon as it and the items before it are encoded, while the
-    // walk's threads sample and encode the next ones, instead of stopping for the writes.
+    // The walk's items are written (content hashes, file writes: serial, in the walk's order),
+    // each as soon as it and the items before it are encoded, by the thread that hands over the
+    // item written next, while the walk's other threads sample and encode the next ones.
     // Window: OrthoLevels::itemWindow items, admitted once encoded, so that memory grows by that
     // many encoded items at most, besides the one each thread works on. Items from `secondWalk`
     // on are the second walk's. Declared after everything its writes use (its destructor stops
     // it).
     std::atomic<int64_t> secondWalk{std::numeric_limits<int64_t>::max()};
-    // The TIFF and DXT files, complete once the writer reaches the second walk (before `writer`:
-    // the writer's thread starts it, and it is awaited before `outputs` goes).
+    // The TIFF and DXT files, complete once the writing reaches the second walk (before `writer`:
+    // a write starts it, and it is awaited before `outputs` goes).
     std::future<void> picturesFinished;
     OrderedWriter<EncodedItem> writer(levels.itemWindow(), [&](int64_t index, EncodedItem& item) {
         const bool second = index >= secondWalk.load(std::memory_order_acquire);
