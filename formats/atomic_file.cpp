@@ -1,5 +1,6 @@
 #include "formats/atomic_file.hpp"
 
+#include <aio.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -47,6 +48,7 @@ AtomicFile::AtomicFile(const std::string& path, const std::string& temporarySuff
 }
 
 AtomicFile::~AtomicFile() {
+    finishSync(); // no fdatasync may outlive the descriptor it was given
     if (!committed_) {
         if (fd_ >= 0) {
             ::close(fd_);
@@ -63,20 +65,53 @@ void AtomicFile::writeAt(uint64_t offset, const void* data, size_t size) {
     }
     unflushed_ += size;
     if (unflushed_ >= kWritebackBytes) {
-        unflushed_ = 0;
-#ifdef SYNC_FILE_RANGE_WRITE
-        // Starts writing the data written so far to disk, without waiting for it, so that
-        // flush() finds little left to write (a hint: its result is not needed).
-        ::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);
-#endif
+        startSync();
     }
+}
+
+void AtomicFile::startSync() {
+    if (sync_) {
+        if (::aio_error(sync_.get()) == EINPROGRESS) {
+            return; // the next one covers these bytes too
+        }
+        finishSync();
+    }
+    unflushed_ = 0;
+    auto request = std::make_unique<::aiocb>();
+    std::memset(request.get(), 0, sizeof(::aiocb));
+    request->aio_fildes = fd_;
+    request->aio_sigevent.sigev_notify = SIGEV_NONE;
+    if (::aio_fsync(O_DSYNC, request.get()) == 0) {
+        sync_ = std::move(request);
+    } // else (no resources for it): flush() makes the file durable all the same
+}
+
+void AtomicFile::finishSync() {
+    if (!sync_) {
+        return;
+    }
+    const ::aiocb* const list[1] = {sync_.get()};
+    while (::aio_error(sync_.get()) == EINPROGRESS) {
+        ::aio_suspend(list, 1, nullptr);
+    }
+    const int error = ::aio_error(sync_.get());
+    (void)::aio_return(sync_.get());
+    if (error != 0 && syncError_ == 0) {
+        syncError_ = error;
+    }
+    sync_.reset();
 }
 
 void AtomicFile::flush() {
     if (fd_ < 0) {
         return;
     }
-    // Write errors a file system defers (a full disk on NFS, EIO) show at fsync or close.
+    // Write errors a file system defers (a full disk on NFS, EIO) show at fsync or close; one
+    // that a background fdatasync met is not shown again to the next.
+    finishSync();
+    if (syncError_ != 0) {
+        failWithErrno(path_, "cannot write (flush)", syncError_);
+    }
     if (::fsync(fd_) != 0) {
         failWithErrno(path_, "cannot write (flush)", errno);
     }

@@ -6,7 +6,10 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
+
+struct aiocb;
 
 namespace pyramid {
 
@@ -30,15 +33,20 @@ public:
     void commit(); // flush() unless done, rename, fsync of the directory
 
 private:
-    // Every kWritebackBytes written, the file's data starts on its way to disk (writeAt): the
-    // fsync of flush() then waits for the last few megabytes only, instead of the whole file
-    // at the end of a run.
+    // Every kWritebackBytes written, unless the last one still runs, an fdatasync of the file
+    // starts in the background (POSIX aio_fsync): the data goes to disk, and the disk makes it
+    // durable, while the run goes on. The fsync of flush() then waits for what came after the
+    // last one only, instead of the whole file at the end of a run.
     static constexpr size_t kWritebackBytes = size_t{2} << 20;
+    void startSync();
+    void finishSync(); // waits for the background fdatasync under way, if any; keeps its error
     std::string path_;
     std::string tmp_;
     int fd_ = -1;
     bool committed_ = false;
-    size_t unflushed_ = 0; // bytes written since the last start of writeback
+    size_t unflushed_ = 0; // bytes written since the last background fdatasync started
+    std::unique_ptr<::aiocb> sync_; // the background fdatasync under way (null: none)
+    int syncError_ = 0;             // the first error one of them met (reported by flush())
 };
 
 } // namespace pyramid

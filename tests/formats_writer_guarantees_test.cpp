@@ -1,10 +1,12 @@
 // The file writers' guarantees (tests/support/pyramid_tiles.hpp): identical tiles share one byte
 // range, tables of many pieces, a tile given an earlier tile's bytes, atomic output (nothing left
 // without a commit or with a missing tile), missing tiles named, no tile written twice, and the
-// 32-bit offset limit a clear error, never a wrap.
+// 32-bit offset limit a clear error, never a wrap; and an output file written past the points
+// where its data is made durable in the background (formats/atomic_file.hpp).
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <iterator>
@@ -12,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/atomic_file.hpp"
 #include "formats/error.hpp"
 #include "formats/ortho_file.hpp"
 #include "formats/residual_file.hpp"
@@ -182,6 +185,50 @@ TEST(WriterGuarantees, DestroyedWithoutCommitLeavesNothing) {
         writer.writeTile(0, 0, 0, smoothPixels(h.tilePixels(), 1, {0, 0, 0}));
         EXPECT_EQ(entriesIn(dir.path()), 1u); // the temporary, not the destination
         EXPECT_FALSE(test::fileExists(dir.file("never.dat")));
+    }
+    EXPECT_EQ(entriesIn(dir.path()), 0u);
+}
+
+// Bytes that differ from piece to piece and within each, so that a piece written at the wrong
+// offset, twice or not at all shows.
+std::vector<uint8_t> piece(size_t index, size_t size) {
+    std::vector<uint8_t> bytes(size);
+    for (size_t i = 0; i < size; ++i) {
+        bytes[i] = static_cast<uint8_t>((index * 131 + i * 7 + (i >> 9)) & 0xff);
+    }
+    return bytes;
+}
+
+// 9 MB in 96 KB pieces passes the background fdatasync's step (2 MB) four times, some while the
+// one before still runs; half the pieces are written back to front, at their offsets.
+TEST(WriterGuarantees, AFileWrittenPastItsBackgroundSyncsHoldsEveryByte) {
+    test::TempDir dir;
+    constexpr size_t kPiece = 96 << 10, kPieces = 96;
+    std::vector<uint8_t> expected(kPiece * kPieces);
+    {
+        AtomicFile file(dir.file("out.bin"));
+        for (size_t k = 0; k < kPieces; ++k) {
+            const size_t index = k < kPieces / 2 ? k : kPieces - 1 - (k - kPieces / 2);
+            const std::vector<uint8_t> bytes = piece(index, kPiece);
+            std::copy(bytes.begin(), bytes.end(), expected.begin() + static_cast<std::ptrdiff_t>(index * kPiece));
+            file.writeAt(index * kPiece, bytes.data(), bytes.size());
+        }
+        EXPECT_FALSE(test::fileExists(dir.file("out.bin")));
+        file.commit();
+    }
+    EXPECT_EQ(test::bytesOf(dir.file("out.bin")), expected);
+    EXPECT_EQ(entriesIn(dir.path()), 1u); // no temporary left
+}
+
+// Destroyed without a commit right after a background fdatasync started: it is waited for (the
+// descriptor stays open until it ends), and the temporary is removed.
+TEST(WriterGuarantees, AFileDroppedWhileItsDataIsSyncedLeavesNothing) {
+    test::TempDir dir;
+    for (int round = 0; round < 4; ++round) {
+        AtomicFile file(dir.file("dropped.bin"));
+        const std::vector<uint8_t> bytes = piece(static_cast<size_t>(round), size_t{3} << 20);
+        file.writeAt(0, bytes.data(), bytes.size());
+        EXPECT_EQ(entriesIn(dir.path()), 1u);
     }
     EXPECT_EQ(entriesIn(dir.path()), 0u);
 }
