@@ -58,12 +58,20 @@ uint8_t* DecodedRows::rowInMemory(int y) { return memory_.get() + static_cast<si
 void DecodedRows::markDecoded() { rowsDecoded_ = info_.height; }
 
 void DecodedRows::publish(int rows, const std::string& error) {
+    bool wake = false;
     {
         const std::lock_guard<std::mutex> lock(mutex_);
         rowsDecoded_.store(rows, std::memory_order_release);
         error_ = error;
+        // The last rows or an error end every wait; otherwise a wait ends when its rows are in.
+        wake = rows >= awaited_ || rows == info_.height || !error.empty();
+        if (wake) {
+            awaited_ = INT_MAX; // the readers still short of rows say so again
+        }
     }
-    progress_.notify_all();
+    if (wake) {
+        progress_.notify_all();
+    }
 }
 
 void DecodedRows::decodeAll() {
@@ -98,7 +106,10 @@ void DecodedRows::waitForRows(int y1) const {
         return;
     }
     std::unique_lock<std::mutex> lock(mutex_);
-    progress_.wait(lock, [&] { return rowsDecoded_.load(std::memory_order_acquire) >= y1 || !error_.empty(); });
+    while (rowsDecoded_.load(std::memory_order_acquire) < y1 && error_.empty()) {
+        awaited_ = std::min(awaited_, y1);
+        progress_.wait(lock);
+    }
     if (rowsDecoded_.load(std::memory_order_acquire) < y1) {
         throw Error(error_);
     }

@@ -9,6 +9,7 @@
 // jpeg_raster_reader.hpp) only decode.
 #pragma once
 #include <atomic>
+#include <climits>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -85,6 +86,9 @@ private:
     mutable std::mutex mutex_;
     mutable std::condition_variable progress_;
     std::string error_; // under mutex_: why decoding stopped short, empty while it goes well
+    // Under mutex_: the fewest rows a waiting read needs (INT_MAX: none waits). The decoder wakes
+    // the readers when they have them, not every few rows.
+    mutable int awaited_ = INT_MAX;
 };
 
 } // namespace pyramid
