@@ -131,6 +131,30 @@ TEST(OrthoEncoder, TheSecondWalkEncodesTheFirstWalksSubtreesWhenTheyFit) {
     EXPECT_EQ(steps["kept3"], steps["again2"]);
 }
 
+// An image decoded whole (a PNG, its rows in blocks of 2 MB: here rows 0..776 and 777..799)
+// gives back the rows the last walk reading it has passed, the first block halfway through (a
+// read of it after that would fail the build): the files are those of the build that reads it
+// twice (no subtrees kept) and keeps every row. A caller's own source keeps its rows.
+TEST(OrthoEncoder, TheLastWalkLetsADecodedImageGiveBackTheRowsItPassed) {
+    test::TempDir dir;
+    test::writeImage(dir.file("in.png"), 900, 800, 3, orthoImage(900, 800, 3, 255), false);
+    OrthoEncodeOptions o = smallOrtho();
+    o.levels.tileSize = 32; // every core: the subtrees sampled out of order
+    encodeOrtho(dir.file("in.png"), dir.file("kept"), o);
+    const auto source = RasterSource::open(dir.file("in.png"));
+    encodeOrtho(*source, dir.file("caller"), o);
+    std::vector<uint16_t> sample(3);
+    source->readUInt16(0, 0, 1, 1, 0, 3, sample.data()); // still there
+    o.keptSubtreeBytes = 0; // the second walk samples the input again: no row is given back
+    encodeOrtho(dir.file("in.png"), dir.file("again"), o);
+    for (const char* f : {"/RGB.dat", "/dxt/RGB.dat", "/residuals/RGB.dat"}) {
+        const std::string a = test::readFile(dir.file("kept") + f);
+        EXPECT_GT(a.size(), 500u) << f;
+        EXPECT_EQ(a, test::readFile(dir.file("caller") + f)) << f;
+        EXPECT_EQ(a, test::readFile(dir.file("again") + f)) << f;
+    }
+}
+
 // The default outputs take two walks (TIFF and DXT tiles first, then the subtrees' residuals):
 // each file is the one its output alone gives (the residual tiles, in another order), and so
 // are each level's statistics; every tile's rebuilt colours are those a reader rebuilds.

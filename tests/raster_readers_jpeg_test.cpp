@@ -1,7 +1,8 @@
 // JPEG files decoded without the image I/O module, with the same samples as OpenImageIO's: by
 // libjpeg on a thread of their own (grey, YCbCr subsampled or not, RGB, progressive; beyond the
 // cache through the scratch file). Damaged JPEG data is refused with one line naming the file;
-// JPEGs of other colour spaces are left to OpenImageIO.
+// JPEGs of other colour spaces are left to OpenImageIO. The rows decoded into memory are given
+// back in blocks once their reader says it is past them.
 #include <gtest/gtest.h>
 
 // jpeglib.h needs FILE and size_t declared first.
@@ -11,11 +12,14 @@
 
 #include <cstdint>
 #include <fstream>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/decoded_rows.hpp"
 #include "libpyramid/input/jpeg_raster_reader.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "tests/support/oiio_reference.hpp"
@@ -145,6 +149,45 @@ TEST(RasterReaders, DamagedJpegFilesAreRefused) {
                   std::string::npos)
             << e.problem();
     }
+}
+
+// Rows of 3,000 bytes, each sample (y * 7 + x) mod 256.
+class CountingRows final : public DecodedRows::Decoder {
+public:
+    void readRow(uint8_t* row) override {
+        for (int x = 0; x < 3000; ++x) {
+            row[x] = static_cast<uint8_t>((y_ * 7 + x) & 0xff);
+        }
+        ++y_;
+    }
+    void finish() override {}
+
+private:
+    int y_ = 0;
+};
+
+// 2,000 rows of 3,000 bytes come in blocks of 700 rows (the first to reach 2 MB): rows above 1,000
+// give back the first block only; a read of its rows is then an error, the others still read.
+TEST(RasterReaders, DecodedRowsGiveBackTheBlocksAboveARow) {
+    RasterInfo info;
+    info.width = 1000;
+    info.height = 2000;
+    info.channels = 3;
+    info.type = SampleType::UInt8;
+    DecodedRows rows("counting", info, 256, 0);
+    rows.start(std::make_unique<CountingRows>());
+    std::vector<uint8_t> last(3);
+    ASSERT_TRUE(rows.readUInt8(0, 1999, 1, 2000, 0, 3, last.data(), 3)); // waits for every row
+    EXPECT_EQ(last[0], (1999 * 7) & 0xff);
+    EXPECT_EQ(rows.bytesHeld(), size_t{6000000});
+    rows.releaseRowsAbove(1000);
+    EXPECT_EQ(rows.bytesHeld(), size_t{6000000 - 700 * 3000});
+    std::vector<uint8_t> row(3);
+    ASSERT_TRUE(rows.readUInt8(2, 700, 3, 701, 0, 3, row.data(), 3));
+    EXPECT_EQ(row[0], (700 * 7 + 6) & 0xff);
+    EXPECT_THROW(rows.readUInt8(2, 699, 3, 700, 0, 3, row.data(), 3), std::logic_error);
+    rows.releaseRowsAbove(2000);
+    EXPECT_EQ(rows.bytesHeld(), size_t{0});
 }
 
 } // namespace

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "formats/error.hpp"
@@ -12,6 +14,10 @@ namespace {
 
 // Rows published to the readers at once: fewer wake-ups than one by one.
 constexpr int kRowsPerStep = 16;
+// The rows in memory come in blocks of at least this size (whole rows), each given back on its
+// own once the reads are past it (releaseRowsAbove): huge pages (pixel_memory.hpp), and freed
+// blocks the heap can serve the run's next allocations from.
+constexpr size_t kChunkBytes = size_t{2} << 20;
 
 // Channels [c0, c1) of `count` interleaved pixels of `channels` samples, each converted to Out
 // by value; returns the end of what it wrote.
@@ -37,7 +43,11 @@ DecodedRows::DecodedRows(std::string path, const RasterInfo& info, int cacheMega
     if (imageBytes() > budget) {
         scratch_ = std::make_unique<ScratchFile>(path_);
     } else {
-        memory_ = makePixelMemory(imageBytes());
+        const size_t rowsPerChunk = (kChunkBytes + rowBytes_ - 1) / std::max<size_t>(rowBytes_, 1);
+        chunkRows_ = static_cast<int>(std::clamp<size_t>(rowsPerChunk, 1, static_cast<size_t>(std::max(info.height, 1))));
+        for (int y = 0; y < info.height; y += chunkRows_) {
+            chunks_.push_back(makePixelMemory(rowBytes_ * static_cast<size_t>(std::min(chunkRows_, info.height - y))));
+        }
     }
 }
 
@@ -53,7 +63,32 @@ void DecodedRows::start(std::unique_ptr<Decoder> decoder) {
     thread_ = std::thread([this] { decodeAll(); });
 }
 
-uint8_t* DecodedRows::rowInMemory(int y) { return memory_.get() + static_cast<size_t>(y) * rowBytes_; }
+uint8_t* DecodedRows::rowInMemory(int y) {
+    return chunks_[static_cast<size_t>(y / chunkRows_)].get() + static_cast<size_t>(y % chunkRows_) * rowBytes_;
+}
+
+void DecodedRows::releaseRowsAbove(int y) {
+    if (scratch_) {
+        return;
+    }
+    // Only decoded rows: the decoder may still be writing the ones after. The last block may
+    // be short.
+    const int rows = std::min(y, rowsDecoded_.load(std::memory_order_acquire));
+    const int end = rows >= info_.height ? static_cast<int>(chunks_.size()) : rows / chunkRows_;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (; released_ < end; ++released_) {
+        chunks_[static_cast<size_t>(released_)].reset();
+    }
+}
+
+size_t DecodedRows::bytesHeld() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    size_t bytes = 0;
+    for (size_t k = static_cast<size_t>(released_); k < chunks_.size(); ++k) {
+        bytes += chunks_[k].get_deleter().bytes;
+    }
+    return bytes;
+}
 
 void DecodedRows::markDecoded() { rowsDecoded_ = info_.height; }
 
@@ -122,7 +157,12 @@ const T* DecodedRows::rowSpan(int y, int x0, int x1, std::vector<uint8_t>& buffe
     const size_t pixelBytes = static_cast<size_t>(info_.channels) * sizeof(T);
     const size_t offset = static_cast<size_t>(y) * rowBytes_ + static_cast<size_t>(x0) * pixelBytes;
     if (!scratch_) {
-        return reinterpret_cast<const T*>(memory_.get() + offset);
+        const uint8_t* chunk = chunks_[static_cast<size_t>(y / chunkRows_)].get();
+        if (chunk == nullptr) {
+            throw std::logic_error(path_ + ": row " + std::to_string(y) + " read after it was released");
+        }
+        return reinterpret_cast<const T*>(chunk + static_cast<size_t>(y % chunkRows_) * rowBytes_ +
+                                          static_cast<size_t>(x0) * pixelBytes);
     }
     buffer.resize(static_cast<size_t>(x1 - x0) * pixelBytes);
     scratch_->read(offset, buffer.data(), buffer.size());

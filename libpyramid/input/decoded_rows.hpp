@@ -3,10 +3,11 @@
 // row into a scratch file (scratch_file.hpp) read back by window, so that memory stays bounded
 // whatever the image's size. A thread of its own decodes while the caller already reads the
 // rows decoded so far (a read waits for the rows it needs): one core decodes while the others
-// work. The last rows are held back until the decoder has read and checked the rest of the
-// file, so that a damaged end fails the reads that would have used it. Samples are interleaved
-// 8 or 16-bit values, host order, row 0 north. The formats' readers (png_raster_reader.hpp,
-// jpeg_raster_reader.hpp) only decode.
+// work. In memory, the rows come in blocks of 2 MB, given back once the reads are past them
+// (releaseRowsAbove). The last rows are held back until the decoder has read and checked the
+// rest of the file, so that a damaged end fails the reads that would have used it. Samples are
+// interleaved 8 or 16-bit values, host order, row 0 north. The formats' readers
+// (png_raster_reader.hpp, jpeg_raster_reader.hpp) only decode.
 #pragma once
 #include <atomic>
 #include <climits>
@@ -17,6 +18,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "libpyramid/filters/pixel_memory.hpp"
 #include "libpyramid/input/raster_info.hpp"
@@ -62,6 +64,12 @@ public:
     // 8-bit images only (false otherwise).
     bool readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;
 
+    // Rows [0, y) will not be read again: in memory, the blocks of rows wholly above y that are
+    // decoded are given back, for the run's next allocations to reuse. A read of such a row is
+    // then an error (std::logic_error). Thread-safe; a scratch file keeps its rows.
+    void releaseRowsAbove(int y);
+    size_t bytesHeld() const; // the decoded samples' memory not given back
+
 private:
     void decodeAll();               // the decoding thread
     void publish(int rows, const std::string& error);
@@ -77,7 +85,10 @@ private:
     size_t rowBytes_ = 0;
     // The decoded samples, left uninitialised (never read before decoded): zero-filling them
     // first would make the opening thread fault in every page of a large image before decoding.
-    PixelMemory memory_;
+    // In blocks of chunkRows_ rows (about 2 MB), each given back on its own (releaseRowsAbove).
+    std::vector<PixelMemory> chunks_;
+    int chunkRows_ = 1;
+    int released_ = 0; // under mutex_: chunks [0, released_) are given back
     std::unique_ptr<ScratchFile> scratch_; // instead, for an image beyond the budget
     std::unique_ptr<Decoder> decoder_;
     std::thread thread_;

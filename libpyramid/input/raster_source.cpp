@@ -55,6 +55,12 @@ std::unique_ptr<RasterSource> RasterSource::fromPixels(const std::string& name, 
 
 RasterSource::~RasterSource() = default;
 
+void RasterSource::releaseRowsAbove(int y) const {
+    if (impl_->decoded) {
+        impl_->decoded->releaseRowsAbove(y);
+    }
+}
+
 RasterSource::PixelPlace RasterSource::placeOf(int x, int y, int channel) const {
     if (impl_->mosaic) {
         RasterMosaic::Place p = impl_->mosaic->placeOf(x, y, channel);

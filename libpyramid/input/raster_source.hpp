@@ -97,6 +97,10 @@ public:
     // widening to 16 bits, and the copy back, where samples are used as they are. Thread-safe.
     void readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;
 
+    // A hint: rows [0, y) will not be read again. An image decoded whole into memory (PNG,
+    // JPEG) gives their memory back; other sources keep theirs. Thread-safe.
+    void releaseRowsAbove(int y) const;
+
     // Where pixel (x, y) of channel `channel` comes from, for messages that name a sample: this
     // file and the pixel; for a mosaic, the file that gives the pixel (raster_mosaic.hpp) and
     // its own column and row.

@@ -320,6 +320,9 @@ OrthoReport encodeOrthoLevels(const OrthoLevels& levels, const std::string& dire
             return hand(i, encoder.encodeLevel(item));
         };
         sink.failed = [&](int64_t i) { writer.stopAt(first + i); }; // items after it are not awaited
+        // No walk after this one samples the input: the only walk, or the first when the second
+        // encodes the subtrees it keeps.
+        sink.lastRead = !region && (keeping || !twoWalks);
         if (kept.active() && !keeping) {
             walked += kept.encode(encoder, levels.threads(), hand, sink.failed);
         } else {

@@ -217,7 +217,10 @@ int64_t OrthoLevels::walk(const Sink& sink, WalkOrder order, const Range* range,
         if (whole) {
             levelC = SparseLevel(m.sideWithMargin(c), m.channels, reach);
         }
-        if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, reach, whole ? &levelC : nullptr, list) ||
+        // The input lets go of the rows the subtrees pass only when it is this object's own (a
+        // caller's source may be read again).
+        const bool passRows = sink.lastRead && whole && list == nullptr && m.ownedSource != nullptr;
+        if (!m.handSubtrees(sink, c + 1, begin, end, 0, false, reach, whole ? &levelC : nullptr, list, passRows) ||
             (range && !range->top)) {
             return subtrees;
         }

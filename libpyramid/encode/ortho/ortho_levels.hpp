@@ -183,6 +183,10 @@ public:
         // walk() then rethrows the exception of the lowest failed index, once the items in
         // progress are done.
         std::function<void(int64_t index)> failed;
+        // The walk is the last to read the input: a SinglePass walk of every item then lets an
+        // input opened from files give back the rows its subtrees have passed (a decoded
+        // image's memory); a caller's RasterSource keeps them.
+        bool lastRead = false;
     };
     // A share of a walk (a build split across processes: support/work_share.hpp): the subtree
     // items [begin, end) of the order, and the items of levels 0..C when `top`. A CoarseFirst

@@ -121,10 +121,12 @@ struct OrthoLevels::Impl {
     void reduceCoarserLevels(std::vector<SparseLevel>& levels) const;
     bool handLevels(const std::vector<SparseLevel>& levels, const Sink& sink, int64_t index0, bool pruned) const;
     // The subtree items of a walk: all of level `top` (row by row or in Z order), or with `items`
-    // those it lists.
+    // those it lists. With `passRows` (row by row, every item, the input's last reader), the
+    // input is told the rows the items sampled so far have passed (PixelSource::passedNorthOf).
     using ItemList = std::vector<std::pair<int, int>>;
     bool handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0, bool zOrder,
-                      const BlockMask& reachC, SparseLevel* levelC, const ItemList* items) const;
+                      const BlockMask& reachC, SparseLevel* levelC, const ItemList* items,
+                      bool passRows = false) const;
     void subtreeFromFootprint(int top, int tx, int ty, TileBatch& out, const BlockMask& reachC,
                               SparseLevel* levelC, bool pruned) const;
     ItemList itemsUnder(int c, const BlockMask& reach, bool zOrder) const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <tuple>
 
 #include "libpyramid/support/morton.hpp"
@@ -95,9 +96,30 @@ OrthoLevels::Impl::ItemList OrthoLevels::Impl::itemsUnder(int c, const BlockMask
 // order. False when the sink stops the walk.
 bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, int64_t end, int64_t index0,
                                      bool zOrder, const BlockMask& reachC, SparseLevel* levelC,
-                                     const ItemList* items) const {
+                                     const ItemList* items, bool passRows) const {
     const int side = 1 << top;
     std::atomic<bool> stop{false};
+    // Items are sampled out of order by the threads; the rows passed are those north of the
+    // first item not yet sampled (row by row from the north: no later item reaches higher).
+    std::mutex passMutex;
+    std::vector<char> sampled(passRows ? static_cast<size_t>(end - begin) : 0);
+    int64_t unsampled = 0;
+    const auto passed = [&](int64_t i) {
+        int64_t north = -1; // every item sampled: every row passed
+        {
+            const std::lock_guard<std::mutex> lock(passMutex);
+            sampled[static_cast<size_t>(i)] = 1;
+            while (unsampled < end - begin && sampled[static_cast<size_t>(unsampled)]) {
+                ++unsampled;
+            }
+            if (unsampled < end - begin) {
+                const int64_t ty = side - 1 - (begin + unsampled) / side;
+                const int64_t y1 = std::min<int64_t>(levelWidth(top) + margin(top), (ty + 1) * T + kTileBorder);
+                north = (y1 << (M - top)) - 1;
+            }
+        }
+        pixels->passedNorthOf(north);
+    };
     parallelFor(end - begin, threads, [&](int64_t i) {
         if (stop.load(std::memory_order_relaxed)) {
             return;
@@ -114,6 +136,9 @@ bool OrthoLevels::Impl::handSubtrees(const Sink& sink, int top, int64_t begin, i
         try {
             TileBatch item;
             subtreeFromFootprint(top, tx, ty, item, reachC, levelC, items != nullptr);
+            if (passRows) {
+                passed(i);
+            }
             if (!sink.subtree(index0 + i, item)) {
                 stop = true;
             }

@@ -51,6 +51,10 @@ public:
     // level's width halved some times), each the input sampled at its own centre by the rule
     // sample() applies at the finest level. Thread-safe.
     virtual Image8 sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const = 0;
+    // A hint from a walk that reads the finest level from the north, the input's last: no
+    // finest row north of row y (above it: y + 1 and up) is sampled again, so the input may
+    // give back the memory of the rows only they need. By default, nothing. Thread-safe.
+    virtual void passedNorthOf(int64_t y) const { (void)y; }
 };
 
 } // namespace pyramid

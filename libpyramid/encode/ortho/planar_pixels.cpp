@@ -124,6 +124,15 @@ PlanarPixels::PlanarPixels(const RasterSource& source, int channels, int64_t wid
     }
 }
 
+void PlanarPixels::passedNorthOf(int64_t y) const {
+    // Row y reads input rows floor(position) and the one after (sample(): the rows' bounds);
+    // the rows south of it read rows further south still.
+    const double position = ay_.position(y);
+    if (position >= 1.0) {
+        source_.releaseRowsAbove(static_cast<int>(std::min<double>(std::floor(position), ay_.input)));
+    }
+}
+
 Image8 PlanarPixels::sample(int64_t x0, int64_t y0, int w, int h) const {
     if (inPlace_ && !sixteen_) {
         return sampleInPlace(x0, y0, w, h);

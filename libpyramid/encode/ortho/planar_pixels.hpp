@@ -34,6 +34,8 @@ public:
     bool mayNeedLevel(int64_t levelWidth, int64_t x0, int64_t y0, int64_t x1, int64_t y1) const override;
     // A coarser level reads only the input pixels its samples interpolate (readUInt16At).
     Image8 sampleAt(int64_t levelWidth, int64_t x0, int64_t y0, int w, int h) const override;
+    // The input rows above those row y samples (bilinearly or as they are) are let go.
+    void passedNorthOf(int64_t y) const override;
 
 private:
     // Input position of output pixel centres along one axis.
