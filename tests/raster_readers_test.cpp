@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
-#include <png.h>
 #include <tiffio.h>
 
 #include <algorithm>
@@ -125,151 +124,10 @@ TEST(RasterReaders, EveryLayoutReadsAsOpenImageIOReadsIt) {
     }
 }
 
-// A palette PNG, and one with a transparency chunk, are left to OpenImageIO, which expands
-// them to RGB(A); the result is OpenImageIO's either way.
-TEST(RasterReaders, PalettePngIsExpandedAsOpenImageIODoes) {
-    test::TempDir dir;
-    const int w = 61, h = 37;
-    const uint8_t colours[4 * 4] = {10, 20, 30, 255, 200, 100, 0, 255, 0, 255, 128, 90, 77, 77, 77, 0};
-    std::vector<uint8_t> indices(static_cast<size_t>(w * h));
-    for (size_t k = 0; k < indices.size(); ++k) {
-        indices[k] = static_cast<uint8_t>((k * 7) % 4);
-    }
-    for (const bool transparent : {false, true}) {
-        png_image image{};
-        image.version = PNG_IMAGE_VERSION;
-        image.width = w;
-        image.height = h;
-        image.format = transparent ? PNG_FORMAT_RGBA_COLORMAP : PNG_FORMAT_RGB_COLORMAP;
-        image.colormap_entries = 4;
-        std::vector<uint8_t> map;
-        for (int c = 0; c < 4; ++c) {
-            map.insert(map.end(), colours + 4 * c, colours + 4 * c + (transparent ? 4 : 3));
-        }
-        const std::string path = dir.file(transparent ? "palette-alpha.png" : "palette.png");
-        ASSERT_TRUE(png_image_write_to_file(&image, path.c_str(), 0, indices.data(), 0, map.data())) << image.message;
-        expectSameAsOpenImageIO(path);
-    }
-}
-
 TEST(RasterReaders, SampleImagesReadAsOpenImageIOReadsThem) {
     expectSameAsOpenImageIO(test::samplePath("bluemarble.png"));
     expectSameAsOpenImageIO(test::samplePath("srtm.png"));
     expectSameAsOpenImageIO(test::samplePath("dem.tif"));
-}
-
-// A PNG is decoded by a thread of its own while it is read: windows read from several threads
-// at once, in any order (last rows first too), are the file's samples; a file cut short gives
-// its first rows and then the error, to every read that needs the rows it lacks, and so does a
-// file with a damaged byte; a reader closed at once stops its decoding.
-TEST(RasterReaders, PngRowsAreReadWhileTheyAreDecoded) {
-    test::TempDir dir;
-    const int w = 97, h = 1500;
-    std::vector<uint8_t> pixels(static_cast<size_t>(w) * h * 3);
-    for (size_t k = 0; k < pixels.size(); ++k) {
-        pixels[k] = static_cast<uint8_t>((k * 2654435761u) >> 24);
-    }
-    png_image image{};
-    image.version = PNG_IMAGE_VERSION;
-    image.width = w;
-    image.height = h;
-    image.format = PNG_FORMAT_RGB;
-    const std::string path = dir.file("tall.png");
-    ASSERT_TRUE(png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr)) << image.message;
-
-    const auto source = RasterSource::open(path);
-    std::vector<std::string> failures(4);
-    std::vector<std::thread> readers;
-    for (int t = 0; t < 4; ++t) {
-        readers.emplace_back([&, t] {
-            // Thread t reads bands of 37 rows, from the south for odd t.
-            for (int b = 0; b * 37 < h; ++b) {
-                const int y0 = (t % 2 ? (h - 1) / 37 - b : b) * 37, y1 = std::min(h, y0 + 37);
-                std::vector<uint16_t> window(static_cast<size_t>(w) * (y1 - y0) * 3);
-                source->readUInt16(0, y0, w, y1, 0, 3, window.data());
-                for (size_t k = 0; k < window.size(); ++k) {
-                    if (window[k] != pixels[static_cast<size_t>(y0) * w * 3 + k]) {
-                        failures[static_cast<size_t>(t)] = "row " + std::to_string(y0 + k / (w * 3));
-                        return;
-                    }
-                }
-            }
-        });
-    }
-    for (std::thread& r : readers) {
-        r.join();
-    }
-    for (const std::string& f : failures) {
-        EXPECT_EQ(f, "");
-    }
-
-    // Cut short: the first rows read, the last ones fail with the file's name and the problem.
-    const std::string whole = test::readFile(path);
-    const std::string cut = dir.file("cut.png");
-    {
-        std::FILE* f = std::fopen(cut.c_str(), "wb");
-        std::fwrite(whole.data(), 1, whole.size() / 2, f);
-        std::fclose(f);
-    }
-    const auto partial = RasterSource::open(cut);
-    std::vector<uint16_t> row(static_cast<size_t>(w) * 3);
-    partial->readUInt16(0, 10, w, 11, 0, 3, row.data());
-    EXPECT_EQ(row[0], pixels[static_cast<size_t>(10) * w * 3]);
-    for (int attempt = 0; attempt < 2; ++attempt) {
-        try {
-            partial->readUInt16(0, h - 1, w, h, 0, 3, row.data());
-            ADD_FAILURE() << "the last row of a file cut in half was read";
-        } catch (const std::exception& e) {
-            EXPECT_EQ(std::string(e.what()), cut + ": cannot read: damaged or truncated PNG (Read Error)");
-        }
-    }
-    // One byte changed in the first image data chunk's CRC: the pixels decode, but the chunk is
-    // damaged (the decoder leaves the zlib stream's own checksum unchecked, not the CRCs).
-    std::string flipped = whole;
-    const size_t data = flipped.find("IDAT");
-    ASSERT_NE(data, std::string::npos);
-    ASSERT_GE(data, size_t{4});
-    size_t length = 0; // the chunk's length, big-endian, before its type
-    for (size_t k = data - 4; k < data; ++k) {
-        length = length << 8 | static_cast<uint8_t>(whole[k]);
-    }
-    ASSERT_LT(data + 4 + length + 4, whole.size());
-    flipped[data + 4 + length] ^= 0x10;
-    const std::string damagedPath = dir.file("damaged.png");
-    {
-        std::FILE* f = std::fopen(damagedPath.c_str(), "wb");
-        std::fwrite(flipped.data(), 1, flipped.size(), f);
-        std::fclose(f);
-    }
-    const auto damagedSource = RasterSource::open(damagedPath);
-    try {
-        damagedSource->readUInt16(0, h - 1, w, h, 0, 3, row.data());
-        ADD_FAILURE() << "the last row of a damaged file was read";
-    } catch (const std::exception& e) {
-        EXPECT_EQ(std::string(e.what()), damagedPath + ": cannot read: damaged or truncated PNG (IDAT: CRC error)");
-    }
-    // A text chunk with a bad CRC before the image data: an ancillary chunk, which libpng would
-    // only warn about and drop; a damaged file is refused whole.
-    std::string text = whole;
-    const std::string chunk = std::string("\0\0\0\x07tEXtTitle\0x", 15) + std::string(4, '\0'); // CRC 0: wrong
-    text.insert(8 + 25, chunk); // after the signature and IHDR
-    const std::string textPath = dir.file("bad-text.png");
-    {
-        std::FILE* f = std::fopen(textPath.c_str(), "wb");
-        std::fwrite(text.data(), 1, text.size(), f);
-        std::fclose(f);
-    }
-    try {
-        RasterSource::open(textPath)->readUInt16(0, h - 1, w, h, 0, 3, row.data());
-        ADD_FAILURE() << "a file with a damaged text chunk was read";
-    } catch (const std::exception& e) {
-        EXPECT_EQ(std::string(e.what()), textPath + ": cannot read: damaged or truncated PNG (tEXt: CRC error)");
-    }
-    // Opened and closed at once: the decoding thread stops (a leak or a late write would show
-    // under the sanitizers).
-    for (int k = 0; k < 3; ++k) {
-        EXPECT_EQ(RasterSource::open(path)->info().height, h);
-    }
 }
 
 } // namespace

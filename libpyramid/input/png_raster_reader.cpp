@@ -66,6 +66,7 @@ public:
         // warns and drops an ancillary chunk): a damaged file is refused whole.
         png_set_crc_action(png_, PNG_CRC_DEFAULT, PNG_CRC_ERROR_QUIT);
         png_read_info(png_, info_);
+        expandAsOpenImageIO();
         if (png_get_bit_depth(png_, info_) == 16) {
             png_set_swap(png_); // PNG is big-endian; the samples are kept as host integers
         }
@@ -96,6 +97,23 @@ public:
     }
 
 private:
+    // The layouts that are not samples as they stand, widened as OpenImageIO's PNG reader widens
+    // them (and so as the image I/O module read them before): a palette to its RGB colours;
+    // grey of 1, 2 or 4 bits to 8 bits, scaled (1 bit: 0 and 255); a transparency chunk to an
+    // alpha channel of the samples' depth (a palette's entries' alphas, or 0 where a grey or RGB
+    // pixel is the chunk's colour and full elsewhere).
+    void expandAsOpenImageIO() {
+        const int colour = png_get_color_type(png_, info_);
+        if (colour == PNG_COLOR_TYPE_PALETTE) {
+            png_set_palette_to_rgb(png_);
+        } else if (colour == PNG_COLOR_TYPE_GRAY && png_get_bit_depth(png_, info_) < 8) {
+            png_set_expand_gray_1_2_4_to_8(png_);
+        }
+        if (png_get_valid(png_, info_, PNG_INFO_tRNS)) {
+            png_set_tRNS_to_alpha(png_);
+        }
+    }
+
     [[noreturn]] static void onError(png_structp png, png_const_charp message) {
         auto* d = static_cast<PngDecoder*>(png_get_error_ptr(png));
         d->error_ = message ? message : "decoding error";
@@ -114,7 +132,7 @@ private:
 
 namespace {
 
-// A PNG's decoder, past its header, and what the image is; null for files left to others.
+// A PNG's decoder, past its header, and what the image is; null for a file that is not a PNG.
 struct PngHeader {
     std::unique_ptr<PngDecoder> decoder;
     RasterInfo info;
@@ -132,15 +150,12 @@ std::optional<PngHeader> readPngHeader(const std::string& path) {
     png_infop pngInfo = h.decoder->info();
     const png_uint_32 width = png_get_image_width(png, pngInfo);
     const png_uint_32 height = png_get_image_height(png, pngInfo);
+    // The decoded rows' layout, after the expansions (png_read_update_info).
     const int depth = png_get_bit_depth(png, pngInfo);
-    const int colour = png_get_color_type(png, pngInfo);
-    const int channels = colour == PNG_COLOR_TYPE_GRAY         ? 1
-                         : colour == PNG_COLOR_TYPE_GRAY_ALPHA ? 2
-                         : colour == PNG_COLOR_TYPE_RGB        ? 3
-                         : colour == PNG_COLOR_TYPE_RGB_ALPHA  ? 4
-                                                               : 0;
-    if (channels == 0 || (depth != 8 && depth != 16) || png_get_valid(png, pngInfo, PNG_INFO_tRNS)) {
-        return std::nullopt; // expanded by OpenImageIO's rules instead
+    const int channels = png_get_channels(png, pngInfo);
+    if (channels < 1 || channels > 4 || (depth != 8 && depth != 16)) {
+        fail(path, damaged("a layout of " + std::to_string(channels) + " channels of " + std::to_string(depth) +
+                           " bits after expansion"));
     }
     const size_t rowSamples = static_cast<size_t>(width) * static_cast<size_t>(channels);
     const size_t samples = rowSamples * height;
