@@ -365,11 +365,14 @@ TEST(InputMemory, ABlockBeyondTheEndOfTheFileIsAnError) {
     const TiffLayout strip{"far-strip.tif", 16, SAMPLEFORMAT_INT, COMPRESSION_LZW, PREDICTOR_NONE, 0, 100000, "w8"};
     expectRefused(strip, 700, 530, TIFFTAG_STRIPOFFSETS, 0, 1,
                   "damaged TIFF: strip 0 lies beyond the end of the file");
-    // RGB in separate planes, a layout left to OpenImageIO (which reads through libtiff too):
-    // refused before it reads.
+    // RGB in separate planes: the third plane's strip, which the block's decoding reads last.
     const TiffLayout planes{"far-planes.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_NONE, PREDICTOR_NONE, 0, 24, "w8", 3,
                             PLANARCONFIG_SEPARATE};
-    expectRefused(planes, 40, 24, TIFFTAG_STRIPOFFSETS, 2, 256,
+    expectRefused(planes, 40, 24, TIFFTAG_STRIPOFFSETS, 2, 256, "damaged TIFF: strip 2 lies beyond the end of the file");
+    // float64, a layout left to OpenImageIO (which reads through libtiff too): refused before it
+    // reads.
+    const TiffLayout doubles{"far-doubles.tif", 64, SAMPLEFORMAT_IEEEFP, COMPRESSION_NONE, PREDICTOR_NONE, 0, 8, "w8"};
+    expectRefused(doubles, 40, 24, TIFFTAG_STRIPOFFSETS, 2, 256,
                   "cannot read: damaged TIFF: strip 2 lies beyond the end of the file");
 }
 

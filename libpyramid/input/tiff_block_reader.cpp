@@ -1,6 +1,5 @@
 #include "libpyramid/input/tiff_block_reader.hpp"
 
-#include <libdeflate.h>
 #include <tiffio.h>
 
 #include <algorithm>
@@ -61,12 +60,16 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     const bool integer = (b->format_ == SAMPLEFORMAT_INT || b->format_ == SAMPLEFORMAT_UINT) &&
                          (b->bits_ == 8 || b->bits_ == 16 || b->bits_ == 32);
     const bool real = b->format_ == SAMPLEFORMAT_IEEEFP && b->bits_ == 32;
-    // One band of grey, or several interleaved: grey with extra samples, RGB, RGBA, JPEG's YCbCr
-    // (planes stored separately, palettes and other YCbCr are left to the image I/O module).
-    const bool layout = channels == static_cast<uint16_t>(info.channels) &&
-                        (photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3) ||
-                         b->ycbcrJpeg_) &&
-                        (channels == 1 || planar == PLANARCONFIG_CONTIG);
+    // One band of grey, or several: grey with extra samples, RGB, RGBA, interleaved or (not as
+    // JPEG) in separate planes; JPEG's YCbCr; 8-bit palette indices, widened to RGB (other YCbCr
+    // and palettes of other depths are left to the image I/O module).
+    const bool palette = photometric == PHOTOMETRIC_PALETTE && channels == 1 && b->bits_ == 8 &&
+                         b->format_ == SAMPLEFORMAT_UINT && !jpeg && info.channels == 3;
+    b->planes_ = planar == PLANARCONFIG_SEPARATE ? channels : 1;
+    const bool layout = (palette || (channels == static_cast<uint16_t>(info.channels) &&
+                                     (photometric == PHOTOMETRIC_MINISBLACK ||
+                                      (photometric == PHOTOMETRIC_RGB && channels >= 3) || b->ycbcrJpeg_))) &&
+                        (b->planes_ == 1 || !jpeg);
     const bool ok = (decoded || jpeg) && (integer || real) && layout &&
                     width == static_cast<uint32_t>(info.width) && height == static_cast<uint32_t>(info.height) &&
                     b->blockWidth_ > 0 && b->blockHeight_ > 0 && TIFFIsCODECConfigured(compression);
@@ -74,6 +77,22 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
         TIFFClose(tif);
         return nullptr;
     }
+    if (palette) {
+        // OpenImageIO's reading of the 16-bit colour map: each value divided by 257, rounded down.
+        uint16_t *red = nullptr, *green = nullptr, *blue = nullptr;
+        if (TIFFGetField(tif, TIFFTAG_COLORMAP, &red, &green, &blue) != 1 || !red || !green || !blue) {
+            TIFFClose(tif);
+            fail(path, "damaged TIFF: palette indices without a colour map");
+        }
+        b->palette_.resize(3 * 256);
+        for (size_t k = 0; k < 256; ++k) {
+            b->palette_[3 * k] = static_cast<uint8_t>(red[k] / 257);
+            b->palette_[3 * k + 1] = static_cast<uint8_t>(green[k] / 257);
+            b->palette_[3 * k + 2] = static_cast<uint8_t>(blue[k] / 257);
+        }
+    }
+    const uint32_t chunks = b->tiled_ ? TIFFNumberOfTiles(tif) : TIFFNumberOfStrips(tif);
+    b->chunksPerPlane_ = chunks / b->planes_;
     uint16_t predictor = PREDICTOR_NONE;
     TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &predictor);
     b->floatPredictorDeflate_ = real && channels == 1 && predictor == PREDICTOR_FLOATINGPOINT &&
@@ -92,12 +111,16 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     }
     b->blocksAcross_ = (width + b->blockWidth_ - 1) / b->blockWidth_;
     const size_t budget = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
-    b->channels_ = channels;
+    b->channels_ = palette ? 3 : channels;
     const size_t blockBytes = static_cast<size_t>(b->blockWidth_) * b->blockHeight_ * b->pixelBytes();
+    const uint32_t blocksDown = (height + b->blockHeight_ - 1) / b->blockHeight_;
     // Blocks up to a quarter of the budget: the cache keeps at least four, which the reads of
     // a window across block boundaries need.
     if (blockBytes <= budget / 4) {
         b->cache_ = std::make_unique<BlockCache>(budget, blockBytes);
+    } else if (!b->tiled_ && (b->planes_ > 1 || palette)) {
+        TIFFClose(tif); // huge strips of planes or indices: streamed by the image I/O module
+        return nullptr;
     } else if (b->tiled_) {
         TIFFClose(tif);
         const size_t megabytes = (blockBytes + (size_t{1} << 20) - 1) >> 20;
@@ -105,6 +128,12 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
                                          std::to_string(b->blockHeight_) + " samples (" + std::to_string(megabytes) +
                                          " MB decoded) need a cache of at least " + std::to_string(4 * megabytes) +
                                          " MB, not " + std::to_string(cacheMegabytes));
+    }
+    if (b->planes_ > 1 && (b->chunksPerPlane_ != b->blocksAcross_ * blocksDown || chunks % b->planes_ != 0)) {
+        TIFFClose(tif);
+        fail(path, "damaged TIFF: " + std::to_string(chunks) + (b->tiled_ ? " tiles" : " strips") + " for " +
+                       std::to_string(b->planes_) + " planes of " + std::to_string(b->blocksAcross_ * blocksDown) +
+                       " blocks");
     }
     if (b->jpeg_) {
         TIFFClose(tif); // opened again as every JPEG handle is (openHandle)
@@ -265,86 +294,6 @@ TIFF* TiffBlockReader::openHandle() const {
         TIFFSetField(tif, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB); // every handle decodes to RGB
     }
     return tif;
-}
-
-namespace {
-
-struct DecompressorDeleter {
-    void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
-};
-
-} // namespace
-
-// Deflate with the floating-point predictor, decoded here rather than by libtiff, whose
-// byte-at-a-time undoing of the predictor costs several times the inflation itself: the raw
-// block is inflated by libdeflate (TIFF's Deflate is a zlib stream) and the predictor undone
-// row by row. False when the block is not what this expects; libtiff then decodes it.
-bool TiffBlockReader::decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows,
-                                                  std::vector<uint8_t>& bytes) const {
-    const uint64_t rawBytes = TIFFGetStrileByteCount(tif, index);
-    // Deflate never grows data by more than a few bytes per 16 KB: a larger count is damage,
-    // which libtiff's own path then reports, without this allocating it.
-    const uint64_t plainBytes = static_cast<uint64_t>(blockWidth_) * rows * 4;
-    if (rawBytes == 0 || rawBytes > plainBytes + plainBytes / 64 + 4096) {
-        return false;
-    }
-    thread_local std::vector<uint8_t> raw, plain;
-    raw.resize(static_cast<size_t>(rawBytes));
-    const tmsize_t got = tiled_ ? TIFFReadRawTile(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()))
-                                : TIFFReadRawStrip(tif, index, raw.data(), static_cast<tmsize_t>(raw.size()));
-    if (got != static_cast<tmsize_t>(raw.size())) {
-        return false;
-    }
-    const size_t rowBytes = static_cast<size_t>(blockWidth_) * 4;
-    plain.resize(rowBytes * rows);
-    thread_local std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> inflater(libdeflate_alloc_decompressor());
-    size_t produced = 0;
-    if (!inflater || libdeflate_zlib_decompress(inflater.get(), raw.data(), raw.size(), plain.data(), plain.size(),
-                                                &produced) != LIBDEFLATE_SUCCESS ||
-        produced != plain.size()) {
-        return false;
-    }
-    bytes.resize(rowBytes * blockHeight_);
-    for (uint32_t r = 0; r < rows; ++r) {
-        undoFloatPredictor(plain.data() + r * rowBytes, blockWidth_, bytes.data() + r * rowBytes);
-    }
-    return true;
-}
-
-void TiffBlockReader::decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& bytes) const {
-    if (!strileInFile(tif, index)) {
-        fail(path_, std::string("damaged TIFF: ") + (tiled_ ? "tile " : "strip ") + std::to_string(index) +
-                        " lies beyond the end of the file");
-    }
-    if (floatPredictorDeflate_) {
-        // Every row of a tile is stored; a strip holds the rows left at the image's bottom.
-        const uint32_t rows = tiled_ ? blockHeight_ : std::min(blockHeight_, height_ - (index * blockHeight_));
-        if (decodeFloatPredictorDeflate(tif, index, rows, bytes)) {
-            return;
-        }
-    }
-    // Decoded in place, as libtiff gives the samples: host order, predictors undone.
-    const auto size = static_cast<tmsize_t>(bytes.size());
-    if (jpeg_) {
-        takeJpegWarning(); // none of an earlier block's
-    }
-    const tmsize_t got = tiled_ ? TIFFReadEncodedTile(tif, index, bytes.data(), size)
-                                : TIFFReadEncodedStrip(tif, index, bytes.data(), size);
-    // The last strip may hold fewer rows; missing rows are never read (outside the image).
-    if (got < 0) {
-        fail(path_, std::string("read failed: cannot decode ") + (tiled_ ? "tile " : "strip ") + std::to_string(index));
-    }
-    failOnJpegWarning(std::string(tiled_ ? "tile " : "strip ") + std::to_string(index));
-}
-
-// libjpeg decodes corrupt data on, warning once: the block is refused rather than used.
-void TiffBlockReader::failOnJpegWarning(const std::string& where) const {
-    if (jpeg_) {
-        const std::string warning = takeJpegWarning();
-        if (!warning.empty()) {
-            fail(path_, "damaged JPEG data in " + where + ": " + warning);
-        }
-    }
 }
 
 } // namespace pyramid

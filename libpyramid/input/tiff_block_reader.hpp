@@ -1,5 +1,6 @@
-// TIFF files of 8, 16 or 32-bit integers or float32, one band or several interleaved (grey,
-// grey and alpha, RGB, RGBA), compressed or not, striped or tiled, BigTIFF or not (whatever
+// TIFF files of 8, 16 or 32-bit integers or float32, one band or several (grey, grey and alpha,
+// RGB, RGBA; interleaved, or in separate planes within the cache), or 8-bit palette indices
+// (widened to their RGB colours), compressed or not, striped or tiled, BigTIFF or not (whatever
 // libtiff decodes losslessly, LERC, WebP, and JPEG of 8-bit samples, YCbCr decoded to RGB by
 // libjpeg as OpenImageIO decodes it), in memory bounded by the cache budget whatever the file's size
 // and layout:
@@ -64,7 +65,13 @@ private:
     // `pixels` decoded pixels at `from`, channels [c0, c0 + wanted) of each, converted to T.
     template <typename T>
     void convertPixels(const uint8_t* from, size_t pixels, size_t c0, size_t wanted, T* to) const;
+    // Block `index` (the chunk index of the first plane) as the cache holds it: interleaved
+    // samples, palette indices widened.
     void decode(TIFF* tif, uint32_t index, std::vector<uint8_t>& bytes) const;
+    // Chunk `chunk` as libtiff decodes it (or decodeFloatPredictorDeflate), into `bytes`.
+    void decodeChunk(TIFF* tif, uint32_t chunk, std::vector<uint8_t>& bytes) const;
+    // A block assembled from its planes' chunks, or widened from its palette indices.
+    void decodeAssembled(TIFF* tif, uint32_t index, std::vector<uint8_t>& bytes) const;
     void failOnJpegWarning(const std::string& where) const;
     bool decodeFloatPredictorDeflate(TIFF* tif, uint32_t index, uint32_t rows, std::vector<uint8_t>& bytes) const;
     size_t pixelBytes() const { return static_cast<size_t>(channels_) * (bits_ / 8u); }
@@ -73,6 +80,9 @@ private:
     uint32_t width_ = 0, height_ = 0;
     uint32_t blockWidth_ = 0, blockHeight_ = 0, blocksAcross_ = 0;
     uint32_t channels_ = 1; // interleaved samples per pixel, in blocks and scratch rows alike
+    uint32_t planes_ = 1;   // chunks per block: the bands of a file of separate planes
+    uint32_t chunksPerPlane_ = 0;
+    std::vector<uint8_t> palette_; // RGB per index, for a file of palette indices (else empty)
     uint16_t bits_ = 0, format_ = 1; // SAMPLEFORMAT_UINT
     bool tiled_ = false;
     bool floatPredictorDeflate_ = false; // float32, Deflate, Predictor = 3: decoded here

@@ -26,11 +26,16 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     TIFFGetFieldDefaulted(tif, TIFFTAG_PLANARCONFIG, &planar);
     TIFFClose(tif);
 
-    // YCbCr only as JPEG stores it, which libjpeg decodes to RGB (tiff_block_reader.hpp).
+    // YCbCr only as JPEG stores it, which libjpeg decodes to RGB; 8-bit palette indices, widened
+    // to RGB; bands in separate planes, but not as JPEG (tiff_block_reader.hpp).
+    const bool palette = photometric == PHOTOMETRIC_PALETTE && channels == 1 && bits == 8 &&
+                         format == SAMPLEFORMAT_UINT && compression != COMPRESSION_JPEG;
     const bool photometricOk = photometric == PHOTOMETRIC_MINISBLACK || (photometric == PHOTOMETRIC_RGB && channels >= 3) ||
                                (photometric == PHOTOMETRIC_YCBCR && compression == COMPRESSION_JPEG && channels == 3 &&
-                                bits == 8 && format == SAMPLEFORMAT_UINT);
-    const bool layoutOk = planar == PLANARCONFIG_CONTIG || channels == 1;
+                                bits == 8 && format == SAMPLEFORMAT_UINT) ||
+                               palette;
+    const bool layoutOk = planar == PLANARCONFIG_CONTIG || channels == 1 ||
+                          (planar == PLANARCONFIG_SEPARATE && compression != COMPRESSION_JPEG);
     SampleType type = SampleType::Other;
     if (format == SAMPLEFORMAT_UINT || format == SAMPLEFORMAT_INT) {
         const bool s = format == SAMPLEFORMAT_INT;
@@ -48,7 +53,7 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     RasterInfo info;
     info.width = static_cast<int>(width);
     info.height = static_cast<int>(height);
-    info.channels = channels;
+    info.channels = palette ? 3 : channels;
     info.type = type;
     info.formatName = "tiff";
     info.nodata = geoTiffNodata(path);

@@ -1,0 +1,156 @@
+// TIFF layouts whose blocks are not the samples as they stand, read block by block without the
+// image I/O module, with the samples OpenImageIO gives: bands stored in separate planes (one
+// chunk per band, interleaved as each block is decoded) and 8-bit palette indices (widened to
+// their colours). Strips of such files too large for the cache are left to the module, with the
+// same samples.
+#include <gtest/gtest.h>
+
+#include <tiffio.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "formats/error.hpp"
+#include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/input/tiff_block_reader.hpp"
+#include "tests/support/oiio_reference.hpp"
+#include "tests/support/paths.hpp"
+
+namespace pyramid {
+namespace {
+
+using test::expectSameAsOpenImageIO;
+
+// A TIFF written with libtiff: `channels` bands of `bits`-bit samples (`format`), interleaved or
+// in separate planes, or 8-bit palette indices (`palette`); in strips of `rows` or tiles of
+// `tile`. Every sample differs from its neighbours and its bands.
+struct TiffLayout {
+    std::string name;
+    int channels, bits;
+    uint16_t format = SAMPLEFORMAT_UINT, planar = PLANARCONFIG_SEPARATE, compression = COMPRESSION_ADOBE_DEFLATE;
+    int tile = 0, rows = 8;
+    bool palette = false;
+};
+
+void writeTiff(const std::string& path, const TiffLayout& l, int w, int h) {
+    TIFF* tif = TIFFOpen(path.c_str(), "w");
+    ASSERT_TRUE(tif);
+    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, w);
+    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, h);
+    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, l.channels);
+    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, l.bits);
+    TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, l.format);
+    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, l.planar);
+    TIFFSetField(tif, TIFFTAG_COMPRESSION, l.compression);
+    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC,
+                 l.palette ? PHOTOMETRIC_PALETTE : l.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+    if (l.channels == 2 || l.channels == 4) {
+        const uint16_t extra = EXTRASAMPLE_UNASSALPHA;
+        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, 1, &extra);
+    }
+    std::vector<uint16_t> red(256), green(256), blue(256);
+    if (l.palette) {
+        // Entries that are not multiples of 257: divided by 257, rounded down, and their high
+        // bytes are not always the same colours.
+        for (int k = 0; k < 256; ++k) {
+            red[k] = static_cast<uint16_t>(k * 251 + 7);
+            green[k] = static_cast<uint16_t>(65535 - k * 199);
+            blue[k] = static_cast<uint16_t>((k * 4099) % 65536);
+        }
+        TIFFSetField(tif, TIFFTAG_COLORMAP, red.data(), green.data(), blue.data());
+    }
+    if (l.tile) {
+        TIFFSetField(tif, TIFFTAG_TILEWIDTH, l.tile);
+        TIFFSetField(tif, TIFFTAG_TILELENGTH, l.tile);
+    } else {
+        TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, l.rows);
+    }
+    const int planes = l.planar == PLANARCONFIG_SEPARATE ? l.channels : 1;
+    const int perPixel = l.channels / planes, sampleBytes = l.bits / 8;
+    // Sample c of pixel (x, y), as bytes of the file's type.
+    const auto sample = [&](int x, int y, int c, uint8_t* to) {
+        const int v = (x * 37 + y * 101 + c * 53 + x * y) % 251;
+        if (l.format == SAMPLEFORMAT_IEEEFP) {
+            const float f = static_cast<float>(v) * 1.25f - 77.5f;
+            std::memcpy(to, &f, 4);
+        } else if (l.bits == 16) {
+            const auto u = static_cast<uint16_t>(v * 257 + c);
+            std::memcpy(to, &u, 2);
+        } else {
+            *to = static_cast<uint8_t>(v);
+        }
+    };
+    const int bw = l.tile ? l.tile : w, bh = l.tile ? l.tile : l.rows;
+    std::vector<uint8_t> block(static_cast<size_t>(bw * bh * perPixel * sampleBytes));
+    for (int p = 0; p < planes; ++p) {
+        for (int by = 0; by < h; by += bh) {
+            for (int bx = 0; bx < w; bx += bw) {
+                const int rows = l.tile ? bh : std::min(bh, h - by);
+                for (int y = 0; y < rows; ++y) {
+                    for (int x = 0; x < bw; ++x) {
+                        for (int c = 0; c < perPixel; ++c) {
+                            uint8_t* to = block.data() + ((y * bw + x) * perPixel + c) * sampleBytes;
+                            sample(std::min(bx + x, w - 1), std::min(by + y, h - 1), planes > 1 ? p : c, to);
+                        }
+                    }
+                }
+                const auto bytes = static_cast<tmsize_t>(rows * bw * perPixel * sampleBytes);
+                const tmsize_t written =
+                    l.tile ? TIFFWriteEncodedTile(tif, TIFFComputeTile(tif, bx, by, 0, static_cast<uint16_t>(p)),
+                                                  block.data(), bytes)
+                           : TIFFWriteEncodedStrip(tif, TIFFComputeStrip(tif, by, static_cast<uint16_t>(p)),
+                                                   block.data(), bytes);
+                ASSERT_EQ(written, bytes) << path;
+            }
+        }
+    }
+    TIFFClose(tif);
+}
+
+// Separate planes (8 and 16-bit, float32; tiled and striped, the last strip short; compressed or
+// not) and palettes (tiled and striped) read block by block as OpenImageIO reads them.
+TEST(RasterReaders, PlanesAndPalettesAreReadBlockByBlockAsOpenImageIOReadsThem) {
+    test::TempDir dir;
+    const std::vector<TiffLayout> layouts = {
+        {"rgb8-planes-tiled.tif", 3, 8, SAMPLEFORMAT_UINT, PLANARCONFIG_SEPARATE, COMPRESSION_ADOBE_DEFLATE, 16},
+        {"rgba8-planes-strips.tif", 4, 8, SAMPLEFORMAT_UINT, PLANARCONFIG_SEPARATE, COMPRESSION_LZW, 0, 8},
+        {"rgb16-planes-none.tif", 3, 16, SAMPLEFORMAT_UINT, PLANARCONFIG_SEPARATE, COMPRESSION_NONE, 0, 5},
+        {"greyalpha16-planes-tiled.tif", 2, 16, SAMPLEFORMAT_UINT, PLANARCONFIG_SEPARATE, COMPRESSION_ADOBE_DEFLATE,
+         32},
+        {"f32x2-planes.tif", 2, 32, SAMPLEFORMAT_IEEEFP, PLANARCONFIG_SEPARATE, COMPRESSION_ADOBE_DEFLATE, 0, 7},
+        {"palette-tiled.tif", 1, 8, SAMPLEFORMAT_UINT, PLANARCONFIG_CONTIG, COMPRESSION_ADOBE_DEFLATE, 16, 0, true},
+        {"palette-strips.tif", 1, 8, SAMPLEFORMAT_UINT, PLANARCONFIG_CONTIG, COMPRESSION_NONE, 0, 6, true},
+    };
+    for (const TiffLayout& l : layouts) {
+        SCOPED_TRACE(l.name);
+        const std::string path = dir.file(l.name);
+        writeTiff(path, l, 61, 37);
+        const RasterInfo info = RasterSource::describe(path);
+        EXPECT_EQ(info.channels, l.palette ? 3 : l.channels);
+        EXPECT_NE(TiffBlockReader::open(path, info, 256), nullptr);
+        expectSameAsOpenImageIO(path);
+    }
+}
+
+// Strips of planes or palette indices larger than a quarter of the cache are not decoded here
+// (a block would need every plane's strip at once): the module reads them, with the same
+// samples.
+TEST(RasterReaders, HugeStripsOfPlanesAndPalettesAreLeftToTheModule) {
+    test::TempDir dir;
+    for (const TiffLayout& l : {TiffLayout{"planes-one-strip.tif", 3, 8, SAMPLEFORMAT_UINT, PLANARCONFIG_SEPARATE,
+                                           COMPRESSION_ADOBE_DEFLATE, 0, 700},
+                                TiffLayout{"palette-one-strip.tif", 1, 8, SAMPLEFORMAT_UINT, PLANARCONFIG_CONTIG,
+                                           COMPRESSION_ADOBE_DEFLATE, 0, 700, true}}) {
+        SCOPED_TRACE(l.name);
+        const std::string path = dir.file(l.name);
+        writeTiff(path, l, 700, 700); // one strip of 1.4 MB decoded, more than a 1 MB cache's quarter
+        EXPECT_EQ(TiffBlockReader::open(path, RasterSource::describe(path), 1), nullptr);
+        expectSameAsOpenImageIO(path, 1);
+    }
+}
+
+} // namespace
+} // namespace pyramid
