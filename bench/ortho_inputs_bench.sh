@@ -32,6 +32,13 @@
 #                           (textures/milkyway.png, 2048 x 1024 RGBA PNG: 256-tiles, pixel for
 #                           pixel). The three were added with the Moon's change of defaults, and
 #                           not tuned on
+#   pleiades-png.png        stellarium-data's Pleiades (nebulae/default/pleiades.png, 1024^2, a
+#                           palette PNG: 256 colours), as shipped
+#   bluemarble-planes.tif, bluemarble-palette.tif  bluemarble-2700 upsampled to 4096 x 2048,
+#                           Deflate in 256^2 tiles: bands in separate planes, and 8-bit palette
+#                           indices (libtiff-tools' tiffmedian). The three were added with the
+#                           direct reading of their layouts (before: the image I/O module), and not
+#                           tuned on
 #   landsat-3072.tif        r-cran-stars' Landsat 7 scene (L7_ETMs.tif, 349 x 352, bands 3, 2, 1:
 #                           true colour) repeated 9 x 9 and cut to 3072^2
 #   landsat-352.tif         the same scene at its own size (176-tiles, pixel for pixel)
@@ -39,8 +46,8 @@
 #                           alternated in a 9 x 12 mosaic cut to 6144^2
 # Every run takes the default tiles (--tile-size auto), which encode the 6144^2 and 3072^2 inputs
 # pixel for pixel on 192-tiles, as the COG stores them.
-# Every input but the shipped JPEGs is an uncompressed striped RGB TIFF; all are read by both
-# tools from the page cache.
+# Every input but the shipped JPEGs and PNGs and the last two TIFFs is an uncompressed striped
+# RGB TIFF; all are read by both tools from the page cache.
 #
 # One table: per input, REPEAT default runs each followed by a GDAL run (A B A B ...), the
 # median wall times and the median of the pairs' ratios, our peak RSS and bytes, GDAL's bytes.
@@ -57,6 +64,7 @@ read -r -a EXTRA_ARGS <<<"${EXTRA:-}"
 source "$ROOT/bench/common.sh"
 need_bench_tools
 need_package oiiotool openimageio-tools
+need_package tiffmedian libtiff-tools
 if [ -z "${ORTHO:-}" ]; then
     build_programs preprocessOrtho
     ORTHO=$(program_path preprocessOrtho)
@@ -106,6 +114,19 @@ make_input bluemarble-6144x3072 oiiotool bluemarble-2700.tif --resize 6144x3072 
 unpack stellarium-data
 [ -f moon-jpeg.jpg ] || cp debs/stellarium-data/usr/share/stellarium/textures/moon_4k.jpg moon-jpeg.jpg
 [ -f milkyway-png.png ] || cp debs/stellarium-data/usr/share/stellarium/textures/milkyway.png milkyway-png.png
+# Added with their layouts' direct reading (not tuned on): a palette PNG, and the Blue Marble
+# with its bands in separate planes and as palette indices (tiffmedian's 256 colours), both at
+# 4096 x 2048 in Deflate tiles of 256^2.
+[ -f pleiades-png.png ] || cp debs/stellarium-data/usr/share/stellarium/nebulae/default/pleiades.png pleiades-png.png
+make_input bluemarble-planes oiiotool bluemarble-2700.tif --resize 4096x2048 -d uint8 --planarconfig separate \
+    --compression zip --tile 256 256 -o bluemarble-planes.part.tif
+bluemarble_palette() {
+    oiiotool bluemarble-2700.tif --resize 4096x2048 "${TIFF[@]}" -o bluemarble-4096.tif
+    tiffmedian bluemarble-4096.tif bluemarble-median.tif
+    tiffcp -c zip -t -w 256 -l 256 bluemarble-median.tif bluemarble-palette.part.tif
+    rm bluemarble-4096.tif bluemarble-median.tif
+}
+make_input bluemarble-palette bluemarble_palette
 
 unpack r-cran-stars
 LANDSAT=debs/r-cran-stars/usr/lib/R/site-library/stars/tif/L7_ETMs.tif
@@ -137,7 +158,7 @@ kodak_6144() {
 }
 make_input kodak-6144 kodak_6144
 
-INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg moon-jpeg moon-jpeg-192 schagen-jpeg clementine-jpeg milkyway-png}
+INPUTS=${INPUTS:-noisy-6144 bluemarble-6144x3072 synthetic-6144 kodak-6144 landsat-3072 bluemarble-2700 citylights-2700 landsat-352 bluemarble-jpeg citylights-jpeg moon-jpeg moon-jpeg-192 schagen-jpeg clementine-jpeg milkyway-png pleiades-png bluemarble-planes bluemarble-palette}
 # input NAME: the file of input NAME (NAME.jpg or NAME.png for the shipped images, moon-jpeg.jpg for
 # moon-jpeg-192, else NAME.tif).
 input() { if [ "$1" = moon-jpeg-192 ]; then echo moon-jpeg.jpg; elif [ -f "$1.jpg" ]; then echo "$1.jpg"; elif [ -f "$1.png" ]; then echo "$1.png"; else echo "$1.tif"; fi; }
