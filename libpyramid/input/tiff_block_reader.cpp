@@ -59,7 +59,7 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     b->ycbcrJpeg_ = jpeg && photometric == PHOTOMETRIC_YCBCR && channels == 3;
     const bool integer = (b->format_ == SAMPLEFORMAT_INT || b->format_ == SAMPLEFORMAT_UINT) &&
                          (b->bits_ == 8 || b->bits_ == 16 || b->bits_ == 32);
-    const bool real = b->format_ == SAMPLEFORMAT_IEEEFP && b->bits_ == 32;
+    const bool real = b->format_ == SAMPLEFORMAT_IEEEFP && (b->bits_ == 32 || b->bits_ == 64);
     // One band of grey, or several: grey with extra samples, RGB, RGBA, interleaved or (not as
     // JPEG) in separate planes; JPEG's YCbCr; 8-bit palette indices, widened to RGB (other YCbCr
     // and palettes of other depths are left to the image I/O module).
@@ -95,7 +95,7 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     b->chunksPerPlane_ = chunks / b->planes_;
     uint16_t predictor = PREDICTOR_NONE;
     TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &predictor);
-    b->floatPredictorDeflate_ = real && channels == 1 && predictor == PREDICTOR_FLOATINGPOINT &&
+    b->floatPredictorDeflate_ = real && b->bits_ == 32 && channels == 1 && predictor == PREDICTOR_FLOATINGPOINT &&
                                 (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE);
     // A tile may reach past the image (to a multiple of 16, or a writer's usual size such as
     // 512 for a small image), never far beyond: anything larger is a damaged or hostile

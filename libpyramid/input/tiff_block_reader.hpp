@@ -1,4 +1,5 @@
-// TIFF files of 8, 16 or 32-bit integers or float32, one band or several (grey, grey and alpha,
+// TIFF files of 8, 16 or 32-bit integers, float32 or float64 (read as float32, to the nearest:
+// OpenImageIO 2.4 reads tiled float64 as zeros), one band or several (grey, grey and alpha,
 // RGB, RGBA; interleaved, or in separate planes within the cache), or 8-bit palette indices
 // (widened to their RGB colours), compressed or not, striped or tiled, BigTIFF or not (whatever
 // libtiff decodes losslessly, LERC, WebP, and JPEG of 8-bit samples, YCbCr decoded to RGB by

@@ -82,7 +82,13 @@ void swapSampleBytes(uint8_t* row, size_t count, int bits) {
 
 void samplesToFloat(const uint8_t* raw, size_t count, int bits, int sampleFormat, float* out) {
     const bool isSigned = sampleFormat == 2;
-    if (sampleFormat == 3) {
+    if (sampleFormat == 3 && bits == 64) {
+        for (size_t i = 0; i < count; ++i) {
+            double d;
+            std::memcpy(&d, raw + 8 * i, sizeof d);
+            out[i] = static_cast<float>(d); // to the nearest float32, as OpenImageIO converts it
+        }
+    } else if (sampleFormat == 3) {
         std::memcpy(out, raw, count * sizeof(float));
     } else if (bits == 8) {
         isSigned ? convert<int8_t>(raw, count, out) : convert<uint8_t>(raw, count, out);

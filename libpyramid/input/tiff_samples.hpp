@@ -23,9 +23,9 @@ void undoHorizontalPredictor(uint8_t* row, size_t count, int bits, int channels 
 // byte order).
 void swapSampleBytes(uint8_t* row, size_t count, int bits);
 
-// `count` samples of `bits` bits (8, 16 or 32), signed or unsigned integers or float32
-// (`sampleFormat` as TIFF's SampleFormat: 1 unsigned, 2 signed, 3 IEEE float), host order, to
-// float32 by value.
+// `count` samples of `bits` bits (8, 16 or 32), signed or unsigned integers, or float32 or
+// float64 (`sampleFormat` as TIFF's SampleFormat: 1 unsigned, 2 signed, 3 IEEE float), host
+// order, to float32 by value (float64 to the nearest float32).
 void samplesToFloat(const uint8_t* raw, size_t count, int bits, int sampleFormat, float* out);
 
 // `count` unsigned samples of 8 or 16 bits, host order, as 16-bit values (8-bit ones widened

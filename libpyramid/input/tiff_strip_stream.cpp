@@ -87,10 +87,12 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
     if (l.predictor == PREDICTOR_FLOATINGPOINT) {
         floats.resize(l.rowBytes());
     }
-    // The floating-point predictor of interleaved samples is left to libtiff.
+    // The floating-point predictor of interleaved samples, or of float64, and any predictor of
+    // 64-bit samples, are left to libtiff.
     const bool streamed = (l.compression == COMPRESSION_NONE || l.compression == COMPRESSION_ADOBE_DEFLATE ||
                            l.compression == COMPRESSION_DEFLATE) &&
-                          (l.channels == 1 || l.predictor != PREDICTOR_FLOATINGPOINT);
+                          (l.predictor != PREDICTOR_FLOATINGPOINT || (l.channels == 1 && l.bits == 32)) &&
+                          (l.bits != 64 || l.predictor == PREDICTOR_NONE);
     if (!streamed) {
         for (uint32_t s = 0; s < TIFFNumberOfStrips(tif); ++s) {
             if (!strileInFile(tif, s)) {
