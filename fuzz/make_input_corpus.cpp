@@ -26,7 +26,9 @@ struct Tiff {
     uint16_t bits, format, compression, predictor;
     uint32_t tile, rowsPerStrip; // rowsPerStrip 0: the whole image in one strip
     const char* mode;
-    uint16_t channels = 1; // interleaved; RGB from 3
+    uint16_t channels = 1; // RGB from 3
+    bool separate = false; // bands in separate planes (else interleaved)
+    bool palette = false;  // 8-bit indices into a colour map
 };
 
 bool writeTiff(const std::string& dir, const Tiff& l) {
@@ -41,21 +43,35 @@ bool writeTiff(const std::string& dir, const Tiff& l) {
     TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, l.bits);
     TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, l.format);
     TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, l.channels);
-    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, l.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC,
+                 l.palette ? PHOTOMETRIC_PALETTE : l.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
     if (l.channels > 1) {
-        TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+        TIFFSetField(t, TIFFTAG_PLANARCONFIG, l.separate ? PLANARCONFIG_SEPARATE : PLANARCONFIG_CONTIG);
+    }
+    std::vector<uint16_t> map(3 * 256);
+    if (l.palette) {
+        for (size_t k = 0; k < map.size(); ++k) {
+            map[k] = static_cast<uint16_t>(k * 2654435761u >> 16);
+        }
+        TIFFSetField(t, TIFFTAG_COLORMAP, map.data(), map.data() + 256, map.data() + 512);
     }
     TIFFSetField(t, TIFFTAG_COMPRESSION, l.compression);
     if (l.predictor != PREDICTOR_NONE) {
         TIFFSetField(t, TIFFTAG_PREDICTOR, l.predictor);
     }
     const size_t sampleBytes = l.bits / 8u;
-    const size_t bytes = sampleBytes * l.channels; // of a pixel
+    const uint16_t planes = l.separate ? l.channels : 1, perPixel = l.channels / planes;
+    const size_t bytes = sampleBytes * perPixel; // of a pixel in a block
+    uint16_t plane = 0;                          // the plane being written (separate planes)
     const auto sample = [&](uint32_t x, uint32_t y, uint8_t* pixel) {
-        for (uint32_t c = 0; c < l.channels; ++c) {
-            uint8_t* to = pixel + c * sampleBytes;
+        for (uint32_t k = 0; k < perPixel; ++k) {
+            const uint32_t c = l.separate ? plane : k;
+            uint8_t* to = pixel + k * sampleBytes;
             const double v = static_cast<double>((x * 37 + y * 101 + c * 53) % 997) - 300.0;
-            if (l.format == SAMPLEFORMAT_IEEEFP) {
+            if (l.format == SAMPLEFORMAT_IEEEFP && l.bits == 64) {
+                const double d = v / 3.0;
+                std::memcpy(to, &d, 8);
+            } else if (l.format == SAMPLEFORMAT_IEEEFP) {
                 const auto f = static_cast<float>(v * 0.5);
                 std::memcpy(to, &f, 4);
             } else if (sampleBytes == 2) {
@@ -71,35 +87,44 @@ bool writeTiff(const std::string& dir, const Tiff& l) {
         TIFFSetField(t, TIFFTAG_TILEWIDTH, tile);
         TIFFSetField(t, TIFFTAG_TILELENGTH, tile);
         std::vector<uint8_t> block(static_cast<size_t>(tile) * tile * bytes);
-        for (uint32_t ty = 0; ty < height; ty += tile) {
-            for (uint32_t tx = 0; tx < width; tx += tile) {
-                std::memset(block.data(), 0, block.size());
-                for (uint32_t y = ty; y < ty + tile && y < height; ++y) {
-                    for (uint32_t x = tx; x < tx + tile && x < width; ++x) {
-                        sample(x, y, block.data() + ((y - ty) * tile + (x - tx)) * bytes);
+        for (plane = 0; plane < planes; ++plane) {
+            for (uint32_t ty = 0; ty < height; ty += tile) {
+                for (uint32_t tx = 0; tx < width; tx += tile) {
+                    std::memset(block.data(), 0, block.size());
+                    for (uint32_t y = ty; y < ty + tile && y < height; ++y) {
+                        for (uint32_t x = tx; x < tx + tile && x < width; ++x) {
+                            sample(x, y, block.data() + ((y - ty) * tile + (x - tx)) * bytes);
+                        }
                     }
+                    TIFFWriteEncodedTile(t, TIFFComputeTile(t, tx, ty, 0, plane), block.data(),
+                                         static_cast<tmsize_t>(block.size()));
                 }
-                TIFFWriteEncodedTile(t, TIFFComputeTile(t, tx, ty, 0, 0), block.data(), static_cast<tmsize_t>(block.size()));
             }
         }
     } else {
         TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, rows);
-        for (uint32_t y0 = 0; y0 < height; y0 += rows) {
-            const uint32_t n = y0 + rows <= height ? rows : height - y0;
-            std::vector<uint8_t> strip(static_cast<size_t>(width) * n * bytes);
-            for (uint32_t y = y0; y < y0 + n; ++y) {
-                for (uint32_t x = 0; x < width; ++x) {
-                    sample(x, y, strip.data() + ((y - y0) * width + x) * bytes);
+        for (plane = 0; plane < planes; ++plane) {
+            for (uint32_t y0 = 0; y0 < height; y0 += rows) {
+                const uint32_t n = y0 + rows <= height ? rows : height - y0;
+                std::vector<uint8_t> strip(static_cast<size_t>(width) * n * bytes);
+                for (uint32_t y = y0; y < y0 + n; ++y) {
+                    for (uint32_t x = 0; x < width; ++x) {
+                        sample(x, y, strip.data() + ((y - y0) * width + x) * bytes);
+                    }
                 }
+                TIFFWriteEncodedStrip(t, TIFFComputeStrip(t, y0, plane), strip.data(),
+                                      static_cast<tmsize_t>(strip.size()));
             }
-            TIFFWriteEncodedStrip(t, TIFFComputeStrip(t, y0, 0), strip.data(), static_cast<tmsize_t>(strip.size()));
         }
     }
     TIFFClose(t);
     return true;
 }
 
-bool writePng(const std::string& dir, const char* name, int depth, int colour, int channels, bool interlaced) {
+// A PNG of `channels` samples of `depth` bits a pixel (a palette's index: `channels` 1), with a
+// transparency chunk for a palette or grey image when `transparent`.
+bool writePng(const std::string& dir, const char* name, int depth, int colour, int channels, bool interlaced,
+              bool transparent = false) {
     std::FILE* f = std::fopen((dir + "/" + name).c_str(), "wb");
     if (!f) {
         return false;
@@ -109,8 +134,23 @@ bool writePng(const std::string& dir, const char* name, int depth, int colour, i
     png_init_io(png, f);
     png_set_IHDR(png, info, kWidth, kHeight, depth, colour, interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    std::vector<png_color> palette(static_cast<size_t>(1) << depth);
+    std::vector<png_byte> alphas(palette.size());
+    for (size_t k = 0; k < palette.size(); ++k) {
+        palette[k] = {static_cast<png_byte>(k * 7), static_cast<png_byte>(255 - k), static_cast<png_byte>(k * k)};
+        alphas[k] = static_cast<png_byte>(k * 31);
+    }
+    if (colour == PNG_COLOR_TYPE_PALETTE) {
+        png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
+    }
+    png_color_16 key{};
+    key.gray = 1;
+    if (transparent) {
+        png_set_tRNS(png, info, alphas.data(), colour == PNG_COLOR_TYPE_PALETTE ? static_cast<int>(alphas.size()) : 0,
+                     &key);
+    }
     png_write_info(png, info);
-    const size_t rowBytes = static_cast<size_t>(kWidth) * channels * (depth / 8);
+    const size_t rowBytes = (static_cast<size_t>(kWidth) * channels * depth + 7) / 8;
     std::vector<uint8_t> image(rowBytes * kHeight);
     for (size_t k = 0; k < image.size(); ++k) {
         image[k] = static_cast<uint8_t>((k * 2654435761u) >> 24);
@@ -179,6 +219,11 @@ int main(int argc, char** argv) {
         {"u16-none-one-strip.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_NONE, PREDICTOR_NONE, 0, 0, "w"},
         {"rgb8-deflate-p2-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 16, 0, "w", 3},
         {"rgba16-deflate-p2-one-strip-be.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_HORIZONTAL, 0, 0, "wb", 4},
+        {"rgb8-planes-deflate-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 16, 0, "w", 3, true},
+        {"rgba16-planes-lzw-strips-be.tif", 16, SAMPLEFORMAT_UINT, COMPRESSION_LZW, PREDICTOR_HORIZONTAL, 0, 5, "wb", 4, true},
+        {"palette-deflate-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 16, 0, "w", 1, false, true},
+        {"f64-deflate-p3-tiled.tif", 64, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_FLOATINGPOINT, 16, 0, "w"},
+        {"f64-deflate-one-strip.tif", 64, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 0, 0, "w"},
     };
     bool ok = true;
     for (const Tiff& t : tiffs) {
@@ -187,6 +232,8 @@ int main(int argc, char** argv) {
     ok = writePng(dir, "grey16.png", 16, PNG_COLOR_TYPE_GRAY, 1, false) && ok;
     ok = writePng(dir, "rgb8.png", 8, PNG_COLOR_TYPE_RGB, 3, false) && ok;
     ok = writePng(dir, "rgba8-interlaced.png", 8, PNG_COLOR_TYPE_RGB_ALPHA, 4, true) && ok;
+    ok = writePng(dir, "palette8-alpha.png", 8, PNG_COLOR_TYPE_PALETTE, 1, false, true) && ok;
+    ok = writePng(dir, "grey2-key-interlaced.png", 2, PNG_COLOR_TYPE_GRAY, 1, true, true) && ok;
     ok = writeJpeg(dir, "grey.jpg", 1, false) && ok;
     ok = writeJpeg(dir, "ycbcr-progressive.jpg", 3, true) && ok;
     return ok ? 0 : 1;
