@@ -19,6 +19,7 @@
 #include "libpyramid/input/tiff_block_reader.hpp"
 #include "tests/support/oiio_reference.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/tiff_writing.hpp"
 
 namespace pyramid {
 namespace {
@@ -189,20 +190,8 @@ double codecValue(const CodecTiff& c, int x, int y, int ch) {
 }
 
 void writeCodecTiff(const std::string& path, const CodecTiff& c, int w, int h) {
-    TIFF* tif = TIFFOpen(path.c_str(), "w");
+    TIFF* tif = test::createTiff(path, {w, h, c.channels, c.bits, c.format, PLANARCONFIG_CONTIG, 0, c.compression});
     ASSERT_TRUE(tif);
-    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, w);
-    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, h);
-    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, c.channels);
-    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, c.bits);
-    TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, c.format);
-    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
-    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, c.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
-    if (c.channels == 4) {
-        const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
-        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, 1, &alpha);
-    }
-    TIFFSetField(tif, TIFFTAG_COMPRESSION, c.compression);
     if (c.compression == COMPRESSION_WEBP) {
         TIFFSetField(tif, TIFFTAG_WEBP_LOSSLESS, c.maxError == 0 ? 1 : 0);
         TIFFSetField(tif, TIFFTAG_WEBP_LEVEL, 75);

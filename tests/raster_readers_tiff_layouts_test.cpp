@@ -19,6 +19,7 @@
 #include "libpyramid/input/tiff_block_reader.hpp"
 #include "tests/support/oiio_reference.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/tiff_writing.hpp"
 
 namespace pyramid {
 namespace {
@@ -48,21 +49,9 @@ double valueAt(const TiffLayout& l, int x, int y, int c) {
 }
 
 void writeTiff(const std::string& path, const TiffLayout& l, int w, int h) {
-    TIFF* tif = TIFFOpen(path.c_str(), "w");
+    TIFF* tif = test::createTiff(path, {w, h, l.channels, l.bits, l.format, l.planar,
+                                        static_cast<uint16_t>(l.palette ? PHOTOMETRIC_PALETTE : 0), l.compression});
     ASSERT_TRUE(tif);
-    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, w);
-    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, h);
-    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, l.channels);
-    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, l.bits);
-    TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, l.format);
-    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, l.planar);
-    TIFFSetField(tif, TIFFTAG_COMPRESSION, l.compression);
-    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC,
-                 l.palette ? PHOTOMETRIC_PALETTE : l.channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
-    if (l.channels == 2 || l.channels == 4) {
-        const uint16_t extra = EXTRASAMPLE_UNASSALPHA;
-        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, 1, &extra);
-    }
     std::vector<uint16_t> red(256), green(256), blue(256);
     if (l.palette) {
         // Entries that are not multiples of 257: divided by 257, rounded down, and their high
