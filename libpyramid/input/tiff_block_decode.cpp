@@ -6,6 +6,7 @@
 #include <libdeflate.h>
 #include <tiffio.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <string>

@@ -119,7 +119,7 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
     if (blockBytes <= budget / 4) {
         b->cache_ = std::make_unique<BlockCache>(budget, blockBytes);
     } else if (!b->tiled_ && (b->planes_ > 1 || palette)) {
-        TIFFClose(tif); // huge strips of planes or indices: streamed by the image I/O module
+        TIFFClose(tif); // huge strips of planes or indices: read by the image I/O module
         return nullptr;
     } else if (b->tiled_) {
         TIFFClose(tif);

@@ -87,8 +87,8 @@ void streamTiffRows(TIFF* tif, const std::string& path, const std::function<void
     if (l.predictor == PREDICTOR_FLOATINGPOINT) {
         floats.resize(l.rowBytes());
     }
-    // The floating-point predictor of interleaved samples, or of float64, and any predictor of
-    // 64-bit samples, are left to libtiff.
+    // The floating-point predictor of interleaved samples, and any predictor of 64-bit samples,
+    // are left to libtiff.
     const bool streamed = (l.compression == COMPRESSION_NONE || l.compression == COMPRESSION_ADOBE_DEFLATE ||
                            l.compression == COMPRESSION_DEFLATE) &&
                           (l.predictor != PREDICTOR_FLOATINGPOINT || (l.channels == 1 && l.bits == 32)) &&
