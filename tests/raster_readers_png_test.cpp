@@ -26,9 +26,9 @@ namespace {
 using test::expectSameAsOpenImageIO;
 
 // A PNG written with libpng's own calls, for the layouts its simplified writer does not make:
-// `colour` and `depth` as the header says, samples given one per byte (or per 16-bit value) and
-// packed here, a palette of `entries` colours, and a transparency chunk: the palette entries'
-// alphas (`paletteAlpha`) or one grey or RGB colour (`key`).
+// `colour` and `depth` as the header says (samples given one per byte, or per 16-bit value, and
+// packed by libpng), a palette of `entries` colours, and, when `transparent`, a transparency
+// chunk: alphas for the palette's entries, or one grey or RGB colour.
 struct PngLayout {
     std::string name;
     int colour, depth;
@@ -36,7 +36,7 @@ struct PngLayout {
     int entries = 0;
 };
 
-// Samples a pixel as the file stores it (an index, for a palette).
+// The samples of a pixel as the file stores it (one, an index, for a palette).
 int channelsOf(int colour) {
     switch (colour) {
     case PNG_COLOR_TYPE_GRAY_ALPHA: return 2;
