@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "libpyramid/capi/pyramid.h"
+#include "tests/support/c_load_file.h"
 
 #define THREADS 16
 /* Each work item is done by THREADS / SHARE threads (and once by the serial run). */
@@ -179,28 +180,6 @@ static size_t add_levels(work_item* items, size_t count, enum work_kind kind, in
         count = add_tiles(items, count, kind, level, 1 << level);
     }
     return count;
-}
-
-/* A whole file in memory; NULL when it cannot be read. */
-static unsigned char* load_file(const char* path, size_t* size) {
-    FILE* f = fopen(path, "rb");
-    unsigned char* data = NULL;
-    long n;
-    *size = 0;
-    if (!f) {
-        return NULL;
-    }
-    if (fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) > 0 && fseek(f, 0, SEEK_SET) == 0) {
-        data = (unsigned char*)malloc((size_t)n);
-        if (data && fread(data, 1, (size_t)n, f) == (size_t)n) {
-            *size = (size_t)n;
-        } else {
-            free(data);
-            data = NULL;
-        }
-    }
-    fclose(f);
-    return data;
 }
 
 /* The descriptor of `path` opened as `how`; `io` holds the callbacks' state for BY_CALLBACKS

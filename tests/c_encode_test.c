@@ -10,15 +10,7 @@
 
 #include "libpyramid/capi/pyramid.h"
 #include "libpyramid/capi/pyramid_encode.h"
-
-static int failures = 0;
-#define CHECK(cond)                                                                                                    \
-    do {                                                                                                               \
-        if (!(cond)) {                                                                                                 \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed (%s)\n", __FILE__, __LINE__, #cond, pyramid_last_error());       \
-            ++failures;                                                                                                \
-        }                                                                                                              \
-    } while (0)
+#include "tests/support/c_check.h"
 
 #define W 97
 #define H 65
@@ -318,10 +310,5 @@ int main(void) {
     remove(array_path);
     remove(callback_path);
     rmdir(dir);
-    if (failures) {
-        fprintf(stderr, "%d checks failed\n", failures);
-        return 1;
-    }
-    printf("c_encode_test: all checks passed\n");
-    return 0;
+    return check_summary();
 }
