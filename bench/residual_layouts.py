@@ -18,14 +18,16 @@ writes) and `best of 4`. Two bounds beyond libdeflate's parsing: `--zopfli` reco
 tile's best-of-3 layout with zopfli (15 iterations; `apt-get install zopfli`, slow), and `lzma`
 compresses each tile's best layout with LZMA1 (preset 9e, lc 0, lp 1, pb 1): a codec libtiff
 decodes (Compression 34925) but that the original runtime's libtiff need not have, reported as a
-bound, not as an option. `file bytes` replaces the best-of-3 payloads in the file's size by each
-variant's (the TIFF headers kept as they are); with `--gdal`, that over the COG's size.
+bound, not as an option. `file bytes` is the file's size with its tiles' compressed strips
+replaced by each variant's (their TIFF headers kept as they are); with `--gdal`, that over the
+COG's size. A file written by `--compression smallest` gives its own size on `best of 3`.
 """
 import argparse
 import ctypes
 import ctypes.util
 import lzma
 import os
+import struct
 import subprocess
 import sys
 import tempfile
@@ -70,18 +72,39 @@ def layouts(r):
     }
 
 
+def strip_bytes(blob, where):
+    """The compressed bytes of a TIFF tile's strips (StripByteCounts), from its first IFD."""
+    if blob[:4] == b"PYRC":
+        sys.exit(f"{where}: a context-coded tile; this measures files of TIFF tiles")
+    order = {b"II": "<", b"MM": ">"}.get(blob[:2])
+    if order is None or struct.unpack(order + "H", blob[2:4])[0] != 42:
+        sys.exit(f"{where}: not a classic TIFF tile")
+    ifd = struct.unpack(order + "I", blob[4:8])[0]
+    (entries,) = struct.unpack(order + "H", blob[ifd:ifd + 2])
+    for k in range(entries):
+        tag, kind, count, value = struct.unpack(order + "HHII", blob[ifd + 2 + 12 * k:ifd + 14 + 12 * k])
+        if tag == 279:
+            size = {3: 2, 4: 4}[kind]
+            if count * size <= 4:
+                return sum(struct.unpack(order + ("H" if size == 2 else "I") * count,
+                                         blob[ifd + 10 + 12 * k:ifd + 10 + 12 * k + count * size]))
+            return sum(struct.unpack(order + ("H" if size == 2 else "I") * count, blob[value:value + count * size]))
+    sys.exit(f"{where}: a TIFF tile without StripByteCounts")
+
+
 def distinct_tiles(dem):
+    """(residuals, compressed strip bytes) of every distinct stored tile (shared tiles once)."""
     info = dem.info
     seen = set()
     for level in range(info["max_level"] + 1):
         side = 1 << max(0, level - info["min_level"])
         for ty in range(side):
             for tx in range(side):
-                r = dem.residual(level, tx, ty)
-                key = r.tobytes()
-                if key not in seen:
-                    seen.add(key)
-                    yield r
+                offset = dem.tile_info(level, tx, ty)["offset"]
+                if offset not in seen:
+                    seen.add(offset)
+                    blob = dem.tile_bytes(level, tx, ty)
+                    yield dem.residual(level, tx, ty), strip_bytes(blob, f"tile ({level}, {tx}, {ty})")
 
 
 def zopfli_size(data, scratch):
@@ -101,9 +124,11 @@ def main():
     lzma_filters = [{"id": lzma.FILTER_LZMA1, "preset": 9 | lzma.PRESET_EXTREME, "lc": 0, "lp": 1, "pb": 1}]
     totals = {}
     tiles = 0
+    stored = 0
     with libpyramid.open(args.dem) as dem, tempfile.TemporaryDirectory() as scratch:
-        for r in distinct_tiles(dem):
+        for r, strips_stored in distinct_tiles(dem):
             tiles += 1
+            stored += strips_stored
             strips = layouts(r)
             sizes = {name: deflated(data) for name, data in strips.items()}
             best3 = min(("2x8", "2x8+p2", "1x16+p2"), key=lambda name: sizes[name])
@@ -117,10 +142,10 @@ def main():
                 totals[name] = totals.get(name, 0) + size
     file_bytes = os.path.getsize(args.dem)
     gdal_bytes = os.path.getsize(args.gdal) if args.gdal else None
-    print(f"{args.dem}: {tiles} distinct tiles, {file_bytes} bytes")
+    print(f"{args.dem}: {tiles} distinct tiles, {file_bytes} bytes, {stored} of them compressed strips")
     print(f"{'tiles as':<28} {'payload':>10} {'/ best of 3':>12} {'file bytes':>11}" + ("  / GDAL" if gdal_bytes else ""))
     for name, total in totals.items():
-        whole = file_bytes - totals["best of 3"] + total
+        whole = file_bytes - stored + total
         line = f"{name:<28} {total:>10} {total / totals['best of 3']:>12.3f} {whole:>11}"
         if gdal_bytes:
             line += f"  {whole / gdal_bytes:.3f}"
