@@ -200,7 +200,7 @@ std::vector<uint8_t> encodeContextParentMode(std::span<const int16_t> residuals,
     if (size < 1 || size > 65535 || residuals.size() != samples || parentPlane.size() != samples) {
         fail("", "residual tile: buffers do not match " + std::to_string(size) + "x" + std::to_string(size));
     }
-    if (mode != -1 && mode != 3 && mode != 4) {
+    if (mode != -1 && (mode < 3 || mode > 5)) {
         fail("", "context-coded residual tile: no mode " + std::to_string(mode) + " in version 3");
     }
     return context_coding::encodeParentMode(residuals, size, parentPlane, mode);
@@ -218,7 +218,7 @@ std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int s
     }
     const uint8_t mode = blob[6];
     const uint8_t version = blob[7];
-    if (version > 3 || (version == 3 && mode != 3 && mode != 4) || (version < 3 && mode > std::min<int>(version, 1) + 1)) {
+    if (version > 3 || (version == 3 && (mode < 3 || mode > 5)) || (version < 3 && mode > std::min<int>(version, 1) + 1)) {
         fail(where, "context-coded residual tile of an unknown kind (mode " + std::to_string(mode) + ", version " +
                         std::to_string(version) + ")");
     }

@@ -37,8 +37,10 @@ std::vector<int16_t> decodeContextResiduals(std::span<const uint8_t> blob, int s
 
 // Version 3, the parent modes (doc/format.md 1.8): the residuals coded as version 2 codes them,
 // predicted from the tile's parent plane and its coded neighbours' shadows; mode 3, or mode 4
-// (steps: where land meets a flat sea behind a cliff). `mode` 3 or 4 codes in that mode; -1
-// in mode 3, or in mode 4 where the tile has such a step and that is smaller. Written by the
+// (steps: where land meets a flat sea behind a cliff), or mode 5 (terraces: each sample's index
+// in the list of the tile's heights, where they take few of the integers in their range, as an
+// 8-bit map's do). `mode` 3, 4 or 5 codes in that mode; -1 in mode 3, or in mode 4 where the
+// tile has such a step, or in mode 5 where it is terraced, whichever is smallest. Written by the
 // pass of libpyramid/encode/residual/residual_parent_pass.hpp where it is smaller, never by
 // encodeContextResiduals.
 std::vector<uint8_t> encodeContextParentMode(std::span<const int16_t> residuals, int size,

@@ -11,47 +11,12 @@
 #include "formats/residual_context_models.hpp"
 #include "formats/residual_context_parent.hpp"
 #include "formats/residual_context_state.hpp"
+#include "formats/residual_context_values.hpp"
 #include "formats/residual_range_coder.hpp"
 
 namespace pyramid::context_coding {
 
 namespace {
-
-// Version 2's constants (doc/format.md, 1.8).
-constexpr uint32_t kDirectMagnitudes = 16;             // magnitudes 0..15 are symbols of their own
-constexpr uint32_t kMagnitudes = kDirectMagnitudes + 1; // and symbol 16 escapes larger ones
-constexpr uint32_t kExponents = 17;                     // an escape's bit length - 1: 0..16
-constexpr int kModelledBits = 4;                        // the top bits below an escape's leading one
-constexpr size_t kPrefixes = size_t{1} << kModelledBits;
-constexpr size_t kEscapeTables = kActivityBins / 2;
-
-// Version 2's tables (one set), or version 3's (mode 3: three, the grid predictor, a flat
-// neighbourhood, the shadow predictor chosen by past errors; mode 4: those and a step's low and
-// high sides, and the step flags).
-template <size_t Sets>
-struct Models {
-    std::array<Model<kMagnitudes>, kModels * Sets> magnitudes;
-    std::array<Model<kExponents>, kEscapeTables> exponents;
-    std::array<BitModel, kEscapeTables * kExponents * kPrefixes> bits;
-    std::array<BitModel, kSignContexts * Sets> signs;
-    std::array<BitModel, Sets == 5 ? kStepContexts : 0> steps;
-    Models() {
-        static const std::array<std::array<uint32_t, kMagnitudes>, kModels> initial = [] {
-            std::array<std::array<uint32_t, kMagnitudes>, kModels> t{};
-            for (int k = 0; k < kModels; ++k) {
-                const std::array<uint32_t, 17> weight = priorWeights(k);
-                t[static_cast<size_t>(k)][0] = 1 + (weight[0] >> 16);
-                for (size_t q = 1; q < kMagnitudes; ++q) {
-                    t[static_cast<size_t>(k)][q] = 2 * (1 + (weight[q] >> 16));
-                }
-            }
-            return t;
-        }();
-        for (size_t k = 0; k < magnitudes.size(); ++k) {
-            magnitudes[k].start(initial[k % kModels]);
-        }
-    }
-};
 
 template <int Mode>
 [[gnu::always_inline]] inline Context contextOf(const Planes& planes, size_t i, int x, int y) {
@@ -89,15 +54,6 @@ template <int Mode>
     return c;
 }
 
-size_t magnitudeClass(uint32_t a) { return (a > 2 ? 1u : 0u) + (a > 8 ? 1u : 0u); }
-
-template <uint32_t N>
-[[gnu::always_inline]] inline uint32_t decodeSymbol(RangeDecoder& coder, Model<N>& m) {
-    const uint32_t s = coder.decodeSymbol(m.count, m.total);
-    m.update(s);
-    return s;
-}
-
 template <int Mode>
 using ModelsOf = Models<Mode == 4 ? 5 : (Mode == 3 ? 3 : 1)>;
 
@@ -122,36 +78,12 @@ void encodeSamples(std::span<const int16_t> residuals, int size, const int32_t* 
                 }
             }
             const int32_t v = residual - c.prediction;
-            const auto a = static_cast<uint32_t>(std::abs(v));
             planes.value[i] = v;
-            planes.magnitude[i] = a;
+            planes.magnitude[i] = static_cast<uint32_t>(std::abs(v));
             if constexpr (Mode >= 3) {
                 keepParentState(planes, i, x, y, residual, c);
             }
-            Model<kMagnitudes>& m = models->magnitudes[c.table];
-            const uint32_t symbol = std::min(a, kDirectMagnitudes);
-            coder.encode(m.cumulative(symbol), m.count[symbol], m.total);
-            m.update(symbol);
-            if (symbol == kDirectMagnitudes) {
-                const uint32_t e = a - kDirectMagnitudes + 1; // 1 .. 2^17 - 1
-                const auto k = static_cast<uint32_t>(std::bit_width(e)) - 1;
-                const size_t escapes = (c.table % kModels) / 8;
-                Model<kExponents>& exponents = models->exponents[escapes];
-                coder.encode(exponents.cumulative(k), exponents.count[k], exponents.total);
-                exponents.update(k);
-                const int modelled = std::min(static_cast<int>(k), kModelledBits);
-                size_t prefix = 1;
-                for (int j = 0; j < modelled; ++j) {
-                    const int bit = static_cast<int>((e >> (k - 1 - static_cast<uint32_t>(j))) & 1u);
-                    coder.encodeBit(models->bits[(escapes * kExponents + k) * kPrefixes + prefix], bit);
-                    prefix = prefix * 2 + static_cast<size_t>(bit);
-                }
-                const int rest = static_cast<int>(k) - modelled;
-                coder.encodeBits(e & ((1u << rest) - 1u), rest);
-            }
-            if (a != 0) {
-                coder.encodeBit(models->signs[c.sign + magnitudeClass(a)], v < 0 ? 1 : 0);
-            }
+            encodeValue(coder, *models, c.table, c.sign, v);
         }
     }
 }
@@ -174,32 +106,14 @@ std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const int32_t*
                     resolveStep(c, coder.decodeBit(models->steps[static_cast<size_t>(c.step)]), x, y);
                 }
             }
-            uint32_t a = decodeSymbol(coder, models->magnitudes[c.table]);
-            if (a == kDirectMagnitudes) {
-                const size_t escapes = (c.table % kModels) / 8;
-                const uint32_t k = decodeSymbol(coder, models->exponents[escapes]);
-                const int modelled = std::min(static_cast<int>(k), kModelledBits);
-                size_t prefix = 1;
-                for (int j = 0; j < modelled; ++j) {
-                    const int bit = coder.decodeBit(models->bits[(escapes * kExponents + k) * kPrefixes + prefix]);
-                    prefix = prefix * 2 + static_cast<size_t>(bit);
-                }
-                const int rest = static_cast<int>(k) - modelled;
-                const uint32_t e = (static_cast<uint32_t>(prefix) << rest) | coder.decodeBits(rest);
-                a = kDirectMagnitudes + e - 1;
-            }
-            auto v = static_cast<int32_t>(a);
-            if (a != 0) {
-                const int32_t negative = coder.decodeBit(models->signs[c.sign + magnitudeClass(a)]);
-                v = (v ^ -negative) + negative;
-            }
+            const int32_t v = decodeValue(coder, *models, c.table, c.sign);
             const int32_t residual = v + c.prediction;
             if (residual < -32768 || residual > 32767) {
                 fail(where, "context-coded residual tile: a residual of " + std::to_string(residual) + " is beyond int16");
             }
             planes.residual[i] = residual;
             planes.value[i] = v;
-            planes.magnitude[i] = a;
+            planes.magnitude[i] = static_cast<uint32_t>(std::abs(v));
             if constexpr (Mode >= 3) {
                 keepParentState(planes, i, x, y, residual, c);
             }
@@ -258,18 +172,29 @@ std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int si
     if (mode == 4) {
         return encodeParentModeAs<4>(residuals, size, parent);
     }
+    if (mode == 5) {
+        return encodeTerraceMode(residuals, size, parent);
+    }
     std::vector<uint8_t> best = encodeParentModeAs<3>(residuals, size, parent);
-    if (mode == -1 && hasShoreSteps(residuals, size, parent)) {
-        std::vector<uint8_t> steps = encodeParentModeAs<4>(residuals, size, parent);
-        if (steps.size() < best.size()) {
-            best = std::move(steps);
+    const auto keepSmaller = [&best](std::vector<uint8_t> other) {
+        if (other.size() < best.size()) {
+            best = std::move(other);
         }
+    };
+    if (mode == -1 && hasShoreSteps(residuals, size, parent)) {
+        keepSmaller(encodeParentModeAs<4>(residuals, size, parent));
+    }
+    if (mode == -1 && isTerraced(residuals, parent)) {
+        keepSmaller(encodeTerraceMode(residuals, size, parent));
     }
     return best;
 }
 
 std::vector<int16_t> decodeParentMode(std::span<const uint8_t> blob, int size, std::span<const int32_t> parent,
                                       const std::string& where) {
+    if (blob[6] == 5) {
+        return decodeTerraceMode(blob, size, parent, where);
+    }
     RangeDecoder coder(blob.subspan(kHeaderBytes), where);
     std::vector<int16_t> out = blob[6] == 4 ? decodeSamples<4>(coder, size, parent.data(), where)
                                             : decodeSamples<3>(coder, size, parent.data(), where);

@@ -390,13 +390,18 @@ def main():
     parent = bytes([0x50, 0x59, 0x52, 0x43, 0x05, 0x00, 0x03, 0x03, 0x00, 0x42, 0x11, 0xc9,
                     0x4a, 0x7b, 0x91, 0xa4, 0xc9, 0x4b, 0x21, 0x77, 0x19, 0x43, 0x5c, 0x00])
     emit("context/version-3-alone.pyrc", parent, "residual-tile 5", "without its parent tile")
-    # The same for mode 4 (steps), the 7 x 7 tile of the same test; and a mode version 3 has not.
+    # The same for mode 4 (steps), the 7 x 7 tile of the same test.
     steps = bytes([0x50, 0x59, 0x52, 0x43, 0x07, 0x00, 0x04, 0x03, 0x00, 0x05, 0x01, 0x15, 0x57,
                    0x56, 0x24, 0xc6, 0x88, 0xa5, 0x7a, 0x21, 0x9e, 0xde, 0x78, 0x6b, 0x06, 0xde,
                    0x00, 0x35, 0x42, 0x4d, 0xea, 0xba, 0x94, 0xb2, 0x79, 0x9b, 0x00])
     emit("context/version-3-mode-4-alone.pyrc", steps, "residual-tile 7", "without its parent tile")
-    emit("context/version-3-mode-5.pyrc", parent[:6] + b"\x05" + parent[7:], "residual-tile 5",
-         "unknown kind (mode 5, version 3)")
+    # Mode 5 (terraces), the 6 x 6 tile of tests/residual_terrace_mode_test.cpp, likewise.
+    terraces = bytes([0x50, 0x59, 0x52, 0x43, 0x06, 0x00, 0x05, 0x03, 0x00, 0x0e, 0x00, 0x10, 0x66,
+                      0x71, 0xe0, 0xbb, 0x9d, 0x33, 0x3f, 0x06, 0xf8, 0xa9, 0xc4, 0x4a, 0x78, 0x77,
+                      0xad, 0x68, 0x1e, 0xc6, 0x00])
+    emit("context/version-3-mode-5-alone.pyrc", terraces, "residual-tile 6", "without its parent tile")
+    emit("context/version-3-mode-6.pyrc", parent[:6] + b"\x06" + parent[7:], "residual-tile 5",
+         "unknown kind (mode 6, version 3)")
     emit("context/version-2-mode-3.pyrc", version2[:6] + b"\x03" + version2[7:], "residual-tile 5",
          "unknown kind (mode 3, version 2)")
     emit("context/version-2-truncated.pyrc", version2[:-1], "residual-tile 5", "the stream ends early")
