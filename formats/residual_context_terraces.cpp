@@ -180,6 +180,9 @@ std::vector<uint8_t> encodeTerraceMode(std::span<const int16_t> residuals, int s
     if (terraces.size() > kMaxTerraces) {
         fail("", "context-coded residual tile: more than " + std::to_string(kMaxTerraces) + " terraces");
     }
+    if (std::abs(terraces.front()) > kShadowLimit || std::abs(terraces.back()) > kShadowLimit) {
+        fail("", "context-coded residual tile: a parent plane beyond +-2^30");
+    }
     std::vector<uint8_t> out = {kContextResidualMagic[0], kContextResidualMagic[1], kContextResidualMagic[2],
                                 kContextResidualMagic[3], static_cast<uint8_t>(size & 0xff),
                                 static_cast<uint8_t>(size >> 8), kTerraceMode, 3};

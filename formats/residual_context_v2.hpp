@@ -19,8 +19,9 @@ std::vector<int16_t> decodeVersion2(std::span<const uint8_t> blob, int size, uin
 
 // Version 3, the parent modes: version 2's coding of each value, predicted from the tile's parent
 // plane (`parent`, size x size: formats/residual_shadow.hpp) and the shadows of the samples coded
-// before it; `mode` 3 or 4, or -1: mode 3, or mode 4 (steps) where the tile has a shore's step
-// and that is smaller. Header included; the decoder's header has been checked (mode 3 or 4).
+// before it; `mode` 3, 4 or 5, or -1: mode 3, or mode 4 (steps) where the tile has a shore's step,
+// or mode 5 (terraces) where it is terraced, whichever is smallest. Header included; the
+// decoder's header has been checked (mode 3, 4 or 5).
 std::vector<uint8_t> encodeParentMode(std::span<const int16_t> residuals, int size, std::span<const int32_t> parent,
                                       int mode);
 std::vector<int16_t> decodeParentMode(std::span<const uint8_t> blob, int size, std::span<const int32_t> parent,

@@ -85,6 +85,9 @@ TEST(TerraceMode, ATerracedTileTakesTheModeRoundTripsAndIsRefusedWithoutItsPlane
     EXPECT_EQ(chosenWild[6], 5);
     EXPECT_EQ(decodeContextResiduals(chosenWild, size, "t", edges), wild);
     EXPECT_THROW(encodeContextParentMode(noise, size, flat, 6), Error);
+    // A parent plane beyond the format's +-2^30 has no mode-5 blob a decoder accepts.
+    const std::vector<int32_t> beyond(static_cast<size_t>(size * size), (1 << 30) + 40000);
+    EXPECT_THROW(encodeContextParentMode(noise, size, beyond, 5), Error);
 }
 
 TEST(TerraceMode, BytesOfAKnownTileArePinned) {
