@@ -197,21 +197,9 @@ std::vector<float> coastHeights(int side) {
     return h;
 }
 
-// f(level, tx, ty) for every tile of a file.
-template <class F>
-void forEachTile(const ResidualHeader& h, F f) {
-    for (int l = 0; l <= h.maxLevel; ++l) {
-        for (int ty = 0; ty < h.tilesPerSide(l); ++ty) {
-            for (int tx = 0; tx < h.tilesPerSide(l); ++tx) {
-                f(l, tx, ty);
-            }
-        }
-    }
-}
-
 void expectSameResiduals(const ResidualFileReader& a, const ResidualFileReader& b) {
     ASSERT_EQ(b.header().maxLevel, a.header().maxLevel);
-    forEachTile(a.header(), [&](int l, int tx, int ty) {
+    test::forEachTile(a.header(), [&](int l, int tx, int ty) {
         EXPECT_EQ(a.readTile(l, tx, ty), b.readTile(l, tx, ty)) << l << "," << tx << "," << ty;
     });
 }
@@ -252,7 +240,7 @@ TEST(ParentMode, CoastFilesAreSmallerHoldTheSameResidualsAndVerify) {
     const ResidualHeader& h = coded->header();
     int parentTiles = 0;
     uint64_t stored = 0, asVersion2 = 0;
-    forEachTile(h, [&](int l, int tx, int ty) {
+    test::forEachTile(h, [&](int l, int tx, int ty) {
         const std::vector<uint8_t> blob = coded->readTileBytes(l, tx, ty);
         const std::vector<uint8_t> version2 = encodeContextResiduals(deflate->readTile(l, tx, ty), h.tileSamples(l));
         stored += blob.size();
@@ -295,7 +283,7 @@ TEST(ParentMode, SeasBehindCliffsTakeTheStepMode) {
     const ResidualHeader& h = coded->header();
     int stepTiles = 0;
     uint64_t stored = 0, asMode3 = 0;
-    forEachTile(h, [&](int l, int tx, int ty) {
+    test::forEachTile(h, [&](int l, int tx, int ty) {
         const std::vector<uint8_t> blob = coded->readTileBytes(l, tx, ty);
         if (contextBlobNeedsParent(blob) && blob[6] == 4) {
             ++stepTiles;

@@ -168,17 +168,6 @@ std::vector<float> eightBitHeights(int side) {
     return h;
 }
 
-template <class F>
-void forEachTile(const ResidualHeader& h, F f) {
-    for (int l = 0; l <= h.maxLevel; ++l) {
-        for (int ty = 0; ty < h.tilesPerSide(l); ++ty) {
-            for (int tx = 0; tx < h.tilesPerSide(l); ++tx) {
-                f(l, tx, ty);
-            }
-        }
-    }
-}
-
 TEST(TerraceMode, TerracedFilesAreSmallerHoldTheSameResidualsAndVerify) {
     test::TempDir dir;
     const std::string input = dir.file("terraces.tif");
@@ -201,7 +190,7 @@ TEST(TerraceMode, TerracedFilesAreSmallerHoldTheSameResidualsAndVerify) {
     const ResidualHeader& h = coded->header();
     int terraceTiles = 0;
     uint64_t stored = 0, asMode3 = 0;
-    forEachTile(h, [&](int l, int tx, int ty) {
+    test::forEachTile(h, [&](int l, int tx, int ty) {
         const std::vector<int16_t> residuals = deflate->readTile(l, tx, ty);
         EXPECT_EQ(coded->readTile(l, tx, ty), residuals) << l << "," << tx << "," << ty;
         const std::vector<uint8_t> blob = coded->readTileBytes(l, tx, ty);

@@ -1,4 +1,4 @@
-// Residual tiles the codec tests share, and their check of a refused blob.
+// Residual tiles the codec tests share, their check of a refused blob, and a walk over a file's tiles.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -9,6 +9,7 @@
 
 #include "formats/error.hpp"
 #include "formats/residual_context.hpp"
+#include "formats/residual_file.hpp"
 
 namespace pyramid::test {
 
@@ -34,6 +35,18 @@ inline void expectContextBlobRefused(const std::vector<uint8_t>& blob, int size,
         const std::string what = e.what();
         EXPECT_EQ(what.rfind(where + ": ", 0), 0u) << what;
         EXPECT_NE(what.find(mention), std::string::npos) << what;
+    }
+}
+
+// f(level, tx, ty) for every tile of a file.
+template <class F>
+void forEachTile(const ResidualHeader& h, F f) {
+    for (int l = 0; l <= h.maxLevel; ++l) {
+        for (int ty = 0; ty < h.tilesPerSide(l); ++ty) {
+            for (int tx = 0; tx < h.tilesPerSide(l); ++tx) {
+                f(l, tx, ty);
+            }
+        }
     }
 }
 
