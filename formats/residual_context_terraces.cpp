@@ -99,9 +99,34 @@ uint32_t decodeGap(RangeDecoder& coder, ListModels& models) {
 uint32_t zigzag64(int64_t v) { return static_cast<uint32_t>(v >= 0 ? 2 * v : -2 * v - 1); }
 int64_t unzigzag64(uint32_t z) { return (z & 1u) != 0 ? -static_cast<int64_t>(z / 2) - 1 : static_cast<int64_t>(z / 2); }
 
-// The terrace nearest the parent plane `g` (the lower of two as near).
-int32_t nearestTerrace(const std::vector<int64_t>& terraces, int64_t g) {
-    auto k = static_cast<size_t>(std::lower_bound(terraces.begin(), terraces.end(), g) - terraces.begin());
+// The index of the first terrace at or above `v` (std::lower_bound's), found from `hint`
+// outwards in steps that double, then by halving: the parent plane and the heights change
+// little from one sample to the next, and no search takes more than twice the halving's steps.
+size_t lowerBoundFrom(const std::vector<int64_t>& t, int64_t v, size_t hint) {
+    const size_t n = t.size();
+    size_t lo = 0, hi = std::min(hint, n); // the answer lies in [lo, hi]
+    size_t step = 1;
+    if (hi < n && t[hi] < v) {
+        lo = hi + 1;
+        while (lo + step - 1 < n && t[lo + step - 1] < v) {
+            lo += step;
+            step *= 2;
+        }
+        hi = std::min(n, lo + step - 1);
+    } else {
+        while (hi >= step && t[hi - step] >= v) {
+            hi -= step;
+            step *= 2;
+        }
+        lo = hi >= step ? hi - step + 1 : 0;
+    }
+    return static_cast<size_t>(std::lower_bound(t.begin() + static_cast<std::ptrdiff_t>(lo),
+                                                t.begin() + static_cast<std::ptrdiff_t>(hi), v) - t.begin());
+}
+
+// The terrace nearest the parent plane `g` (the lower of two as near), searched from `hint`.
+int32_t nearestTerrace(const std::vector<int64_t>& terraces, int64_t g, size_t hint) {
+    size_t k = lowerBoundFrom(terraces, g, hint);
     if (k == terraces.size() || (k > 0 && g - terraces[k - 1] <= terraces[k] - g)) {
         --k;
     }
@@ -113,12 +138,13 @@ int32_t nearestTerrace(const std::vector<int64_t>& terraces, int64_t g) {
 // indices (mode 1's rules on the first row and column; the prediction itself at (0, 0)); the
 // table within the set version 2's, by the activity over the neighbours' magnitudes; the sign
 // model version 2's, with the sign of the predicted terrace less the parent plane.
-Context terraceContext(const Planes& planes, const std::vector<int64_t>& terraces, size_t i, int x, int y) {
+// `hint`: the sample before's prediction.
+Context terraceContext(const Planes& planes, const std::vector<int64_t>& terraces, size_t i, int x, int y, size_t hint) {
     const size_t s = planes.stride;
     const int32_t* t = planes.residual.data();
     const int64_t g = planes.parentAt(x, y);
     Context c;
-    c.prediction = nearestTerrace(terraces, g);
+    c.prediction = nearestTerrace(terraces, g, hint);
     const int32_t west = x > 0 ? t[i - 1] : (y > 0 ? t[i - s] : c.prediction);
     const int32_t south = y > 0 ? t[i - s] : west;
     const int32_t southWest = x > 0 && y > 0 ? t[i - s - 1] : west;
@@ -197,13 +223,15 @@ std::vector<uint8_t> encodeTerraceMode(std::span<const int16_t> residuals, int s
     Planes planes(size, 0);
     planes.parent = parent.data();
     const auto models = std::make_unique<Models<kTerraceSets>>();
+    size_t hint = 0;
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             const size_t i = planes.at(x, y);
             const size_t k = static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x);
             const int64_t h = static_cast<int64_t>(parent[k]) + residuals[k];
-            const auto index = static_cast<int32_t>(std::lower_bound(terraces.begin(), terraces.end(), h) - terraces.begin());
-            const Context c = terraceContext(planes, terraces, i, x, y);
+            const Context c = terraceContext(planes, terraces, i, x, y, hint);
+            hint = static_cast<size_t>(c.prediction);
+            const auto index = static_cast<int32_t>(lowerBoundFrom(terraces, h, hint));
             const int32_t v = index - c.prediction;
             planes.residual[i] = index;
             planes.value[i] = v;
@@ -236,10 +264,12 @@ std::vector<int16_t> decodeTerraceMode(std::span<const uint8_t> blob, int size, 
     planes.parent = parent.data();
     const auto models = std::make_unique<Models<kTerraceSets>>();
     std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
+    size_t hint = 0;
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             const size_t i = planes.at(x, y);
-            const Context c = terraceContext(planes, terraces, i, x, y);
+            const Context c = terraceContext(planes, terraces, i, x, y, hint);
+            hint = static_cast<size_t>(c.prediction);
             const int32_t v = decodeValue(coder, *models, c.table, c.sign);
             const int64_t index = int64_t{c.prediction} + v;
             if (index < 0 || index > int64_t{last}) {
