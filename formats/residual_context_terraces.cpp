@@ -69,31 +69,14 @@ void encodeGap(RangeEncoder& coder, ListModels& models, uint32_t gap) {
     const auto length = static_cast<uint32_t>(std::bit_width(gap));
     coder.encode(models.lengths.cumulative(length), models.lengths.count[length], models.lengths.total);
     models.lengths.update(length);
-    const int below = std::max(0, static_cast<int>(length) - 1);
-    const int modelled = std::min(below, kModelledBits);
-    size_t prefix = 1;
-    for (int j = 0; j < modelled; ++j) {
-        const int bit = static_cast<int>((gap >> (below - 1 - j)) & 1u);
-        coder.encodeBit(models.bits[length * kPrefixes + prefix], bit);
-        prefix = prefix * 2 + static_cast<size_t>(bit);
+    if (length > 0) {
+        encodeBelowLeadingOne(coder, &models.bits[length * kPrefixes], gap, static_cast<int>(length) - 1);
     }
-    const int rest = below - modelled;
-    coder.encodeBits(gap & ((1u << rest) - 1u), rest);
 }
 
 uint32_t decodeGap(RangeDecoder& coder, ListModels& models) {
     const uint32_t length = decodeSymbol(coder, models.lengths);
-    const int below = std::max(0, static_cast<int>(length) - 1);
-    const int modelled = std::min(below, kModelledBits);
-    size_t prefix = 1;
-    for (int j = 0; j < modelled; ++j) {
-        prefix = prefix * 2 + static_cast<size_t>(coder.decodeBit(models.bits[length * kPrefixes + prefix]));
-    }
-    const int rest = below - modelled;
-    if (length == 0) {
-        return 0;
-    }
-    return (static_cast<uint32_t>(prefix) << rest) | coder.decodeBits(rest);
+    return length == 0 ? 0 : decodeBelowLeadingOne(coder, &models.bits[length * kPrefixes], static_cast<int>(length) - 1);
 }
 
 uint32_t zigzag64(int64_t v) { return static_cast<uint32_t>(v >= 0 ? 2 * v : -2 * v - 1); }

@@ -61,6 +61,33 @@ template <uint32_t N>
     return s;
 }
 
+// The `below` bits under the leading one of a number `u` of below + 1 bits (an escape's, a gap's in
+// the terrace list): the top kModelledBits of them as binary decisions, each in model
+// `bits[prefix]` (prefix: a 1 followed by the bits before it, so 1 to kPrefixes - 1), the rest
+// as equally likely bits.
+[[gnu::always_inline]] inline void encodeBelowLeadingOne(RangeEncoder& coder, BitModel* bits, uint32_t u, int below) {
+    const int modelled = std::min(below, kModelledBits);
+    size_t prefix = 1;
+    for (int j = 0; j < modelled; ++j) {
+        const int bit = static_cast<int>((u >> (below - 1 - j)) & 1u);
+        coder.encodeBit(bits[prefix], bit);
+        prefix = prefix * 2 + static_cast<size_t>(bit);
+    }
+    const int rest = below - modelled;
+    coder.encodeBits(u & ((1u << rest) - 1u), rest);
+}
+
+// The number encodeBelowLeadingOne codes, with its leading one.
+[[gnu::always_inline]] inline uint32_t decodeBelowLeadingOne(RangeDecoder& coder, BitModel* bits, int below) {
+    const int modelled = std::min(below, kModelledBits);
+    size_t prefix = 1;
+    for (int j = 0; j < modelled; ++j) {
+        prefix = prefix * 2 + static_cast<size_t>(coder.decodeBit(bits[prefix]));
+    }
+    const int rest = below - modelled;
+    return (static_cast<uint32_t>(prefix) << rest) | coder.decodeBits(rest);
+}
+
 // Value `v` (|v| below 16 + 2^17 - 1) with magnitude table `table` and sign model `sign` (without
 // the magnitude class).
 template <size_t Sets>
@@ -78,15 +105,7 @@ template <size_t Sets>
         Model<kExponents>& exponents = models.exponents[escapes];
         coder.encode(exponents.cumulative(k), exponents.count[k], exponents.total);
         exponents.update(k);
-        const int modelled = std::min(static_cast<int>(k), kModelledBits);
-        size_t prefix = 1;
-        for (int j = 0; j < modelled; ++j) {
-            const int bit = static_cast<int>((e >> (k - 1 - static_cast<uint32_t>(j))) & 1u);
-            coder.encodeBit(models.bits[(escapes * kExponents + k) * kPrefixes + prefix], bit);
-            prefix = prefix * 2 + static_cast<size_t>(bit);
-        }
-        const int rest = static_cast<int>(k) - modelled;
-        coder.encodeBits(e & ((1u << rest) - 1u), rest);
+        encodeBelowLeadingOne(coder, &models.bits[(escapes * kExponents + k) * kPrefixes], e, static_cast<int>(k));
     }
     if (a != 0) {
         coder.encodeBit(models.signs[sign + magnitudeClass(a)], v < 0 ? 1 : 0);
@@ -100,14 +119,8 @@ template <size_t Sets>
     if (a == kDirectMagnitudes) {
         const size_t escapes = (table % kModels) / 8;
         const uint32_t k = decodeSymbol(coder, models.exponents[escapes]);
-        const int modelled = std::min(static_cast<int>(k), kModelledBits);
-        size_t prefix = 1;
-        for (int j = 0; j < modelled; ++j) {
-            const int bit = coder.decodeBit(models.bits[(escapes * kExponents + k) * kPrefixes + prefix]);
-            prefix = prefix * 2 + static_cast<size_t>(bit);
-        }
-        const int rest = static_cast<int>(k) - modelled;
-        const uint32_t e = (static_cast<uint32_t>(prefix) << rest) | coder.decodeBits(rest);
+        const uint32_t e = decodeBelowLeadingOne(coder, &models.bits[(escapes * kExponents + k) * kPrefixes],
+                                                 static_cast<int>(k));
         a = kDirectMagnitudes + e - 1;
     }
     auto v = static_cast<int32_t>(a);
