@@ -203,7 +203,8 @@ std::vector<uint8_t> encodeTerraceMode(std::span<const int16_t> residuals, int s
     for (size_t k = 1; k < terraces.size(); ++k) {
         encodeGap(coder, *list, static_cast<uint32_t>(terraces[k] - terraces[k - 1] - 1));
     }
-    Planes planes(size, 0);
+    const PlanesLease lease(size, 0);
+    Planes& planes = *lease;
     planes.parent = parent.data();
     const auto models = std::make_unique<Models<kTerraceSets>>();
     size_t hint = 0;
@@ -243,7 +244,8 @@ std::vector<int16_t> decodeTerraceMode(std::span<const uint8_t> blob, int size, 
     if (std::abs(terraces.front()) > kShadowLimit || std::abs(terraces.back()) > kShadowLimit) {
         fail(where, "context-coded residual tile: a terrace beyond +-(2^30 + 2^15)");
     }
-    Planes planes(size, 0);
+    const PlanesLease lease(size, 0);
+    Planes& planes = *lease;
     planes.parent = parent.data();
     const auto models = std::make_unique<Models<kTerraceSets>>();
     std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));

@@ -59,7 +59,8 @@ using ModelsOf = Models<Mode == 4 ? 5 : (Mode == 3 ? 3 : 1)>;
 
 template <int Mode>
 void encodeSamples(std::span<const int16_t> residuals, int size, const int32_t* parent, RangeEncoder& coder) {
-    Planes planes(size, Mode);
+    const PlanesLease lease(size, Mode);
+    Planes& planes = *lease;
     planes.parent = parent;
     if constexpr (Mode == 4) {
         clampParentPlane(planes);
@@ -90,7 +91,8 @@ void encodeSamples(std::span<const int16_t> residuals, int size, const int32_t* 
 
 template <int Mode>
 std::vector<int16_t> decodeSamples(RangeDecoder& coder, int size, const int32_t* parent, const std::string& where) {
-    Planes planes(size, Mode);
+    const PlanesLease lease(size, Mode);
+    Planes& planes = *lease;
     planes.parent = parent;
     if constexpr (Mode == 4) {
         clampParentPlane(planes);

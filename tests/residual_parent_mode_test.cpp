@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -38,6 +39,50 @@ std::vector<int32_t> plane(int size, int32_t (*f)(int, int)) {
         }
     }
     return p;
+}
+
+// A thread keeps the planes of its last tile for the next one of that size (residual_context_state.hpp,
+// PlanesLease): a tile's bytes and residuals must not depend on the tiles the thread coded before,
+// nor on a blob refused half-way. Each kind of tile is coded after other tiles of every kind and
+// after a refused blob, and compared with its coding on a thread of its own.
+TEST(ParentMode, TilesDoNotDependOnTheTilesCodedBeforeThemOnTheirThread) {
+    const int size = 37;
+    const std::vector<int32_t> parent = plane(size, [](int x, int y) { return 7 * x - 3 * y + ((x * y) % 11) * 40; });
+    const std::vector<int32_t> other = plane(size, [](int x, int y) { return -900 * x + 5 * y; });
+    const std::vector<int16_t> tile = test::residualNoise(size, 30, 7);
+    const std::vector<int16_t> loud = test::residualNoise(size, 32767, 8);
+    // The kinds: version 2's modes 0 to 2 (-1..-3 here), the parent modes 3, 4 and 5.
+    const auto encode = [&](const std::vector<int16_t>& r, const std::vector<int32_t>& p, int kind) {
+        return kind < 0 ? encodeContextResiduals(r, size, 2, -kind - 1) : encodeContextParentMode(r, size, p, kind);
+    };
+    const std::vector<int> kinds = {-1, -2, -3, 3, 4, 5};
+    for (const int kind : kinds) {
+        std::vector<uint8_t> alone;
+        std::vector<int16_t> decodedAlone;
+        std::string error;
+        std::thread([&] {
+            try {
+                alone = encode(tile, parent, kind);
+                decodedAlone = decodeContextResiduals(alone, size, "t", parent);
+            } catch (const Error& e) {
+                error = e.what();
+            }
+        }).join();
+        ASSERT_EQ(error, "") << "kind " << kind;
+        ASSERT_EQ(decodedAlone, tile) << "kind " << kind;
+        for (const int before : kinds) {
+            const std::vector<uint8_t> blob = encode(loud, other, before);
+            ASSERT_EQ(decodeContextResiduals(blob, size, "t", other), loud);
+            std::vector<uint8_t> cut(blob.begin(), blob.begin() + static_cast<std::ptrdiff_t>(blob.size() / 2));
+            cut.resize(blob.size(), 0xff);
+            try {
+                (void)decodeContextResiduals(cut, size, "t", other);
+            } catch (const Error&) {
+            }
+            EXPECT_EQ(encode(tile, parent, kind), alone) << "kind " << kind << " after " << before;
+            EXPECT_EQ(decodeContextResiduals(alone, size, "t", parent), tile) << "kind " << kind << " after " << before;
+        }
+    }
 }
 
 TEST(ParentMode, ShadowsAreUpsampledInIntegersAndPlacedAsTheirParents) {
