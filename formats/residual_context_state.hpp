@@ -3,7 +3,6 @@
 // Internal to formats/residual_context_v2.cpp and formats/residual_context_parent.hpp.
 #pragma once
 #include <algorithm>
-#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -50,12 +49,13 @@ struct Planes {
     }
 };
 
-// The planes of a tile, kept by the thread for its next tile of the same size and kind (mode 3,
-// mode 4, or the others): no cell of their borders is ever written, and every cell within the
-// tile is written before any later sample reads it, so kept planes need no clearing. Allocating
-// and clearing them for every tile (seven planes of 160 KB at 192-tiles) took a third of the
-// decoding's time. Tiles beyond kKeptPlanesSize get planes of their own, so that what a thread
-// keeps stays small (7 MB at most).
+// The planes of a tile, kept by the thread for its next tile of the same size: no cell of their
+// borders is ever written, and every cell within the tile is written before any later sample
+// reads it, so kept planes need no clearing, whatever kind of tile used them before (they are
+// mode 4's, a superset of every kind's). Allocating and clearing them for every tile (seven
+// planes of 160 KB at 192-tiles) took a third of the decoding's time. Tiles of more than
+// kKeptPlanesSize samples a side get planes of their own, so that what a thread keeps stays
+// under 8 MB.
 inline constexpr int kKeptPlanesSize = 512;
 
 class PlanesLease {
@@ -66,12 +66,11 @@ public:
             planes_ = own_.get();
             return;
         }
-        thread_local std::array<std::unique_ptr<Planes>, 3> kept;
-        std::unique_ptr<Planes>& k = kept[static_cast<size_t>(mode == 3 ? 1 : (mode == 4 ? 2 : 0))];
-        if (!k || k->size != size) {
-            k = std::make_unique<Planes>(size, mode);
+        thread_local std::unique_ptr<Planes> kept;
+        if (!kept || kept->size != size) {
+            kept = std::make_unique<Planes>(size, 4);
         }
-        planes_ = k.get();
+        planes_ = kept.get();
         planes_->parent = nullptr;
     }
     PlanesLease(const PlanesLease&) = delete;
