@@ -7,7 +7,9 @@
 // --n N: only the elevation tiles of N samples (no residual pass), e.g. to profile one of them.
 //
 // Without arguments: the original tools' tests/data/proland/DEM.dat, then a larger pyramid that
-// encodeDem builds first from a synthetic 4097 x 4097 DEM in a temporary directory.
+// encodeDem builds first from a synthetic 4097 x 4097 DEM in a temporary directory, then real
+// terrain not tuned on, Mt Rainier's SRTM tile (../shared/fixtures/inputs, when it is there),
+// encoded with the default Deflate tiles and with context coding.
 #include <omp.h>
 #include <unistd.h>
 
@@ -23,6 +25,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "formats/error.hpp"
+#include "formats/residual_codec.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/support/parallel.hpp"
@@ -209,6 +212,20 @@ int main(int argc, char** argv) {
         const DemReport report = encodeDem(input, output, options);
         std::printf("(encodeDem: 4097 x 4097 synthetic DEM in %.1f s)\n", report.seconds);
         bench(output);
+        // Real terrain, not tuned on: Mt Rainier's SRTM tile, beside the checkout, with the
+        // default (Deflate) tiles and with context coding.
+        const std::string rainier = std::string(PYRAMID_SHARED_FIXTURES) + "/inputs/mt_rainier_90m.tif";
+        if (!fs::exists(rainier)) {
+            std::printf("(no %s: the real terrain files skipped)\n", rainier.c_str());
+            return 0;
+        }
+        for (const ResidualCodec codec : {ResidualCodec::Deflate, ResidualCodec::Context}) {
+            DemEncodeOptions real;
+            real.tiles.codec = codec;
+            const std::string file = (dir / (codec == ResidualCodec::Deflate ? "rainier.dat" : "rainier-context.dat")).string();
+            encodeDem(rainier, file, real);
+            bench(file);
+        }
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s\n", e.what());
