@@ -45,8 +45,7 @@ public:
 
     // Row v of the mesh over a float tile: out[u] = coarseMix(at(u, v), ...) of the parent's
     // values `zm` (rows `stride` apart) for u = 0..n. The same operations in the same order per
-    // vertex; computed offset by offset within the cells (each offset's weights are the same in
-    // every cell of a row) so that the compiler can do several cells at once.
+    // vertex (coarse_mesh.cpp).
     void mixRow(int v, const float* zm, size_t stride, float* out) const;
 
     int cellSamples() const { return c_; }
@@ -66,34 +65,6 @@ T coarseMix(const CoarseMesh::At& a, T z00, T z10, T z01, T z11) {
     }
     return (static_cast<T>(a.fx + a.fy - 1.0f) * z11 + static_cast<T>(1.0f - a.fy) * z10) +
            static_cast<T>(1.0f - a.fx) * z01;
-}
-
-inline void CoarseMesh::mixRow(int v, const float* zm, size_t stride, float* out) const {
-    const At row = at(0, v);
-    const float* r0 = zm + static_cast<size_t>(row.y0) * stride;
-    const float* r1 = zm + static_cast<size_t>(row.y1) * stride;
-    const int half = c_ / 2;
-    for (int o = 0; o < c_; ++o) {
-        const float fx = static_cast<float>(o) * invC_;
-        float* dst = out + o;
-        if (fx + row.fy <= 1.0f) {
-            const float w00 = 1.0f - fx - row.fy, w10 = fx, w01 = row.fy;
-            for (int cx = 0; cx < cells_; ++cx) {
-                const int x0 = cx * half + ox_;
-                dst[cx * c_] = (w00 * r0[x0] + w10 * r0[x0 + half]) + w01 * r1[x0];
-            }
-        } else {
-            const float w11 = fx + row.fy - 1.0f, w10 = 1.0f - row.fy, w01 = 1.0f - fx;
-            for (int cx = 0; cx < cells_; ++cx) {
-                const int x0 = cx * half + ox_;
-                dst[cx * c_] = (w11 * r1[x0 + half] + w10 * r0[x0 + half]) + w01 * r1[x0];
-            }
-        }
-    }
-    // u = n, the last cell's far edge (fx = n / c - (cells - 1) as at() computes it).
-    const int n = cells_ * c_;
-    const At a = at(n, v);
-    out[n] = coarseMix(a, r0[a.x0], r0[a.x1], r1[a.x0], a.lower ? 0.0f : r1[a.x1]);
 }
 
 } // namespace pyramid

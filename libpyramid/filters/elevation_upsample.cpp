@@ -39,6 +39,22 @@ float predictElevation(const float* parent, size_t stride, int px, int py, int i
     return z;
 }
 
+namespace {
+
+// row[2c] = even[c] + row[2c] and row[2c + 1] = odd[c] + row[2c + 1] for c < odds, then
+// row[2 odds] = even[odds] + row[2 odds]: a row's predictions added to its residuals, both
+// parities in one pass over the row (a loop over every other sample cannot store in vectors).
+PYRAMID_VECTOR_CLONES
+void addRow(const float* even, const float* odd, int odds, float* row) {
+    for (int c = 0; c < odds; ++c) {
+        row[2 * c] = even[c] + row[2 * c];
+        row[2 * c + 1] = odd[c] + row[2 * c + 1];
+    }
+    row[2 * odds] = even[odds] + row[2 * odds];
+}
+
+} // namespace
+
 PYRAMID_VECTOR_CLONES
 void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int py, float* out,
                     size_t outStride) {
@@ -51,28 +67,25 @@ void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int
             weight[dj][di] = kTap[dj] * kTap[di];
         }
     }
-    const int last = n + 4;
-    // Odd columns (i = 2c + 1 <= last) are computed into `line` first, contiguously, so that the
+    const int last = n + 4; // even: columns 0, 2 .. last and 1, 3 .. last - 1
+    // A row's predictions are computed into `even` and `odd` first, contiguously, so that the
     // compiler computes several at once (each still with its own operations in order), then
-    // added to every other sample of the row.
-    const int odd = (last + 1) / 2;
-    thread_local std::vector<float> line;
-    line.resize(static_cast<size_t>(odd));
+    // added to the row (addRow).
+    const int odds = (last + 1) / 2;
+    thread_local std::vector<float> lines;
+    lines.resize(2 * static_cast<size_t>(odds) + 1);
+    float* even = lines.data();
+    float* odd = even + odds + 1;
     for (int j = 0; j <= last; ++j) {
         float* row = out + static_cast<size_t>(j) * outStride;
         const size_t y = static_cast<size_t>(j / 2 + py);
         if ((j & 1) == 0) {
-            // r[c]: parent row y, column c + px (c = i / 2).
+            // r[c]: parent row y, column c + px (c = i / 2). Even columns are the parent's samples.
             const float* r = parent + y * parentStride + static_cast<size_t>(px);
-            for (int i = 0; i <= last; i += 2) {
-                row[i] = r[i / 2] + row[i];
+            for (int c = 0; c < odds; ++c) {
+                odd[c] = interpolate4(r[c - 1], r[c], r[c + 1], r[c + 2]);
             }
-            for (int c = 0; c < odd; ++c) {
-                line[static_cast<size_t>(c)] = interpolate4(r[c - 1], r[c], r[c + 1], r[c + 2]);
-            }
-            for (int c = 0; c < odd; ++c) {
-                row[2 * c + 1] = line[static_cast<size_t>(c)] + row[2 * c + 1];
-            }
+            addRow(r, odd, odds, row);
             continue;
         }
         // p[d][c]: parent row y - 1 + d, column c + px.
@@ -80,22 +93,19 @@ void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int
         for (int d = 0; d < 4; ++d) {
             p[d] = parent + (y + static_cast<size_t>(d) - 1) * parentStride + static_cast<size_t>(px);
         }
-        for (int i = 0; i <= last; i += 2) {
-            const int c = i / 2;
-            row[i] = interpolate4(p[0][c], p[1][c], p[2][c], p[3][c]) + row[i];
+        for (int c = 0; c <= odds; ++c) {
+            even[c] = interpolate4(p[0][c], p[1][c], p[2][c], p[3][c]);
         }
-        for (int c = 0; c < odd; ++c) {
+        for (int c = 0; c < odds; ++c) {
             float z = 0.0f;
             for (int dj = 0; dj < 4; ++dj) {
                 for (int di = 0; di < 4; ++di) {
                     z = z + weight[dj][di] * p[dj][c + di - 1];
                 }
             }
-            line[static_cast<size_t>(c)] = z;
+            odd[c] = z;
         }
-        for (int c = 0; c < odd; ++c) {
-            row[2 * c + 1] = line[static_cast<size_t>(c)] + row[2 * c + 1];
-        }
+        addRow(even, odd, odds, row);
     }
 }
 
