@@ -46,11 +46,11 @@ void expectSameTiles(int n, int gridSize, int deepestLevel, const std::string& g
         for (int ty = 0; ty < (1 << level); ++ty) {
             for (int tx = 0; tx < (1 << level); ++tx) {
                 auto c = cpu.tile(level, tx, ty);
-                const ElevationTile g = GlElevationProducer::read(*gl.tile(level, tx, ty));
+                const GlElevationTexels g = GlElevationProducer::read(*gl.tile(level, tx, ty));
                 ASSERT_EQ(g.size, c->size);
                 ASSERT_EQ(differingSamples(c->zf, g.zf), 0u) << "zf of (" << level << "," << tx << "," << ty << ") n " << n;
                 ASSERT_EQ(differingSamples(c->zc, g.zc), 0u) << "zc of (" << level << "," << tx << "," << ty << ") n " << n;
-                ASSERT_EQ(differingSamples(c->zm, g.zm), 0u) << "zm of (" << level << "," << tx << "," << ty << ") n " << n;
+                ASSERT_EQ(differingSamples(c->zm(), g.zm), 0u) << "zm of (" << level << "," << tx << "," << ty << ") n " << n;
                 ++tiles;
             }
         }
@@ -92,7 +92,7 @@ TEST(GlElevationProducer, ZcDiffersFromZfWhereTheParentMeshIsCoarse) {
     ElevationProducerOptions o;
     o.tileSize = 96;
     GlElevationProducer gl(residuals, o);
-    const ElevationTile t = GlElevationProducer::read(*gl.tile(2, 1, 2));
+    const GlElevationTexels t = GlElevationProducer::read(*gl.tile(2, 1, 2));
     size_t differing = 0;
     for (size_t s = 0; s < t.zf.size(); ++s) {
         differing += t.zf[s] != t.zc[s] ? 1 : 0;
@@ -101,7 +101,7 @@ TEST(GlElevationProducer, ZcDiffersFromZfWhereTheParentMeshIsCoarse) {
     EXPECT_GT(differing, t.zf.size() / 4); // odd samples interpolate, they do not predict
     // A sample on a parent mesh vertex copies the parent's zm: child (0, 0) of quadrant (1, 0)
     // is parent sample (2 + 48, 2).
-    const ElevationTile parent = GlElevationProducer::read(*gl.tile(1, 0, 1));
+    const GlElevationTexels parent = GlElevationProducer::read(*gl.tile(1, 0, 1));
     EXPECT_EQ(t.zc[2 + 2 * 101], parent.zm[50 + 2 * 101]);
 }
 

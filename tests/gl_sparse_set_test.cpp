@@ -109,7 +109,7 @@ TEST(SparseSetReaders, GlRebuildsTheCpusElevations) {
     for (const auto& [l, tx, ty] : someTiles()) {
         const int level = l - 3;
         const auto c = cpu.tile(level, tx, ty);
-        const ElevationTile g = GlElevationProducer::read(*gl.tile(level, tx, ty));
+        const GlElevationTexels g = GlElevationProducer::read(*gl.tile(level, tx, ty));
         EXPECT_TRUE(sameBits(g.zf, c->zf)) << l << "," << tx << "," << ty;
         EXPECT_TRUE(sameBits(g.zc, c->zc)) << l << "," << tx << "," << ty;
     }

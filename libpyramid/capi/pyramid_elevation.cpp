@@ -132,7 +132,7 @@ pyramid_status pyramid_elevation_tile(pyramid_elevation* producer, int level, in
             std::memcpy(zc, tile->zc.data(), tile->zc.size() * sizeof(float));
         }
         if (zm) {
-            std::memcpy(zm, tile->zm.data(), tile->zm.size() * sizeof(float));
+            std::memcpy(zm, tile->zm().data(), tile->zm().size() * sizeof(float));
         }
         return PYRAMID_OK;
     });

@@ -155,11 +155,11 @@ std::shared_ptr<const GlElevationTile> GlElevationProducer::tile(int level, int 
     return impl_->produce(level, tx, ty);
 }
 
-ElevationTile GlElevationProducer::read(const GlElevationTile& tile) {
+GlElevationTexels GlElevationProducer::read(const GlElevationTile& tile) {
     const size_t count = static_cast<size_t>(tile.size) * static_cast<size_t>(tile.size);
     std::vector<float> texels(count * 4);
     tile.texture.read(GL_RGBA, GL_FLOAT, texels.data());
-    ElevationTile out;
+    GlElevationTexels out;
     out.level = tile.level;
     out.tx = tile.tx;
     out.ty = tile.ty;

@@ -7,6 +7,7 @@
 // (and current) as long as the producer and any tile it handed out.
 #pragma once
 #include <memory>
+#include <vector>
 
 #include "libpyramid/runtime/elevation_producer.hpp"
 #include "libpyramid/gl/gl_objects.hpp"
@@ -18,6 +19,13 @@ struct GlElevationTile {
     int level = 0, tx = 0, ty = 0;
     int size = 0;      // n + 5 texels per side
     GlTexture texture; // RGBA32F (zf, zc, zm, 0), row 0 = bottom
+};
+
+// A texture read back: its channels zf, zc and zm, to compare with the CPU producer's tiles.
+struct GlElevationTexels {
+    int level = 0, tx = 0, ty = 0;
+    int size = 0;
+    std::vector<float> zf, zc, zm;
 };
 
 class GlElevationProducer {
@@ -32,8 +40,8 @@ public:
     const std::string& path() const; // the residual file, for messages
     std::shared_ptr<const GlElevationTile> tile(int level, int tx, int ty);
 
-    // The tile read back in the CPU producer's form.
-    static ElevationTile read(const GlElevationTile& tile);
+    // The tile's texture read back.
+    static GlElevationTexels read(const GlElevationTile& tile);
 
 private:
     struct Impl;

@@ -78,8 +78,8 @@ void verifyElevation(const std::string& path, const GlVerifyOptions& options, Gl
         GlVerifyPart part{"elevation n=" + std::to_string(n) + " delta=" + std::to_string(ro.delta), "ulp"};
         walk(0, 0, 0, lastLevel(cpu.maxLevel(), options), [&](int level, int tx, int ty) {
             const auto c = cpu.tile(level, tx, ty);
-            const ElevationTile g = GlElevationProducer::read(*gl.tile(level, tx, ty));
-            record(part, std::max({maxUlp(c->zf, g.zf), maxUlp(c->zc, g.zc), maxUlp(c->zm, g.zm)}));
+            const GlElevationTexels g = GlElevationProducer::read(*gl.tile(level, tx, ty));
+            record(part, std::max({maxUlp(c->zf, g.zf), maxUlp(c->zc, g.zc), maxUlp(c->zm(), g.zm)}));
         });
         report.parts.push_back(part);
     }

@@ -61,7 +61,7 @@ void coarseElevations(const ElevationTile& parent, int n, int gridSize, int tx, 
     for (int v = 0; v <= n; ++v) {
         copyRow(v + 2, 0, 2);
         copyRow(v + 2, n + 3, 2);
-        mesh.mixRow(v, parent.zm.data(), s, &zc[2 + static_cast<size_t>(v + 2) * s]);
+        mesh.mixRow(v, parent.zm().data(), s, &zc[2 + static_cast<size_t>(v + 2) * s]);
     }
 }
 
@@ -70,7 +70,7 @@ void coarseElevations(const ElevationTile& parent, int n, int gridSize, int tx, 
 std::shared_ptr<TilePool<ElevationTile>> elevationTilePool() {
     static const std::shared_ptr<TilePool<ElevationTile>> pool =
         TilePool<ElevationTile>::make(size_t{32} << 20, [](const ElevationTile& t) {
-            return (t.zf.capacity() + t.zc.capacity() + t.zm.capacity()) * sizeof(float);
+            return (t.zf.capacity() + t.zc.capacity()) * sizeof(float);
         });
     return pool;
 }
@@ -117,7 +117,6 @@ struct ElevationProducer::Impl {
                            quadrantOffset(ty, n), z.data(), static_cast<size_t>(side));
             coarseElevations(*parent, n, gridSize, tx, ty, z, tile->zc);
         }
-        tile->zm = z;
         return cache.insert({level, tx, ty}, std::move(tile));
     }
 };

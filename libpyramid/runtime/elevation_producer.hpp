@@ -16,7 +16,8 @@ struct ElevationTile {
     std::vector<float> zf; // size^2, row 0 = bottom: the upsample-and-add elevations
     std::vector<float> zc; // coarse elevations: linear interpolation of the parent's zm on the
                            // gridSize render grid (north-west to south-east diagonals)
-    std::vector<float> zm; // modified elevations (= zf: no layers)
+    // The modified elevations: zf itself, as no layer modifies them (one array, not a copy).
+    const std::vector<float>& zm() const { return zf; }
 };
 
 struct ElevationProducerOptions {

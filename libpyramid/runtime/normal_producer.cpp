@@ -53,8 +53,8 @@ std::shared_ptr<const NormalTile> NormalProducer::tile(int level, int tx, int ty
     tile->ty = ty;
     tile->size = n + 1;
     tile->normals.resize(static_cast<size_t>(n + 1) * static_cast<size_t>(n + 1) * 4);
-    normalTile(heights->zm.data(), normalGeometry(o.deformation, o.size, n, level, tx, ty),
-               parent ? parent->zm.data() : nullptr, parentGeometry, n, impl_->elevations->gridSize(), tx, ty,
+    normalTile(heights->zm().data(), normalGeometry(o.deformation, o.size, n, level, tx, ty),
+               parent ? parent->zm().data() : nullptr, parentGeometry, n, impl_->elevations->gridSize(), tx, ty,
                tile->normals.data());
     return impl_->cache.insert({level, tx, ty}, std::move(tile));
 }

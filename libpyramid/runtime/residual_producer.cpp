@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "formats/error.hpp"
+#include "formats/vector_clones.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
 #include "libpyramid/runtime/region_lookup.hpp"
 #include "libpyramid/support/text.hpp"
@@ -16,6 +17,21 @@ void ResidualProducerOptions::validate() const {
         failOption("scale", numberText(scale) + " is not a finite non-zero number");
     }
 }
+
+namespace {
+
+// out[i] = r[i] * scale for i < n, then zeros up to `side`: one row of a residual window.
+PYRAMID_VECTOR_CLONES
+void scaleRow(const int16_t* r, int n, float scale, int side, float* out) {
+    for (int i = 0; i < n; ++i) {
+        out[i] = static_cast<float>(r[i]) * scale;
+    }
+    for (int i = n; i < side; ++i) {
+        out[i] = 0.0f;
+    }
+}
+
+} // namespace
 
 struct ResidualProducer::Impl {
     std::vector<std::unique_ptr<ResidualFileReader>> files; // main file first
@@ -56,12 +72,29 @@ struct ResidualProducer::Impl {
             const int sj = y0 + j;
             const int n = sj < s ? inside : 0;
             const int16_t* src = n > 0 ? &r[static_cast<size_t>(x0) + static_cast<size_t>(sj) * static_cast<size_t>(s)] : nullptr;
-            for (int i = 0; i < n; ++i) {
-                row[i] = static_cast<float>(src[i]) * scale;
-            }
-            std::fill(row + n, row + side, 0.0f);
+            scaleRow(src, n, scale, side, row);
         }
         return s;
+    }
+
+    // The root with delta > 0: the upsample-and-add of file levels 0..delta, each a whole-tile 2x
+    // upsample (all these levels are at or below minLevel, one tile each). `a` and `b` are
+    // resized to whole tiles (every sample written before it is read); returns the one holding
+    // the root.
+    std::vector<float>& root(std::vector<float>& a, std::vector<float>& b) const {
+        const size_t stride = static_cast<size_t>(tileSize) + 5;
+        const int whole = static_cast<int>(stride);
+        a.resize(stride * stride);
+        b.resize(stride * stride);
+        std::vector<float>* parent = &a;
+        std::vector<float>* out = &b;
+        load(0, 0, 0, 0, 0, whole, parent->data(), stride);
+        for (int l = 1; l <= delta; ++l) {
+            const int s = load(l, 0, 0, 0, 0, whole, out->data(), stride);
+            upsampleAndAdd(parent->data(), stride, s - 5, 1, 1, out->data(), stride);
+            std::swap(parent, out);
+        }
+        return *parent;
     }
 };
 
@@ -155,16 +188,8 @@ std::vector<float> ResidualProducer::tile(int level, int tx, int ty) const {
         impl_->load(level + impl_->delta, tx, ty, 0, 0, whole, out.data(), stride);
         return out;
     }
-    // Root with delta > 0: the upsample-and-add of file levels 0..delta, each a whole-tile 2x
-    // upsample (all these levels are at or below minLevel, one tile each).
-    std::vector<float> parent(stride * stride);
-    impl_->load(0, 0, 0, 0, 0, whole, parent.data(), stride);
-    for (int l = 1; l <= impl_->delta; ++l) {
-        const int s = impl_->load(l, 0, 0, 0, 0, whole, out.data(), stride);
-        upsampleAndAdd(parent.data(), stride, s - 5, 1, 1, out.data(), stride);
-        std::swap(parent, out);
-    }
-    return parent;
+    std::vector<float> other;
+    return std::move(impl_->root(out, other));
 }
 
 void ResidualProducer::window(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t outStride) const {
@@ -172,7 +197,12 @@ void ResidualProducer::window(int level, int tx, int ty, int x0, int y0, int sid
         impl_->load(level + impl_->delta, tx, ty, x0, y0, side, out, outStride);
         return;
     }
-    const std::vector<float> root = tile(level, tx, ty);
+    // The root's window, composed in this thread's two planes, which stay for its next root when
+    // tiles are up to 512 samples (2 MB at most); larger ones get planes of their own.
+    thread_local std::vector<float> keptA, keptB;
+    std::vector<float> ownA, ownB;
+    const bool keep = impl_->tileSize <= 512;
+    const std::vector<float>& root = keep ? impl_->root(keptA, keptB) : impl_->root(ownA, ownB);
     const size_t stride = static_cast<size_t>(impl_->tileSize) + 5;
     for (int j = 0; j < side; ++j) {
         std::copy_n(&root[static_cast<size_t>(x0) + (static_cast<size_t>(y0) + static_cast<size_t>(j)) * stride],
