@@ -20,11 +20,11 @@ namespace {
 
 std::string demPath() { return test::dataPath("proland/DEM.dat"); }
 
-std::shared_ptr<ElevationProducer> makeProducer(int n, size_t capacity = 64) {
-    auto header = ResidualFileReader::open(demPath())->header();
+std::shared_ptr<ElevationProducer> makeProducer(int n, size_t capacity = 64, const std::string& path = demPath()) {
+    auto header = ResidualFileReader::open(path)->header();
     ResidualProducerOptions ro;
     ro.delta = elevationDelta(header, n);
-    auto residuals = std::make_shared<ResidualProducer>(demPath(), std::vector<std::string>{}, ro);
+    auto residuals = std::make_shared<ResidualProducer>(path, std::vector<std::string>{}, ro);
     ElevationProducerOptions eo;
     eo.tileSize = n;
     eo.cacheCapacity = capacity;
@@ -130,6 +130,50 @@ TEST(ElevationProducer, CacheStaysBoundedAndThreadsAgree) {
         th.join();
     }
     EXPECT_EQ(mismatches[0] + mismatches[1], 0);
+}
+
+// Elevation tiles of 24 samples are 64 windows of one 192-tile, and a thread keeps the residual
+// tile it decoded last: two producers asked in turn for the same tiles, over DEM.dat and over a
+// copy with every residual negated, must each get their own file's residuals. The copy's heights
+// are the negated heights, exactly (rounding to nearest is symmetric).
+TEST(ElevationProducer, ProducersInTurnOnOneThreadKeepTheirOwnResiduals) {
+    test::TempDir dir;
+    const std::string negated = dir.file("negated.dat");
+    {
+        auto reader = ResidualFileReader::open(demPath());
+        const ResidualHeader h = reader->header();
+        ResidualFileWriter writer(negated, h);
+        for (int level = 0; level <= h.maxLevel; ++level) {
+            for (int ty = 0; ty < h.tilesPerSide(level); ++ty) {
+                for (int tx = 0; tx < h.tilesPerSide(level); ++tx) {
+                    std::vector<int16_t> r = reader->readTile(level, tx, ty);
+                    for (int16_t& v : r) {
+                        ASSERT_NE(v, -32768);
+                        v = static_cast<int16_t>(-v);
+                    }
+                    writer.writeTile(level, tx, ty, r);
+                }
+            }
+        }
+        writer.finish();
+        writer.commit();
+    }
+    auto a = makeProducer(24, 64, demPath());
+    auto b = makeProducer(24, 64, negated);
+    int tiles = 0;
+    for (int level = 0; level <= a->maxLevel(); ++level) {
+        for (int ty = 0; ty < (1 << level); ++ty) {
+            for (int tx = 0; tx < (1 << level); ++tx) {
+                const auto za = a->tile(level, tx, ty);
+                const auto zb = b->tile(level, tx, ty);
+                for (size_t s = 0; s < za->zf.size(); ++s) {
+                    ASSERT_EQ(zb->zf[s], -za->zf[s]) << "tile " << tileCoordinates(level, tx, ty) << " sample " << s;
+                }
+                ++tiles;
+            }
+        }
+    }
+    EXPECT_EQ(tiles, 1365); // levels 0..5
 }
 
 TEST(ElevationProducer, CoarseElevationsInterpolateTheParentMesh) {

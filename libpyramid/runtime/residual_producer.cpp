@@ -1,6 +1,7 @@
 #include "libpyramid/runtime/residual_producer.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <utility>
 
@@ -31,9 +32,27 @@ void scaleRow(const int16_t* r, int n, float scale, int side, float* out) {
     }
 }
 
+// The residual tile a thread decoded last, and whose it is: elevation tiles smaller than the
+// residual tiles (n = tileSize / 2^k, k > 0) are 4^k windows of one residual tile, produced one
+// after the other as a renderer descends, and each would decode the whole tile again.
+struct LastTile {
+    uint64_t producer = 0; // Impl::id; 0 while nothing is held
+    size_t file = 0;
+    int level = 0, tx = 0, ty = 0;
+    std::vector<int16_t> residuals;
+};
+
+// Every producer's own number, never reused: a producer made where another one was destroyed
+// does not take that one's tile.
+uint64_t nextProducerId() {
+    static std::atomic<uint64_t> next{1};
+    return next.fetch_add(1, std::memory_order_relaxed);
+}
+
 } // namespace
 
 struct ResidualProducer::Impl {
+    const uint64_t id = nextProducerId();
     std::vector<std::unique_ptr<ResidualFileReader>> files; // main file first
     std::vector<float> scales;                               // file scale x producer scale
     int delta = 0;
@@ -60,10 +79,19 @@ struct ResidualProducer::Impl {
         const float scale = scales[static_cast<size_t>(k)];
         const int s = f.header().tileSamples(rel.level);
         const bool stored = storesTile(f, rel);
-        thread_local std::vector<int16_t> r;
-        if (stored) {
-            r.resize(static_cast<size_t>(s) * static_cast<size_t>(s));
-            f.readTileInto(rel.level, rel.tx, rel.ty, r);
+        thread_local LastTile last;
+        const std::vector<int16_t>& r = last.residuals;
+        const bool held = last.producer == id && last.file == static_cast<size_t>(k) && last.level == rel.level &&
+                          last.tx == rel.tx && last.ty == rel.ty;
+        if (stored && !held) {
+            last.producer = 0; // nothing held until the tile is decoded (a failed read leaves none)
+            last.residuals.resize(static_cast<size_t>(s) * static_cast<size_t>(s));
+            f.readTileInto(rel.level, rel.tx, rel.ty, last.residuals);
+            last.producer = id;
+            last.file = static_cast<size_t>(k);
+            last.level = rel.level;
+            last.tx = rel.tx;
+            last.ty = rel.ty;
         }
         // Columns x0 .. x0 + inside - 1 and rows below s hold samples of the tile.
         const int inside = stored ? std::clamp(s - x0, 0, side) : 0;
