@@ -103,14 +103,16 @@ std::vector<AxisTap> axisTaps(int64_t first, int64_t stride, int64_t count, bool
     return taps;
 }
 
-// Bilinear interpolation of a window without nodata, separably: each input row the taps touch
+// Bilinear interpolation of window rows without nodata, separably: each input row the taps touch
 // is interpolated horizontally once, at every grid column (`top` and `bottom` of the per-sample
 // formula below, with the same operations), and each grid row then combines its two input rows.
 // Columns beyond the input stay nodata. Taps of weight 0 read their first sample twice, whose
-// difference is then 0: v + 0 * f = v, the sample itself.
+// difference is then 0: v + 0 * f = v, the sample itself. `heightRows`: null when every row of
+// the window holds only heights; else one flag per window row, and only the grid rows whose
+// input rows are all flagged are computed here (the others are left to the per-tap loop).
 PYRAMID_VECTOR_CLONES
-void sampleCleanWindow(const std::vector<AxisTap>& xs, const std::vector<AxisTap>& ys, const float* window,
-                       int64_t cx0, int64_t ry0, int64_t ww, SourceGrid& grid) {
+void sampleCleanRows(const std::vector<AxisTap>& xs, const std::vector<AxisTap>& ys, const float* window,
+                     int64_t cx0, int64_t ry0, int64_t ww, const uint8_t* heightRows, SourceGrid& grid) {
     const size_t nx = static_cast<size_t>(grid.nx);
     std::vector<size_t> first(nx), second(nx);
     std::vector<double> weight(nx);
@@ -137,6 +139,10 @@ void sampleCleanWindow(const std::vector<AxisTap>& xs, const std::vector<AxisTap
             continue;
         }
         const bool fy = ty.frac > 0.0;
+        if (heightRows != nullptr &&
+            (heightRows[ty.index - ry0] == 0 || (fy && heightRows[ty.index + 1 - ry0] == 0))) {
+            continue;
+        }
         const double* top = rows.row(ty.index, fy ? ty.index + 1 : -1, horizontal);
         float* __restrict height = grid.height.data() + j * grid.nx;
         uint8_t* __restrict valid = grid.valid.data() + j * grid.nx;
@@ -163,11 +169,22 @@ void interpolate(const std::vector<AxisTap>& xs, const std::vector<AxisTap>& ys,
                  int64_t cx0, int64_t ry0, int64_t ww, SourceGrid& grid, const std::optional<double>& nodata,
                  const RasterSource& source, int band, const std::vector<int>* columns, const std::vector<int>* rows) {
     const HeightSamples samples(nodata);
-    // Most windows hold only heights: one scan finds out, and the interpolation below then reads
-    // the input without a test per tap (the same values, the same arithmetic).
-    const bool clean = std::all_of(window.begin(), window.end(), [&](float s) { return samples.isHeight(s); });
+    // Most windows hold only heights, and most rows of many others (a void, a band of nodata
+    // along the north or south): one scan finds the rows that do, whose grid rows are then
+    // interpolated without a test per tap (the same values, the same arithmetic); the per-tap
+    // loop below takes the rest. Rows of heights hold no sample the loop could fail on, so an
+    // error is still the first one in the loop's order.
+    const auto wh = static_cast<int64_t>(window.size()) / ww;
+    std::vector<uint8_t> heightRows(static_cast<size_t>(wh));
+    bool clean = true;
+    for (int64_t r = 0; r < wh; ++r) {
+        const float* line = window.data() + r * ww;
+        const bool heights = std::all_of(line, line + ww, [&](float s) { return samples.isHeight(s); });
+        heightRows[static_cast<size_t>(r)] = heights ? 1 : 0;
+        clean = clean && heights;
+    }
+    sampleCleanRows(xs, ys, window.data(), cx0, ry0, ww, clean ? nullptr : heightRows.data(), grid);
     if (clean) {
-        sampleCleanWindow(xs, ys, window.data(), cx0, ry0, ww, grid);
         return;
     }
     // Reads input (column c, row r) from `line`, the window's row r: false for nodata; NaN or
@@ -193,6 +210,10 @@ void interpolate(const std::vector<AxisTap>& xs, const std::vector<AxisTap>& ys,
         const float* line0 = window.data() + (ty.index - ry0) * ww;
         const float* line1 = line0 + ww;
         const bool fy = ty.frac > 0.0;
+        if (heightRows[static_cast<size_t>(ty.index - ry0)] != 0 &&
+            (!fy || heightRows[static_cast<size_t>(ty.index + 1 - ry0)] != 0)) {
+            continue; // sampleCleanRows's
+        }
         float* height = outHeight + j * grid.nx;
         uint8_t* valid = outValid + j * grid.nx;
         for (int64_t i = 0; i < grid.nx; ++i) {
