@@ -107,6 +107,9 @@ TEST(DemEncoder, ErrorBoundAtEveryLevelAndFinestLevelIsTheInput) {
     for (size_t l = 0; l < verify.levels.size(); ++l) {
         EXPECT_EQ(verify.levels[l].maxError, report.levels[l].maxError);
         EXPECT_EQ(verify.levels[l].samples, report.levels[l].samples);
+        // The same errors, summed in another order.
+        EXPECT_NEAR(verify.levels[l].rmsError, report.levels[l].rmsError, 1e-12 + 1e-9 * report.levels[l].rmsError);
+        EXPECT_GT(report.levels[l].rmsError, 0.0) << "level " << l;
     }
 }
 

@@ -1,6 +1,7 @@
 #include "libpyramid/encode/residual/residual_tile.hpp"
 
 #include <cmath>
+#include <cstring>
 
 #include "formats/residual_codec.hpp"
 #include "libpyramid/filters/elevation_upsample.hpp"
@@ -34,13 +35,14 @@ struct RowCoding {
 
 // Residuals of one row of a tile, written to r16 (0 at invalid samples, clamped to int16), and
 // the runtime's reconstruction `z = prediction + float(r) * scale` (doc/format.md, section 3)
-// in place of the prediction in z. Sample i is at height[column(i)], valid[column(i)].
-// roundHalfEven's operations, with selections instead of branches and no reduction, so that
-// the compiler vectorises the loop (this file is compiled with -fno-trapping-math, which lets
+// in place of the prediction in z; lo and hi are lowered and raised to the row's stored
+// values. Sample i is at height[column(i)], valid[column(i)]. roundHalfEven's operations, with
+// selections instead of branches and no floating-point reduction, so that the compiler
+// vectorises the loop (this file is compiled with -fno-trapping-math, which lets
 // it evaluate both sides of a selection; the values are the same).
 template <typename Column>
 inline void encodeRowWith(const RowCoding& k, const float* __restrict height, const uint8_t* __restrict valid,
-                          Column column, float* __restrict z, int16_t* __restrict r16, int S) {
+                          Column column, float* __restrict z, int16_t* __restrict r16, int S, int& lo, int& hi) {
     constexpr double kTwo52 = 4503599627370496.0;
     const bool powerOfTwo = k.powerOfTwo;
     const double inverse = k.inverse, step = k.step;
@@ -55,21 +57,19 @@ inline void encodeRowWith(const RowCoding& k, const float* __restrict height, co
         const auto stored = static_cast<int16_t>(static_cast<int32_t>(std::min(std::max(r, -32768.0), 32767.0)));
         r16[i] = stored;
         z[i] = z[i] + static_cast<float>(stored) * scale;
+        lo = std::min(lo, static_cast<int>(stored));
+        hi = std::max(hi, static_cast<int>(stored));
     }
 }
 
-// The largest |r| of a row's valid samples, before clamping to int16. Stored values away from
-// the int16 limits were not clamped: then it is the largest stored |r|. A row that reaches a
+// The largest |r| of a row's valid samples, before clamping to int16, from the row's least and
+// greatest stored values lo <= 0 <= hi (encodeRowWith's). Stored values away from the int16
+// limits were not clamped: then it is the largest stored |r|. A row that reaches a
 // limit (an overflow, or a residual of exactly -32768 or 32767) is measured again from the
 // heights and the predictions, which z no longer holds: `prediction` gives them back.
 template <typename Column, typename Prediction>
-double largestResidual(const RowCoding& k, const float* height, const uint8_t* valid, Column column,
-                       const int16_t* r16, int S, Prediction prediction) {
-    int lo = 0, hi = 0;
-    for (int i = 0; i < S; ++i) {
-        lo = std::min(lo, static_cast<int>(r16[i]));
-        hi = std::max(hi, static_cast<int>(r16[i]));
-    }
+double largestResidual(const RowCoding& k, const float* height, const uint8_t* valid, Column column, int lo, int hi,
+                       int S, Prediction prediction) {
     if (lo > -32768 && hi < 32767) {
         return static_cast<double>(std::max(-lo, hi));
     }
@@ -107,12 +107,35 @@ inline void addErrors(const float* height, const uint8_t* valid, Column column, 
         lanes.maxima[u] = std::max(lanes.maxima[u], counted ? e : 0.0);
         lanes.sums[u] += counted ? e * e : 0.0;
     };
+    // Four samples at a time, the four lanes side by side in vectors (GCC's vector extension:
+    // element-wise IEEE operations, the same values as count's): each lane's error, or 0 where
+    // it does not count (|d| by clearing the sign bit, as fabs).
+    using Double4 = double __attribute__((vector_size(32)));
+    using Int4 = int64_t __attribute__((vector_size(32)));
+    Double4 sums, maxima;
+    Int4 counts;
+    std::memcpy(&sums, lanes.sums, sizeof sums);
+    std::memcpy(&maxima, lanes.maxima, sizeof maxima);
+    std::memcpy(&counts, lanes.counts, sizeof counts);
+    const Int4 magnitude = {INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX};
+    const Double4 zero = {0.0, 0.0, 0.0, 0.0};
     int i = 2;
     for (; i + 4 <= n + 2; i += 4) {
+        Double4 d;
+        Int4 counted;
         for (int u = 0; u < 4; ++u) {
-            count(i + u, u);
+            const size_t c = column(i + u);
+            d[u] = static_cast<double>(z[i + u]) - static_cast<double>(height[c]);
+            counted[u] = valid[c] == 1 ? 1 : 0;
         }
+        const Double4 e = counted != 0 ? reinterpret_cast<Double4>(reinterpret_cast<Int4>(d) & magnitude) : zero;
+        counts += counted;
+        maxima = maxima < e ? e : maxima;
+        sums += e * e;
     }
+    std::memcpy(lanes.sums, &sums, sizeof sums);
+    std::memcpy(lanes.maxima, &maxima, sizeof maxima);
+    std::memcpy(lanes.counts, &counts, sizeof counts);
     for (; i < n + 2; ++i) {
         count(i, (i - 2) & 3);
     }
@@ -190,14 +213,15 @@ EncodedTile encodeResidualTile(const ResidualPlan& plan, int l, int tx, int ty, 
         const auto strided = [columnStep](int i) { return static_cast<size_t>(i) * columnStep; };
         const auto listed = [table](int i) { return table[i]; };
         const auto prediction = [&](int i) { return predicted[static_cast<size_t>(i)]; };
+        int lo = 0, hi = 0;
         if (uniform && columnStep == 1) {
-            encodeRowWith(coding, height + firstColumn, valid + firstColumn, contiguous, z, r16, S);
+            encodeRowWith(coding, height + firstColumn, valid + firstColumn, contiguous, z, r16, S, lo, hi);
         } else if (uniform) {
-            encodeRowWith(coding, height + firstColumn, valid + firstColumn, strided, z, r16, S);
+            encodeRowWith(coding, height + firstColumn, valid + firstColumn, strided, z, r16, S, lo, hi);
         } else {
-            encodeRowWith(coding, height, valid, listed, z, r16, S);
+            encodeRowWith(coding, height, valid, listed, z, r16, S, lo, hi);
         }
-        maxAbs = std::max(maxAbs, largestResidual(coding, height, valid, listed, r16, S, prediction));
+        maxAbs = std::max(maxAbs, largestResidual(coding, height, valid, listed, lo, hi, S, prediction));
         // A sample counts in the error statistics if the tile owns it: i in [2, n + 2) of an
         // owned row, and the map's last column.
         const bool ownedRow = (q >= ownY0 && q < ownY0 + n) || q == Nl;
