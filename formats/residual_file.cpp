@@ -10,6 +10,7 @@
 #include "formats/residual_codec.hpp"
 #include "formats/residual_context.hpp"
 #include "formats/residual_shadow.hpp"
+#include "formats/residual_tiff_plain.hpp"
 #include "formats/tiff_tile.hpp"
 
 namespace pyramid {

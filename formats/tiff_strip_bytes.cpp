@@ -130,25 +130,4 @@ std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t byt
     return {out.data(), bytes};
 }
 
-// The same for 16-bit samples (native byte order, as the strip stores them), modulo 2^16.
-std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t bytes, int width, int channels) {
-    thread_local std::vector<uint16_t> out;
-    const size_t count = bytes / 2;
-    if (out.size() < count) {
-        out.resize(count);
-    }
-    // The samples as they are first (the buffer may be unaligned), then differenced in place
-    // from the end of each row backwards.
-    std::memcpy(out.data(), pixels, count * 2);
-    const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
-    const auto c = static_cast<size_t>(channels);
-    for (size_t y = 0; y < count / row; ++y) {
-        uint16_t* o = out.data() + y * row;
-        for (size_t k = row; k-- > c;) {
-            o[k] = static_cast<uint16_t>(o[k] - o[k - c]);
-        }
-    }
-    return {reinterpret_cast<const uint8_t*>(out.data()), count * 2};
-}
-
 } // namespace pyramid

@@ -15,8 +15,7 @@ std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level)
 // others) at levels 1 and 2, bytes on which Deflate's matches would save little are coded as
 // literals only, or as literals and runs; the rest by libdeflate.
 std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, int pixelBytes);
-// The strip libtiff's horizontal predictor stores for 8-bit and for 16-bit samples.
+// The strip libtiff's horizontal predictor stores for 8-bit samples.
 std::span<const uint8_t> horizontalDifferences(const uint8_t* pixels, size_t bytes, int width, int channels);
-std::span<const uint8_t> horizontalDifferences16(const uint8_t* pixels, size_t bytes, int width, int channels);
 
 } // namespace pyramid

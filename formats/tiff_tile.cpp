@@ -30,15 +30,13 @@ uint16_t compressionCode(TiffCompression c) {
     return COMPRESSION_NONE;
 }
 
-// Encodes one strip of `bits`-bit samples. Deflate strips (with or without the predictor) are
-// compressed here, with a compressor kept per thread, and written raw: libtiff would
-// copy the strip and set up a compressor for every tile. `imageCoders`: 8-bit image tiles, whose
-// strips may go to the faster coders of deflateStrip (the elevation residuals keep libdeflate's
-// streams).
+// Encodes an image tile's one strip of `bits`-bit samples. Deflate strips (with or without the
+// predictor) are compressed here, with a compressor kept per thread, and may go to the faster
+// coders of deflateStrip; they are written raw: libtiff would copy the strip and set up a
+// compressor for every tile. (Residual tiles: writePlainResidualTiff.)
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
-                                 int jpegQuality, int deflateLevel, bool horizontalPredictor,
-                                 bool signedSamples = false, bool imageCoders = false) {
+                                 int jpegQuality, int deflateLevel, bool horizontalPredictor) {
     const bool jpeg = isJpeg(compression);
     if (compression == TiffCompression::Deflate && (deflateLevel < 1 || deflateLevel > 12)) {
         fail("", "Deflate level " + std::to_string(deflateLevel) + " is not 1..12");
@@ -68,9 +66,6 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
     TIFFSetField(t, TIFFTAG_ORIENTATION, ORIENTATION_BOTLEFT);
     TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, static_cast<uint32_t>(height));
     TIFFSetField(t, TIFFTAG_COMPRESSION, compressionCode(compression));
-    if (signedSamples) {
-        TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, SAMPLEFORMAT_INT);
-    }
     if (extraSample) {
         // The channel beyond grey or RGB is unspecified data (coverage, alpha...).
         const uint16_t extra = EXTRASAMPLE_UNSPECIFIED;
@@ -89,10 +84,9 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
         std::span<const uint8_t> samples(static_cast<const uint8_t*>(pixels), bytes);
         if (horizontalPredictor) {
             TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
-            samples = bits == 16 ? horizontalDifferences16(samples.data(), bytes, width, channels)
-                                 : horizontalDifferences(samples.data(), bytes, width, channels);
+            samples = horizontalDifferences(samples.data(), bytes, width, channels);
         }
-        const std::span<const uint8_t> deflated = deflateStrip(samples, deflateLevel, imageCoders && bits == 8 ? channels : 0);
+        const std::span<const uint8_t> deflated = deflateStrip(samples, deflateLevel, channels);
         written = TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated.data()), static_cast<tmsize_t>(deflated.size()));
     } else {
         written = TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
@@ -122,8 +116,7 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
                                  : channels >= 3                                           ? PHOTOMETRIC_RGB
                                                                                            : PHOTOMETRIC_MINISBLACK;
     return encodeStrip(pixels.data(), pixels.size(), width, height, channels, 8, photometric,
-                       channels == 2 || channels == 4, compression, jpegQuality, deflateLevel, horizontalPredictor,
-                       false, true);
+                       channels == 2 || channels == 4, compression, jpegQuality, deflateLevel, horizontalPredictor);
 }
 
 namespace {
@@ -262,27 +255,6 @@ TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight,
     return decodeChecked(blob, maxWidth, maxHeight, where, {});
 }
 
-
-std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel,
-                                        ResidualTiffLayout layout, bool horizontalPredictor) {
-    if (size < 1 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
-        fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
-    }
-    if (layout == ResidualTiffLayout::OneShort) {
-        return encodeStrip(residuals.data(), residuals.size() * 2, size, size, 1, 16, PHOTOMETRIC_MINISBLACK, false,
-                           TiffCompression::Deflate, 0, deflateLevel, horizontalPredictor, true);
-    }
-    // Two 8-bit samples per pixel: the low and the high byte of the int16, with no ExtraSamples
-    // tag, exactly as the original tools write them.
-    std::vector<uint8_t> bytes(residuals.size() * 2);
-    for (size_t k = 0; k < residuals.size(); ++k) {
-        const auto v = static_cast<uint16_t>(residuals[k]);
-        bytes[2 * k] = static_cast<uint8_t>(v & 0xffu);
-        bytes[2 * k + 1] = static_cast<uint8_t>(v >> 8);
-    }
-    return encodeStrip(bytes.data(), bytes.size(), size, size, 2, 8, PHOTOMETRIC_MINISBLACK, false,
-                       TiffCompression::Deflate, 0, deflateLevel, horizontalPredictor);
-}
 
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where) {
     const TiffImage image = decodeChecked(blob, size, size, where, [&](const TiffImage& header) {

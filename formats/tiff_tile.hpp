@@ -45,19 +45,6 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
 // `where` prefixes error messages (e.g. "DEM.dat: tile (3,1,0)").
 TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where);
 
-// The layouts of residual TIFF tiles that every reader (the original runtime's too) decodes to
-// the same bytes: TwoBytes is 2 samples x 8 bits (low byte, high byte), as the original tools
-// write them; OneShort is 1 signed 16-bit sample.
-enum class ResidualTiffLayout { TwoBytes, OneShort };
-
-// Residual tiles: size x size int16 values, Deflate, by default as the original tools write
-// them. `deflateLevel` (1..12, libdeflate's levels) only trades encoding time for bytes: any
-// level is the same standard Deflate stream to a reader. `horizontalPredictor` stores each
-// sample as its difference from the one to its left (TIFF Predictor = 2, per 8-bit channel or
-// per 16-bit sample), which libtiff undoes within TIFFReadEncodedStrip.
-std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel = 6,
-                                        ResidualTiffLayout layout = ResidualTiffLayout::TwoBytes,
-                                        bool horizontalPredictor = false);
 // Accepts the 2 x 8-bit layout and a genuine 1 x 16-bit layout; the image must be size x size.
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where);
 

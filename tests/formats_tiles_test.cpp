@@ -11,6 +11,7 @@
 
 #include "formats/dxt_codec.hpp"
 #include "formats/error.hpp"
+#include "formats/residual_tiff_plain.hpp"
 #include "formats/tiff_tile.hpp"
 #include "tests/support/dxt_blocks.hpp"
 #include "tests/support/paths.hpp"

@@ -16,6 +16,7 @@
 #include "formats/error.hpp"
 #include "formats/residual_codec.hpp"
 #include "formats/residual_context.hpp"
+#include "formats/residual_tiff_plain.hpp"
 #include "formats/residual_file.hpp"
 #include "formats/tiff_tile.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
