@@ -8,6 +8,7 @@
 #include <libdeflate.h>
 
 #include "formats/error.hpp"
+#include "formats/tiff_plain_writer.hpp"
 #include "formats/tiff_strip_bytes.hpp"
 
 namespace pyramid {
@@ -219,62 +220,6 @@ bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<
     return true;
 }
 
-std::vector<uint8_t> writePlainResidualTiff(std::span<const uint8_t> deflated, int size, bool oneShort, bool predictor) {
-    const auto side = static_cast<uint16_t>(size);
-    const uint16_t samples = oneShort ? 1 : 2;
-    struct Field {
-        uint16_t tag, type;
-        uint32_t count, value; // SHORT values in the low half; two SHORTs (8, 8) as 8 | 8 << 16
-    };
-    const uint32_t stripBytes = static_cast<uint32_t>(deflated.size());
-    const uint32_t bits = oneShort ? 16u : (8u | 8u << 16);
-    Field fields[13] = {
-        {256, 3, 1, side},        // ImageWidth
-        {257, 3, 1, side},        // ImageLength
-        {258, 3, samples, bits},  // BitsPerSample
-        {259, 3, 1, 8},           // Compression: Adobe Deflate
-        {262, 3, 1, 1},           // PhotometricInterpretation: min-is-black
-        {273, 4, 1, 8},           // StripOffsets
-        {274, 3, 1, 4},           // Orientation: bottom-left
-        {277, 3, 1, samples},     // SamplesPerPixel
-        {278, 3, 1, side},        // RowsPerStrip
-        {279, 4, 1, stripBytes},  // StripByteCounts
-        {284, 3, 1, 1},           // PlanarConfiguration: contiguous
-    };
-    int count = 11;
-    if (predictor) {
-        fields[count++] = {317, 3, 1, 2}; // Predictor: horizontal
-    }
-    if (oneShort) {
-        fields[count++] = {339, 3, 1, 2}; // SampleFormat: signed integer
-    }
-    const size_t directory = (8 + deflated.size() + 1) & ~size_t{1};
-    std::vector<uint8_t> out(directory + 2 + 12 * static_cast<size_t>(count) + 4, 0);
-    const auto put16 = [&](size_t at, uint32_t v) {
-        out[at] = static_cast<uint8_t>(v);
-        out[at + 1] = static_cast<uint8_t>(v >> 8);
-    };
-    const auto put32 = [&](size_t at, uint32_t v) {
-        put16(at, v & 0xffffu);
-        put16(at + 2, v >> 16);
-    };
-    out[0] = 'I';
-    out[1] = 'I';
-    put16(2, 42);
-    put32(4, static_cast<uint32_t>(directory));
-    std::copy(deflated.begin(), deflated.end(), out.begin() + 8);
-    put16(directory, static_cast<uint32_t>(count));
-    for (int k = 0; k < count; ++k) {
-        const Field& f = fields[k];
-        const size_t at = directory + 2 + 12 * static_cast<size_t>(k);
-        put16(at, f.tag);
-        put16(at + 2, f.type);
-        put32(at + 4, f.count);
-        put32(at + 8, f.value);
-    }
-    return out; // the next directory's offset: 0
-}
-
 std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel,
                                         ResidualTiffLayout layout, bool horizontalPredictor) {
     if (size < 1 || size > 65535 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
@@ -287,7 +232,7 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
     // The strip, little-endian on every machine: two 8-bit samples per pixel (the low and the
     // high byte of the int16, with no ExtraSamples tag, exactly as the original tools write
     // them), or one 16-bit sample; the predictor's differences are the samples' (modulo 2^8 or
-    // 2^16), along each row. Written without setting libtiff up (writePlainResidualTiff).
+    // 2^16), along each row. Written without setting libtiff up (writePlainTiff).
     thread_local std::vector<uint8_t> bytes;
     bytes.resize(residuals.size() * 2);
     const auto n = static_cast<size_t>(size);
@@ -303,7 +248,12 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
     if (!oneShort && horizontalPredictor) {
         strip = horizontalDifferences(bytes.data(), bytes.size(), size, 2);
     }
-    return writePlainResidualTiff(deflateStrip(strip, deflateLevel, 0), size, oneShort, horizontalPredictor);
+    PlainTiffShape shape;
+    shape.width = shape.height = size;
+    shape.channels = oneShort ? 1 : 2;
+    shape.bits = oneShort ? 16 : 8;
+    shape.predictor = horizontalPredictor;
+    return writePlainTiff(deflateStrip(strip, deflateLevel, 0), shape);
 }
 
 } // namespace pyramid

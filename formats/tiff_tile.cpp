@@ -9,6 +9,7 @@
 #include "formats/error.hpp"
 #include "formats/jpeg_markers.hpp"
 #include "formats/tiff_memory.hpp"
+#include "formats/tiff_plain_writer.hpp"
 #include "formats/tiff_strip_bytes.hpp"
 
 namespace pyramid {
@@ -32,8 +33,8 @@ uint16_t compressionCode(TiffCompression c) {
 
 // Encodes an image tile's one strip of `bits`-bit samples. Deflate strips (with or without the
 // predictor) are compressed here, with a compressor kept per thread, and may go to the faster
-// coders of deflateStrip; they are written raw: libtiff would copy the strip and set up a
-// compressor for every tile. (Residual tiles: writePlainResidualTiff.)
+// coders of deflateStrip; their TIFF is written without libtiff (writePlainTiff), which would
+// set up its field table and a compressor for every tile. Other codecs go through libtiff.
 std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, int height, int channels, int bits,
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
                                  int jpegQuality, int deflateLevel, bool horizontalPredictor) {
@@ -47,6 +48,14 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
     if (jpeg && (bits != 8 || (channels != 1 && channels != 3))) {
         fail("", "JPEG tiles need 1 or 3 channels of 8 bits, not " + std::to_string(channels) + " x " +
                      std::to_string(bits) + " bits");
+    }
+    if (compression == TiffCompression::Deflate) {
+        std::span<const uint8_t> samples(static_cast<const uint8_t*>(pixels), bytes);
+        if (horizontalPredictor) {
+            samples = horizontalDifferences(samples.data(), bytes, width, channels);
+        }
+        const PlainTiffShape shape{width, height, channels, bits, photometric, extraSample, horizontalPredictor};
+        return writePlainTiff(deflateStrip(samples, deflateLevel, channels), shape);
     }
     std::vector<uint8_t> out;
     out.reserve(bytes / 2 + 256);
@@ -79,18 +88,7 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
         TIFFSetField(t, TIFFTAG_YCBCRSUBSAMPLING, uint16_t{2}, uint16_t{2});
         TIFFSetField(t, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
     }
-    tmsize_t written = 0;
-    if (compression == TiffCompression::Deflate) {
-        std::span<const uint8_t> samples(static_cast<const uint8_t*>(pixels), bytes);
-        if (horizontalPredictor) {
-            TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
-            samples = horizontalDifferences(samples.data(), bytes, width, channels);
-        }
-        const std::span<const uint8_t> deflated = deflateStrip(samples, deflateLevel, channels);
-        written = TIFFWriteRawStrip(t, 0, const_cast<uint8_t*>(deflated.data()), static_cast<tmsize_t>(deflated.size()));
-    } else {
-        written = TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
-    }
+    const tmsize_t written = TIFFWriteEncodedStrip(t, 0, const_cast<void*>(pixels), static_cast<tmsize_t>(bytes));
     if (written < 0) {
         fail("", withCause("cannot encode a TIFF tile", stream));
     }
