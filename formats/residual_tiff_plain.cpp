@@ -233,8 +233,7 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
     // high byte of the int16, with no ExtraSamples tag, exactly as the original tools write
     // them), or one 16-bit sample; the predictor's differences are the samples' (modulo 2^8 or
     // 2^16), along each row. Written without setting libtiff up (writePlainTiff).
-    thread_local std::vector<uint8_t> bytes;
-    bytes.resize(residuals.size() * 2);
+    std::vector<uint8_t> bytes(residuals.size() * 2);
     const auto n = static_cast<size_t>(size);
     for (size_t k = 0; k < residuals.size(); ++k) {
         auto v = static_cast<uint16_t>(residuals[k]);
