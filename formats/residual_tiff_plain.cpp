@@ -225,9 +225,6 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
     if (size < 1 || size > 65535 || residuals.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
         fail("", "residual tile: buffer does not match " + std::to_string(size) + "x" + std::to_string(size));
     }
-    if (deflateLevel < 1 || deflateLevel > 12) {
-        fail("", "Deflate level " + std::to_string(deflateLevel) + " is not 1..12");
-    }
     const bool oneShort = layout == ResidualTiffLayout::OneShort;
     // The strip, little-endian on every machine: two 8-bit samples per pixel (the low and the
     // high byte of the int16, with no ExtraSamples tag, exactly as the original tools write

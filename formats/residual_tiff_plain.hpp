@@ -29,6 +29,7 @@ enum class ResidualTiffLayout { TwoBytes, OneShort };
 std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel = 6,
                                         ResidualTiffLayout layout = ResidualTiffLayout::TwoBytes,
                                         bool horizontalPredictor = false);
+
 // Decodes `blob`, a residual tile of size x size samples, into `out` (size * size samples, rows
 // as stored) and returns true; or returns false, with `out` in any state, when the blob is not
 // such a TIFF or cannot be decoded exactly.

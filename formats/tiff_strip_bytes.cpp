@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "formats/deflate_literals.hpp"
@@ -26,7 +27,16 @@ struct CompressorDeleter {
 // without allocating and initialising a compressor for every tile: one per thread and level.
 // The stream is left in a buffer of the thread's, valid until its next call (libtiff copies
 // it into the tile), so that no tile allocates and clears a buffer of the compression bound.
+// The levels a Deflate tile may take: libdeflate's 1 to 12. Every Deflate tile's strip passes
+// here (zlibCompress or deflateStrip).
+static void requireDeflateLevel(int level) {
+    if (level < 1 || level > 12) {
+        fail("", "Deflate level " + std::to_string(level) + " is not 1..12");
+    }
+}
+
 std::span<const uint8_t> zlibCompress(std::span<const uint8_t> bytes, int level) {
+    requireDeflateLevel(level);
     thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressors[13];
     thread_local std::vector<uint8_t> out;
     auto& compressor = compressors[level];
@@ -92,6 +102,7 @@ StripCoder chooseCoder(std::span<const uint8_t> bytes, int level, int pixelBytes
 // many channels; 0: others), at the fast levels (1 and 2), strips of 8 KB and more go to the
 // coder chooseCoder finds for them; the rest to libdeflate.
 std::span<const uint8_t> deflateStrip(std::span<const uint8_t> bytes, int level, int pixelBytes) {
+    requireDeflateLevel(level);
     if (pixelBytes != 0 && level <= 2 && bytes.size() >= 2 * kSample) {
         thread_local std::vector<uint8_t> out;
         size_t size = 0; // the coders resize `out`: its data() is taken after them

@@ -39,9 +39,6 @@ std::vector<uint8_t> encodeStrip(const void* pixels, size_t bytes, int width, in
                                  uint16_t photometric, bool extraSample, TiffCompression compression,
                                  int jpegQuality, int deflateLevel, bool horizontalPredictor) {
     const bool jpeg = isJpeg(compression);
-    if (compression == TiffCompression::Deflate && (deflateLevel < 1 || deflateLevel > 12)) {
-        fail("", "Deflate level " + std::to_string(deflateLevel) + " is not 1..12");
-    }
     if (jpeg && (jpegQuality < 1 || jpegQuality > 100)) {
         fail("", "JPEG quality " + std::to_string(jpegQuality) + " is not 1..100");
     }

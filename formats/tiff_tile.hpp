@@ -45,7 +45,9 @@ std::vector<uint8_t> encodeTiff8(std::span<const uint8_t> pixels, int width, int
 // `where` prefixes error messages (e.g. "DEM.dat: tile (3,1,0)").
 TiffImage decodeTiff(std::span<const uint8_t> blob, int maxWidth, int maxHeight, const std::string& where);
 
-// Accepts the 2 x 8-bit layout and a genuine 1 x 16-bit layout; the image must be size x size.
+// A residual tile read by libtiff, the reference (formats/residual_tiff_plain.hpp writes them and
+// reads the usual ones without it): accepts the 2 x 8-bit layout and a genuine 1 x 16-bit
+// layout; the image must be size x size.
 std::vector<int16_t> decodeResidualTiff(std::span<const uint8_t> blob, int size, const std::string& where);
 
 // Ortho tiles: exactly size x size x channels 8-bit samples (4-channel tiles without an

@@ -116,6 +116,14 @@ TEST(PlainTiffWriter, RefusesWhatIsNotAPlainTile) {
     EXPECT_THROW(writePlainTiff(stream, {4, 4, 5, 8, 1, false, false}), Error);
     EXPECT_THROW(writePlainTiff(stream, {4, 4, 2, 16, 1, false, false}), Error);
     EXPECT_NO_THROW(writePlainTiff(stream, {65535, 1, 1, 16, 1, false, false}));
+    // Deflate levels beyond libdeflate's 1 to 12, whichever tile.
+    const std::vector<int16_t> residuals(25, 3);
+    const std::vector<uint8_t> pixels(25 * 3, 7);
+    for (const int level : {0, 13}) {
+        EXPECT_THROW(encodeResidualTiff(residuals, 5, level), Error) << level;
+        EXPECT_THROW(encodeTiff8(pixels, 5, 5, 3, TiffCompression::Deflate, 90, level), Error) << level;
+    }
+    EXPECT_NO_THROW(encodeTiff8(pixels, 5, 5, 3, TiffCompression::Deflate, 90, 12));
 }
 
 } // namespace
