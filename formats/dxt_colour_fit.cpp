@@ -4,85 +4,48 @@
 // helpers are inlined into each clone), which is what the compilers' ABI note is about.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-#include <array>
+#include <algorithm>
 #include <bit>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
+#include "formats/dxt_solid_pairs.hpp"
+#include "formats/error.hpp"
 #include "formats/vector_clones.hpp"
 
 namespace pyramid {
 
 namespace {
 
-constexpr int kLanes = kDxtColourLanes;
+#define PYRAMID_INLINE [[gnu::always_inline]] static inline
+
+// Vectors of N floats, ints and unsigned ints, one specialisation per width (GCC 12 drops a
+// vector_size that depends on a template's parameter).
+template <int N>
+struct Lanes;
+#define PYRAMID_LANES(N)                                                                           \
+    template <>                                                                                    \
+    struct Lanes<N> {                                                                              \
+        typedef float floats __attribute__((vector_size(N * 4)));                                  \
+        typedef int ints __attribute__((vector_size(N * 4)));                                      \
+        typedef unsigned uints __attribute__((vector_size(N * 4)));                                \
+    };
+PYRAMID_LANES(4)
+PYRAMID_LANES(8)
+PYRAMID_LANES(16)
+#undef PYRAMID_LANES
+
+// The fit of up to kLanes blocks at a time, one per lane of vectors as wide as one register of
+// the CPU (encodeDxtColourBlocks picks 4, 8 or 16): wider vectors spill. On an AVX2 machine, 16
+// lanes (pairs of registers) took 3.9 times as long as two calls of 8, and 2.8 times as long
+// as four calls of 4 on a plain x86-64 one; the bytes are the same (bench/ortho_bench.md).
+template <int kLanes>
+struct LaneFit {
 // One value per block of a call, one block per lane.
-using floats = float __attribute__((vector_size(4 * kLanes)));
-using ints = int __attribute__((vector_size(4 * kLanes)));
-using uints = unsigned __attribute__((vector_size(4 * kLanes)));
-
-constexpr int expand5(int q) { return (q << 3) | (q >> 2); }
-constexpr int expand6(int q) { return (q << 2) | (q >> 4); }
-
-// For each 8-bit value, the endpoints (a, b) of `Bits` bits whose colour at index 2,
-// (2 E(a) + E(b)) / 3, is closest to it; of equally close pairs, the one with the closest
-// endpoints (then the lowest a and b).
-struct SolidPair {
-    uint8_t a = 0, b = 0;
-};
-
-// Built from the colours the pairs can make: for each colour c, the pair making it
-// with the closest endpoints (the first in (a, b) order of those); then for each value, the
-// closest colour, equally close ones by their pair's endpoints, then order. The same table as
-// trying every pair for every value, in 256 x 256 steps instead of 256 x 4096.
-template <int Bits>
-std::array<SolidPair, 256> solidPairs() {
-    constexpr int n = 1 << Bits;
-    const auto expand = [](int q) { return Bits == 5 ? expand5(q) : expand6(q); };
-    std::array<int, 256> spread{}, order{}; // per colour; spread -1: no pair makes it
-    spread.fill(-1);
-    for (int a = 0; a < n; ++a) {
-        for (int b = 0; b < n; ++b) {
-            const int ea = expand(a), eb = expand(b);
-            const auto c = static_cast<size_t>((2 * ea + eb) / 3);
-            const int s = std::abs(ea - eb);
-            if (spread[c] < 0 || s < spread[c]) {
-                spread[c] = s;
-                order[c] = a * n + b;
-            }
-        }
-    }
-    std::array<SolidPair, 256> table{};
-    for (int v = 0; v < 256; ++v) {
-        int best = 1 << 30, pair = 0;
-        for (int c = 0; c < 256; ++c) {
-            const auto k = static_cast<size_t>(c);
-            if (spread[k] < 0) {
-                continue;
-            }
-            const int cost = std::abs(c - v) * 256 + spread[k];
-            if (cost < best || (cost == best && order[k] < pair)) {
-                best = cost;
-                pair = order[k];
-            }
-        }
-        table[static_cast<size_t>(v)] = {static_cast<uint8_t>(pair / n), static_cast<uint8_t>(pair % n)};
-    }
-    return table;
-}
-
-struct SolidTables {
-    std::array<SolidPair, 256> five = solidPairs<5>();
-    std::array<SolidPair, 256> six = solidPairs<6>();
-};
-
-// Built on first use, so that programs which never write DXT do not build them at start-up.
-const SolidTables& solidTables() {
-    static const SolidTables tables;
-    return tables;
-}
-
-#define PYRAMID_INLINE [[gnu::always_inline]] inline
+using floats = typename Lanes<kLanes>::floats;
+using ints = typename Lanes<kLanes>::ints;
+using uints = typename Lanes<kLanes>::uints;
 
 PYRAMID_INLINE floats splat(float v) { return floats{} + v; }
 PYRAMID_INLINE ints splat(int v) { return ints{} + v; }
@@ -200,8 +163,7 @@ PYRAMID_INLINE bool keepBetter(Fit& best, const Fit& candidate, ints allowed) {
     return true;
 }
 
-PYRAMID_WIDE_VECTOR_CLONES // the same bytes in wider vectors where the CPU has them
-void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
+PYRAMID_INLINE void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
     // Pixel k of every lane's block as one word (R, G, B, A from its lowest byte): a transposition
     // of words, then the channels split and converted a vector at a time (not byte by byte).
     alignas(64) uint32_t words[16][kLanes];
@@ -348,12 +310,67 @@ void encodeLanes(const uint8_t* const* blocks, uint8_t* const* out, int count, i
         }
     }
 }
+}; // struct LaneFit
+
+using FitFunction = void (*)(const uint8_t* const*, uint8_t* const*, int, int, int*);
+
+// Each width compiled for the instructions that hold it in one register.
+#if PYRAMID_VECTOR_CLONES_ON
+[[gnu::target("avx512f")]] void fit16(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements,
+                                      int* squaredErrors) {
+    LaneFit<16>::encodeLanes(blocks, out, count, refinements, squaredErrors);
+}
+[[gnu::target("avx2")]] void fit8(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements,
+                                  int* squaredErrors) {
+    LaneFit<8>::encodeLanes(blocks, out, count, refinements, squaredErrors);
+}
+#endif
+void fit4(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements, int* squaredErrors) {
+    LaneFit<4>::encodeLanes(blocks, out, count, refinements, squaredErrors);
+}
+
+// The fit in vectors of `lanes`, where this machine can run them; else null.
+FitFunction fitIn(int lanes) {
+    switch (lanes) {
+#if PYRAMID_VECTOR_CLONES_ON
+    case 16: return __builtin_cpu_supports("avx512f") ? fit16 : nullptr;
+    case 8: return __builtin_cpu_supports("avx2") ? fit8 : nullptr;
+#endif
+    case 4: return fit4;
+    default: return nullptr;
+    }
+}
+
+void encodeWith(FitFunction fit, int lanes, const uint8_t* const* blocks, uint8_t* const* out, int count,
+                int refinements, int* squaredErrors) {
+    for (int first = 0; first < count; first += lanes) {
+        fit(blocks + first, out + first, std::min(lanes, count - first), refinements,
+            squaredErrors != nullptr ? squaredErrors + first : nullptr);
+    }
+}
 
 } // namespace
 
+int dxtColourLanes() {
+    static const int lanes = fitIn(16) != nullptr ? 16 : fitIn(8) != nullptr ? 8 : 4;
+    return lanes;
+}
+
+bool dxtColourLanesAvailable(int lanes) { return fitIn(lanes) != nullptr; }
+
 void encodeDxtColourBlocks(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements,
                            int* squaredErrors) {
-    encodeLanes(blocks, out, count, refinements, squaredErrors);
+    static const FitFunction fit = fitIn(dxtColourLanes());
+    encodeWith(fit, dxtColourLanes(), blocks, out, count, refinements, squaredErrors);
+}
+
+void encodeDxtColourBlocksIn(int lanes, const uint8_t* const* blocks, uint8_t* const* out, int count,
+                             int refinements, int* squaredErrors) {
+    const FitFunction fit = fitIn(lanes);
+    if (fit == nullptr) {
+        fail("", "DXT colour fit: no vectors of " + std::to_string(lanes) + " lanes on this machine");
+    }
+    encodeWith(fit, lanes, blocks, out, count, refinements, squaredErrors);
 }
 
 } // namespace pyramid

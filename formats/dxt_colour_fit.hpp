@@ -1,7 +1,8 @@
 // libpyramid's DXT colour-block encoder (the default of --dxt-quality 0 and 1; doc/ortho-encoding.md,
-// "DXT"): sixteen 4 x 4 blocks at a time, one per vector lane, so that the per-block work (the
+// "DXT"): up to sixteen 4 x 4 blocks a call, one per vector lane, so that the per-block work (the
 // principal axis, the endpoint fits) runs side by side instead of one dependency chain per
-// block. For each block:
+// block; 4, 8 or 16 lanes at a time, the widest vectors one register of the machine holds
+// (SSE2, AVX2, AVX-512). For each block:
 //
 //  1. Candidates. (a) The block's principal axis (power iteration on the covariance of its 16
 //     colours, from the covariance's largest column), and the extreme projections of its colours
@@ -25,6 +26,7 @@
 
 namespace pyramid {
 
+// The most blocks one call takes (the widest vectors' lanes).
 constexpr int kDxtColourLanes = 16;
 
 // Encodes `count` (1..kDxtColourLanes) blocks: blocks[i] is 16 RGBA pixels, row by row (alpha
@@ -34,5 +36,15 @@ constexpr int kDxtColourLanes = 16;
 // 2^24).
 void encodeDxtColourBlocks(const uint8_t* const* blocks, uint8_t* const* out, int count, int refinements,
                            int* squaredErrors = nullptr);
+
+// The lanes encodeDxtColourBlocks runs in on this machine: 16, 8 or 4.
+int dxtColourLanes();
+// Whether this machine runs the fit in vectors of `lanes` (4 always; 8 with AVX2, 16 with
+// AVX-512, in x86-64 builds with vector clones: formats/vector_clones.hpp).
+bool dxtColourLanesAvailable(int lanes);
+// encodeDxtColourBlocks in vectors of `lanes`, which must be available: the same bytes and
+// errors at every width (tests compare them).
+void encodeDxtColourBlocksIn(int lanes, const uint8_t* const* blocks, uint8_t* const* out, int count,
+                             int refinements, int* squaredErrors = nullptr);
 
 } // namespace pyramid

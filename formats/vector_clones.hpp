@@ -1,7 +1,7 @@
 // PYRAMID_VECTOR_CLONES: compiles a hot loop twice, for baseline x86-64 (SSE2) and for AVX2,
 // and picks one when the program starts (GCC and clang `target_clones`, resolved by an ifunc).
-// PYRAMID_WIDE_VECTOR_CLONES adds a third, for AVX-512: for code written in vectors of 16
-// floats (the DXT colour fit), which fill one AVX-512 register and two AVX2 ones.
+// Code written in vectors that must fit one register (the DXT colour fit) picks its width at run
+// time instead (dxt_colour_fit.cpp): the same source at 4, 8 or 16 lanes.
 //
 // Why the results are the same bytes on every machine: the clones differ only in vector width.
 // Each float or double operation is correctly rounded by IEEE 754 whatever instruction performs
@@ -12,10 +12,8 @@
 
 #if defined(__x86_64__) && defined(__ELF__) && !defined(PYRAMID_NO_VECTOR_CLONES)
 #define PYRAMID_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
-#define PYRAMID_WIDE_VECTOR_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #define PYRAMID_VECTOR_CLONES_ON 1 // for --version
 #else
 #define PYRAMID_VECTOR_CLONES
-#define PYRAMID_WIDE_VECTOR_CLONES
 #define PYRAMID_VECTOR_CLONES_ON 0
 #endif

@@ -9,10 +9,12 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <random>
 
 #include "formats/dxt_codec.hpp"
 #include "formats/dxt_colour_fit.hpp"
+#include "formats/error.hpp"
 #include "tests/support/dxt_blocks.hpp"
 
 namespace pyramid {
@@ -283,6 +285,61 @@ TEST(DxtColourFit, LanesDoNotSeeEachOther) {
             for (int l = 0; l < count; ++l) {
                 EXPECT_EQ(together[static_cast<size_t>(l)], alone[static_cast<size_t>(l)])
                     << "lane " << l << " of " << count << ", " << refinements << " refinements";
+            }
+        }
+    }
+}
+
+// Every vector width this machine runs (4 lanes everywhere, 8 with AVX2, 16 with AVX-512) gives
+// the 4-lane fit's bytes and errors, whole groups and groups that leave lanes idle alike; and
+// encodeDxtColourBlocks is the widest of them.
+TEST(DxtColourFit, EveryVectorWidthGivesTheSameBlocks) {
+    const int side = 64;
+    const auto pixels = image(side, side, 4, 7);
+    std::vector<std::array<uint8_t, 64>> blocks;
+    for (int by = 0; by < side; by += 4) {
+        for (int bx = 0; bx < side; bx += 4) {
+            auto& block = blocks.emplace_back();
+            for (int j = 0; j < 4; ++j) {
+                std::copy_n(&pixels[static_cast<size_t>(((by + j) * side + bx) * 4)], 16, block.data() + 16 * j);
+            }
+        }
+    }
+    const auto encodeAll = [&](int lanes, int group, int refinements, std::vector<int>& errors) {
+        std::vector<uint8_t> bytes(blocks.size() * 8);
+        errors.assign(blocks.size(), -1);
+        for (size_t first = 0; first < blocks.size(); first += static_cast<size_t>(group)) {
+            const int count = static_cast<int>(std::min(blocks.size() - first, static_cast<size_t>(group)));
+            const uint8_t* in[kDxtColourLanes];
+            uint8_t* out[kDxtColourLanes];
+            for (int l = 0; l < count; ++l) {
+                in[l] = blocks[first + static_cast<size_t>(l)].data();
+                out[l] = &bytes[(first + static_cast<size_t>(l)) * 8];
+            }
+            if (lanes == 0) {
+                encodeDxtColourBlocks(in, out, count, refinements, &errors[first]);
+            } else {
+                encodeDxtColourBlocksIn(lanes, in, out, count, refinements, &errors[first]);
+            }
+        }
+        return bytes;
+    };
+    EXPECT_TRUE(dxtColourLanesAvailable(4));
+    EXPECT_TRUE(dxtColourLanesAvailable(dxtColourLanes()));
+    EXPECT_FALSE(dxtColourLanesAvailable(5));
+    EXPECT_THROW(encodeAll(5, 16, 1, *std::make_unique<std::vector<int>>()), Error);
+    for (int refinements = 0; refinements <= 2; ++refinements) {
+        for (int group : {16, 13, 3}) {
+            std::vector<int> expectedErrors, errors;
+            const auto expected = encodeAll(4, group, refinements, expectedErrors);
+            EXPECT_EQ(std::count(expectedErrors.begin(), expectedErrors.end(), -1), 0);
+            for (int lanes : {0, 8, 16}) {
+                if (lanes != 0 && !dxtColourLanesAvailable(lanes)) {
+                    continue;
+                }
+                EXPECT_EQ(encodeAll(lanes, group, refinements, errors), expected)
+                    << lanes << " lanes, groups of " << group << ", " << refinements << " refinements";
+                EXPECT_EQ(errors, expectedErrors) << lanes << " lanes";
             }
         }
     }
