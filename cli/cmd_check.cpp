@@ -2,6 +2,7 @@
 // (its main file, index or directory) every file, and the set's own rules; for a directory that
 // is not one set alone, every pyramid under it.
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -63,15 +64,26 @@ void checkOverlaps(const TileTable& table, std::vector<std::string>& problems) {
     }
 }
 
+// Every tile decoded; the problems found. With `leftOut`, a tile left out (an empty byte range:
+// imagery beyond the resolution of the parts there, which a reader magnifies from its parent,
+// doc/format.md 1.5) is counted there, not a problem, unless it is the root of a file rooted at
+// level 0, above which there is nothing to magnify.
 template <class Reader>
 std::vector<std::string> decodeAll(const std::string& file, const Reader& reader, const std::vector<TileRef>& tiles,
-                                   int threads, bool quiet) {
+                                   int threads, bool quiet, std::atomic<int64_t>* leftOut = nullptr) {
     std::vector<std::string> errors(tiles.size());
+    const bool rootedAtZero = reader.header().rootLevel == 0;
     Progress progress(file, static_cast<int64_t>(tiles.size()), quiet, Progress::OffTerminal::Silent);
     parallelFor(static_cast<int64_t>(tiles.size()), threads, [&](int64_t k) {
         const TileRef& t = tiles[static_cast<size_t>(k)];
         try {
             reader.readTile(t.level, t.tx, t.ty);
+        } catch (const MissingTileError& e) {
+            if (leftOut && !(rootedAtZero && t.level == 0)) {
+                ++*leftOut;
+            } else {
+                errors[static_cast<size_t>(k)] = e.what();
+            }
         } catch (const Error& e) {
             errors[static_cast<size_t>(k)] = e.what();
         }
@@ -103,9 +115,10 @@ std::string reasonLine(const std::string& file, const std::vector<std::string>& 
 }
 
 // One file checked: its structure validated and every tile decoded. Problems are appended;
-// returns the tiles checked (each decoded, or found broken). Throws Error when the file cannot be opened as a pyramid.
+// returns the tiles checked (each decoded, found left out, or found broken), the left-out ones
+// (ortho files only) in `leftOut`. Throws Error when the file cannot be opened as a pyramid.
 int64_t checkFile(const std::string& file, int threads, bool quiet, std::string& kind,
-                  std::vector<std::string>& problems) {
+                  std::vector<std::string>& problems, int64_t& leftOut) {
     const OpenedPyramid opened = openPyramid(file);
     const PyramidKind k = opened.kind;
     kind = kindName(k);
@@ -122,9 +135,17 @@ int64_t checkFile(const std::string& file, int threads, bool quiet, std::string&
     const auto& h = reader->header();
     const auto tiles = allTiles(h, [](int l) { return int64_t{1} << l; });
     checkOverlaps(reader->table(), problems);
-    auto decoded = decodeAll(file, *reader, tiles, threads, quiet);
+    std::atomic<int64_t> missing{0};
+    auto decoded = decodeAll(file, *reader, tiles, threads, quiet, &missing);
     problems.insert(problems.end(), decoded.begin(), decoded.end());
+    leftOut = missing.load();
     return static_cast<int64_t>(tiles.size());
+}
+
+// "N tiles checked" and, where there are any, how many of them are left out.
+std::string tilesChecked(int64_t checked, int64_t leftOut) {
+    return std::to_string(checked) + " tiles checked" +
+           (leftOut > 0 ? " (" + std::to_string(leftOut) + " left out)" : std::string());
 }
 
 // What checking one pyramid (a file alone or a region set) found.
@@ -133,23 +154,24 @@ struct Checked {
     std::vector<std::string> problems; // each naming its file
     std::vector<std::string> lines;    // what it prints on stdout: its problems, then its summary
     int64_t tiles = 0;
+    int64_t leftOut = 0; // of `tiles`
 };
 
 // A file alone: its structure validated and every tile decoded.
 Checked checkAlone(const std::string& file, int threads, bool quiet) {
     std::vector<std::string> problems;
     std::string kind = "unknown";
-    int64_t checked = 0;
+    int64_t checked = 0, leftOut = 0;
     try {
-        checked = checkFile(file, threads, quiet, kind, problems);
+        checked = checkFile(file, threads, quiet, kind, problems, leftOut);
     } catch (const Error& e) {
         problems.push_back(e.what());
     }
     Checked c;
-    c.report = {{"file", file}, {"kind", kind}, {"tiles_checked", checked}, {"problems", problems},
-                {"ok", problems.empty()}};
+    c.report = {{"file", file},         {"kind", kind},         {"tiles_checked", checked},
+                {"tiles_left_out", leftOut}, {"problems", problems}, {"ok", problems.empty()}};
     c.lines = problems;
-    c.lines.push_back(file + ": " + kind + ", " + std::to_string(checked) + " tiles checked, " +
+    c.lines.push_back(file + ": " + kind + ", " + tilesChecked(checked, leftOut) + ", " +
                       std::to_string(problems.size()) + " problem" + (problems.size() == 1 ? "" : "s"));
     for (std::string& p : problems) {
         if (p.rfind(file + ": ", 0) != 0) {
@@ -158,6 +180,7 @@ Checked checkAlone(const std::string& file, int threads, bool quiet) {
     }
     c.problems = std::move(problems);
     c.tiles = checked;
+    c.leftOut = leftOut;
     return c;
 }
 
@@ -166,7 +189,7 @@ Checked checkSet(const std::string& path, int threads, bool quiet) {
     std::vector<std::string> problems;
     std::string kind = "unknown";
     std::string name = path;
-    int64_t checked = 0;
+    int64_t checked = 0, leftOut = 0;
     size_t listed = 0;
     nlohmann::json files = nlohmann::json::array();
     try {
@@ -184,22 +207,25 @@ Checked checkSet(const std::string& path, int threads, bool quiet) {
             }
             Checked one = checkAlone(file, threads, quiet);
             checked += one.tiles;
+            leftOut += one.leftOut;
             files.push_back({{"file", file}, {"kind", one.report["kind"]}, {"tiles_checked", one.tiles},
-                             {"problems", one.problems}});
+                             {"tiles_left_out", one.leftOut}, {"problems", one.problems}});
             problems.insert(problems.end(), one.problems.begin(), one.problems.end());
         }
     } catch (const Error& e) {
         problems.push_back(e.what());
     }
     Checked c;
-    c.report = {{"file", path}, {"set", name}, {"kind", kind}, {"files", files}, {"tiles_checked", checked},
+    c.report = {{"file", path},        {"set", name},           {"kind", kind},
+                {"files", files},      {"tiles_checked", checked}, {"tiles_left_out", leftOut},
                 {"problems", problems}, {"ok", problems.empty()}};
     c.lines = problems;
     c.lines.push_back(name + ": " + kind + " set of " + std::to_string(listed) + " file" + (listed == 1 ? "" : "s") +
-                      ", " + std::to_string(checked) + " tiles checked, " + std::to_string(problems.size()) +
+                      ", " + tilesChecked(checked, leftOut) + ", " + std::to_string(problems.size()) +
                       " problem" + (problems.size() == 1 ? "" : "s"));
     c.problems = std::move(problems);
     c.tiles = checked;
+    c.leftOut = leftOut;
     return c;
 }
 
@@ -210,6 +236,7 @@ Checked checkDirectory(const std::string& directory, const PyramidsUnder& found,
     auto add = [&](Checked one) {
         c.lines.insert(c.lines.end(), one.lines.begin(), one.lines.end());
         c.tiles += one.tiles;
+        c.leftOut += one.leftOut;
         c.problems.insert(c.problems.end(), one.problems.begin(), one.problems.end());
         pyramids.push_back(std::move(one.report));
     };
@@ -224,11 +251,11 @@ Checked checkDirectory(const std::string& directory, const PyramidsUnder& found,
         c.problems.push_back(directory + ": no pyramid (a *.dat file or a *.regions.json index) in this directory");
         c.lines.push_back(c.problems.back());
     }
-    c.report = {{"file", directory}, {"pyramids", pyramids}, {"tiles_checked", c.tiles}, {"problems", c.problems},
-                {"ok", c.problems.empty()}};
+    c.report = {{"file", directory},          {"pyramids", pyramids},      {"tiles_checked", c.tiles},
+                {"tiles_left_out", c.leftOut}, {"problems", c.problems}, {"ok", c.problems.empty()}};
     c.lines.push_back(directory + ": " + std::to_string(count) + " pyramid" + (count == 1 ? "" : "s") + " (" +
                       std::to_string(found.sets.size()) + " region set" + (found.sets.size() == 1 ? "" : "s") +
-                      "), " + std::to_string(c.tiles) + " tiles checked, " + std::to_string(c.problems.size()) +
+                      "), " + tilesChecked(c.tiles, c.leftOut) + ", " + std::to_string(c.problems.size()) +
                       " problem" + (c.problems.size() == 1 ? "" : "s"));
     return c;
 }

@@ -86,8 +86,15 @@ void decodeResidualBlobInto(std::span<const uint8_t> blob, int size, const std::
         fail(where, "residual tile buffer of " + std::to_string(out.size()) + " samples for a tile of " +
                         std::to_string(size) + "x" + std::to_string(size));
     }
-    if (!isContextResidualBlob(blob) && decodePlainResidualTiff(blob, size, out)) {
-        return;
+    if (!isContextResidualBlob(blob)) {
+        switch (decodePlainResidualTiff(blob, size, out)) {
+        case PlainDecode::Decoded:
+            return;
+        case PlainDecode::Damaged:
+            fail(where, "truncated or corrupt TIFF data: its Deflate data is corrupt or fails its checksum (Adler-32)");
+        case PlainDecode::Declined:
+            break;
+        }
     }
     const std::vector<int16_t> samples = decodeAnyResidualBlob(blob, size, where, parentPlane);
     std::copy(samples.begin(), samples.end(), out.begin());

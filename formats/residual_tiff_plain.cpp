@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
-#include <memory>
-
-#include <libdeflate.h>
 
 #include "formats/error.hpp"
 #include "formats/tiff_plain_writer.hpp"
 #include "formats/tiff_strip_bytes.hpp"
+#include "formats/zlib_strip.hpp"
 
 namespace pyramid {
 
@@ -74,36 +72,27 @@ void swapBytes(std::span<int16_t> samples) {
     }
 }
 
-struct DecompressorDeleter {
-    void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
-};
-
-libdeflate_decompressor* decompressor() {
-    thread_local std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> d(libdeflate_alloc_decompressor());
-    return d.get();
-}
-
 } // namespace
 
-bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<int16_t> out) {
+PlainDecode decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<int16_t> out) {
     if (blob.size() < 8 || size < 1 || out.size() != static_cast<size_t>(size) * static_cast<size_t>(size)) {
-        return false;
+        return PlainDecode::Declined;
     }
     const bool big = blob[0] == 'M' && blob[1] == 'M';
     if (!big && !(blob[0] == 'I' && blob[1] == 'I')) {
-        return false;
+        return PlainDecode::Declined;
     }
     const Directory d(blob, big);
     if (d.u16(2) != 42) {
-        return false;
+        return PlainDecode::Declined;
     }
     const size_t ifd = d.u32(4);
     if (ifd < 8 || ifd + 2 > blob.size()) {
-        return false;
+        return PlainDecode::Declined;
     }
     const uint16_t entries = d.u16(ifd);
     if (ifd + 2 + size_t{entries} * 12 + 4 > blob.size() || d.u32(ifd + 2 + size_t{entries} * 12) != 0) {
-        return false; // a second directory: another image
+        return PlainDecode::Declined; // a second directory: another image
     }
     Entry width, length, bits, offsets, counts, rows, compression, samples, planar, predictor, format;
     bool has[12] = {};
@@ -113,12 +102,12 @@ bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<
         const size_t at = ifd + 2 + size_t{k} * 12;
         const uint16_t tag = d.u16(at);
         if (static_cast<int>(tag) <= lastTag) {
-            return false; // out of order or repeated: libtiff decides
+            return PlainDecode::Declined; // out of order or repeated: libtiff decides
         }
         lastTag = tag;
         Entry e;
         if (!d.entry(at, e)) {
-            return false;
+            return PlainDecode::Declined;
         }
         uint32_t v = 0;
         int which = -1;
@@ -127,8 +116,8 @@ bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<
         // a word: NewSubfileType, PhotometricInterpretation (min-is-white or black) and
         // Orientation (libtiff's strip reads ignore it).
         case 254: continue;
-        case 262: if (!d.same(e, 1, v) || v > 1) return false; continue;
-        case 274: if (!d.same(e, 1, v) || v < 1 || v > 8) return false; continue;
+        case 262: if (!d.same(e, 1, v) || v > 1) return PlainDecode::Declined; continue;
+        case 274: if (!d.same(e, 1, v) || v < 1 || v > 8) return PlainDecode::Declined; continue;
         case 256: width = e; which = W; break;
         case 257: length = e; which = L; break;
         case 258: bits = e; which = B; break;
@@ -140,35 +129,35 @@ bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<
         case 284: planar = e; which = P; break;
         case 317: predictor = e; which = D; break;
         case 339: format = e; which = F; break;
-        default: return false;
+        default: return PlainDecode::Declined;
         }
         has[which] = true;
     }
     if (!has[W] || !has[L] || !has[B] || !has[O] || !has[C]) {
-        return false;
+        return PlainDecode::Declined;
     }
     uint32_t w = 0, h = 0, spp = 1, bps = 0, codec = 1, rps = 0xffffffffu, config = 1, pred = 1, sampleFormat = 1;
     if (!d.same(width, 1, w) || !d.same(length, 1, h) || (has[S] && !d.same(samples, 1, spp)) ||
         (has[Z] && !d.same(compression, 1, codec)) || (has[R] && !d.same(rows, 1, rps)) ||
         (has[P] && !d.same(planar, 1, config)) || (has[D] && !d.same(predictor, 1, pred))) {
-        return false;
+        return PlainDecode::Declined;
     }
     if (w != static_cast<uint32_t>(size) || h != static_cast<uint32_t>(size) || !d.same(bits, spp, bps) ||
         (has[F] && !d.same(format, spp, sampleFormat))) {
-        return false;
+        return PlainDecode::Declined;
     }
     const bool twoBytes = spp == 2 && bps == 8, oneShort = spp == 1 && bps == 16;
     if ((!twoBytes && !oneShort) || config != 1 || (pred != 1 && pred != 2) || (sampleFormat != 1 && sampleFormat != 2) ||
         (codec != 1 && codec != 8 && codec != 32946)) {
-        return false;
+        return PlainDecode::Declined;
     }
     if (rps == 0 || (codec == 1 && has[D])) {
-        return false; // libtiff's own reading of these: no rows, or a predictor it ignores
+        return PlainDecode::Declined; // libtiff's own reading of these: no rows, or a predictor it ignores
     }
     rps = std::min(rps, h);
     const uint32_t strips = (h + rps - 1) / rps;
     if (offsets.count != strips || counts.count != strips) {
-        return false;
+        return PlainDecode::Declined;
     }
     const size_t rowBytes = static_cast<size_t>(size) * 2;
     auto* bytes = reinterpret_cast<uint8_t*>(out.data());
@@ -176,17 +165,24 @@ bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<
         const uint64_t offset = d.value(offsets, s), stored = d.value(counts, s);
         const size_t want = static_cast<size_t>(std::min(rps, h - s * rps)) * rowBytes;
         if (offset == 0 || offset + stored > blob.size()) {
-            return false;
+            return PlainDecode::Declined;
         }
         uint8_t* strip = bytes + static_cast<size_t>(s) * rps * rowBytes;
         if (codec == 1) {
             if (stored != want) {
-                return false;
+                return PlainDecode::Declined;
             }
             std::memcpy(strip, blob.data() + offset, want);
-        } else if (libdeflate_zlib_decompress(decompressor(), blob.data() + offset, static_cast<size_t>(stored), strip,
-                                              want, nullptr) != LIBDEFLATE_SUCCESS) {
-            return false;
+        } else {
+            switch (inflateStrip(blob.subspan(static_cast<size_t>(offset), static_cast<size_t>(stored)),
+                                 std::span<uint8_t>(strip, want))) {
+            case StripInflate::Inflated:
+                break;
+            case StripInflate::Damaged:
+                return PlainDecode::Damaged;
+            case StripInflate::OtherLength:
+                return PlainDecode::Declined; // libtiff's reading decides
+            }
         }
     }
     // The samples as the file's bytes give them, then the predictor's sums along each row
@@ -203,7 +199,7 @@ bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<
                 }
             }
         }
-        return true;
+        return PlainDecode::Decoded;
     }
     if (pred == 2) {
         for (int j = 0; j < size; ++j) {
@@ -217,7 +213,7 @@ bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<
     if constexpr (std::endian::native == std::endian::big) {
         swapBytes(out);
     }
-    return true;
+    return PlainDecode::Decoded;
 }
 
 std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int size, int deflateLevel,

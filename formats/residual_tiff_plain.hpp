@@ -30,9 +30,16 @@ std::vector<uint8_t> encodeResidualTiff(std::span<const int16_t> residuals, int 
                                         ResidualTiffLayout layout = ResidualTiffLayout::TwoBytes,
                                         bool horizontalPredictor = false);
 
+// What decodePlainResidualTiff made of a blob.
+enum class PlainDecode {
+    Decoded,  // `out` holds the tile
+    Declined, // not such a TIFF, or not decoded exactly: libtiff decides (`out` in any state)
+    Damaged,  // such a TIFF whose Deflate stream is corrupt or fails its Adler-32 check, which
+              // libtiff does not verify (it stops reading once the strip is full)
+};
+
 // Decodes `blob`, a residual tile of size x size samples, into `out` (size * size samples, rows
-// as stored) and returns true; or returns false, with `out` in any state, when the blob is not
-// such a TIFF or cannot be decoded exactly.
-bool decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<int16_t> out);
+// as stored).
+PlainDecode decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<int16_t> out);
 
 } // namespace pyramid

@@ -11,6 +11,7 @@
 #include "formats/tiff_memory.hpp"
 #include "formats/tiff_plain_writer.hpp"
 #include "formats/tiff_strip_bytes.hpp"
+#include "formats/zlib_strip.hpp"
 
 namespace pyramid {
 
@@ -223,6 +224,13 @@ TiffImage decodeChecked(std::span<const uint8_t> blob, int maxWidth, int maxHeig
                         std::to_string(width) + "x" + std::to_string(height) + " pixels)");
     }
     image.pixels.assign(rowBytes * height, 0);
+    // Deflate strips are inflated whole here (zlib_strip.hpp: libtiff never checks the
+    // checksum of a stream that runs long), with libtiff's predictor and byte order after.
+    const bool deflate = compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE;
+    uint16_t predictor = PREDICTOR_NONE;
+    if (deflate) {
+        TIFFGetFieldDefaulted(t, TIFFTAG_PREDICTOR, &predictor); // a tag of the Deflate codec's
+    }
     size_t filled = 0;
     for (uint32_t s = 0; s < strips; ++s) {
         // libtiff only warns when StripOffsets has fewer entries than the image has strips,
@@ -232,6 +240,23 @@ TiffImage decodeChecked(std::span<const uint8_t> blob, int maxWidth, int maxHeig
         }
         const uint32_t rows = std::min(rowsPerStrip, height - s * rowsPerStrip);
         const size_t want = rows * rowBytes;
+        if (deflate) {
+            const uint64_t offset = TIFFGetStrileOffset(t, s), count = TIFFGetStrileByteCount(t, s);
+            if (offset <= blob.size() && count <= blob.size() - offset) {
+                const std::span<uint8_t> strip(image.pixels.data() + filled, want);
+                const StripInflate inflated = inflateStrip(blob.subspan(offset, count), strip);
+                if (inflated == StripInflate::Damaged) {
+                    fail(where, "truncated or corrupt TIFF data (strip " + std::to_string(s) +
+                                    "): its Deflate data is corrupt or fails its checksum (Adler-32)");
+                }
+                if (inflated == StripInflate::Inflated && (predictor == PREDICTOR_NONE || predictor == PREDICTOR_HORIZONTAL)) {
+                    undoTiffPredictor(strip, rowBytes, channels, bits, TIFFIsByteSwapped(t) != 0,
+                                  predictor == PREDICTOR_HORIZONTAL);
+                    filled += want;
+                    continue;
+                }
+            }
+        }
         const tmsize_t got = TIFFReadEncodedStrip(t, s, image.pixels.data() + filled, static_cast<tmsize_t>(want));
         if (got < 0 || static_cast<size_t>(got) != want) {
             fail(where, withCause("truncated or corrupt TIFF data (strip " + std::to_string(s) + ")", stream));

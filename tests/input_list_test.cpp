@@ -324,6 +324,25 @@ struct Refusal {
     std::string reason; // the message after "VRT: "
 };
 
+// gdalbuildvrt over files of several resolutions trims a source's rectangle by a fraction of a
+// pixel where the file reaches past the VRT's extent (rounded to whole VRT pixels): the source is
+// still the whole file.
+TEST(InputList, VrtSourcesTrimmedByLessThanAPixelAreWholeFiles) {
+    test::TempDir dir;
+    const std::string d = dir.path();
+    touch({d + "/w.tif", d + "/e.tif"});
+    write(d + "/mosaic.vrt",
+          vrtOfBand("<ComplexSource><SourceFilename relativeToVRT=\"1\">w.tif</SourceFilename>"
+                    "<SourceProperties RasterXSize=\"770\" RasterYSize=\"879\"/>"
+                    "<SrcRect xOff=\"0\" yOff=\"0\" xSize=\"770\" ySize=\"879\"/></ComplexSource>"
+                    "<ComplexSource><SourceFilename relativeToVRT=\"1\">e.tif</SourceFilename>"
+                    "<SourceProperties RasterXSize=\"664\" RasterYSize=\"907\"/>"
+                    "<SrcRect xOff=\"0.4\" yOff=\"0\" xSize=\"663.6\" ySize=\"906.865204834008\"/>"
+                    "</ComplexSource>"));
+    const InputList list = expandInputs({d + "/mosaic.vrt"});
+    EXPECT_EQ(list.paths, (Paths{d + "/w.tif", d + "/e.tif"}));
+}
+
 TEST(InputList, VrtRefusalsNameTheVrtAndTheReason) {
     const auto simple = [](const std::string& name) {
         return "<SimpleSource><SourceFilename relativeToVRT=\"1\">" + name + "</SourceFilename></SimpleSource>";
@@ -362,6 +381,11 @@ TEST(InputList, VrtRefusalsNameTheVrtAndTheReason) {
                                                    "<SrcRect xOff=\"0\" yOff=\"0\" xSize=\"20\" ySize=\"20\"/>")),
          "band 1: the <ComplexSource> of 'a.tif' takes 20 x 20 of its 30 x 20 pixels (<SrcRect>); only whole files are "
          "read"},
+        {"a pixel and more trimmed", vrtOfBand(complexWith("<SourceProperties RasterXSize=\"664\" RasterYSize=\"907\"/>"
+                                                           "<SrcRect xOff=\"0\" yOff=\"0\" xSize=\"664\" "
+                                                           "ySize=\"905.9\"/>")),
+         "band 1: the <ComplexSource> of 'a.tif' takes 664 x 905.9 of its 664 x 907 pixels (<SrcRect>); only whole "
+         "files are read"},
         {"a scale ratio", vrtOfBand(complexWith("<ScaleRatio>2</ScaleRatio>")),
          "band 1: the <ComplexSource> of 'a.tif' changes its values (ScaleRatio 2); only unscaled sources are read"},
         {"a scale ratio that is no number", vrtOfBand(complexWith("<ScaleRatio>one</ScaleRatio>")),

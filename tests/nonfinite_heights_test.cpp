@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <tiffio.h>
 
 #include "formats/error.hpp"
 #include "formats/residual_file.hpp"
@@ -83,6 +84,42 @@ void expectRefused(const test::RunResult& r, const std::string& file, const std:
     EXPECT_TRUE(named) << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
     EXPECT_FALSE(std::filesystem::exists(output)) << output;
+}
+
+// A 64-bit DEM whose finite value lies past float32's range reads as an infinity: the error says
+// so, rather than advising a nodata value that would drop it.
+TEST(NonFiniteHeights, A64BitHeightPastFloat32sRangeIsNamedSo) {
+    test::TempDir dir;
+    const std::string file = dir.file("wide.tif"), out = dir.file("DEM.dat");
+    const std::vector<float> h = heights(false, false);
+    {
+        TIFF* t = TIFFOpen(file.c_str(), "w");
+        ASSERT_NE(t, nullptr);
+        TIFFSetField(t, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(kSide));
+        TIFFSetField(t, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(kSide));
+        TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, uint16_t{64});
+        TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, uint16_t{SAMPLEFORMAT_IEEEFP});
+        TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, uint16_t{1});
+        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, uint16_t{PHOTOMETRIC_MINISBLACK});
+        TIFFSetField(t, TIFFTAG_PLANARCONFIG, uint16_t{PLANARCONFIG_CONTIG});
+        TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, static_cast<uint32_t>(kSide));
+        std::vector<double> row(kSide);
+        for (int y = 0; y < kSide; ++y) {
+            for (int x = 0; x < kSide; ++x) {
+                row[static_cast<size_t>(x)] = h[at(x, y)];
+            }
+            if (y == kPlusRow) {
+                row[kPlusColumn] = 4e303;
+            }
+            ASSERT_EQ(TIFFWriteScanline(t, row.data(), static_cast<uint32_t>(y), 0), 1);
+        }
+        TIFFClose(t);
+    }
+    const test::RunResult r = run(programPath("preprocessDem") + " -q " + quoted(file) + " -o " + quoted(out));
+    expectRefused(r, file,
+                  {"+Inf, or a height above 3.4e38, at column " + std::to_string(kPlusColumn) + ", row " +
+                   std::to_string(kPlusRow) + ": heights are read as float32"},
+                  out);
 }
 
 TEST(NonFiniteHeights, PlanarInfinitiesAreErrorsUnlessDeclaredNodata) {

@@ -5,6 +5,7 @@
 // inset's in the inset and the base's elsewhere, `pyramid verify` passes, the files are a small
 // fraction of the same mosaic encoded as one resolution, and threads and --part give the same bytes.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "libpyramid/verify/ortho_verify.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/preview_pngs.hpp"
 
 namespace pyramid {
 namespace {
@@ -155,6 +157,36 @@ TEST_F(PlanarOrthoMultires, TheSameBytesWhateverTheThreads) {
     one.levels.threads = 1;
     encodeOrtho(std::vector<std::string>{maps_->base, maps_->inset}, dir_->file("one"), one);
     EXPECT_TRUE(test::filesUnder(dir_->file("out")) == test::filesUnder(dir_->file("one")));
+}
+
+// The tiles left out (TIFF and DXT tiles beyond the base's resolution, doc/format.md 1.5) are
+// what the format allows: `pyramid check` counts them and passes, and `pyramid preview` draws
+// them as a reader does, magnified from their parents: the base's colours beyond the inset.
+TEST_F(PlanarOrthoMultires, CheckAndPreviewTakeTheTilesLeftOut) {
+    const test::RunResult c = test::run(test::programPath("pyramid") + " check -q --json '" + dir_->file("out") + "'");
+    ASSERT_EQ(c.exitCode, 0) << c.out << c.err;
+    const nlohmann::json report = nlohmann::json::parse(c.out);
+    EXPECT_TRUE(report["ok"].get<bool>());
+    EXPECT_GT(report["tiles_left_out"].get<int64_t>(), 0) << c.out;
+    // 256 pixels over the 1920 m: level 3, below the base's level 2 outside the inset.
+    for (const auto& [file, tolerance] : std::map<std::string, int>{{"out/RGB.dat", 6}, {"out/dxt/RGB.dat", 24}}) {
+        const std::string png = dir_->file(file + ".png");
+        const test::RunResult r =
+            test::run(test::programPath("pyramid") + " preview '" + dir_->file(file) + "' --size 256 -o '" + png + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const test::Png p = test::readPng(png);
+        ASSERT_EQ(p.width, 256);
+        for (const int at : {20, 60, 230}) { // preview pixels (at, at) from the north-west corner
+            const double metres = (at + 0.5) * 1920.0 / 256.0;
+            const std::array<int, 3> want = baseColour(metres, metres);
+            for (size_t k = 0; k < 3; ++k) {
+                const int sample = p.samples[(static_cast<size_t>(at) * static_cast<size_t>(p.width) +
+                                              static_cast<size_t>(at)) * static_cast<size_t>(p.channels) + k];
+                const int got = p.depth == 8 ? sample / 257 : sample; // samples read as 16 bits
+                EXPECT_NEAR(got, want[k], tolerance) << file << " pixel " << at << " channel " << k;
+            }
+        }
+    }
 }
 
 // A build split into parts (--part I/N, then pyramid merge) writes the single run's sets, byte

@@ -18,6 +18,8 @@
 #include "formats/residual_codec.hpp"
 #include "formats/residual_file.hpp"
 #include "formats/residual_tiff_plain.hpp"
+#include "formats/tiff_plain_writer.hpp"
+#include "formats/tiff_strip_bytes.hpp"
 #include "formats/tiff_tile.hpp"
 #include "tests/support/paths.hpp"
 
@@ -34,10 +36,10 @@ std::vector<int16_t> residuals(int size, uint32_t seed) {
     return v;
 }
 
-// The plain reader's samples, or nothing when it declines.
+// The plain reader's samples, or nothing when it declines (or finds the stream damaged).
 std::optional<std::vector<int16_t>> plain(const std::vector<uint8_t>& blob, int size) {
     std::vector<int16_t> out(static_cast<size_t>(size) * static_cast<size_t>(size));
-    if (!decodePlainResidualTiff(blob, size, out)) {
+    if (decodePlainResidualTiff(blob, size, out) != PlainDecode::Decoded) {
         return std::nullopt;
     }
     return out;
@@ -151,13 +153,15 @@ TEST(PlainResidualTiff, OtherShapesLibtiffWritesDecodeTheSameOrAreLeftToLibtiff)
     }
 }
 
-// A damaged blob either decodes to libtiff's samples or is declined, and the codec entry point
-// then gives libtiff's answer: the same samples, or the same error.
-TEST(PlainResidualTiff, DamagedBlobsGiveLibtiffsAnswer) {
+// A damaged blob decodes to libtiff's samples, or is declined, and the codec entry point then
+// gives libtiff's answer (the same samples, or the same error); or its Deflate stream is found
+// corrupt, which the entry point refuses even where libtiff, which stops once the strip is full
+// and never reads the checksum, would decode it.
+TEST(PlainResidualTiff, DamagedBlobsGiveLibtiffsAnswerOrAreRefused) {
     const int size = 29;
     const std::vector<int16_t> r = residuals(size, 3);
     std::mt19937 rng(5);
-    int declined = 0, same = 0;
+    int declined = 0, same = 0, damaged = 0;
     for (const bool predictor : {false, true}) {
         const std::vector<uint8_t> good = encodeResidualTiff(r, size, 6, ResidualTiffLayout::TwoBytes, predictor);
         for (int trial = 0; trial < 300; ++trial) {
@@ -175,12 +179,18 @@ TEST(PlainResidualTiff, DamagedBlobsGiveLibtiffsAnswer) {
             } catch (const Error& e) {
                 refused = e.what();
             }
-            const auto fast = plain(blob, size);
-            if (!fast) {
+            std::vector<int16_t> fast(static_cast<size_t>(size) * static_cast<size_t>(size));
+            const PlainDecode status = decodePlainResidualTiff(blob, size, fast);
+            if (status == PlainDecode::Damaged) {
+                ++damaged;
+                EXPECT_THROW(decodeResidualBlob(blob, size, "tile"), Error);
+                continue;
+            }
+            if (status == PlainDecode::Declined) {
                 ++declined;
             } else {
                 ASSERT_TRUE(reference.has_value()) << "libtiff refuses what the plain reader decodes: " << refused;
-                ASSERT_TRUE(*fast == *reference) << trial;
+                ASSERT_TRUE(fast == *reference) << trial;
                 ++same;
             }
             try {
@@ -192,8 +202,53 @@ TEST(PlainResidualTiff, DamagedBlobsGiveLibtiffsAnswer) {
             }
         }
     }
-    EXPECT_GT(declined, 100); // most damage is seen (the rest changes nothing libtiff reads)
+    EXPECT_GT(declined + damaged, 100); // most damage is seen (the rest changes nothing libtiff reads)
+    EXPECT_GT(damaged, 0);
     EXPECT_GT(same, 0);
+}
+
+// Damage libtiff alone would not see: it inflates a strip only until the strip is full, so a
+// stream that runs long is never checked against its Adler-32 (damage that makes a stream run long
+// leaves it so). The streams are inflated whole (formats/zlib_strip.hpp): such a tile is refused,
+// in one line naming it, by the plain reader and by the libtiff one alike; a whole stream that
+// runs long with its checksum right is read as libtiff reads it.
+TEST(PlainResidualTiff, AStreamRunningLongFailingItsChecksumIsRefused) {
+    const int size = 29;
+    const std::vector<int16_t> r = residuals(size, 4);
+    std::vector<uint8_t> bytes(r.size() * 2 + 1, 0x5a); // one byte more than the strip
+    for (size_t k = 0; k < r.size(); ++k) {
+        bytes[2 * k] = static_cast<uint8_t>(static_cast<uint16_t>(r[k]) & 0xff);
+        bytes[2 * k + 1] = static_cast<uint8_t>(static_cast<uint16_t>(r[k]) >> 8);
+    }
+    const std::span<const uint8_t> z = zlibCompress(bytes, 6);
+    std::vector<uint8_t> stream(z.begin(), z.end());
+    PlainTiffShape shape;
+    shape.width = shape.height = size;
+    shape.channels = 2;
+    const std::vector<uint8_t> longer = writePlainTiff(stream, shape);
+    std::vector<int16_t> out(r.size());
+    EXPECT_EQ(decodePlainResidualTiff(longer, size, out), PlainDecode::Declined);
+    EXPECT_TRUE(decodeResidualTiff(longer, size, "t") == r);
+    EXPECT_TRUE(decodeResidualBlob(longer, size, "t") == r);
+
+    stream.back() ^= 0x01; // the Adler-32's last byte
+    const std::vector<uint8_t> damaged = writePlainTiff(stream, shape);
+    EXPECT_EQ(decodePlainResidualTiff(damaged, size, out), PlainDecode::Damaged);
+    for (const bool plainFirst : {true, false}) {
+        try {
+            if (plainFirst) {
+                decodeResidualBlob(damaged, size, "DEM.dat: tile (3,1,2)");
+            } else {
+                decodeResidualTiff(damaged, size, "DEM.dat: tile (3,1,2)");
+            }
+            FAIL() << "a tile failing its checksum decoded";
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("DEM.dat: tile (3,1,2): truncated or corrupt TIFF data"), std::string::npos) << what;
+            EXPECT_NE(what.find("checksum"), std::string::npos) << what;
+            EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+        }
+    }
 }
 
 } // namespace

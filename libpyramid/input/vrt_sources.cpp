@@ -93,14 +93,21 @@ std::string sourceFile(const XmlElement& source, const std::string& vrtDirectory
         const std::string* value = found.front()->attribute(attribute);
         return value ? tryParseNumber(trim(*value)) : std::nullopt;
     };
+    // gdalbuildvrt trims a source's rectangle by less than a pixel where the file reaches past the
+    // VRT's extent (rounded to whole VRT pixels): such a rectangle is the whole file, read whole.
     const auto offX = rectangle("SrcRect", "xOff"), offY = rectangle("SrcRect", "yOff");
-    if ((offX && *offX != 0.0) || (offY && *offY != 0.0)) {
+    const auto withinAPixel = [](const std::optional<double>& off) { return !off || (*off >= 0.0 && *off < 1.0); };
+    if (!withinAPixel(offX) || !withinAPixel(offY)) {
         fail(where, of + "starts at pixel (" + numberText(offX.value_or(0.0)) + ", " + numberText(offY.value_or(0.0)) +
                         ") of the file (<SrcRect>); only whole files are read");
     }
     const auto sizeX = rectangle("SrcRect", "xSize"), sizeY = rectangle("SrcRect", "ySize");
     const auto fileX = rectangle("SourceProperties", "RasterXSize"), fileY = rectangle("SourceProperties", "RasterYSize");
-    if ((sizeX && fileX && *sizeX != *fileX) || (sizeY && fileY && *sizeY != *fileY)) {
+    const auto whole = [](const std::optional<double>& off, const std::optional<double>& size,
+                          const std::optional<double>& file) {
+        return !size || !file || (*size <= *file && off.value_or(0.0) + *size > *file - 1.0);
+    };
+    if (!whole(offX, sizeX, fileX) || !whole(offY, sizeY, fileY)) {
         fail(where, of + "takes " + numberText(sizeX.value_or(0.0)) + " x " + numberText(sizeY.value_or(0.0)) +
                         " of its " + numberText(fileX.value_or(0.0)) + " x " + numberText(fileY.value_or(0.0)) +
                         " pixels (<SrcRect>); only whole files are read");

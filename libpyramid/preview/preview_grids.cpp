@@ -92,6 +92,40 @@ ColourGrid::ColourGrid(const PyramidSet& set, std::shared_ptr<OrthoProducer> pro
     }
 }
 
+namespace {
+
+// Tile (level, tx, ty) of `producer`, or, where it is left out of the files (imagery beyond the
+// resolution of the parts there, doc/format.md 1.5), its nearest stored ancestor magnified as a
+// reader magnifies it: each pixel of the tile's quarter of its parent (borders included) doubled.
+// A tile with no stored ancestor gives the producer's error.
+std::vector<uint8_t> tileOrMagnified(const OrthoProducer& producer, int level, int tx, int ty, int tileSize,
+                                     int border, int channels) {
+    if (level == 0 || producer.hasTile(level, tx, ty)) {
+        return producer.tile(level, tx, ty);
+    }
+    const std::vector<uint8_t> parent =
+        tileOrMagnified(producer, level - 1, tx / 2, ty / 2, tileSize, border, channels);
+    const int pixels = tileSize + 2 * border;
+    const auto source = [&](int k, int t) {
+        // Child pixel k is (k - border) / 2 parent pixels into the quarter, rounded down.
+        const int offset = k - border;
+        const int half = offset >= 0 ? offset / 2 : -((1 - offset) / 2);
+        return std::clamp(border + (t & 1) * (tileSize / 2) + half, 0, pixels - 1);
+    };
+    const auto c = static_cast<size_t>(channels);
+    std::vector<uint8_t> out(parent.size());
+    for (int j = 0; j < pixels; ++j) {
+        const size_t from = static_cast<size_t>(source(j, ty)) * static_cast<size_t>(pixels);
+        uint8_t* row = out.data() + static_cast<size_t>(j) * static_cast<size_t>(pixels) * c;
+        for (int i = 0; i < pixels; ++i) {
+            std::copy_n(parent.data() + (from + static_cast<size_t>(source(i, tx))) * c, c, row + static_cast<size_t>(i) * c);
+        }
+    }
+    return out;
+}
+
+} // namespace
+
 const uint8_t* ColourGrid::tile(int tx, int ty) {
     const int64_t key = int64_t{ty} * across_ + tx;
     const auto found = index_.find(key);
@@ -101,7 +135,8 @@ const uint8_t* ColourGrid::tile(int tx, int ty) {
     }
     std::shared_ptr<const std::vector<uint8_t>> pixels =
         colours_ ? colours_->tile(level_, tx, ty)
-                 : std::make_shared<const std::vector<uint8_t>>(producer_->tile(level_, tx, ty));
+                 : std::make_shared<const std::vector<uint8_t>>(
+                       tileOrMagnified(*producer_, level_, tx, ty, tileSize_, border_, channels_));
     tiles_.emplace_front(key, std::move(pixels));
     index_[key] = tiles_.begin();
     if (tiles_.size() > capacity_) {
