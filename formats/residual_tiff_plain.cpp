@@ -185,16 +185,33 @@ PlainDecode decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std
             }
         }
     }
-    // The samples as the file's bytes give them, then what libtiff does to them (byte order, then
-    // the predictor's sums along each row: zlib_strip.hpp).
-    undoTiffPredictor(std::span<uint8_t>(bytes, out.size() * 2), rowBytes, oneShort ? 1 : 2, oneShort ? 16 : 8,
-                      big != (std::endian::native == std::endian::big), pred == 2);
-    // Two 8-bit samples: sample 0 is the low byte, sample 1 the high byte, whatever the file's
-    // byte order.
-    if constexpr (std::endian::native == std::endian::big) {
-        if (!oneShort) {
+    // The samples as the file's bytes give them, then the predictor's sums along each row
+    // (libtiff's order: byte swap, then accumulate).
+    if (oneShort) {
+        if (big != (std::endian::native == std::endian::big)) {
             swapBytes(out);
         }
+        if (pred == 2) {
+            for (int j = 0; j < size; ++j) {
+                int16_t* row = out.data() + static_cast<size_t>(j) * static_cast<size_t>(size);
+                for (int i = 1; i < size; ++i) {
+                    row[i] = static_cast<int16_t>(static_cast<uint16_t>(row[i]) + static_cast<uint16_t>(row[i - 1]));
+                }
+            }
+        }
+        return PlainDecode::Decoded;
+    }
+    if (pred == 2) {
+        for (int j = 0; j < size; ++j) {
+            uint8_t* row = bytes + static_cast<size_t>(j) * rowBytes;
+            for (size_t i = 2; i < rowBytes; ++i) {
+                row[i] = static_cast<uint8_t>(row[i] + row[i - 2]);
+            }
+        }
+    }
+    // Sample 0 is the low byte, sample 1 the high byte, whatever the file's byte order.
+    if constexpr (std::endian::native == std::endian::big) {
+        swapBytes(out);
     }
     return PlainDecode::Decoded;
 }
