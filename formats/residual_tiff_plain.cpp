@@ -65,13 +65,6 @@ private:
     bool big_;
 };
 
-void swapBytes(std::span<int16_t> samples) {
-    for (int16_t& v : samples) {
-        const auto u = static_cast<uint16_t>(v);
-        v = static_cast<int16_t>(static_cast<uint16_t>(u << 8 | u >> 8));
-    }
-}
-
 } // namespace
 
 PlainDecode decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std::span<int16_t> out) {
@@ -186,33 +179,16 @@ PlainDecode decodePlainResidualTiff(std::span<const uint8_t> blob, int size, std
         }
     }
     // The samples as the file's bytes give them, then the predictor's sums along each row
-    // (libtiff's order: byte swap, then accumulate).
+    // (libtiff's order: byte swap, then accumulate), by the TIFF tile reader's own function.
+    const std::span<uint8_t> all(bytes, static_cast<size_t>(h) * rowBytes);
     if (oneShort) {
-        if (big != (std::endian::native == std::endian::big)) {
-            swapBytes(out);
-        }
-        if (pred == 2) {
-            for (int j = 0; j < size; ++j) {
-                int16_t* row = out.data() + static_cast<size_t>(j) * static_cast<size_t>(size);
-                for (int i = 1; i < size; ++i) {
-                    row[i] = static_cast<int16_t>(static_cast<uint16_t>(row[i]) + static_cast<uint16_t>(row[i - 1]));
-                }
-            }
-        }
+        undoTiffPredictor(all, rowBytes, 1, 16, big != (std::endian::native == std::endian::big), pred == 2);
         return PlainDecode::Decoded;
     }
-    if (pred == 2) {
-        for (int j = 0; j < size; ++j) {
-            uint8_t* row = bytes + static_cast<size_t>(j) * rowBytes;
-            for (size_t i = 2; i < rowBytes; ++i) {
-                row[i] = static_cast<uint8_t>(row[i] + row[i - 2]);
-            }
-        }
-    }
-    // Sample 0 is the low byte, sample 1 the high byte, whatever the file's byte order.
-    if constexpr (std::endian::native == std::endian::big) {
-        swapBytes(out);
-    }
+    undoTiffPredictor(all, rowBytes, 2, 8, false, pred == 2);
+    // Sample 0 is the low byte, sample 1 the high byte, whatever the file's byte order: on a
+    // big-endian machine each pair swapped into an int16 (a no-op here otherwise).
+    undoTiffPredictor(all, rowBytes, 1, 16, std::endian::native == std::endian::big, false);
     return PlainDecode::Decoded;
 }
 

@@ -2,7 +2,7 @@
 // the whole pyramid's tiles of that subtree, byte for byte, whether its root lies in the
 // encoder's in-memory top levels or below them; a main file plus the regions built one by one
 // rebuild the whole pyramid's elevations; `pyramid check` accepts the region file; wrong roots,
-// parents of another build and combinations with --part or --max-file-bytes are refused with one
+// parents of another build or of other heights and combinations with --part or --max-file-bytes are refused with one
 // line naming the option or file, and nothing is written.
 #include <gtest/gtest.h>
 
@@ -264,6 +264,17 @@ TEST(RegionBuild, WrongRegionsAndParentsAreRefusedAndWriteNothing) {
             [](DemEncodeOptions& o) { o.maxLevel = 2; });
     refused(RegionRoot{5, 0, 0}, f.dir.file("top.dat"), "needs level 4");
     refused(RegionRoot{4, 0, 0}, f.dir.file("missing.dat"), "missing.dat");
+    // A pyramid of the same shape and scale from other heights (these 1 m higher: beyond
+    // scale/2 = 0.125), below the encoder's cut and at it.
+    std::vector<float> higher = test::syntheticHeights(257, 257, 2000.0f);
+    for (float& h : higher) {
+        h += 1.0f;
+    }
+    test::writeFloatRaster(f.dir.file("higher.tif"), 257, 257, higher);
+    encodeDem(f.dir.file("higher.tif"), f.dir.file("higher.dat"), smallDem());
+    refused(RegionRoot{4, 1, 2}, f.dir.file("higher.dat"),
+            "parent: " + f.dir.file("higher.dat") + " does not hold this input's heights at level 3: ");
+    refused(RegionRoot{3, 1, 0}, f.dir.file("higher.dat"), "does not hold this input's heights at level 2: ");
     // The programs: one line naming the option, a non-zero exit, nothing written.
     DemEncodeOptions half = smallDem();
     half.scale = 0.5;

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/colour_coverage.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/support/text.hpp"
 
@@ -200,10 +201,12 @@ std::shared_ptr<const RasterSource> RasterMosaic::openMember(size_t k) const {
     });
 }
 
-template <typename T, typename Read>
-void RasterMosaic::compose(int x0, int y0, int x1, int y1, int values, T gap, Read read, T* out) const {
+template <typename T, typename Read, typename Has>
+void RasterMosaic::compose(int x0, int y0, int x1, int y1, int stored, int first, int values, T gap, Read read,
+                           Has has, T* out) const {
     const size_t width = static_cast<size_t>(x1 - x0);
-    std::fill(out, out + width * static_cast<size_t>(y1 - y0) * static_cast<size_t>(values), gap);
+    const auto n = static_cast<size_t>(values), all = static_cast<size_t>(stored);
+    std::fill(out, out + width * static_cast<size_t>(y1 - y0) * n, gap);
     const std::vector<size_t> found = membersIn(x0, y0, x1, y1);
     std::vector<T> part;
     // The last listed first: an earlier file's values are written over a later one's.
@@ -212,15 +215,16 @@ void RasterMosaic::compose(int x0, int y0, int x1, int y1, int values, T gap, Re
         const int cx0 = std::max(x0, m.x), cx1 = std::min(x1, m.x + m.width);
         const int cy0 = std::max(y0, m.y), cy1 = std::min(y1, m.y + m.height);
         const size_t partWidth = static_cast<size_t>(cx1 - cx0);
-        part.resize(partWidth * static_cast<size_t>(cy1 - cy0) * static_cast<size_t>(values));
+        part.resize(partWidth * static_cast<size_t>(cy1 - cy0) * all);
         const std::shared_ptr<const RasterSource> source = openMember(*it);
         read(*source, cx0 - m.x, cy0 - m.y, cx1 - m.x, cy1 - m.y, part.data());
+        const auto holds = has(m);
         for (int y = cy0; y < cy1; ++y) {
-            const T* from = part.data() + static_cast<size_t>(y - cy0) * partWidth * static_cast<size_t>(values);
-            T* to = out + (static_cast<size_t>(y - y0) * width + static_cast<size_t>(cx0 - x0)) * static_cast<size_t>(values);
-            for (size_t i = 0; i < partWidth * static_cast<size_t>(values); ++i) {
-                if (!isNodata(static_cast<float>(from[i]), m.nodata)) {
-                    to[i] = from[i];
+            const T* from = part.data() + static_cast<size_t>(y - cy0) * partWidth * all;
+            T* to = out + (static_cast<size_t>(y - y0) * width + static_cast<size_t>(cx0 - x0)) * n;
+            for (size_t i = 0; i < partWidth; ++i, from += all, to += n) {
+                if (holds(from)) {
+                    std::copy_n(from + first, n, to);
                 }
             }
         }
@@ -241,19 +245,28 @@ RasterMosaic::Place RasterMosaic::placeOf(int x, int y, int channel) const {
 
 void RasterMosaic::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
     const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
-    compose<float>(x0, y0, x1, y1, 1, gap,
-                   [channel](const RasterSource& s, int a0, int b0, int a1, int b1, float* to) {
-                       s.readFloat(a0, b0, a1, b1, channel, to);
-                   },
-                   out);
+    compose<float>(
+        x0, y0, x1, y1, 1, 0, 1, gap,
+        [channel](const RasterSource& s, int a0, int b0, int a1, int b1, float* to) {
+            s.readFloat(a0, b0, a1, b1, channel, to);
+        },
+        [](const Member& m) { return [&m](const float* v) { return !isNodata(*v, m.nodata); }; }, out);
 }
 
+// Colours by the whole pixel: every channel is read, whichever are asked for.
 void RasterMosaic::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
-    compose<uint16_t>(x0, y0, x1, y1, c1 - c0, 0,
-                      [c0, c1](const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) {
-                          s.readUInt16(a0, b0, a1, b1, c0, c1, to);
-                      },
-                      out);
+    const int all = info_.channels;
+    compose<uint16_t>(
+        x0, y0, x1, y1, all, c0, c1 - c0, 0,
+        [all](const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) {
+            s.readUInt16(a0, b0, a1, b1, 0, all, to);
+        },
+        [](const Member& m) {
+            return [coverage = ColourCoverage(m.info.channels, m.info.type, m.nodata)](const uint16_t* pixel) {
+                return coverage.has(pixel);
+            };
+        },
+        out);
 }
 
 } // namespace pyramid

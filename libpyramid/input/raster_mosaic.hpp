@@ -5,7 +5,8 @@
 //   rotation, and lies at a whole number of pixels from the others (within 10^-6 pixel).
 //   Anything else is refused, naming the file and what differs.
 // * The mosaic covers the union of the files' extents; pixels no file holds are nodata.
-// * Overlaps: the first file in the list that has a value there (not its nodata) gives it.
+// * Overlaps: the first file in the list that has a value there (not its nodata) gives it;
+//   colours by the whole pixel (input/colour_coverage.hpp: alpha 0, or nodata in every channel).
 // * Nodata: the value the files declare (they must agree); when none declares one, NaN for
 //   heights read as float32 (so gaps are holes, filled as any nodata) and 0 for colours.
 // * Bounded: at most kOpenFiles files are open at once (least recently used closed first), each
@@ -77,8 +78,11 @@ private:
     // Members whose pixels meet the window, in list order: from a grid of cells as large as the
     // largest member, each listing the members that meet it.
     std::vector<size_t> membersIn(int x0, int y0, int x1, int y1) const;
-    template <typename T, typename Read>
-    void compose(int x0, int y0, int x1, int y1, int values, T gap, Read read, T* out) const;
+    // The window's pixels, `stored` values each as `read` gives them, of which `values` from the
+    // `first` go to `out`; a member's pixel counts where has(member)(pixel) holds.
+    template <typename T, typename Read, typename Has>
+    void compose(int x0, int y0, int x1, int y1, int stored, int first, int values, T gap, Read read, Has has,
+                 T* out) const;
 
     std::vector<Member> members_;
     RasterInfo info_;

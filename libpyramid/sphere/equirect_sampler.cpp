@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/colour_coverage.hpp"
 #include "libpyramid/input/height_samples.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
 #include "libpyramid/support/parse_number.hpp"
@@ -153,6 +154,11 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     const int64_t W = source_.info().width;
     const int64_t H = source_.info().height;
     const int channels = c1_ - c0_;
+    // Colours are read whole, every channel, for the coverage rule (colour_coverage.hpp); numbers
+    // only the channels asked for. `first`: the first asked for within a block's pixel.
+    const bool colours = read_ == SampleRead::UInt16;
+    const int stored = colours ? source_.info().channels : channels;
+    const int first = colours ? c0_ : 0;
     std::vector<Taps> taps(count);
     int64_t rowMin = H, rowMax = -1;
     // Columns as offsets from the first point's, in (-W/2, W/2] when the map wraps: points that
@@ -217,18 +223,18 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     }
 
     auto readBlock = [&](int64_t col, int64_t ncols, int64_t row, int64_t nrows) {
-        Block b{col, ncols, row, nrows, channels, W, {}};
-        b.values.resize(static_cast<size_t>(ncols * nrows * channels));
+        Block b{col, ncols, row, nrows, stored, W, {}};
+        b.values.resize(static_cast<size_t>(ncols * nrows * stored));
         // At most two pieces: up to the east edge, then from column 0 on.
         for (int64_t done = 0; done < ncols;) {
             const int64_t c = (col + done) % W;
             const int64_t n = std::min(ncols - done, W - c);
-            const size_t piece = static_cast<size_t>(n * nrows * channels);
+            const size_t piece = static_cast<size_t>(n * nrows * stored);
             std::vector<float> values(piece);
-            if (read_ == SampleRead::UInt16) {
+            if (colours) {
                 std::vector<uint16_t> ints(piece);
                 source_.readUInt16(static_cast<int>(c), static_cast<int>(row), static_cast<int>(c + n),
-                                   static_cast<int>(row + nrows), c0_, c1_, ints.data());
+                                   static_cast<int>(row + nrows), 0, stored, ints.data());
                 std::copy(ints.begin(), ints.end(), values.begin());
             } else {
                 std::vector<float> plane(static_cast<size_t>(n * nrows));
@@ -241,8 +247,8 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
                 }
             }
             for (int64_t r = 0; r < nrows; ++r) {
-                std::copy_n(&values[static_cast<size_t>(r * n * channels)], n * channels,
-                            &b.values[static_cast<size_t>((r * ncols + done) * channels)]);
+                std::copy_n(&values[static_cast<size_t>(r * n * stored)], n * stored,
+                            &b.values[static_cast<size_t>((r * ncols + done) * stored)]);
             }
             done += n;
         }
@@ -250,9 +256,14 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     };
 
     // Values read as numbers follow the rule of heights (height_samples.hpp): NaN or infinity
-    // that is not nodata is an error. Integers widened to uint16 are always finite.
+    // that is not nodata is an error. Colours count by the whole pixel (alpha 0, or nodata in
+    // every channel: colour_coverage.hpp); integers widened to uint16 are always finite.
     const HeightSamples samples(nodata_);
+    const ColourCoverage coverage(stored, source_.info().type, nodata_);
     auto usable = [&](const float* v, int64_t i, int64_t j) {
+        if (colours) {
+            return coverage.has(v);
+        }
         for (int ch = 0; ch < channels; ++ch) {
             if (!samples.usable(v[ch], source_, i, j, c0_ + ch)) {
                 return false;
@@ -275,10 +286,10 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
                 }
             }
         }
-        for (int ch = 0; ch < channels; ++ch) {
+        for (int ch = first; ch < first + channels; ++ch) {
             const double top = v[0][0][ch] + (static_cast<double>(v[0][1][ch]) - v[0][0][ch]) * t.fx;
             const double bottom = v[1][0][ch] + (static_cast<double>(v[1][1][ch]) - v[1][0][ch]) * t.fx;
-            out[k * static_cast<size_t>(channels) + static_cast<size_t>(ch)] =
+            out[k * static_cast<size_t>(channels) + static_cast<size_t>(ch - first)] =
                 static_cast<float>(top + (bottom - top) * t.fy);
         }
         valid[k] = 1;

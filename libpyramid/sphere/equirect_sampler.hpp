@@ -15,7 +15,10 @@
 // wraps around in longitude; between the last row of pixel centres and the pole (or the edge of
 // a partial extent) the nearest row is used (clamped), as is the nearest column at the west and
 // east edges of a partial extent. Points outside the extent have no value (nodata), as does a
-// point whose interpolation would use a nodata pixel with a non-zero weight.
+// point whose interpolation would use a nodata pixel with a non-zero weight. Colours (read as
+// SampleRead::UInt16) are judged by the whole pixel, every channel of the file read whatever
+// channels are sampled: no value where alpha is 0 or every channel is nodata
+// (input/colour_coverage.hpp).
 #pragma once
 #include <cstdint>
 #include <optional>

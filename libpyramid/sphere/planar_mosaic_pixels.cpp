@@ -6,6 +6,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "libpyramid/input/colour_coverage.hpp"
 #include "libpyramid/sphere/map_mosaic.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
 
@@ -13,7 +14,39 @@ namespace pyramid {
 
 namespace {
 
+// How a group on the grid is read: one channel of numbers, a sample counting where it is not
+// the group's nodata (height_samples.hpp's rule)...
+struct FloatRead {
+    int channel;
+    size_t stored(const RasterSource&) const { return 1; }
+    size_t first() const { return 0; }
+    void read(const RasterSource& s, int a0, int b0, int a1, int b1, float* to) const {
+        s.readFloat(a0, b0, a1, b1, channel, to);
+    }
+    void readAt(const RasterSource& s, const std::vector<int>& c, const std::vector<int>& r, float* to) const {
+        s.readFloatAt(c, r, channel, to);
+    }
+    static auto holds(const RasterSource& s) {
+        return [nodata = s.info().nodata](const float* v) { return !isNodata(*v, nodata); };
+    }
+};
 
+// ... or colours, every channel read and a pixel counting by the whole pixel (colour_coverage.hpp),
+// the channels from `first` on given.
+struct ColourRead {
+    int from;
+    size_t stored(const RasterSource& s) const { return static_cast<size_t>(s.info().channels); }
+    size_t first() const { return static_cast<size_t>(from); }
+    void read(const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) const {
+        s.readUInt16(a0, b0, a1, b1, 0, s.info().channels, to);
+    }
+    void readAt(const RasterSource& s, const std::vector<int>& c, const std::vector<int>& r, uint16_t* to) const {
+        s.readUInt16At(c, r, 0, s.info().channels, to);
+    }
+    static auto holds(const RasterSource& s) {
+        return [coverage = ColourCoverage(s.info())](const uint16_t* pixel) { return coverage.has(pixel); };
+    }
+};
 
 class ResampledPixels final : public RasterPixels {
 public:
@@ -28,13 +61,7 @@ public:
 
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const override {
         const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
-        read<float>(
-            x0, y0, x1, y1, 1, gap, out,
-            [&](const RasterSource& s, int a0, int b0, int a1, int b1, float* to) {
-                s.readFloat(a0, b0, a1, b1, channel, to);
-            },
-            [](const RasterSource& s, float v) { return !isNodata(v, s.info().nodata); }, mosaic(SampleRead::Float),
-            channel);
+        read<float>(x0, y0, x1, y1, 1, gap, out, FloatRead{channel}, mosaic(SampleRead::Float), channel);
     }
 
     // Only the samples asked for: each group on the grid's own where it has them, the others at
@@ -42,32 +69,16 @@ public:
     void readFloatAt(const std::vector<int>& columns, const std::vector<int>& rows, int channel,
                      float* out) const override {
         const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
-        readAt<float>(
-            columns, rows, 1, gap, out,
-            [&](const RasterSource& s, const std::vector<int>& c, const std::vector<int>& r, float* to) {
-                s.readFloatAt(c, r, channel, to);
-            },
-            [](const RasterSource& s, float v) { return !isNodata(v, s.info().nodata); }, mosaic(SampleRead::Float),
-            channel);
+        readAt<float>(columns, rows, 1, gap, out, FloatRead{channel}, mosaic(SampleRead::Float), channel);
     }
 
     void readUInt16At(const std::vector<int>& columns, const std::vector<int>& rows, int c0, int c1,
                       uint16_t* out) const override {
-        readAt<uint16_t>(
-            columns, rows, c1 - c0, 0, out,
-            [&](const RasterSource& s, const std::vector<int>& c, const std::vector<int>& r, uint16_t* to) {
-                s.readUInt16At(c, r, c0, c1, to);
-            },
-            [](const RasterSource&, uint16_t) { return true; }, mosaic(SampleRead::UInt16), c0);
+        readAt<uint16_t>(columns, rows, c1 - c0, 0, out, ColourRead{c0}, mosaic(SampleRead::UInt16), c0);
     }
 
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const override {
-        read<uint16_t>(
-            x0, y0, x1, y1, c1 - c0, 0, out,
-            [&](const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) {
-                s.readUInt16(a0, b0, a1, b1, c0, c1, to);
-            },
-            [](const RasterSource&, uint16_t) { return true; }, mosaic(SampleRead::UInt16), c0);
+        read<uint16_t>(x0, y0, x1, y1, c1 - c0, 0, out, ColourRead{c0}, mosaic(SampleRead::UInt16), c0);
     }
 
 private:
@@ -83,10 +94,11 @@ private:
     }
 
     // Values at the crossings of `columns` and `rows`, `values` per sample: the first group on the
-    // grid with its own there (`has`), else the mosaic's at the pixel centre, else `gap`.
-    template <typename T, typename Own, typename Has>
-    void readAt(const std::vector<int>& columns, const std::vector<int>& rows, int values, T gap, T* out, Own own,
-                Has has, const MapMosaic& map, int firstChannel) const {
+    // grid with its own there (`how`: FloatRead, ColourRead), else the mosaic's at the pixel
+    // centre, else `gap`.
+    template <typename T, typename How>
+    void readAt(const std::vector<int>& columns, const std::vector<int>& rows, int values, T gap, T* out,
+                const How& how, const MapMosaic& map, int firstChannel) const {
         const size_t width = columns.size();
         const auto n = static_cast<size_t>(values);
         std::fill(out, out + width * rows.size() * n, gap);
@@ -113,16 +125,18 @@ private:
             if (cols.empty() || rws.empty()) {
                 continue;
             }
-            part.resize(cols.size() * rws.size() * n);
-            own(s, cols, rws, part.data());
+            const size_t all = how.stored(s);
+            part.resize(cols.size() * rws.size() * all);
+            how.readAt(s, cols, rws, part.data());
+            const auto holds = How::holds(s);
             for (size_t b = 0; b < rws.size(); ++b) {
                 for (size_t a = 0; a < cols.size(); ++a) {
                     const size_t k = rj[b] * width + ci[a];
-                    const T* from = &part[(b * cols.size() + a) * n];
-                    if (done[k] || !std::all_of(from, from + n, [&](T v) { return has(s, v); })) {
+                    const T* from = &part[(b * cols.size() + a) * all];
+                    if (done[k] || !holds(from)) {
                         continue;
                     }
-                    std::copy(from, from + n, out + k * n);
+                    std::copy_n(from + how.first(), n, out + k * n);
                     done[k] = 1;
                 }
             }
@@ -137,9 +151,9 @@ private:
     }
 
     // Values (x, y) of the window, `values` per pixel: the first group on the grid with its own
-    // there (`has`), else the mosaic's at the pixel centre, else `gap`.
-    template <typename T, typename Own, typename Has>
-    void read(int x0, int y0, int x1, int y1, int values, T gap, T* out, Own own, Has has, const MapMosaic& map,
+    // there (`how`), else the mosaic's at the pixel centre, else `gap`.
+    template <typename T, typename How>
+    void read(int x0, int y0, int x1, int y1, int values, T gap, T* out, const How& how, const MapMosaic& map,
               int firstChannel) const {
         const size_t width = static_cast<size_t>(x1 - x0);
         const auto n = static_cast<size_t>(values);
@@ -157,17 +171,19 @@ private:
                 continue;
             }
             const auto partWidth = static_cast<size_t>(fx1 - fx0);
-            part.resize(partWidth * static_cast<size_t>(fy1 - fy0) * n);
-            own(s, fx0, fy0, fx1, fy1, part.data());
+            const size_t all = how.stored(s);
+            part.resize(partWidth * static_cast<size_t>(fy1 - fy0) * all);
+            how.read(s, fx0, fy0, fx1, fy1, part.data());
+            const auto holds = How::holds(s);
             for (int y = fy0; y < fy1; ++y) {
                 for (int x = fx0; x < fx1; ++x) {
                     const size_t k = static_cast<size_t>(y + g.y - y0) * width + static_cast<size_t>(x + g.x - x0);
                     const size_t at = static_cast<size_t>(y - fy0) * partWidth + static_cast<size_t>(x - fx0);
-                    const T* from = &part[at * n];
-                    if (done[k] || !std::all_of(from, from + n, [&](T v) { return has(s, v); })) {
+                    const T* from = &part[at * all];
+                    if (done[k] || !holds(from)) {
                         continue;
                     }
-                    std::copy(from, from + n, out + k * n);
+                    std::copy_n(from + how.first(), n, out + k * n);
                     done[k] = 1;
                 }
             }

@@ -60,7 +60,11 @@ void write(const std::string& path, int width, int height, int channels, int bit
     TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, static_cast<uint16_t>(channels));
     TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, static_cast<uint16_t>(bits));
     TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, static_cast<uint16_t>(format));
-    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, channels == 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+    if (channels == 2 || channels == 4) {
+        const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
+        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, uint16_t{1}, &alpha);
+    }
     TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
     if (tags.tileSize > 0) {
         TIFFSetField(tif, TIFFTAG_TILEWIDTH, static_cast<uint32_t>(tags.tileSize));
@@ -151,6 +155,11 @@ void writeGeoTiffHalf(const std::string& path, int width, int height, const std:
 void writeGeoTiffRgb(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
                      const GeoTiffTags& tags) {
     write(path, width, height, 3, 8, SAMPLEFORMAT_UINT, values.data(), tags);
+}
+
+void writeGeoTiffRgba(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
+                      const GeoTiffTags& tags) {
+    write(path, width, height, 4, 8, SAMPLEFORMAT_UINT, values.data(), tags);
 }
 
 } // namespace pyramid::test

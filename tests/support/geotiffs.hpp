@@ -1,5 +1,5 @@
 // Small GeoTIFFs for tests, written with libtiff and libgeotiff (no GDAL): float32 or int16
-// heights or 8-bit RGB, with the GeoKeys and placement tags a test chooses.
+// heights or 8-bit RGB(A), with the GeoKeys and placement tags a test chooses.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -50,5 +50,8 @@ void writeGeoTiffHalf(const std::string& path, int width, int height, const std:
 // Writes width x height 8-bit RGB samples (interleaved, row 0 first).
 void writeGeoTiffRgb(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
                      const GeoTiffTags& tags);
+// Writes width x height 8-bit RGBA samples (interleaved, row 0 first; unassociated alpha).
+void writeGeoTiffRgba(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
+                      const GeoTiffTags& tags);
 
 } // namespace pyramid::test

@@ -39,7 +39,8 @@ std::string degrees(double d) {
 FacePixels::FacePixels(const RasterSource& source, const MapPlacement& placement, const PlanetBody& body, int face,
                        int channels, int64_t width, const GeodeticMap* map)
     : channels_(channels), sixteen_(source.info().type == SampleType::UInt16), body_(body),
-      own_(map ? nullptr : std::make_unique<EquirectSampler>(source, placement, 0, channels, SampleRead::UInt16, std::nullopt)),
+      own_(map ? nullptr : std::make_unique<EquirectSampler>(source, placement, 0, channels, SampleRead::UInt16,
+                                                      source.info().nodata)),
       map_(map ? *map : *own_), face_(map_, body_, face, FaceGrid{width, FaceGridKind::PixelCentres}) {
     const int64_t W = width;
     const GeoExtent& extent = placement.extent;

@@ -114,7 +114,7 @@ OrthoMap openOrthoMap(const std::vector<std::string>& inputs, const std::optiona
                                                       std::to_string(first.channels) + " of " +
                                                       sampleTypeName(first.type) + " as " + inputs[0]);
                                    }
-                                   return std::nullopt;
+                                   return info.nodata; // colour_coverage.hpp's rule
                                });
     if (!m.sources.source) {
         m.described = RasterSource::open(inputs[0], cacheMegabytes);

@@ -114,7 +114,7 @@ void encodeResidualPyramid(const ResidualPyramidJob& job, const std::string& out
                                            : static_cast<int64_t>(plan.tilesPerSide(plan.C + 1)) * plan.tilesPerSide(plan.C + 1);
     std::optional<RegionBuild> region;
     if (options.region) {
-        region = planRegion(plan, options);
+        region = planRegion(plan, options, *job.heights);
     }
     const ShareRange range = share    ? shareRange(share->index, share->count, job.pyramid, job.pyramids, units)
                              : region ? region->range

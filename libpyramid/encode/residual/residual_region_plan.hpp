@@ -25,7 +25,9 @@ struct RegionBuild {
 };
 
 // Checks a region build's options and its parent (one-line errors naming the option or the
-// file), before anything is written.
-RegionBuild planRegion(const ResidualPlan& plan, const ResidualEncodeOptions& options);
+// file), before anything is written: the parent must be a pyramid of this build, its shape and
+// scale, and rebuild this input's `heights` over the root's quarter of its parent tile within
+// scale / 2.
+RegionBuild planRegion(const ResidualPlan& plan, const ResidualEncodeOptions& options, const HeightSource& heights);
 
 } // namespace pyramid

@@ -1,0 +1,61 @@
+// Which pixels of imagery hold a value: the rule every reader of several colour rasters as one
+// follows (same-grid mosaics, planar mosaics of several grids, planets' maps). A pixel has no
+// value when
+//
+// * its alpha is 0: the last channel of a 2- or 4-channel image (grey and alpha, RGBA), as the
+//   ortho encoders take it (doc/ortho-encoding.md); or
+// * the file declares a nodata value and every channel of the pixel holds it (as GDAL's warper
+//   writes `-dstnodata`: a black pixel of real imagery with one channel at 0 keeps its value).
+//
+// The rule is over the whole pixel, whichever channels a read asks for: a mosaic never takes
+// one channel from one file and the next from another. Samples are as readUInt16 gives them
+// (8-bit 0..255, 16-bit 0..65535); a declared nodata that no sample of the file's type can hold
+// (-9999 for bytes, 0.5) marks nothing.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <optional>
+
+#include "libpyramid/input/raster_info.hpp"
+
+namespace pyramid {
+
+class ColourCoverage {
+public:
+    // The rule for `channels` channels of `type` (UInt8 or UInt16) with `nodata` declared.
+    ColourCoverage(int channels, SampleType type, std::optional<double> nodata)
+        : channels_(channels), alpha_(channels == 2 || channels == 4) {
+        const double top = type == SampleType::UInt8 ? 255.0 : 65535.0;
+        if (nodata && *nodata >= 0.0 && *nodata <= top && std::floor(*nodata) == *nodata) {
+            nodata_ = static_cast<uint16_t>(*nodata);
+        }
+    }
+    explicit ColourCoverage(const RasterInfo& info) : ColourCoverage(info.channels, info.type, info.nodata) {}
+
+    // The number of channels a pixel passed to has() holds: every channel of the file.
+    int channels() const { return channels_; }
+
+    // Whether the pixel (channels() samples, uint16_t or float holding whole numbers) has a value.
+    template <typename T>
+    bool has(const T* pixel) const {
+        if (alpha_ && pixel[channels_ - 1] == T{0}) {
+            return false;
+        }
+        if (!nodata_) {
+            return true;
+        }
+        for (int c = 0; c < channels_; ++c) {
+            if (pixel[c] != static_cast<T>(*nodata_)) {
+                return true;
+            }
+        }
+        return false;
+    }
+
+private:
+    int channels_;
+    bool alpha_;
+    std::optional<uint16_t> nodata_;
+};
+
+} // namespace pyramid
