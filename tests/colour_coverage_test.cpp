@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libpyramid/encode/ortho/ortho_encoder.hpp"
@@ -27,10 +28,11 @@ namespace {
 using Pixel = std::vector<uint8_t>;
 
 // A w x h image of `pixel(x, y)` (3 or 4 channels), 8 bits, pixel (0, 0)'s corner at (west,
-// north) degrees, `step` degrees a pixel, with GDAL_NODATA `nodata` when not empty.
+// north) degrees, `step` degrees a pixel, with GDAL_NODATA `nodata` when not empty; a fourth
+// channel is alpha, or with `alpha` false a band of unspecified data (near-infrared).
 template <class Colour>
 std::string image(const test::TempDir& dir, const std::string& name, int w, int h, double west, double north,
-                  double step, size_t channels, const std::string& nodata, const Colour& pixel) {
+                  double step, size_t channels, const std::string& nodata, const Colour& pixel, bool alpha = true) {
     std::vector<uint8_t> v;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
@@ -42,11 +44,23 @@ std::string image(const test::TempDir& dir, const std::string& name, int w, int 
     tags.gdalNodata = nodata;
     const std::string path = dir.file(name);
     if (channels == 4) {
-        test::writeGeoTiffRgba(path, w, h, v, tags);
+        test::writeGeoTiffRgba(path, w, h, v, tags, alpha);
     } else {
         test::writeGeoTiffRgb(path, w, h, v, tags);
     }
     return path;
+}
+
+// A fine image (1/128 degree, 16 x 8) whose east half has no value (nodata 0 in every channel
+// with 3 channels, alpha 0 with 4) over a coarse one (1/64 degree, 12 x 6) of one colour, both
+// from 10 E, 50 N: {fine, coarse}.
+std::pair<std::string, std::string> fineOverCoarse(const test::TempDir& dir, size_t channels) {
+    const std::string nodata = channels == 3 ? "0" : "";
+    const std::string tag = std::to_string(channels);
+    return {image(dir, "fine" + tag + ".tif", 16, 8, 10.0, 50.0, 1.0 / 128.0, channels, nodata,
+                  [](int x, int) -> Pixel { return x < 8 ? Pixel{50, 60, 70, 255} : Pixel{0, 0, 0, 0}; }),
+            image(dir, "coarse" + tag + ".tif", 12, 6, 10.0, 50.0, 1.0 / 64.0, channels, nodata,
+                  [](int, int) -> Pixel { return {100, 150, 200, 255}; })};
 }
 
 std::vector<uint16_t> at(const RasterSource& s, int x, int y, int c0, int c1) {
@@ -56,18 +70,20 @@ std::vector<uint16_t> at(const RasterSource& s, int x, int y, int c0, int c1) {
 }
 
 TEST(ColourCoverage, AlphaZeroOrNodataInEveryChannelIsNoValue) {
-    const ColourCoverage rgb(3, SampleType::UInt8, 0.0);
+    const ColourCoverage rgb(3, false, SampleType::UInt8, 0.0);
     EXPECT_FALSE(rgb.has(std::array<uint16_t, 3>{0, 0, 0}.data()));
     EXPECT_TRUE(rgb.has(std::array<uint16_t, 3>{0, 40, 0}.data()));
-    const ColourCoverage rgba(4, SampleType::UInt8, std::nullopt);
+    const ColourCoverage rgba(4, true, SampleType::UInt8, std::nullopt);
     EXPECT_FALSE(rgba.has(std::array<float, 4>{9, 9, 9, 0}.data()));
     EXPECT_TRUE(rgba.has(std::array<float, 4>{0, 0, 0, 1}.data()));
-    const ColourCoverage grey(1, SampleType::UInt16, 65535.0);
+    // A fourth band that is not alpha (near-infrared) is a colour at 0 too.
+    EXPECT_TRUE(ColourCoverage(4, false, SampleType::UInt8, std::nullopt).has(std::array<float, 4>{9, 9, 9, 0}.data()));
+    const ColourCoverage grey(1, false, SampleType::UInt16, 65535.0);
     EXPECT_FALSE(grey.has(std::array<uint16_t, 1>{65535}.data()));
     EXPECT_TRUE(grey.has(std::array<uint16_t, 1>{0}.data()));
     // A nodata no sample of the type holds marks nothing.
     for (const double nodata : {-9999.0, 256.0, 0.5}) {
-        EXPECT_TRUE(ColourCoverage(1, SampleType::UInt8, nodata).has(std::array<uint16_t, 1>{0}.data())) << nodata;
+        EXPECT_TRUE(ColourCoverage(1, false, SampleType::UInt8, nodata).has(std::array<uint16_t, 1>{0}.data())) << nodata;
     }
 }
 
@@ -101,6 +117,14 @@ TEST(ColourCoverage, SameGridMosaicsTakeWholePixels) {
         EXPECT_EQ(at(*mosaic, 1, 1, 0, 3), (std::vector<uint16_t>{11, 21, 30})) << tag;
         EXPECT_EQ(at(*mosaic, 10, 1, 0, 3), (std::vector<uint16_t>{200, 201, 202})) << tag;
     }
+    // Four bands of which the last is near-infrared, not alpha: a pixel whose fourth band is 0
+    // is a colour, listed first, whole.
+    const std::string a = image(dir, "an.tif", 8, 3, 10.0, 50.0, kStep, 4, "", aPixel, false);
+    const std::string b = image(dir, "bn.tif", 8, 3, 10.0 + 4 * kStep, 50.0, kStep, 4, "", bPixel, false);
+    const auto rgbn = RasterSource::openMosaic({a, b}, 16);
+    EXPECT_FALSE(rgbn->info().alpha);
+    EXPECT_EQ(at(*rgbn, 5, 0, 0, 4), (std::vector<uint16_t>{0, 0, 0, 0}));
+    EXPECT_TRUE(RasterSource::open(image(dir, "alpha.tif", 1, 1, 10.0, 50.0, kStep, 4, "", bPixel))->info().alpha);
 }
 
 // A fine image whose east half has no value (nodata, or alpha 0) over a coarse one of one
@@ -108,14 +132,8 @@ TEST(ColourCoverage, SameGridMosaicsTakeWholePixels) {
 TEST(ColourCoverage, PlanarMosaicsShowTheCoarserGridThroughTheFinersGaps) {
     test::TempDir dir;
     for (const size_t channels : {size_t{3}, size_t{4}}) {
-        const std::string nodata = channels == 3 ? "0" : "";
         const std::string tag = std::to_string(channels);
-        const std::string fine = image(dir, "fine" + tag + ".tif", 16, 8, 10.0, 50.0, 1.0 / 128.0, channels, nodata,
-                                       [](int x, int) -> Pixel {
-                                           return x < 8 ? Pixel{50, 60, 70, 255} : Pixel{0, 0, 0, 0};
-                                       });
-        const std::string coarse = image(dir, "coarse" + tag + ".tif", 12, 6, 10.0, 50.0, 1.0 / 64.0, channels, nodata,
-                                         [](int, int) -> Pixel { return {100, 150, 200, 255}; });
+        const auto [fine, coarse] = fineOverCoarse(dir, channels);
         const auto mosaic = openPlanarMosaic({fine, coarse}, 16);
         ASSERT_EQ(mosaic->info().width, 24) << tag;
         const int n = static_cast<int>(channels);
@@ -141,14 +159,8 @@ TEST(ColourCoverage, PlanarMosaicsShowTheCoarserGridThroughTheFinersGaps) {
 TEST(ColourCoverage, MapMosaicsFallToTheNextMemberAtAGapsEdge) {
     test::TempDir dir;
     for (const size_t channels : {size_t{3}, size_t{4}}) {
-        const std::string nodata = channels == 3 ? "0" : "";
         const std::string tag = std::to_string(channels);
-        const std::string fine = image(dir, "fine" + tag + ".tif", 16, 8, 10.0, 50.0, 1.0 / 128.0, channels, nodata,
-                                       [](int x, int) -> Pixel {
-                                           return x < 8 ? Pixel{50, 60, 70, 255} : Pixel{0, 0, 0, 0};
-                                       });
-        const std::string coarse = image(dir, "coarse" + tag + ".tif", 12, 6, 10.0, 50.0, 1.0 / 64.0, channels, nodata,
-                                         [](int, int) -> Pixel { return {100, 150, 200, 255}; });
+        const auto [fine, coarse] = fineOverCoarse(dir, channels);
         const MapMosaic map({{fine}, {coarse}}, PlanetBody::parse("wgs84"), 0, 3, SampleRead::UInt16,
                             [](const RasterInfo& info, const std::string&) { return info.nodata; }, 16);
         std::vector<GeodeticPoint> points;

@@ -1,6 +1,6 @@
 // Many files, one map: the preprocessors build from a mosaic of georeferenced files.
 // * Seams: four tiles cut from one raster give the bytes of the pyramid built from the whole
-//   raster, planar and spherical, DEM and ortho;
+//   raster, planar and spherical, DEM and ortho, and across the antimeridian;
 // * on a planet, overlaps at two resolutions take the finer file, and a UTM map beside a
 //   geographic one joins within the resampling error.
 // (Planar mosaics of several grids: mosaic_planar_test.cpp; command lines: mosaic_cli_test.cpp.)
@@ -99,6 +99,27 @@ TEST(Mosaic, SphericalTilesGiveTheWholeRastersBytes) {
         EXPECT_TRUE(bytesOf(dir.file("image/") + file) == bytesOf(dir.file("parts/") + file)) << file;
         EXPECT_FALSE(bytesOf(dir.file("parts/") + file).empty()) << file;
     }
+}
+
+// Tiles on both sides of the antimeridian (170..180 E, and -180..-170 E: its next 160 columns)
+// give the bytes of the one raster 170..190 E, on the face that holds them and on one that
+// does not (which they would otherwise reach, as a mosaic round the globe).
+TEST(Mosaic, TilesAcrossTheAntimeridianGiveTheWholeRastersBytes) {
+    test::TempDir dir;
+    const Grid g{170.0, 10.0, 1.0 / 16.0};
+    const std::string whole = cut(dir, "whole.tif", g, 0, 0, 320, 64);
+    const std::vector<std::string> tiles = {cut(dir, "w.tif", Grid{g.west - 360.0, g.north, g.step}, 160, 0, 160, 64),
+                                            cut(dir, "e.tif", g, 0, 0, 160, 64)};
+    SphericalDemOptions o = test::placementOptions(7);
+    const int held = test::faceOf(8.0, 180.0), away = test::faceOf(8.0, 0.0);
+    o.faces = {held, away};
+    encodeSphericalDem(whole, dir.file("whole"), o);
+    encodeSphericalDem(tiles, dir.file("tiles"), o);
+    const std::string heldFile = "DEM" + std::to_string(held) + ".dat", awayFile = "DEM" + std::to_string(away) + ".dat";
+    for (const std::string& file : {heldFile, awayFile}) {
+        EXPECT_TRUE(bytesOf(dir.file("whole/") + file) == bytesOf(dir.file("tiles/") + file)) << file;
+    }
+    EXPECT_LT(bytesOf(dir.file("tiles/") + awayFile).size() * 4, bytesOf(dir.file("tiles/") + heldFile).size());
 }
 
 // The heights a spherical build of `maps` rebuilds at the finest vertices of `face`, with each

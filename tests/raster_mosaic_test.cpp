@@ -1,7 +1,8 @@
 // Many georeferenced files read as one (RasterSource::openMosaic): four tiles cut from one
 // raster read back as that raster, sample for sample, across every seam; where files overlap
 // the first listed with a value wins; gaps are nodata; files off the grid, in another CRS,
-// without georeferencing or missing are refused, naming the file.
+// without georeferencing or missing are refused, naming the file; tiles on both sides of the
+// antimeridian join across it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -115,6 +116,44 @@ TEST(RasterMosaic, FilesThatDoNotFitAreRefusedByName) {
     test::writeGeoTiff(plain, 4, 4, std::vector<float>(16, 1.0f), test::GeoTiffTags{});
     EXPECT_NE(errorOf({a, plain}).find("plain.tif: has no georeferencing"), std::string::npos) << errorOf({a, plain});
     EXPECT_NE(errorOf({a, dir.file("missing.tif")}).find("missing.tif: no such file"), std::string::npos);
+}
+
+// Tiles on both sides of the antimeridian (179.5..180 E and -180..-179.875 E, one turn a whole
+// 23040 pixels) join across it as the one raster 179.5..180.125 E, whichever is listed first;
+// tiles that do not cross it, or go round the globe, keep the longitudes they have.
+TEST(RasterMosaic, TilesOnBothSidesOfTheAntimeridianJoinAcrossIt) {
+    test::TempDir dir;
+    const int H = 6;
+    auto part = [&](const std::string& name, int x0, int w, double west) {
+        std::vector<float> v(static_cast<size_t>(w * H));
+        for (int y = 0; y < H; ++y) {
+            for (int x = 0; x < w; ++x) {
+                v[static_cast<size_t>(x + y * w)] = heightAt(x0 + x, y);
+            }
+        }
+        const std::string path = dir.file(name);
+        test::writeGeoTiff(path, w, H, v, test::geographicTags(4326, west, 10.0, kStep));
+        return path;
+    };
+    const std::string east = part("east.tif", 0, 32, 179.5);   // columns 0..31 of the whole
+    const std::string west = part("west.tif", 32, 8, -180.0);  // columns 32..39, beyond 180
+    for (const auto& files : {std::vector<std::string>{east, west}, std::vector<std::string>{west, east}}) {
+        const auto mosaic = RasterSource::openMosaic(files, 16);
+        ASSERT_EQ(mosaic->info().width, 40) << files[0];
+        EXPECT_DOUBLE_EQ(mosaic->info().georeference->pixelToCrs[0], 179.5) << files[0];
+        std::vector<float> all(static_cast<size_t>(40 * H));
+        mosaic->readFloat(0, 0, 40, H, 0, all.data());
+        for (int y = 0; y < H; ++y) {
+            for (int x = 0; x < 40; ++x) {
+                ASSERT_EQ(all[static_cast<size_t>(x + y * 40)], heightAt(x, y)) << files[0] << " " << x << "," << y;
+            }
+        }
+    }
+    // Away from the antimeridian, a gap between two tiles stays where it is.
+    const std::string a = part("a.tif", 0, 8, -10.0), b = part("b.tif", 0, 8, 170.0);
+    const auto apart = RasterSource::openMosaic({b, a}, 16);
+    EXPECT_DOUBLE_EQ(apart->info().georeference->pixelToCrs[0], -10.0);
+    EXPECT_EQ(apart->info().width, 180 * 64 + 8);
 }
 
 } // namespace

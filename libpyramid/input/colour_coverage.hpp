@@ -2,8 +2,8 @@
 // follows (same-grid mosaics, planar mosaics of several grids, planets' maps). A pixel has no
 // value when
 //
-// * its alpha is 0: the last channel of a 2- or 4-channel image (grey and alpha, RGBA), as the
-//   ortho encoders take it (doc/ortho-encoding.md); or
+// * its alpha is 0: the last channel, where the file declares it alpha (RasterInfo::alpha: a
+//   fourth band of near-infrared, as NAIP's, is a colour, whatever its values); or
 // * the file declares a nodata value and every channel of the pixel holds it (as GDAL's warper
 //   writes `-dstnodata`: a black pixel of real imagery with one channel at 0 keeps its value).
 //
@@ -22,15 +22,16 @@ namespace pyramid {
 
 class ColourCoverage {
 public:
-    // The rule for `channels` channels of `type` (UInt8 or UInt16) with `nodata` declared.
-    ColourCoverage(int channels, SampleType type, std::optional<double> nodata)
-        : channels_(channels), alpha_(channels == 2 || channels == 4) {
+    // The rule for `channels` channels of `type` (UInt8 or UInt16), the last one `alpha` or not,
+    // with `nodata` declared.
+    ColourCoverage(int channels, bool alpha, SampleType type, std::optional<double> nodata)
+        : channels_(channels), alpha_(alpha && channels > 1) {
         const double top = type == SampleType::UInt8 ? 255.0 : 65535.0;
         if (nodata && *nodata >= 0.0 && *nodata <= top && std::floor(*nodata) == *nodata) {
             nodata_ = static_cast<uint16_t>(*nodata);
         }
     }
-    explicit ColourCoverage(const RasterInfo& info) : ColourCoverage(info.channels, info.type, info.nodata) {}
+    explicit ColourCoverage(const RasterInfo& info) : ColourCoverage(info.channels, info.alpha, info.type, info.nodata) {}
 
     // The number of channels a pixel passed to has() holds: every channel of the file.
     int channels() const { return channels_; }

@@ -167,6 +167,7 @@ std::optional<PngHeader> readPngHeader(const std::string& path) {
     h.info.width = static_cast<int>(width);
     h.info.height = static_cast<int>(height);
     h.info.channels = channels;
+    h.info.alpha = channels == 2 || channels == 4; // grey or RGB with alpha, or transparency made alpha
     h.info.type = depth == 8 ? SampleType::UInt8 : SampleType::UInt16;
     h.info.formatName = "png";
     return h;

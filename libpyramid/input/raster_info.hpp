@@ -31,6 +31,11 @@ struct RasterInfo {
     int width = 0;
     int height = 0;
     int channels = 0;
+    // The last channel is alpha, as the file declares it: TIFF's ExtraSamples (associated or
+    // unassociated alpha; GDAL writes a band of ColorInterp Alpha so, and an unspecified extra
+    // sample, a near-infrared band, is not alpha), PNG's alpha or transparency, an image I/O
+    // module's alpha channel.
+    bool alpha = false;
     SampleType type = SampleType::Other;
     std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any
     std::string formatName;       // "tiff", "png", ...

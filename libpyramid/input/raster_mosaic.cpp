@@ -37,6 +37,82 @@ bool oneGrid(const RasterInfo& a, const RasterInfo& b) {
     return a.channels == b.channels && a.type == b.type && sameNodata(a.nodata, b.nodata) && offsetOnGrid(a, b);
 }
 
+// Files of a geographic grid on which a turn of 360 degrees is a whole number of pixels `turn`
+// (SRTM tiles, global maps cut in pieces) may lie on both sides of the antimeridian: 160..180
+// and -180..-160 E. Placed as their longitudes say, they make a mosaic round the whole globe,
+// empty but for its ends. The files are then placed a whole turn along, so that the longest run
+// of longitudes no file covers lies outside the mosaic (160..200 E: one raster across the
+// antimeridian, interpolated across it as the stitched file would be), when that makes the
+// mosaic narrower, its west edge in [-180, 180) degrees; a set round the globe, or narrower as it
+// lies, keeps its places. `grid`: the first file's; `x`: each file's first column in pixels from
+// the first file's; `widths`: theirs.
+void joinAcrossTheAntimeridian(const Georeference& grid, std::vector<int64_t>& x, const std::vector<int64_t>& widths) {
+    if (grid.projected || x.size() < 2) {
+        return;
+    }
+    const double pixels = 360.0 / grid.unitInDegrees / grid.pixelToCrs[1];
+    if (!(pixels >= 2.0 && pixels < 1e9) || std::fabs(pixels - std::round(pixels)) > 1e-6) {
+        return;
+    }
+    const int64_t turn = std::llround(pixels);
+    const auto wrap = [turn](int64_t v) { return ((v % turn) + turn) % turn; };
+    // How many files cover each column of the turn: starts and ends counted, then summed.
+    std::vector<int32_t> change(static_cast<size_t>(turn) + 1, 0);
+    for (size_t k = 0; k < x.size(); ++k) {
+        if (widths[k] >= turn) {
+            return; // one file goes round the globe
+        }
+        const int64_t a = wrap(x[k]), b = a + widths[k];
+        change[static_cast<size_t>(a)] += 1;
+        if (b <= turn) {
+            change[static_cast<size_t>(b)] -= 1;
+        } else {
+            change[static_cast<size_t>(turn)] -= 1;
+            change[0] += 1;
+            change[static_cast<size_t>(b - turn)] -= 1;
+        }
+    }
+    std::vector<uint8_t> covered(static_cast<size_t>(turn));
+    int32_t files = 0;
+    for (int64_t c = 0; c < turn; ++c) {
+        files += change[static_cast<size_t>(c)];
+        covered[static_cast<size_t>(c)] = files > 0;
+    }
+    // The longest circular run of uncovered columns, and the column after it.
+    int64_t best = 0, after = 0, run = 0;
+    for (int64_t c = 0; c < 2 * turn; ++c) {
+        run = covered[static_cast<size_t>(c % turn)] ? 0 : run + 1;
+        if (run > best && run < turn) {
+            best = run;
+            after = (c + 1) % turn;
+        }
+    }
+    if (best == 0) {
+        return; // the files cover every longitude
+    }
+    std::vector<int64_t> moved(x.size());
+    int64_t lo = std::numeric_limits<int64_t>::max(), hi = std::numeric_limits<int64_t>::min();
+    int64_t lo0 = lo, hi0 = hi;
+    for (size_t k = 0; k < x.size(); ++k) {
+        moved[k] = after + wrap(x[k] - after);
+        lo = std::min(lo, moved[k]);
+        hi = std::max(hi, moved[k] + widths[k]);
+        lo0 = std::min(lo0, x[k]);
+        hi0 = std::max(hi0, x[k] + widths[k]);
+    }
+    if (hi - lo < hi0 - lo0) {
+        // Counted from the first file, and the whole a turn along where that puts the mosaic's
+        // west edge in [-180, 180) degrees: the same place whatever order the files are listed in.
+        const int64_t first = x[0];
+        const double west = (grid.pixelToCrs[0] + static_cast<double>(lo - moved[0] + first) * grid.pixelToCrs[1]) *
+                            grid.unitInDegrees;
+        const auto turns = static_cast<int64_t>(std::floor((west + 180.0) / 360.0));
+        for (size_t k = 0; k < x.size(); ++k) {
+            x[k] = moved[k] - moved[0] + first - turns * turn;
+        }
+    }
+}
+
 } // namespace
 
 std::optional<std::array<int64_t, 2>> offsetOnGrid(const RasterInfo& a, const RasterInfo& b) {
@@ -131,6 +207,17 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
         }
         offsets.emplace_back(static_cast<int64_t>(std::llround(dx)), static_cast<int64_t>(std::llround(dy)));
         members_.push_back(m);
+    }
+    {
+        std::vector<int64_t> x(offsets.size()), widths(offsets.size());
+        for (size_t k = 0; k < offsets.size(); ++k) {
+            x[k] = offsets[k].first;
+            widths[k] = members_[k].width;
+        }
+        joinAcrossTheAntimeridian(*grid, x, widths);
+        for (size_t k = 0; k < offsets.size(); ++k) {
+            offsets[k].first = x[k];
+        }
     }
     int64_t minX = std::numeric_limits<int64_t>::max(), minY = minX;
     int64_t maxX = std::numeric_limits<int64_t>::min(), maxY = maxX;
@@ -262,7 +349,7 @@ void RasterMosaic::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
             s.readUInt16(a0, b0, a1, b1, 0, all, to);
         },
         [](const Member& m) {
-            return [coverage = ColourCoverage(m.info.channels, m.info.type, m.nodata)](const uint16_t* pixel) {
+            return [coverage = ColourCoverage(m.info.channels, m.info.alpha, m.info.type, m.nodata)](const uint16_t* pixel) {
                 return coverage.has(pixel);
             };
         },

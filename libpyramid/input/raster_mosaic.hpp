@@ -5,6 +5,9 @@
 //   rotation, and lies at a whole number of pixels from the others (within 10^-6 pixel).
 //   Anything else is refused, naming the file and what differs.
 // * The mosaic covers the union of the files' extents; pixels no file holds are nodata.
+// * The antimeridian: files of a geographic grid on which 360 degrees are a whole number of
+//   pixels, lying on both sides of it (160..180 and -180..-160 E), are joined across it
+//   (160..200 E) where that makes the mosaic narrower than their longitudes as labelled.
 // * Overlaps: the first file in the list that has a value there (not its nodata) gives it;
 //   colours by the whole pixel (input/colour_coverage.hpp: alpha 0, or nodata in every channel).
 // * Nodata: the value the files declare (they must agree); when none declares one, NaN for

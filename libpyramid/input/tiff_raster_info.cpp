@@ -24,6 +24,11 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLEFORMAT, &format);
     TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLESPERPIXEL, &channels);
     TIFFGetFieldDefaulted(tif, TIFFTAG_PLANARCONFIG, &planar);
+    // The last channel is alpha when its extra sample says so (associated or unassociated).
+    uint16_t extras = 0;
+    uint16_t* extraTypes = nullptr;
+    const bool alpha = TIFFGetField(tif, TIFFTAG_EXTRASAMPLES, &extras, &extraTypes) == 1 && extras > 0 && extraTypes &&
+                       (extraTypes[extras - 1] == EXTRASAMPLE_ASSOCALPHA || extraTypes[extras - 1] == EXTRASAMPLE_UNASSALPHA);
     TIFFClose(tif);
 
     // YCbCr only as JPEG stores it, which libjpeg decodes to RGB; 8-bit palette indices, widened
@@ -54,6 +59,7 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     info.width = static_cast<int>(width);
     info.height = static_cast<int>(height);
     info.channels = palette ? 3 : channels;
+    info.alpha = alpha;
     info.type = type;
     info.formatName = "tiff";
     info.nodata = geoTiffNodata(path);

@@ -259,7 +259,7 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     // that is not nodata is an error. Colours count by the whole pixel (alpha 0, or nodata in
     // every channel: colour_coverage.hpp); integers widened to uint16 are always finite.
     const HeightSamples samples(nodata_);
-    const ColourCoverage coverage(stored, source_.info().type, nodata_);
+    const ColourCoverage coverage(stored, source_.info().alpha, source_.info().type, nodata_);
     auto usable = [&](const float* v, int64_t i, int64_t j) {
         if (colours) {
             return coverage.has(v);

@@ -50,7 +50,7 @@ void setTransformation(GeoTiffTags& tags, const std::array<double, 6>& t) {
 namespace {
 
 void write(const std::string& path, int width, int height, int channels, int bits, int format, const void* values,
-           const GeoTiffTags& tags) {
+           const GeoTiffTags& tags, uint16_t extraSample = EXTRASAMPLE_UNASSALPHA) {
     TIFF* tif = XTIFFOpen(path.c_str(), "w");
     if (!tif) {
         throw std::runtime_error("cannot write " + path);
@@ -62,8 +62,7 @@ void write(const std::string& path, int width, int height, int channels, int bit
     TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, static_cast<uint16_t>(format));
     TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, channels >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
     if (channels == 2 || channels == 4) {
-        const uint16_t alpha = EXTRASAMPLE_UNASSALPHA;
-        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, uint16_t{1}, &alpha);
+        TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, uint16_t{1}, &extraSample);
     }
     TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
     if (tags.tileSize > 0) {
@@ -158,8 +157,9 @@ void writeGeoTiffRgb(const std::string& path, int width, int height, const std::
 }
 
 void writeGeoTiffRgba(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
-                      const GeoTiffTags& tags) {
-    write(path, width, height, 4, 8, SAMPLEFORMAT_UINT, values.data(), tags);
+                      const GeoTiffTags& tags, bool alpha) {
+    write(path, width, height, 4, 8, SAMPLEFORMAT_UINT, values.data(), tags,
+          alpha ? EXTRASAMPLE_UNASSALPHA : EXTRASAMPLE_UNSPECIFIED);
 }
 
 } // namespace pyramid::test

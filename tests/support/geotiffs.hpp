@@ -50,8 +50,9 @@ void writeGeoTiffHalf(const std::string& path, int width, int height, const std:
 // Writes width x height 8-bit RGB samples (interleaved, row 0 first).
 void writeGeoTiffRgb(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
                      const GeoTiffTags& tags);
-// Writes width x height 8-bit RGBA samples (interleaved, row 0 first; unassociated alpha).
+// Writes width x height 8-bit RGBA samples (interleaved, row 0 first): the fourth an extra sample
+// of unassociated alpha, or with `alpha` false of unspecified data (a near-infrared band).
 void writeGeoTiffRgba(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
-                      const GeoTiffTags& tags);
+                      const GeoTiffTags& tags, bool alpha = true);
 
 } // namespace pyramid::test

@@ -158,6 +158,7 @@ std::unique_ptr<ModuleImage> openImage(const std::string& path, int cacheMegabyt
         info.width = spec.width;
         info.height = spec.height;
         info.channels = spec.nchannels;
+        info.alpha = spec.nchannels > 1 && spec.alpha_channel == spec.nchannels - 1;
         info.type = sampleTypeOf(spec.format);
         info.nodata = declaredNodata(spec);
         OIIO::ustring format;
