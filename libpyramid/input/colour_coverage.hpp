@@ -35,6 +35,8 @@ public:
 
     // The number of channels a pixel passed to has() holds: every channel of the file.
     int channels() const { return channels_; }
+    // Whether every pixel has a value (no alpha channel, no nodata a sample can hold).
+    bool everywhere() const { return !alpha_ && !nodata_; }
 
     // Whether the pixel (channels() samples, uint16_t or float holding whole numbers) has a value.
     template <typename T>

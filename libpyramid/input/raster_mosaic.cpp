@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "formats/error.hpp"
 #include "libpyramid/input/colour_coverage.hpp"
@@ -305,13 +306,19 @@ void RasterMosaic::compose(int x0, int y0, int x1, int y1, int stored, int first
         part.resize(partWidth * static_cast<size_t>(cy1 - cy0) * all);
         const std::shared_ptr<const RasterSource> source = openMember(*it);
         read(*source, cx0 - m.x, cy0 - m.y, cx1 - m.x, cy1 - m.y, part.data());
-        const auto holds = has(m);
+        const auto [everyPixel, holds] = has(m);
         for (int y = cy0; y < cy1; ++y) {
             const T* from = part.data() + static_cast<size_t>(y - cy0) * partWidth * all;
             T* to = out + (static_cast<size_t>(y - y0) * width + static_cast<size_t>(cx0 - x0)) * n;
+            if (everyPixel && n == all) {
+                std::copy_n(from, partWidth * n, to); // the member's whole row
+                continue;
+            }
             for (size_t i = 0; i < partWidth; ++i, from += all, to += n) {
-                if (holds(from)) {
-                    std::copy_n(from + first, n, to);
+                if (everyPixel || holds(from)) {
+                    for (size_t c = 0; c < n; ++c) {
+                        to[c] = from[first + c];
+                    }
                 }
             }
         }
@@ -337,7 +344,10 @@ void RasterMosaic::readFloat(int x0, int y0, int x1, int y1, int channel, float*
         [channel](const RasterSource& s, int a0, int b0, int a1, int b1, float* to) {
             s.readFloat(a0, b0, a1, b1, channel, to);
         },
-        [](const Member& m) { return [&m](const float* v) { return !isNodata(*v, m.nodata); }; }, out);
+        [](const Member& m) {
+            return std::pair{!m.nodata, [&m](const float* v) { return !isNodata(*v, m.nodata); }};
+        },
+        out);
 }
 
 // Colours by the whole pixel: every channel is read, whichever are asked for.
@@ -349,9 +359,8 @@ void RasterMosaic::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
             s.readUInt16(a0, b0, a1, b1, 0, all, to);
         },
         [](const Member& m) {
-            return [coverage = ColourCoverage(m.info.channels, m.info.alpha, m.info.type, m.nodata)](const uint16_t* pixel) {
-                return coverage.has(pixel);
-            };
+            const ColourCoverage coverage(m.info.channels, m.info.alpha, m.info.type, m.nodata);
+            return std::pair{coverage.everywhere(), [coverage](const uint16_t* pixel) { return coverage.has(pixel); }};
         },
         out);
 }

@@ -82,7 +82,8 @@ private:
     // largest member, each listing the members that meet it.
     std::vector<size_t> membersIn(int x0, int y0, int x1, int y1) const;
     // The window's pixels, `stored` values each as `read` gives them, of which `values` from the
-    // `first` go to `out`; a member's pixel counts where has(member)(pixel) holds.
+    // `first` go to `out`; has(member) gives {whether every pixel of the member counts, and
+    // where not, a predicate of a pixel}.
     template <typename T, typename Read, typename Has>
     void compose(int x0, int y0, int x1, int y1, int stored, int first, int values, T gap, Read read, Has has,
                  T* out) const;
