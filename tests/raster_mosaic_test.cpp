@@ -149,6 +149,16 @@ TEST(RasterMosaic, TilesOnBothSidesOfTheAntimeridianJoinAcrossIt) {
             }
         }
     }
+    // A tile labelled across it (-180.125..-179.875 E, the whole's columns 24..39) joins too.
+    const std::string across = part("across.tif", 24, 16, -180.125);
+    const auto joined = RasterSource::openMosaic({across, east}, 16);
+    ASSERT_EQ(joined->info().width, 40);
+    EXPECT_DOUBLE_EQ(joined->info().georeference->pixelToCrs[0], 179.5);
+    std::vector<float> row(40);
+    joined->readFloat(0, 2, 40, 3, 0, row.data());
+    for (int x = 0; x < 40; ++x) {
+        EXPECT_EQ(row[static_cast<size_t>(x)], heightAt(x, 2)) << x;
+    }
     // Away from the antimeridian, a gap between two tiles stays where it is.
     const std::string a = part("a.tif", 0, 8, -10.0), b = part("b.tif", 0, 8, 170.0);
     const auto apart = RasterSource::openMosaic({b, a}, 16);

@@ -57,38 +57,36 @@ void joinAcrossTheAntimeridian(const Georeference& grid, std::vector<int64_t>& x
     }
     const int64_t turn = std::llround(pixels);
     const auto wrap = [turn](int64_t v) { return ((v % turn) + turn) % turn; };
-    // How many files cover each column of the turn: starts and ends counted, then summed.
-    std::vector<int32_t> change(static_cast<size_t>(turn) + 1, 0);
+    // The files' columns within one turn, [start, end) with end past the turn for a file that
+    // wraps, in order of start: the longest run no file covers, between the furthest end so far
+    // and the next start, or round from the last to the first start a turn on. A list of files,
+    // not a table of the turn's columns: memory by the files, however fine the grid.
+    std::vector<std::pair<int64_t, int64_t>> spans(x.size());
     for (size_t k = 0; k < x.size(); ++k) {
         if (widths[k] >= turn) {
             return; // one file goes round the globe
         }
-        const int64_t a = wrap(x[k]), b = a + widths[k];
-        change[static_cast<size_t>(a)] += 1;
-        if (b <= turn) {
-            change[static_cast<size_t>(b)] -= 1;
-        } else {
-            change[static_cast<size_t>(turn)] -= 1;
-            change[0] += 1;
-            change[static_cast<size_t>(b - turn)] -= 1;
+        spans[k] = {wrap(x[k]), wrap(x[k]) + widths[k]};
+    }
+    std::sort(spans.begin(), spans.end());
+    // A file that wraps covers the turn's first columns too, up to its end less a turn.
+    int64_t reach = spans[0].second;
+    for (const auto& [from, to] : spans) {
+        reach = std::max(reach, to - turn);
+    }
+    int64_t best = 0, after = 0;
+    for (size_t k = 1; k < spans.size(); ++k) {
+        if (spans[k].first - reach > best) {
+            best = spans[k].first - reach;
+            after = spans[k].first;
         }
+        reach = std::max(reach, spans[k].second);
     }
-    std::vector<uint8_t> covered(static_cast<size_t>(turn));
-    int32_t files = 0;
-    for (int64_t c = 0; c < turn; ++c) {
-        files += change[static_cast<size_t>(c)];
-        covered[static_cast<size_t>(c)] = files > 0;
+    if (spans[0].first + turn - reach > best) {
+        best = spans[0].first + turn - reach;
+        after = spans[0].first;
     }
-    // The longest circular run of uncovered columns, and the column after it.
-    int64_t best = 0, after = 0, run = 0;
-    for (int64_t c = 0; c < 2 * turn; ++c) {
-        run = covered[static_cast<size_t>(c % turn)] ? 0 : run + 1;
-        if (run > best && run < turn) {
-            best = run;
-            after = (c + 1) % turn;
-        }
-    }
-    if (best == 0) {
+    if (best <= 0) {
         return; // the files cover every longitude
     }
     std::vector<int64_t> moved(x.size());
