@@ -33,12 +33,10 @@ public:
     }
     explicit ColourCoverage(const RasterInfo& info) : ColourCoverage(info.channels, info.alpha, info.type, info.nodata) {}
 
-    // The number of channels a pixel passed to has() holds: every channel of the file.
-    int channels() const { return channels_; }
     // Whether every pixel has a value (no alpha channel, no nodata a sample can hold).
     bool everywhere() const { return !alpha_ && !nodata_; }
 
-    // Whether the pixel (channels() samples, uint16_t or float holding whole numbers) has a value.
+    // Whether the pixel (every channel of the file, uint16_t or float holding whole numbers) has a value.
     template <typename T>
     bool has(const T* pixel) const {
         if (alpha_ && pixel[channels_ - 1] == T{0}) {

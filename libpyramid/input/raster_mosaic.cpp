@@ -357,7 +357,7 @@ void RasterMosaic::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
             s.readUInt16(a0, b0, a1, b1, 0, all, to);
         },
         [](const Member& m) {
-            const ColourCoverage coverage(m.info.channels, m.info.alpha, m.info.type, m.nodata);
+            const ColourCoverage coverage(m.info); // m.nodata is m.info's
             return std::pair{coverage.everywhere(), [coverage](const uint16_t* pixel) { return coverage.has(pixel); }};
         },
         out);
