@@ -51,16 +51,36 @@ std::string image(const test::TempDir& dir, const std::string& name, int w, int 
     return path;
 }
 
-// A fine image (1/128 degree, 16 x 8) whose east half has no value (nodata 0 in every channel
-// with 3 channels, alpha 0 with 4) over a coarse one (1/64 degree, 12 x 6) of one colour, both
-// from 10 E, 50 N: {fine, coarse}.
-std::pair<std::string, std::string> fineOverCoarse(const test::TempDir& dir, size_t channels) {
-    const std::string nodata = channels == 3 ? "0" : "";
-    const std::string tag = std::to_string(channels);
-    return {image(dir, "fine" + tag + ".tif", 16, 8, 10.0, 50.0, 1.0 / 128.0, channels, nodata,
-                  [](int x, int) -> Pixel { return x < 8 ? Pixel{50, 60, 70, 255} : Pixel{0, 0, 0, 0}; }),
-            image(dir, "coarse" + tag + ".tif", 12, 6, 10.0, 50.0, 1.0 / 64.0, channels, nodata,
-                  [](int, int) -> Pixel { return {100, 150, 200, 255}; })};
+// How a fine image marks its east half as without a value.
+enum class Gap {
+    Nodata, // 3 channels, nodata 0 in every one
+    Alpha,  // 4 channels, alpha 0
+    Mask,   // 3 channels of (9, 9, 9), an internal transparency mask
+};
+const Gap kGaps[] = {Gap::Nodata, Gap::Alpha, Gap::Mask};
+
+size_t channelsOf(Gap gap) { return gap == Gap::Alpha ? 4 : 3; }
+
+// A fine image (1/128 degree, 16 x 8) whose east half has no value, marked as `gap` says, over a
+// coarse one (1/64 degree, 12 x 6) of one colour, both from 10 E, 50 N: {fine, coarse}.
+std::pair<std::string, std::string> fineOverCoarse(const test::TempDir& dir, Gap gap) {
+    const size_t channels = channelsOf(gap);
+    const std::string nodata = gap == Gap::Nodata ? "0" : "";
+    const std::string tag = std::to_string(static_cast<int>(gap));
+    const Pixel none = gap == Gap::Mask ? Pixel{9, 9, 9, 255} : Pixel{0, 0, 0, 0};
+    std::pair<std::string, std::string> files{
+        image(dir, "fine" + tag + ".tif", 16, 8, 10.0, 50.0, 1.0 / 128.0, channels, nodata,
+              [&](int x, int) -> Pixel { return x < 8 ? Pixel{50, 60, 70, 255} : none; }),
+        image(dir, "coarse" + tag + ".tif", 12, 6, 10.0, 50.0, 1.0 / 64.0, channels, nodata,
+              [](int, int) -> Pixel { return {100, 150, 200, 255}; })};
+    if (gap == Gap::Mask) {
+        std::vector<uint8_t> valid(16 * 8);
+        for (size_t k = 0; k < valid.size(); ++k) {
+            valid[k] = k % 16 < 8 ? 1 : 0;
+        }
+        test::appendTiffMask(files.first, 16, 8, valid, 3);
+    }
+    return files;
 }
 
 std::vector<uint16_t> at(const RasterSource& s, int x, int y, int c0, int c1) {
@@ -127,13 +147,81 @@ TEST(ColourCoverage, SameGridMosaicsTakeWholePixels) {
     EXPECT_TRUE(RasterSource::open(image(dir, "alpha.tif", 1, 1, 10.0, 50.0, kStep, 4, "", bPixel))->info().alpha);
 }
 
-// A fine image whose east half has no value (nodata, or alpha 0) over a coarse one of one
+// A same-grid mosaic's gap holds the declared nodata (255 here), so that it is no value to the
+// rule, as the files' own nodata pixels are; a nodata no sample holds leaves gaps at 0.
+TEST(ColourCoverage, AMosaicsGapsHoldTheDeclaredNodata) {
+    test::TempDir dir;
+    constexpr double kStep = 1.0 / 64.0;
+    auto grey = [](int, int) -> Pixel { return {70, 80, 90}; };
+    for (const std::string nodata : {"255", "-9999"}) {
+        const std::string a = image(dir, "ga" + nodata + ".tif", 4, 2, 10.0, 50.0, kStep, 3, nodata, grey);
+        const std::string b = image(dir, "gb" + nodata + ".tif", 4, 2, 10.0 + 6 * kStep, 50.0, kStep, 3, nodata, grey);
+        const auto mosaic = RasterSource::openMosaic({a, b}, 16);
+        ASSERT_EQ(mosaic->info().width, 10);
+        const uint16_t gap = nodata == "255" ? 255 : 0;
+        EXPECT_EQ(at(*mosaic, 5, 1, 0, 3), (std::vector<uint16_t>{gap, gap, gap})) << nodata;
+        EXPECT_EQ(ColourCoverage(mosaic->info()).has(at(*mosaic, 5, 1, 0, 3).data()), nodata != "255") << nodata;
+        EXPECT_EQ(at(*mosaic, 7, 0, 0, 3), (std::vector<uint16_t>{70, 80, 90})) << nodata;
+    }
+}
+
+// A TIFF's internal transparency mask (1 bit a pixel, in strips or tiles, over a width that is
+// no multiple of 8) hides its pixels from a same-grid mosaic, whatever their colours; the file
+// itself reads its colours as stored, and its mask as a channel after them. The mosaic has a mask
+// of its own, which marks its gaps too (b stops at column 10).
+TEST(ColourCoverage, SameGridMosaicsSeeThroughATiffsInternalMask) {
+    test::TempDir dir;
+    constexpr double kStep = 1.0 / 64.0;
+    constexpr int kWidth = 13, kHeight = 5;
+    // a's pixels without a value: the columns from 6 on, and pixel (2, 3).
+    auto valid = [](int x, int y) { return x < 6 && !(x == 2 && y == 3); };
+    std::vector<uint8_t> mask;
+    for (int y = 0; y < kHeight; ++y) {
+        for (int x = 0; x < kWidth; ++x) {
+            mask.push_back(valid(x, y) ? 1 : 0);
+        }
+    }
+    auto aPixel = [](int x, int y) -> Pixel { return {static_cast<uint8_t>(10 + x), static_cast<uint8_t>(20 + y), 30}; };
+    for (const int tile : {0, 16}) {
+        const std::string tag = std::to_string(tile);
+        const std::string a = image(dir, "ma" + tag + ".tif", kWidth, kHeight, 10.0, 50.0, kStep, 3, "", aPixel);
+        test::appendTiffMask(a, kWidth, kHeight, mask, 2, tile);
+        const std::string b = image(dir, "mb" + tag + ".tif", 10, kHeight, 10.0, 50.0, kStep, 3, "",
+                                    [](int, int) -> Pixel { return {200, 201, 202}; });
+        const auto file = RasterSource::open(a, 16);
+        ASSERT_TRUE(file->info().mask) << tag;
+        EXPECT_EQ(file->info().channels, 3) << tag;
+        const auto mosaic = RasterSource::openMosaic({a, b}, 16);
+        EXPECT_TRUE(mosaic->info().mask) << tag;
+        for (int y = 0; y < kHeight; ++y) {
+            for (int x = 0; x < kWidth; ++x) {
+                const Pixel p = aPixel(x, y);
+                EXPECT_EQ(at(*file, x, y, 0, 4), (std::vector<uint16_t>{p[0], p[1], p[2], uint16_t(valid(x, y) ? 255 : 0)}))
+                    << tag << " " << x << "," << y;
+                const std::vector<uint16_t> want = valid(x, y) ? std::vector<uint16_t>{p[0], p[1], p[2], 255}
+                                                   : x < 10    ? std::vector<uint16_t>{200, 201, 202, 255}
+                                                               : std::vector<uint16_t>{0, 0, 0, 0};
+                EXPECT_EQ(at(*mosaic, x, y, 0, 4), want) << tag << " " << x << "," << y;
+                EXPECT_EQ(at(*mosaic, x, y, 1, 2), std::vector<uint16_t>{want[1]}) << tag << " " << x << "," << y;
+            }
+        }
+        // A whole window, and the mask alone.
+        std::vector<uint16_t> window(static_cast<size_t>(kWidth * kHeight));
+        file->readUInt16(0, 0, kWidth, kHeight, 3, 4, window.data());
+        for (size_t k = 0; k < window.size(); ++k) {
+            EXPECT_EQ(window[k], mask[k] ? 255 : 0) << tag << " " << k;
+        }
+    }
+}
+
+// A fine image whose east half has no value (nodata, alpha 0 or a mask) over a coarse one of one
 // colour: the coarse one shows through there, in the planar mosaic on the fine grid.
 TEST(ColourCoverage, PlanarMosaicsShowTheCoarserGridThroughTheFinersGaps) {
     test::TempDir dir;
-    for (const size_t channels : {size_t{3}, size_t{4}}) {
-        const std::string tag = std::to_string(channels);
-        const auto [fine, coarse] = fineOverCoarse(dir, channels);
+    for (const Gap gap : kGaps) {
+        const size_t channels = channelsOf(gap);
+        const std::string tag = std::to_string(static_cast<int>(gap));
+        const auto [fine, coarse] = fineOverCoarse(dir, gap);
         const auto mosaic = openPlanarMosaic({fine, coarse}, 16);
         ASSERT_EQ(mosaic->info().width, 24) << tag;
         const int n = static_cast<int>(channels);
@@ -158,9 +246,9 @@ TEST(ColourCoverage, PlanarMosaicsShowTheCoarserGridThroughTheFinersGaps) {
 // come from the coarse member, never a blend with the gap.
 TEST(ColourCoverage, MapMosaicsFallToTheNextMemberAtAGapsEdge) {
     test::TempDir dir;
-    for (const size_t channels : {size_t{3}, size_t{4}}) {
-        const std::string tag = std::to_string(channels);
-        const auto [fine, coarse] = fineOverCoarse(dir, channels);
+    for (const Gap gap : kGaps) {
+        const std::string tag = std::to_string(static_cast<int>(gap));
+        const auto [fine, coarse] = fineOverCoarse(dir, gap);
         const MapMosaic map({{fine}, {coarse}}, PlanetBody::parse("wgs84"), 0, 3, SampleRead::UInt16,
                             [](const RasterInfo& info, const std::string&) { return info.nodata; }, 16);
         std::vector<GeodeticPoint> points;

@@ -5,7 +5,9 @@
 // * its alpha is 0: the last channel, where the file declares it alpha (RasterInfo::alpha: a
 //   fourth band of near-infrared, as NAIP's, is a colour, whatever its values); or
 // * the file declares a nodata value and every channel of the pixel holds it (as GDAL's warper
-//   writes `-dstnodata`: a black pixel of real imagery with one channel at 0 keeps its value).
+//   writes `-dstnodata`: a black pixel of real imagery with one channel at 0 keeps its value); or
+// * the file's transparency mask marks it (RasterInfo::mask: a TIFF's internal mask), which a
+//   read of stored() channels gives after the image's own.
 //
 // The rule is over the whole pixel, whichever channels a read asks for: a mosaic never takes
 // one channel from one file and the next from another. Samples are as readUInt16 gives them
@@ -23,30 +25,42 @@ namespace pyramid {
 class ColourCoverage {
 public:
     // The rule for `channels` channels of `type` (UInt8 or UInt16), the last one `alpha` or not,
-    // with `nodata` declared.
-    ColourCoverage(int channels, bool alpha, SampleType type, std::optional<double> nodata)
-        : channels_(channels), alpha_(alpha && channels > 1) {
+    // with `nodata` declared, and a `mask` or not.
+    ColourCoverage(int channels, bool alpha, SampleType type, std::optional<double> nodata, bool mask = false)
+        : channels_(channels), alpha_(alpha && channels > 1), mask_(mask) {
+        const std::optional<uint16_t> held = heldNodata(type, nodata);
+        hasNodata_ = held.has_value();
+        nodata_ = held.value_or(0);
+    }
+    explicit ColourCoverage(const RasterInfo& info)
+        : ColourCoverage(info.channels, info.alpha, info.type, info.nodata, info.mask) {}
+
+    // A declared nodata as a sample of `type` (UInt8 or UInt16) holds it; none when no sample can.
+    static std::optional<uint16_t> heldNodata(SampleType type, const std::optional<double>& nodata) {
         const double top = type == SampleType::UInt8 ? 255.0 : 65535.0;
         if (nodata && *nodata >= 0.0 && *nodata <= top && std::floor(*nodata) == *nodata) {
-            nodata_ = static_cast<uint16_t>(*nodata);
+            return static_cast<uint16_t>(*nodata);
         }
+        return std::nullopt;
     }
-    explicit ColourCoverage(const RasterInfo& info) : ColourCoverage(info.channels, info.alpha, info.type, info.nodata) {}
 
-    // Whether every pixel has a value (no alpha channel, no nodata a sample can hold).
-    bool everywhere() const { return !alpha_ && !nodata_; }
+    // The values of a pixel that has() reads: the file's channels, then its mask if it has one.
+    int stored() const { return channels_ + (mask_ ? 1 : 0); }
 
-    // Whether the pixel (every channel of the file, uint16_t or float holding whole numbers) has a value.
+    // Whether every pixel has a value (no alpha channel, no nodata a sample can hold, no mask).
+    bool everywhere() const { return !alpha_ && !hasNodata_ && !mask_; }
+
+    // Whether the pixel (stored() values, uint16_t or float holding whole numbers) has a value.
     template <typename T>
     bool has(const T* pixel) const {
-        if (alpha_ && pixel[channels_ - 1] == T{0}) {
+        if ((alpha_ && pixel[channels_ - 1] == T{0}) || (mask_ && pixel[channels_] == T{0})) {
             return false;
         }
-        if (!nodata_) {
+        if (!hasNodata_) {
             return true;
         }
         for (int c = 0; c < channels_; ++c) {
-            if (pixel[c] != static_cast<T>(*nodata_)) {
+            if (pixel[c] != static_cast<T>(nodata_)) {
                 return true;
             }
         }
@@ -56,7 +70,9 @@ public:
 private:
     int channels_;
     bool alpha_;
-    std::optional<uint16_t> nodata_;
+    bool mask_;
+    bool hasNodata_ = false; // a declared nodata a sample can hold: nodata_
+    uint16_t nodata_ = 0;
 };
 
 } // namespace pyramid

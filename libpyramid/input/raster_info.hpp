@@ -36,6 +36,12 @@ struct RasterInfo {
     // sample, a near-infrared band, is not alpha), PNG's alpha or transparency, an image I/O
     // module's alpha channel.
     bool alpha = false;
+    // The file carries a transparency mask beside its channels: a TIFF's internal mask
+    // (tiff_mask_reader.hpp), which marks the pixels without a value. It is not one of the
+    // image's channels: RasterSource's 16-bit reads give it as channel `channels` (0 where
+    // masked, 255 elsewhere) to a read that asks for it, and the rule of imagery pixels with a
+    // value (colour_coverage.hpp) counts it.
+    bool mask = false;
     SampleType type = SampleType::Other;
     std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any
     std::string formatName;       // "tiff", "png", ...

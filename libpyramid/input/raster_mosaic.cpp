@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <utility>
 
 #include "formats/error.hpp"
@@ -237,6 +238,9 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
         largestWidth = std::max(largestWidth, members_[k].width);
         largestHeight = std::max(largestHeight, members_[k].height);
     }
+    // Where a member has a mask, the mosaic has its own: its gaps and the pixels no member holds.
+    info_.mask = std::any_of(members_.begin(), members_.end(), [](const Member& m) { return m.info.mask; });
+    colourGap_ = ColourCoverage::heldNodata(info_.type, info_.nodata).value_or(0);
     info_.width = static_cast<int>(maxX - minX);
     info_.height = static_cast<int>(maxY - minY);
     if (!info_.nodata && info_.type != SampleType::UInt8 && info_.type != SampleType::UInt16) {
@@ -288,11 +292,16 @@ std::shared_ptr<const RasterSource> RasterMosaic::openMember(size_t k) const {
 }
 
 template <typename T, typename Read, typename Has>
-void RasterMosaic::compose(int x0, int y0, int x1, int y1, int stored, int first, int values, T gap, Read read,
+void RasterMosaic::compose(int x0, int y0, int x1, int y1, int first, int values, bool covered, T gap, Read read,
                            Has has, T* out) const {
     const size_t width = static_cast<size_t>(x1 - x0);
-    const auto n = static_cast<size_t>(values), all = static_cast<size_t>(stored);
+    const auto n = static_cast<size_t>(values), taken = n - (covered ? 1 : 0);
     std::fill(out, out + width * static_cast<size_t>(y1 - y0) * n, gap);
+    if (covered) {
+        for (size_t k = n - 1; k < width * static_cast<size_t>(y1 - y0) * n; k += n) {
+            out[k] = T{0};
+        }
+    }
     const std::vector<size_t> found = membersIn(x0, y0, x1, y1);
     std::vector<T> part;
     // The last listed first: an earlier file's values are written over a later one's.
@@ -301,21 +310,25 @@ void RasterMosaic::compose(int x0, int y0, int x1, int y1, int stored, int first
         const int cx0 = std::max(x0, m.x), cx1 = std::min(x1, m.x + m.width);
         const int cy0 = std::max(y0, m.y), cy1 = std::min(y1, m.y + m.height);
         const size_t partWidth = static_cast<size_t>(cx1 - cx0);
+        const auto [everyPixel, stored, holds] = has(m);
+        const auto all = static_cast<size_t>(stored);
         part.resize(partWidth * static_cast<size_t>(cy1 - cy0) * all);
         const std::shared_ptr<const RasterSource> source = openMember(*it);
-        read(*source, cx0 - m.x, cy0 - m.y, cx1 - m.x, cy1 - m.y, part.data());
-        const auto [everyPixel, holds] = has(m);
+        read(*source, cx0 - m.x, cy0 - m.y, cx1 - m.x, cy1 - m.y, stored, part.data());
         for (int y = cy0; y < cy1; ++y) {
             const T* from = part.data() + static_cast<size_t>(y - cy0) * partWidth * all;
             T* to = out + (static_cast<size_t>(y - y0) * width + static_cast<size_t>(cx0 - x0)) * n;
-            if (everyPixel && n == all) {
+            if (everyPixel && n == all && !covered) {
                 std::copy_n(from, partWidth * n, to); // the member's whole row
                 continue;
             }
             for (size_t i = 0; i < partWidth; ++i, from += all, to += n) {
                 if (everyPixel || holds(from)) {
-                    for (size_t c = 0; c < n; ++c) {
+                    for (size_t c = 0; c < taken; ++c) {
                         to[c] = from[first + c];
+                    }
+                    if (covered) {
+                        to[n - 1] = T{255};
                     }
                 }
             }
@@ -338,27 +351,28 @@ RasterMosaic::Place RasterMosaic::placeOf(int x, int y, int channel) const {
 void RasterMosaic::readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const {
     const float gap = info_.nodata ? static_cast<float>(*info_.nodata) : 0.0f;
     compose<float>(
-        x0, y0, x1, y1, 1, 0, 1, gap,
-        [channel](const RasterSource& s, int a0, int b0, int a1, int b1, float* to) {
+        x0, y0, x1, y1, 0, 1, false, gap,
+        [channel](const RasterSource& s, int a0, int b0, int a1, int b1, int, float* to) {
             s.readFloat(a0, b0, a1, b1, channel, to);
         },
         [](const Member& m) {
-            return std::pair{!m.nodata, [&m](const float* v) { return !isNodata(*v, m.nodata); }};
+            return std::tuple{!m.nodata, 1, [&m](const float* v) { return !isNodata(*v, m.nodata); }};
         },
         out);
 }
 
-// Colours by the whole pixel: every channel is read, whichever are asked for.
+// Colours by the whole pixel: every channel is read (and a file's mask), whichever are asked for.
+// Channel info_.channels is the mosaic's own mask (RasterInfo::mask: where a member has a mask).
 void RasterMosaic::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
-    const int all = info_.channels;
     compose<uint16_t>(
-        x0, y0, x1, y1, all, c0, c1 - c0, 0,
-        [all](const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) {
-            s.readUInt16(a0, b0, a1, b1, 0, all, to);
+        x0, y0, x1, y1, c0, c1 - c0, c1 > info_.channels, colourGap_,
+        [](const RasterSource& s, int a0, int b0, int a1, int b1, int stored, uint16_t* to) {
+            s.readUInt16(a0, b0, a1, b1, 0, stored, to);
         },
         [](const Member& m) {
             const ColourCoverage coverage(m.info); // m.nodata is m.info's
-            return std::pair{coverage.everywhere(), [coverage](const uint16_t* pixel) { return coverage.has(pixel); }};
+            return std::tuple{coverage.everywhere(), coverage.stored(),
+                              [coverage](const uint16_t* pixel) { return coverage.has(pixel); }};
         },
         out);
 }

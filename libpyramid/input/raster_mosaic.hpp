@@ -11,7 +11,10 @@
 // * Overlaps: the first file in the list that has a value there (not its nodata) gives it;
 //   colours by the whole pixel (input/colour_coverage.hpp: alpha 0, or nodata in every channel).
 // * Nodata: the value the files declare (they must agree); when none declares one, NaN for
-//   heights read as float32 (so gaps are holes, filled as any nodata) and 0 for colours.
+//   heights read as float32 (so gaps are holes, filled as any nodata) and 0 for colours (a
+//   declared nodata no colour sample can hold: 0 too).
+// * Masks: where a file has a transparency mask (RasterInfo::mask), the mosaic has one too,
+//   which marks its gaps as well as the files' masked pixels.
 // * Bounded: at most kOpenFiles files are open at once (least recently used closed first), each
 //   with a share of the cache budget; a file is opened only when a read needs it.
 #pragma once
@@ -81,17 +84,20 @@ private:
     // Members whose pixels meet the window, in list order: from a grid of cells as large as the
     // largest member, each listing the members that meet it.
     std::vector<size_t> membersIn(int x0, int y0, int x1, int y1) const;
-    // The window's pixels, `stored` values each as `read` gives them, of which `values` from the
-    // `first` go to `out`; has(member) gives {whether every pixel of the member counts, and
-    // where not, a predicate of a pixel}.
+    // The window's pixels as `read` gives them, of which `values` from the `first` go to `out`
+    // (with `covered`, the last of them is the mosaic's mask instead: 255 where a member gives the
+    // pixel, 0 in a gap); has(member) gives {whether every pixel of the member counts, the values
+    // a pixel of it stores (read asks for them), and where not every pixel counts, a predicate of
+    // a pixel}.
     template <typename T, typename Read, typename Has>
-    void compose(int x0, int y0, int x1, int y1, int stored, int first, int values, T gap, Read read, Has has,
+    void compose(int x0, int y0, int x1, int y1, int first, int values, bool covered, T gap, Read read, Has has,
                  T* out) const;
 
     std::vector<Member> members_;
     RasterInfo info_;
     std::string name_;
     int memberCacheMegabytes_ = 4;
+    uint16_t colourGap_ = 0; // a gap's colour: the declared nodata where a sample holds it, else 0
     int cellWidth_ = 1, cellHeight_ = 1, cellsAcross_ = 1;
     std::vector<std::vector<size_t>> cells_;
     std::unique_ptr<OpenSet<RasterSource>> open_; // members open now

@@ -113,6 +113,10 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
             impl.pixels = TiffPixelReader::open(path, info.width, info.height, info.channels,
                                                 info.type == SampleType::UInt8 ? 1 : 2, false, cacheBytes);
         }
+        if (info.mask) {
+            impl.mask = TiffMaskReader::open(path, info.width, info.height, cacheMegabytes);
+            info.mask = impl.mask != nullptr;
+        }
     } else if ((impl.hgt = HgtRasterReader::open(path))) {
         info = impl.hgt->info();
     } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||

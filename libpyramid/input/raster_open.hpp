@@ -15,6 +15,7 @@
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
+#include "libpyramid/input/tiff_mask_reader.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 
 namespace pyramid {
@@ -28,6 +29,7 @@ struct RasterSource::Impl {
     std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
     std::unique_ptr<HgtRasterReader> hgt;    // SRTM .hgt heights: one pread per row
     std::unique_ptr<DecodedRows> decoded;    // 8/16-bit PNG or 8-bit JPEG, decoded whole
+    std::unique_ptr<TiffMaskReader> mask;    // a TIFF's transparency mask (RasterInfo::mask), beside its reader
     std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
     std::shared_ptr<const RasterPixels> computed; // or pixels a caller computes
     const BytePixels* computedBytes = nullptr;    // `computed`, when it computes bytes

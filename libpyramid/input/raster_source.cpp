@@ -84,8 +84,9 @@ void checkWindow(const std::string& path, const RasterInfo& info, int x0, int y0
     }
 }
 
-void checkChannels(const std::string& path, const RasterInfo& info, int c0, int c1) {
-    if (c0 < 0 || c1 > info.channels || c0 >= c1) {
+// `mask`: the reads that may ask for a file's mask, as channel info.channels (RasterInfo::mask).
+void checkChannels(const std::string& path, const RasterInfo& info, int c0, int c1, bool mask = false) {
+    if (c0 < 0 || c1 > info.channels + (mask && info.mask ? 1 : 0) || c0 >= c1) {
         fail(path, "channels [" + std::to_string(c0) + "," + std::to_string(c1) + ") outside the image");
     }
 }
@@ -251,7 +252,7 @@ void RasterSource::readUInt16At(const std::vector<int>& columns, const std::vect
         return;
     }
     checkWindow(path_, info_, columns.front(), rows.front(), columns.back() + 1, rows.back() + 1);
-    checkChannels(path_, info_, c0, c1);
+    checkChannels(path_, info_, c0, c1, true);
     if (impl_->computed) {
         impl_->computed->readUInt16At(columns, rows, c0, c1, out);
         return;
@@ -263,8 +264,21 @@ void RasterSource::readUInt16At(const std::vector<int>& columns, const std::vect
 
 void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
     checkWindow(path_, info_, x0, y0, x1, y1);
-    checkChannels(path_, info_, c0, c1);
+    checkChannels(path_, info_, c0, c1, true);
     const Impl& impl = *impl_;
+    if (c1 > info_.channels && impl.mask) { // a file's mask, after the image's channels (a mosaic's: its own)
+        const size_t pixels = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0);
+        const auto n = static_cast<size_t>(c1 - c0), colours = n - 1;
+        if (colours > 0) {
+            std::vector<uint16_t> values(pixels * colours);
+            readUInt16(x0, y0, x1, y1, c0, info_.channels, values.data());
+            for (size_t i = 0; i < pixels; ++i) {
+                std::copy_n(&values[i * colours], colours, out + i * n);
+            }
+        }
+        impl.mask->read(x0, y0, x1, y1, 255, out + colours, n);
+        return;
+    }
     if (impl.mosaic) {
         impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, out);
         return;

@@ -90,7 +90,9 @@ public:
     void readUInt16At(const std::vector<int>& columns, const std::vector<int>& rows, int c0, int c1,
                       uint16_t* out) const;
     // Reads channels [c0, c1) of the window as uint16 (8-bit input is widened exactly, 0..255;
-    // 16-bit input is returned as is). Interleaved, north first. Thread-safe.
+    // 16-bit input is returned as is). Interleaved, north first. Where info().mask, c1 may be
+    // channels + 1: that last value is the mask (0 where it marks no value, 255 elsewhere; a
+    // mosaic's marks its gaps too). Thread-safe.
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
     // 8-bit input only: channels [c0, c1) of the window as stored, interleaved; row y goes to
     // out + (y - y0) * rowStride (bytes; negative to store the rows bottom up). Saves the

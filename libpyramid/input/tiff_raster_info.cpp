@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "libpyramid/input/nodata_text.hpp"
+#include "libpyramid/input/tiff_mask_reader.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 
 namespace pyramid {
@@ -29,6 +30,10 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     uint16_t* extraTypes = nullptr;
     const bool alpha = TIFFGetField(tif, TIFFTAG_EXTRASAMPLES, &extras, &extraTypes) == 1 && extras > 0 && extraTypes &&
                        (extraTypes[extras - 1] == EXTRASAMPLE_ASSOCALPHA || extraTypes[extras - 1] == EXTRASAMPLE_UNASSALPHA);
+    bool mask = false;
+    for (int d = 1; d < kMaskDirectoriesSearched && !mask && sized && TIFFReadDirectory(tif) == 1; ++d) {
+        mask = isTiffMaskOf(tif, width, height);
+    }
     TIFFClose(tif);
 
     // YCbCr only as JPEG stores it, which libjpeg decodes to RGB; 8-bit palette indices, widened
@@ -60,6 +65,7 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     info.height = static_cast<int>(height);
     info.channels = palette ? 3 : channels;
     info.alpha = alpha;
+    info.mask = mask;
     info.type = type;
     info.formatName = "tiff";
     info.nodata = geoTiffNodata(path);

@@ -157,7 +157,9 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     // Colours are read whole, every channel, for the coverage rule (colour_coverage.hpp); numbers
     // only the channels asked for. `first`: the first asked for within a block's pixel.
     const bool colours = read_ == SampleRead::UInt16;
-    const int stored = colours ? source_.info().channels : channels;
+    const RasterInfo& info = source_.info();
+    const ColourCoverage coverage(info.channels, info.alpha, info.type, nodata_, info.mask);
+    const int stored = colours ? coverage.stored() : channels;
     const int first = colours ? c0_ : 0;
     std::vector<Taps> taps(count);
     int64_t rowMin = H, rowMax = -1;
@@ -259,7 +261,6 @@ void EquirectSampler::sample(const GeodeticPoint* points, size_t count, float* o
     // that is not nodata is an error. Colours count by the whole pixel (alpha 0, or nodata in
     // every channel: colour_coverage.hpp); integers widened to uint16 are always finite.
     const HeightSamples samples(nodata_);
-    const ColourCoverage coverage(stored, source_.info().alpha, source_.info().type, nodata_);
     auto usable = [&](const float* v, int64_t i, int64_t j) {
         if (colours) {
             return coverage.has(v);

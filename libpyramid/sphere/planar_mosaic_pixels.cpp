@@ -31,17 +31,18 @@ struct FloatRead {
     }
 };
 
-// ... or colours, every channel read and a pixel counting by the whole pixel (colour_coverage.hpp),
-// the channels from `first` on given.
+// ... or colours, every channel read (and the file's mask) and a pixel counting by the whole pixel
+// (colour_coverage.hpp), the channels from `first` on given.
 struct ColourRead {
     int from;
-    size_t stored(const RasterSource& s) const { return static_cast<size_t>(s.info().channels); }
+    static int all(const RasterSource& s) { return ColourCoverage(s.info()).stored(); }
+    size_t stored(const RasterSource& s) const { return static_cast<size_t>(all(s)); }
     size_t first() const { return static_cast<size_t>(from); }
     void read(const RasterSource& s, int a0, int b0, int a1, int b1, uint16_t* to) const {
-        s.readUInt16(a0, b0, a1, b1, 0, s.info().channels, to);
+        s.readUInt16(a0, b0, a1, b1, 0, all(s), to);
     }
     void readAt(const RasterSource& s, const std::vector<int>& c, const std::vector<int>& r, uint16_t* to) const {
-        s.readUInt16At(c, r, 0, s.info().channels, to);
+        s.readUInt16At(c, r, 0, all(s), to);
     }
     static auto holds(const RasterSource& s) {
         return [coverage = ColourCoverage(s.info())](const uint16_t* pixel) { return coverage.has(pixel); };

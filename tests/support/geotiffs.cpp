@@ -162,4 +162,52 @@ void writeGeoTiffRgba(const std::string& path, int width, int height, const std:
           alpha ? EXTRASAMPLE_UNASSALPHA : EXTRASAMPLE_UNSPECIFIED);
 }
 
+void appendTiffMask(const std::string& path, int width, int height, const std::vector<uint8_t>& valid,
+                    int rowsPerStrip, int tileSize) {
+    TIFF* tif = TIFFOpen(path.c_str(), "a");
+    if (!tif) {
+        throw std::runtime_error("cannot append to " + path);
+    }
+    TIFFSetField(tif, TIFFTAG_SUBFILETYPE, FILETYPE_MASK);
+    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(width));
+    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(height));
+    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 1);
+    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
+    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MASK);
+    TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(tif, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
+    const int blockWidth = tileSize > 0 ? tileSize : width;
+    const int blockHeight = tileSize > 0 ? tileSize : rowsPerStrip;
+    if (tileSize > 0) {
+        TIFFSetField(tif, TIFFTAG_TILEWIDTH, static_cast<uint32_t>(tileSize));
+        TIFFSetField(tif, TIFFTAG_TILELENGTH, static_cast<uint32_t>(tileSize));
+    } else {
+        TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, static_cast<uint32_t>(rowsPerStrip));
+    }
+    const size_t rowBytes = (static_cast<size_t>(blockWidth) + 7) / 8;
+    uint32_t index = 0;
+    for (int y0 = 0; y0 < height; y0 += blockHeight) {
+        for (int x0 = 0; x0 < width; x0 += blockWidth, ++index) {
+            const int rows = tileSize > 0 ? blockHeight : std::min(blockHeight, height - y0);
+            std::vector<uint8_t> block(rowBytes * static_cast<size_t>(rows), 0);
+            for (int y = y0; y < std::min(y0 + rows, height); ++y) {
+                for (int x = x0; x < std::min(x0 + blockWidth, width); ++x) {
+                    if (valid[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)]) {
+                        block[static_cast<size_t>(y - y0) * rowBytes + static_cast<size_t>(x - x0) / 8] |=
+                            static_cast<uint8_t>(0x80u >> ((x - x0) % 8));
+                    }
+                }
+            }
+            const tmsize_t written =
+                tileSize > 0 ? TIFFWriteEncodedTile(tif, index, block.data(), static_cast<tmsize_t>(block.size()))
+                             : TIFFWriteEncodedStrip(tif, index, block.data(), static_cast<tmsize_t>(block.size()));
+            if (written < 0) {
+                TIFFClose(tif);
+                throw std::runtime_error("cannot write the mask of " + path);
+            }
+        }
+    }
+    TIFFClose(tif);
+}
+
 } // namespace pyramid::test

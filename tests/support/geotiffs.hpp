@@ -54,5 +54,11 @@ void writeGeoTiffRgb(const std::string& path, int width, int height, const std::
 // of unassociated alpha, or with `alpha` false of unspecified data (a near-infrared band).
 void writeGeoTiffRgba(const std::string& path, int width, int height, const std::vector<uint8_t>& values,
                       const GeoTiffTags& tags, bool alpha = true);
+// Appends to the TIFF at `path` an internal transparency mask of its first image, as GDAL writes
+// one (GDAL_TIFF_INTERNAL_MASK): an image of NewSubfileType 4, Photometric Mask, 1-bit samples
+// packed eight a byte, first pixel in the high bit, Deflate; valid[y * width + x] nonzero where
+// the pixel has a value. Strips of `rowsPerStrip` rows, or with `tileSize` > 0 square tiles.
+void appendTiffMask(const std::string& path, int width, int height, const std::vector<uint8_t>& valid,
+                    int rowsPerStrip = 2, int tileSize = 0);
 
 } // namespace pyramid::test
