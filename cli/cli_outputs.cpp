@@ -92,9 +92,21 @@ void checkOutputsApart(const InputArgs& input, const std::vector<OutputFile>& wr
 }
 
 void printGeoreferenceSummary(const std::optional<PyramidGeoreference>& georeference, const std::string& sidecar) {
-    if (georeference) {
-        std::fprintf(stderr, "%s: placement in %s\n", sidecar.c_str(), georeference->crs.crsText().c_str());
+    if (!georeference) {
+        return;
     }
+    const Georeference& crs = georeference->crs;
+    std::string heights;
+    if (const std::optional<HeightUnit>& unit = crs.heightUnit) {
+        heights = "; heights in " + (unit->name.empty() ? std::string("an unknown unit") : unit->name) + " (" +
+                  unit->source + ")";
+        if (const double scale = crs.heightsToGround(); scale != 1.0) {
+            char factor[32];
+            std::snprintf(factor, sizeof factor, "%.10g", scale);
+            heights += std::string(", read in ") + (crs.projected ? "the CRS's unit" : "metres") + " (x" + factor + ")";
+        }
+    }
+    std::fprintf(stderr, "%s: placement in %s%s\n", sidecar.c_str(), crs.crsText().c_str(), heights.c_str());
 }
 
 } // namespace pyramid::cli

@@ -15,6 +15,7 @@
 #include "formats/error.hpp"
 #include "libpyramid/input/geotiff_library.hpp"
 #include "libpyramid/input/geotiff_projection.hpp"
+#include "libpyramid/input/height_unit.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
 #include "libpyramid/support/parse_number.hpp"
@@ -24,6 +25,16 @@ namespace pyramid {
 
 std::string Georeference::crsText() const {
     return epsg > 0 ? "EPSG:" + std::to_string(epsg) + " (" + name + ")" : name;
+}
+
+double Georeference::heightsToGround() const {
+    if (!heightUnit || !(heightUnit->metres > 0.0)) {
+        return 1.0;
+    }
+    // The same unit as two databases' values of it (US survey foot: 1200/3937, to an ulp) reads
+    // as stored.
+    const double ratio = heightUnit->metres / (projected ? unitInMetres : 1.0);
+    return std::fabs(ratio - 1.0) < 1e-12 ? 1.0 : ratio;
 }
 
 namespace {
@@ -218,6 +229,7 @@ std::optional<Georeference> georeferenceOf(GeoTiffTags tags) {
         const bool raw = parametersByKeys && (userDefinedUnit || LIBGEOTIFF_VERSION <= 1730);
         g.projection = projectionOf(d, pcs, parametersByKeys, raw ? g.unitInDegrees : 1.0);
     }
+    g.heightUnit = readHeightUnit(*lib, gtif.get());
     return g;
 }
 

@@ -52,6 +52,13 @@ struct Projection {
     double falseNorthing = 0.0;
 };
 
+// The unit a raster's heights are stored in (input/height_unit.hpp reads it from the GeoKeys).
+struct HeightUnit {
+    std::string name;    // "metre", "US survey foot"; "" when the code is not the database's
+    double metres = 0.0; // one unit, in metres; 0 when unknown (the heights are read as stored)
+    std::string source;  // where it was read: "EPSG:6360 (NAVD88 height (ftUS))", "VerticalUnitsGeoKey EPSG:9002"
+};
+
 struct Georeference {
     bool projected = false; // else geographic (longitude, latitude)
     int epsg = 0;           // the CRS's EPSG code (the projected one, or the geographic one); 0 if user-defined
@@ -66,12 +73,17 @@ struct Georeference {
     // coordinates (above). Geographic: x is the longitude, y the latitude.
     std::array<double, 6> pixelToCrs{0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
     bool pixelIsPoint = false; // what the file declares; already folded into pixelToCrs
+    // The unit of the heights, where the vertical GeoKeys name one (else they are as stored).
+    std::optional<HeightUnit> heightUnit;
     // Non-empty when the file is georeferenced in a way that places no pixel (geocentric model,
     // ground control points, a singular transform...): why.
     std::string problem;
 
     // "EPSG:32610 (WGS 84 / UTM zone 10N)", or the name alone when there is no code.
     std::string crsText() const;
+    // What a stored height times gives it in the ground's unit (height_unit.hpp: the projected
+    // CRS's unit, metres for a geographic one): 1 when the unit is unknown or the ground's.
+    double heightsToGround() const;
     // The transform has no rotation or shear (t[2] = t[4] = 0).
     bool axisAligned() const { return pixelToCrs[2] == 0.0 && pixelToCrs[4] == 0.0; }
 };

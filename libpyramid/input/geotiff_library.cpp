@@ -49,7 +49,15 @@ Loaded load() {
            lookUp(handle, "GTIFKeyInfo", g.keyInfo, l.why) && lookUp(handle, "GTIFKeyGet", g.keyGet, l.why) &&
            lookUp(handle, "GTIFAllocDefn", g.allocDefn, l.why) && lookUp(handle, "GTIFFreeDefn", g.freeDefn, l.why) &&
            lookUp(handle, "GTIFGetDefn", g.getDefn, l.why) && lookUp(handle, "GTIFGetPCSInfo", g.pcsInfo, l.why) &&
-           lookUp(handle, "GTIFGetGCSInfo", g.gcsInfo, l.why) && lookUp(handle, "GTIFFreeMemory", g.freeMemory, l.why);
+           lookUp(handle, "GTIFGetGCSInfo", g.gcsInfo, l.why) && lookUp(handle, "GTIFFreeMemory", g.freeMemory, l.why) &&
+           lookUp(handle, "proj_context_create", g.projContextCreate, l.why) &&
+           lookUp(handle, "proj_context_destroy", g.projContextDestroy, l.why) &&
+           lookUp(handle, "proj_create_from_database", g.projCreateFromDatabase, l.why) &&
+           lookUp(handle, "proj_get_type", g.projGetType, l.why) && lookUp(handle, "proj_get_name", g.projGetName, l.why) &&
+           lookUp(handle, "proj_crs_get_coordinate_system", g.projCrsGetCoordinateSystem, l.why) &&
+           lookUp(handle, "proj_cs_get_axis_info", g.projCsGetAxisInfo, l.why) &&
+           lookUp(handle, "proj_uom_get_info_from_database", g.projUomGetInfoFromDatabase, l.why) &&
+           lookUp(handle, "proj_destroy", g.projDestroy, l.why);
     return l; // the handle stays open for the process's life
 }
 

@@ -59,6 +59,9 @@ nlohmann::json toJson(const PyramidGeoreference& g) {
                           {"kind", c.projected ? "projected" : "geographic"},
                           {"semi_major_axis_metres", c.semiMajorAxis},
                           {"inverse_flattening", c.flattening > 0 ? nlohmann::json(1.0 / c.flattening) : nlohmann::json()}};
+    if (c.heightUnit) {
+        crs["heights"] = heightUnitJson(c);
+    }
     if (c.projected) {
         crs["projection"] = c.projection.name;
         crs["unit_metres"] = c.unitInMetres;
@@ -72,6 +75,17 @@ nlohmann::json toJson(const PyramidGeoreference& g) {
             {"root_extent", boxJson(g.rootExtent)},
             {"data_extent", boxJson(g.dataExtent)},
             {"units_per_sample", levels}};
+}
+
+nlohmann::json heightUnitJson(const Georeference& g) {
+    if (!g.heightUnit) {
+        return nullptr;
+    }
+    const HeightUnit& u = *g.heightUnit;
+    return {{"unit", u.name.empty() ? nlohmann::json() : nlohmann::json(u.name)},
+            {"unit_metres", u.metres > 0.0 ? nlohmann::json(u.metres) : nlohmann::json()},
+            {"from", u.source},
+            {"scaled_by", g.heightsToGround()}};
 }
 
 std::string georeferenceSidecarText(const std::string& pyramid, const PyramidGeoreference& g) {

@@ -40,6 +40,11 @@ PyramidGeoreference georeferencePyramid(const Georeference& crs, int width, int 
 
 nlohmann::json toJson(const PyramidGeoreference& g);
 
+// The unit a raster's heights are stored in and what reading them multiplied them by, for
+// reports and sidecars: {"unit", "unit_metres", "from", "scaled_by"}; null when its GeoKeys name
+// no unit (the heights are as stored).
+nlohmann::json heightUnitJson(const Georeference& g);
+
 // Writes toJson(g) (and the pyramid file's name) to `sidecar` atomically (formats/atomic_file.hpp).
 void writeGeoreferenceSidecar(const std::string& sidecar, const std::string& pyramid, const PyramidGeoreference& g);
 // The sidecar's text for the pyramid file `pyramid` (its name is recorded).

@@ -132,6 +132,7 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
         fail(path, "empty image");
     }
+    impl.heightScale = info.georeference ? info.georeference->heightsToGround() : 1.0;
     return source;
 }
 

@@ -23,6 +23,7 @@ namespace pyramid {
 struct RasterSource::Impl {
     std::string path;
     int cacheMegabytes = 256;
+    double heightScale = 1.0; // a file's stored heights to the ground's unit (Georeference::heightsToGround)
     // Direct readers, set for the files they can read, tried in this order.
     std::unique_ptr<TiffPixelReader> floats; // uncompressed float32 TIFF: one pread per row
     std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block

@@ -115,6 +115,18 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
     if (channel < 0 || channel >= info_.channels) {
         fail(path_, "no channel " + std::to_string(channel));
     }
+    readFloatAsStored(x0, y0, x1, y1, channel, out);
+    if (const double scale = impl_->heightScale; scale != 1.0) {
+        const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0);
+        for (size_t k = 0; k < count; ++k) {
+            if (!isNodata(out[k], info_.nodata)) {
+                out[k] = static_cast<float>(static_cast<double>(out[k]) * scale);
+            }
+        }
+    }
+}
+
+void RasterSource::readFloatAsStored(int x0, int y0, int x1, int y1, int channel, float* out) const {
     const Impl& impl = *impl_;
     if (impl.mosaic) {
         impl.mosaic->readFloat(x0, y0, x1, y1, channel, out);

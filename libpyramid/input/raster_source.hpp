@@ -78,7 +78,9 @@ public:
 
     // Reads columns [x0, x1) x rows [y0, y1) of channel `channel` as float32, row-major with
     // row y0 first (north first). Integer samples are converted exactly (not normalised).
-    // Thread-safe.
+    // Heights whose vertical GeoKeys name a unit other than the ground's (Georeference::
+    // heightsToGround: feet in a metre CRS) are converted to it, each value but the nodata
+    // multiplied in double and rounded to float32 once. Thread-safe.
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
     // Channel `channel` at the crossings of `columns` and `rows` (each ascending, inside the
     // raster): out[j * columns.size() + i] is sample (columns[i], rows[j]), as readFloat gives it.
@@ -116,6 +118,8 @@ public:
     struct Impl; // the readers behind it (raster_open.hpp)
 
 private:
+    // readFloat's samples as stored.
+    void readFloatAsStored(int x0, int y0, int x1, int y1, int channel, float* out) const;
     // open(), with a TIFF's description when it is known (nullptr: read it).
     static std::unique_ptr<RasterSource> openDescribed(const std::string& path, int cacheMegabytes,
                                                        const RasterInfo* tiffInfo);

@@ -215,7 +215,8 @@ nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int
             {"type", sampleTypeName(info.type)},
             {"format", info.formatName},
             {"band", band + 1},
-            {"nodata", nodataJson}};
+            {"nodata", nodataJson},
+            {"heights", info.georeference ? heightUnitJson(*info.georeference) : nlohmann::json()}};
 }
 
 nlohmann::json toJson(const DemTileFit& f) {
