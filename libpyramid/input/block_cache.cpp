@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "formats/error.hpp"
+
 namespace pyramid {
 
 BlockCache::BlockCache(size_t budgetBytes, size_t blockBytes)
@@ -74,6 +76,13 @@ std::shared_ptr<const BlockCache::Block> BlockCache::get(uint32_t index, const s
     e.recent = recent_.begin();
     decoded_.notify_all();
     return buffer;
+}
+
+void failBlocksBeyondCache(const std::string& path, const std::string& blocks, size_t blockBytes, int cacheMegabytes) {
+    const size_t megabytes = (blockBytes + (size_t{1} << 20) - 1) >> 20;
+    failOption("cacheMegabytes", path + ": " + blocks + " (" + std::to_string(megabytes) +
+                                     " MB decoded) need a cache of at least " + std::to_string(4 * megabytes) +
+                                     " MB, not " + std::to_string(cacheMegabytes));
 }
 
 } // namespace pyramid

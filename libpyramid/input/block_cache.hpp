@@ -17,6 +17,7 @@
 #include <list>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -53,5 +54,11 @@ private:
     std::vector<std::shared_ptr<Block>> free_; // recycled buffers
     size_t buffers_ = 0;
 };
+
+// Refuses blocks a cache of `cacheMegabytes` cannot hold four of (a read across block boundaries
+// needs them): throws OptionError("cacheMegabytes", "PATH: BLOCKS (N MB decoded) need a cache of
+// at least 4N MB, not M"), `blocks` saying which ("tiles of 1024 x 1024 samples").
+[[noreturn]] void failBlocksBeyondCache(const std::string& path, const std::string& blocks, size_t blockBytes,
+                                        int cacheMegabytes);
 
 } // namespace pyramid

@@ -9,6 +9,7 @@
 #include "formats/error.hpp"
 #include "libpyramid/input/colour_coverage.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/support/pixel_copy.hpp"
 #include "libpyramid/support/text.hpp"
 
 namespace pyramid {
@@ -324,9 +325,7 @@ void RasterMosaic::compose(int x0, int y0, int x1, int y1, int first, int values
             }
             for (size_t i = 0; i < partWidth; ++i, from += all, to += n) {
                 if (everyPixel || holds(from)) {
-                    for (size_t c = 0; c < taken; ++c) {
-                        to[c] = from[first + c];
-                    }
+                    copyPixel(from + first, to, taken);
                     if (covered) {
                         to[n - 1] = T{255};
                     }

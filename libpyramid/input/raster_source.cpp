@@ -15,6 +15,7 @@
 #include "libpyramid/input/raster_open.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
+#include "libpyramid/support/pixel_copy.hpp"
 
 namespace pyramid {
 
@@ -284,8 +285,9 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
         if (colours > 0) {
             std::vector<uint16_t> values(pixels * colours);
             readUInt16(x0, y0, x1, y1, c0, info_.channels, values.data());
-            for (size_t i = 0; i < pixels; ++i) {
-                std::copy_n(&values[i * colours], colours, out + i * n);
+            const uint16_t* from = values.data();
+            for (uint16_t* to = out; to != out + pixels * n; to += n, from += colours) {
+                copyPixel(from, to, colours);
             }
         }
         impl.mask->read(x0, y0, x1, y1, 255, out + colours, n);

@@ -123,11 +123,10 @@ std::unique_ptr<TiffBlockReader> TiffBlockReader::open(const std::string& path, 
         return nullptr;
     } else if (b->tiled_) {
         TIFFClose(tif);
-        const size_t megabytes = (blockBytes + (size_t{1} << 20) - 1) >> 20;
-        failOption("cacheMegabytes", path + ": tiles of " + std::to_string(b->blockWidth_) + " x " +
-                                         std::to_string(b->blockHeight_) + " samples (" + std::to_string(megabytes) +
-                                         " MB decoded) need a cache of at least " + std::to_string(4 * megabytes) +
-                                         " MB, not " + std::to_string(cacheMegabytes));
+        failBlocksBeyondCache(path,
+                              "tiles of " + std::to_string(b->blockWidth_) + " x " + std::to_string(b->blockHeight_) +
+                                  " samples",
+                              blockBytes, cacheMegabytes);
     }
     if (b->planes_ > 1 && (b->chunksPerPlane_ != b->blocksAcross_ * blocksDown || chunks % b->planes_ != 0)) {
         TIFFClose(tif);

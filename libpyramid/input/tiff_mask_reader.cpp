@@ -76,11 +76,10 @@ std::unique_ptr<TiffMaskReader> TiffMaskReader::open(const std::string& path, in
     const size_t budget = std::max<size_t>((static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20) / 8, 4 * blockBytes);
     if (blockBytes > (static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20) / 4) {
         TIFFClose(tif);
-        const size_t megabytes = (blockBytes + (size_t{1} << 20) - 1) >> 20;
-        failOption("cacheMegabytes", path + ": transparency mask blocks of " + std::to_string(m->blockWidth_) + " x " +
-                                         std::to_string(m->blockHeight_) + " samples (" + std::to_string(megabytes) +
-                                         " MB) need a cache of at least " + std::to_string(4 * megabytes) +
-                                         " MB, not " + std::to_string(cacheMegabytes));
+        failBlocksBeyondCache(path,
+                              "transparency mask blocks of " + std::to_string(m->blockWidth_) + " x " +
+                                  std::to_string(m->blockHeight_) + " samples",
+                              blockBytes, cacheMegabytes);
     }
     m->cache_ = std::make_unique<BlockCache>(budget, blockBytes);
     m->idle_.push_back(tif);

@@ -9,6 +9,7 @@
 #include "libpyramid/input/colour_coverage.hpp"
 #include "libpyramid/sphere/map_mosaic.hpp"
 #include "libpyramid/sphere/map_placement.hpp"
+#include "libpyramid/support/pixel_copy.hpp"
 
 namespace pyramid {
 
@@ -137,7 +138,7 @@ private:
                     if (done[k] || !holds(from)) {
                         continue;
                     }
-                    std::copy_n(from + how.first(), n, out + k * n);
+                    copyPixel(from + how.first(), out + k * n, n);
                     done[k] = 1;
                 }
             }
@@ -184,7 +185,7 @@ private:
                     if (done[k] || !holds(from)) {
                         continue;
                     }
-                    std::copy_n(from + how.first(), n, out + k * n);
+                    copyPixel(from + how.first(), out + k * n, n);
                     done[k] = 1;
                 }
             }
