@@ -121,6 +121,35 @@ bool writeTiff(const std::string& dir, const Tiff& l) {
     return true;
 }
 
+// Appends to the TIFF `name` an internal transparency mask of its first image (kWidth x kHeight),
+// as GDAL writes one: NewSubfileType 4, 1-bit samples, Deflate, in tiles of `tile`.
+bool appendMask(const std::string& dir, const char* name, uint32_t tile) {
+    TIFF* t = TIFFOpen((dir + "/" + name).c_str(), "a");
+    if (!t) {
+        return false;
+    }
+    TIFFSetField(t, TIFFTAG_SUBFILETYPE, FILETYPE_MASK);
+    TIFFSetField(t, TIFFTAG_IMAGEWIDTH, kWidth);
+    TIFFSetField(t, TIFFTAG_IMAGELENGTH, kHeight);
+    TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 1);
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 1);
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MASK);
+    TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
+    TIFFSetField(t, TIFFTAG_TILEWIDTH, tile);
+    TIFFSetField(t, TIFFTAG_TILELENGTH, tile);
+    std::vector<uint8_t> block(static_cast<size_t>(tile / 8) * tile);
+    for (uint32_t ty = 0; ty < kHeight; ty += tile) {
+        for (uint32_t tx = 0; tx < kWidth; tx += tile) {
+            for (size_t k = 0; k < block.size(); ++k) {
+                block[k] = static_cast<uint8_t>((k + tx) * 2654435761u >> 24); // some pixels masked
+            }
+            TIFFWriteEncodedTile(t, TIFFComputeTile(t, tx, ty, 0, 0), block.data(), static_cast<tmsize_t>(block.size()));
+        }
+    }
+    TIFFClose(t);
+    return true;
+}
+
 // A PNG of `channels` samples of `depth` bits a pixel (a palette's index: `channels` 1), with a
 // transparency chunk for a palette or grey image when `transparent`.
 bool writePng(const std::string& dir, const char* name, int depth, int colour, int channels, bool interlaced,
@@ -224,11 +253,13 @@ int main(int argc, char** argv) {
         {"palette-deflate-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 16, 0, "w", 1, false, true},
         {"f64-deflate-p3-tiled.tif", 64, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_FLOATINGPOINT, 16, 0, "w"},
         {"f64-deflate-one-strip.tif", 64, SAMPLEFORMAT_IEEEFP, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 0, 0, "w"},
+        {"rgb8-mask-tiled.tif", 8, SAMPLEFORMAT_UINT, COMPRESSION_ADOBE_DEFLATE, PREDICTOR_NONE, 16, 0, "w", 3},
     };
     bool ok = true;
     for (const Tiff& t : tiffs) {
         ok = writeTiff(dir, t) && ok;
     }
+    ok = appendMask(dir, "rgb8-mask-tiled.tif", 16) && ok;
     ok = writePng(dir, "grey16.png", 16, PNG_COLOR_TYPE_GRAY, 1, false) && ok;
     ok = writePng(dir, "rgb8.png", 8, PNG_COLOR_TYPE_RGB, 3, false) && ok;
     ok = writePng(dir, "rgba8-interlaced.png", 8, PNG_COLOR_TYPE_RGB_ALPHA, 4, true) && ok;

@@ -1,5 +1,5 @@
 // Hostile bytes through the input readers (libpyramid/input/): the dispatcher opens the input
-// as TIFF (strips, tiles, huge strips, BigTIFF, every predictor) or PNG, with a small cache so
+// as TIFF (strips, tiles, huge strips, BigTIFF, every predictor, an internal mask) or PNG, with a small cache so
 // that the block cache's recycling, the strip stream and the scratch files are exercised, then
 // reads a few windows of every channel from two threads. Images declaring more than 2^22
 // samples are only described (reading them whole would be the fuzzer's time, not a finding).
@@ -28,8 +28,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 for (int c = 0; c < info.channels; ++c) {
                     source->readFloat(x0, y0, x1, y1, c, f.data());
                 }
-                std::vector<uint16_t> u(f.size() * static_cast<size_t>(info.channels));
-                source->readUInt16(x0, y0, x1, y1, 0, info.channels, u.data());
+                // Every channel, and a TIFF's internal mask after them.
+                const int stored = info.channels + (info.mask ? 1 : 0);
+                std::vector<uint16_t> u(f.size() * static_cast<size_t>(stored));
+                source->readUInt16(x0, y0, x1, y1, 0, stored, u.data());
             } catch (const pyramid::Error&) {
             }
         };
