@@ -70,6 +70,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
         }
         if (talk && role != BuildRole::Part) {
             printDemSummary(report);
+            printValueScaling(report.input, report.inputInfo, report.band);
             if (!options.region) { // a region file has no sidecar of its own: the main file's places it
                 printGeoreferenceSummary(report.georeference, georeferenceSidecarPath(args->output));
             }

@@ -93,6 +93,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
         }
         if (talk && role != BuildRole::Part) {
             std::fprintf(stderr, "%s: %s\n", args->output.c_str(), report.body.c_str());
+            printValueScaling(report.input, report.inputInfo, report.band);
             for (const SphericalDemFaceReport& f : report.faces) {
                 printDemSummary(f.dem);
                 std::fprintf(stderr, "  finest level: %.0f to %.0f m between samples\n", f.gsd.back().min,

@@ -129,6 +129,19 @@ void takeMerged(DemReport& report, const ResidualPyramidReport& merged) {
     report.scalesTried = merged.scalesTried;
 }
 
+void printValueScaling(const std::string& input, const RasterInfo& info, int band) {
+    const auto b = static_cast<size_t>(band);
+    if (b < info.scaling.size() && !info.scaling[b].identity()) {
+        const double offset = info.scaling[b].offset;
+        char added[40] = "";
+        if (offset != 0.0) {
+            std::snprintf(added, sizeof added, " %c %.10g", offset < 0.0 ? '-' : '+', std::fabs(offset));
+        }
+        std::fprintf(stderr, "%s: heights are band %d's samples x %.10g%s (its GDAL metadata)\n", input.c_str(),
+                     band + 1, info.scaling[b].scale, added);
+    }
+}
+
 void printDemSummary(const DemReport& r) {
     std::fprintf(stderr, "%s: %lld tiles (%lld shared), levels 0..%d of %d-tiles, scale %g, %.2f bits/sample, %.1f s\n",
                  r.output.c_str(), static_cast<long long>(r.tiles), static_cast<long long>(r.sharedTiles),

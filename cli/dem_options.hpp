@@ -55,6 +55,9 @@ void printTileFit(const DemTileFit& fit);
 // The two summary lines of one residual file on stderr: tiles, levels, scale, bits per sample,
 // time; the largest error against the bound, filled nodata and the sampling rule.
 void printDemSummary(const DemReport& report);
+// "INPUT: heights are band N's samples x SCALE + OFFSET (its GDAL metadata)", where the input's
+// height band declares a scale or offset (RasterInfo::scaling); nothing otherwise.
+void printValueScaling(const std::string& input, const RasterInfo& info, int band);
 
 // The merged pyramid's figures into a rank-0 report of its own share.
 void takeMerged(DemReport& report, const ResidualPyramidReport& merged);

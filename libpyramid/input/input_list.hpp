@@ -48,6 +48,9 @@ struct InputList {
 //  * A VRT source that is itself a .vrt contributes its own sources, by the same rules (a VRT
 //    that is, through others, its own source is refused). `vrtSources` holds, once each, the
 //    VRTs named by the arguments, the list file's lines or their glob matches, in order.
+//  * A VRT band's <Scale>, <Offset> and <UnitType> (which gdalbuildvrt copies from its sources)
+//    must be what each of its source files declares itself (GDAL's band metadata, the heights'
+//    unit), since each file's heights are read by its own: a VRT that declares others is refused.
 //  * A VRT is also refused for a root subClass (VRTWarpedDataset...), a <MaskBand>, a
 //    ComplexSource with <Exponent> or <ColorTableComponent> (values not the files' own), a
 //    source with no, an empty or more than one <SourceFilename>, and relativeToVRT other than 0

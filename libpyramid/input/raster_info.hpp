@@ -27,6 +27,16 @@ struct RasterPart {
     double pixelsPerSample = 1.0;
 };
 
+// What a channel's stored samples stand for, as the file declares it: value = stored x scale +
+// offset (GDAL's band SCALE and OFFSET: input/gdal_band_metadata.hpp). Heights are read as the
+// values (RasterSource::readFloat); imagery's colours are read as stored.
+struct ValueScaling {
+    double scale = 1.0;
+    double offset = 0.0;
+    bool identity() const { return scale == 1.0 && offset == 0.0; }
+    bool operator==(const ValueScaling&) const = default;
+};
+
 struct RasterInfo {
     int width = 0;
     int height = 0;
@@ -43,7 +53,10 @@ struct RasterInfo {
     // value (colour_coverage.hpp) counts it.
     bool mask = false;
     SampleType type = SampleType::Other;
-    std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any
+    std::optional<double> nodata; // declared by the file (GDAL_NODATA, ...), if any; as stored
+    // One per channel where the file declares a scale or offset of its values (ValueScaling); empty
+    // where every channel's values are as stored.
+    std::vector<ValueScaling> scaling;
     std::string formatName;       // "tiff", "png", ...
     std::optional<Georeference> georeference; // a GeoTIFF's CRS and pixel-to-CRS transform, if any
     // Empty: one resolution wherever the raster has samples. Else its parts, the only places it
@@ -55,6 +68,23 @@ struct RasterInfo {
 // as the readers deliver it), or NaN when the nodata is NaN.
 inline bool isNodata(float v, const std::optional<double>& nodata) {
     return nodata && (v == static_cast<float>(*nodata) || (std::isnan(*nodata) && std::isnan(v)));
+}
+
+// Whether two declared nodata values are one: both none, both NaN, or equal.
+inline bool sameNodata(const std::optional<double>& a, const std::optional<double>& b) {
+    if (a.has_value() != b.has_value()) {
+        return false;
+    }
+    return !a || (*a == *b || (std::isnan(*a) && std::isnan(*b)));
+}
+
+// Whether channel `channel`'s heights are read as other values than the file stores: scaled or
+// offset (scaling), or converted to the ground's unit (Georeference::heightsToGround), as
+// RasterSource::readFloat reads them.
+inline bool heightsConverted(const RasterInfo& info, int channel) {
+    const auto c = static_cast<size_t>(channel);
+    return (c < info.scaling.size() && !info.scaling[c].identity()) ||
+           (info.georeference && info.georeference->heightsToGround() != 1.0);
 }
 
 } // namespace pyramid

@@ -16,13 +16,6 @@ namespace pyramid {
 
 namespace {
 
-bool sameNodata(const std::optional<double>& a, const std::optional<double>& b) {
-    if (a.has_value() != b.has_value()) {
-        return false;
-    }
-    return !a || (*a == *b || (std::isnan(*a) && std::isnan(*b)));
-}
-
 // The georeferencing a mosaic places a file by, checked.
 const Georeference& placedBy(const std::string& path, const RasterInfo& info) {
     if (!info.georeference) {
@@ -238,6 +231,10 @@ RasterMosaic::RasterMosaic(const std::vector<std::string>& paths, int cacheMegab
         members_[k].y = static_cast<int>(offsets[k].second - minY);
         largestWidth = std::max(largestWidth, members_[k].width);
         largestHeight = std::max(largestHeight, members_[k].height);
+    }
+    // Each member reads its own values (RasterInfo::scaling); the mosaic says theirs where all agree.
+    if (std::any_of(members_.begin(), members_.end(), [&](const Member& m) { return m.info.scaling != info_.scaling; })) {
+        info_.scaling.clear();
     }
     // Where a member has a mask, the mosaic has its own: its gaps and the pixels no member holds.
     info_.mask = std::any_of(members_.begin(), members_.end(), [](const Member& m) { return m.info.mask; });

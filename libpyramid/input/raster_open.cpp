@@ -127,12 +127,16 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
         if (!info.nodata && info.formatName == "tiff") {
             info.nodata = geoTiffNodata(path);
         }
-        if (info.formatName == "tiff") { info.georeference = readGeoTiffGeoreference(path); }
+        if (info.formatName == "tiff") {
+            info.georeference = readGeoTiffGeoreference(path);
+            addGdalBandMetadata(info, path);
+        }
     }
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
         fail(path, "empty image");
     }
     impl.heightScale = info.georeference ? info.georeference->heightsToGround() : 1.0;
+    impl.scaling = info.scaling;
     return source;
 }
 

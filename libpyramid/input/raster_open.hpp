@@ -24,6 +24,9 @@ struct RasterSource::Impl {
     std::string path;
     int cacheMegabytes = 256;
     double heightScale = 1.0; // a file's stored heights to the ground's unit (Georeference::heightsToGround)
+    // A file's own channels' scaling (RasterInfo::scaling), applied by readFloat before the unit;
+    // a mosaic's members apply theirs, so a mosaic has none of its own here.
+    std::vector<ValueScaling> scaling;
     // Direct readers, set for the files they can read, tried in this order.
     std::unique_ptr<TiffPixelReader> floats; // uncompressed float32 TIFF: one pread per row
     std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block

@@ -10,6 +10,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/input/decoded_rows.hpp"
+#include "libpyramid/input/height_values.hpp"
 #include "libpyramid/input/hgt_raster_reader.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/input/raster_open.hpp"
@@ -117,14 +118,11 @@ void RasterSource::readFloat(int x0, int y0, int x1, int y1, int channel, float*
         fail(path_, "no channel " + std::to_string(channel));
     }
     readFloatAsStored(x0, y0, x1, y1, channel, out);
-    if (const double scale = impl_->heightScale; scale != 1.0) {
-        const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0);
-        for (size_t k = 0; k < count; ++k) {
-            if (!isNodata(out[k], info_.nodata)) {
-                out[k] = static_cast<float>(static_cast<double>(out[k]) * scale);
-            }
-        }
-    }
+    const auto c = static_cast<size_t>(channel);
+    HeightConversion conversion;
+    conversion.values = c < impl_->scaling.size() ? impl_->scaling[c] : ValueScaling{};
+    conversion.unit = impl_->heightScale;
+    conversion.apply(out, x0, y0, x1, y1, info_.nodata, path_);
 }
 
 void RasterSource::readFloatAsStored(int x0, int y0, int x1, int y1, int channel, float* out) const {

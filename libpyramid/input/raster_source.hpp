@@ -78,9 +78,11 @@ public:
 
     // Reads columns [x0, x1) x rows [y0, y1) of channel `channel` as float32, row-major with
     // row y0 first (north first). Integer samples are converted exactly (not normalised).
-    // Heights whose vertical GeoKeys name a unit other than the ground's (Georeference::
-    // heightsToGround: feet in a metre CRS) are converted to it, each value but the nodata
-    // multiplied in double and rounded to float32 once. Thread-safe.
+    // Heights are the file's values: each sample but the nodata times its channel's scale plus its
+    // offset (RasterInfo::scaling, GDAL's band metadata), and converted to the ground's unit
+    // where the file names another (Georeference::heightsToGround: feet in a metre CRS), in
+    // double and rounded to float32 once. A value that lands on the nodata value is refused
+    // (fail). Thread-safe.
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
     // Channel `channel` at the crossings of `columns` and `rows` (each ascending, inside the
     // raster): out[j * columns.size() + i] is sample (columns[i], rows[j]), as readFloat gives it.

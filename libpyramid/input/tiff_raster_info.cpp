@@ -4,6 +4,7 @@
 
 #include <cstring>
 
+#include "libpyramid/input/gdal_band_metadata.hpp"
 #include "libpyramid/input/nodata_text.hpp"
 #include "libpyramid/input/tiff_mask_reader.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
@@ -30,6 +31,17 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     uint16_t* extraTypes = nullptr;
     const bool alpha = TIFFGetField(tif, TIFFTAG_EXTRASAMPLES, &extras, &extraTypes) == 1 && extras > 0 && extraTypes &&
                        (extraTypes[extras - 1] == EXTRASAMPLE_ASSOCALPHA || extraTypes[extras - 1] == EXTRASAMPLE_UNASSALPHA);
+    // GDAL's band metadata, read while the first directory is current; used only for an image
+    // this reader describes (decided below), but a tag that cannot be read is refused either way.
+    GdalBandMetadata metadata;
+    if (sized && channels >= 1) {
+        try {
+            metadata = readGdalBandMetadata(tif, channels, path);
+        } catch (...) {
+            TIFFClose(tif);
+            throw;
+        }
+    }
     bool mask = false;
     for (int d = 1; d < kMaskDirectoriesSearched && !mask && sized && TIFFReadDirectory(tif) == 1; ++d) {
         mask = isTiffMaskOf(tif, width, height);
@@ -69,7 +81,9 @@ std::optional<RasterInfo> readPlainTiffInfo(const std::string& path) {
     info.type = type;
     info.formatName = "tiff";
     info.nodata = geoTiffNodata(path);
+    info.scaling = palette ? std::vector<ValueScaling>{} : std::move(metadata.scaling);
     info.georeference = readGeoTiffGeoreference(path);
+    addUnitType(info, metadata.unitType);
     return info;
 }
 
@@ -121,6 +135,29 @@ std::optional<std::string> tiffText(void* handle, uint32_t tag) {
     }
     const char* text = nullptr;
     return TIFFGetField(tif, tag, &text) == 1 && text ? std::optional<std::string>(text) : std::nullopt;
+}
+
+void addUnitType(RasterInfo& info, const std::string& unitType) {
+    if (info.georeference && !info.georeference->heightUnit && !unitType.empty()) {
+        info.georeference->heightUnit = heightUnitOfUnitType(unitType);
+    }
+}
+
+void addGdalBandMetadata(RasterInfo& info, const std::string& path) {
+    TIFF* tif = openTiffQuietly(path, "rm");
+    if (!tif) {
+        return;
+    }
+    GdalBandMetadata metadata;
+    try {
+        metadata = readGdalBandMetadata(tif, info.channels, path);
+    } catch (...) {
+        TIFFClose(tif);
+        throw;
+    }
+    TIFFClose(tif);
+    info.scaling = std::move(metadata.scaling);
+    addUnitType(info, metadata.unitType);
 }
 
 // GDAL keeps a GeoTIFF's nodata value in its own ASCII tag (42113), which OpenImageIO does not

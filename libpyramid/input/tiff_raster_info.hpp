@@ -17,6 +17,13 @@ namespace pyramid {
 // planes, 1-bit, half floats, an unknown compression...), which is left to OpenImageIO.
 std::optional<RasterInfo> readPlainTiffInfo(const std::string& path);
 
+// GDAL's band metadata (gdal_band_metadata.hpp) of the TIFF at `path`, added to its description:
+// the channels' scaling, and the heights' unit where the GeoKeys name none (UNITTYPE). Throws on
+// a tag that cannot be read.
+void addGdalBandMetadata(RasterInfo& info, const std::string& path);
+// The heights' unit by a UNITTYPE, where the file is georeferenced and its GeoKeys name none.
+void addUnitType(RasterInfo& info, const std::string& unitType);
+
 // The nodata value of GDAL's ASCII tag 42113, if the file is a TIFF that has one.
 std::optional<double> geoTiffNodata(const std::string& path);
 

@@ -1,6 +1,7 @@
 #include "libpyramid/input/vrt_sources.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -9,7 +10,9 @@
 #include <string_view>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/gdal_band_metadata.hpp"
 #include "libpyramid/input/input_list_text.hpp"
+#include "libpyramid/input/raster_source.hpp"
 #include "libpyramid/input/vrt_xml.hpp"
 #include "libpyramid/support/parse_number.hpp"
 #include "libpyramid/support/text.hpp"
@@ -135,6 +138,60 @@ std::string sourceFile(const XmlElement& source, const std::string& vrtDirectory
     return relative ? resolveAgainst(vrtDirectory, name) : name;
 }
 
+// A band's <Scale>, <Offset> and <UnitType> (gdalbuildvrt copies its sources' scale and offset
+// there) against what each of its source files declares itself, which the file's heights are read
+// by (RasterSource::readFloat): a band that declares other values than a source is refused, since
+// its heights would not be read as it says. Files are described only for a band that declares some.
+void checkDeclaredValues(const XmlElement& band, const std::vector<std::string>& files, int bandNumber,
+                         const std::string& where, const std::string& bandName) {
+    const auto number = [&](const char* child, double none) {
+        const std::vector<const XmlElement*> found = band.childrenNamed(child);
+        if (found.empty()) {
+            return none;
+        }
+        const std::string text = trim(found.front()->text);
+        const std::optional<double> v = tryParseNumber(text);
+        if (!v || (none == 1.0 && *v == 0.0)) {
+            fail(where, bandName + ": <" + child + ">" + text + "</" + child + "> is not a " +
+                            (none == 1.0 ? "finite non-zero number" : "finite number"));
+        }
+        return *v;
+    };
+    const ValueScaling declared{number("Scale", 1.0), number("Offset", 0.0)};
+    const std::vector<const XmlElement*> units = band.childrenNamed("UnitType");
+    const std::string unitText = units.empty() ? std::string() : trim(units.front()->text);
+    const HeightUnit unit = heightUnitOfUnitType(unitText);
+    if (declared.identity() && !(unit.metres > 0.0)) {
+        return;
+    }
+    const auto b = static_cast<size_t>(bandNumber - 1);
+    for (const std::string& file : files) {
+        std::error_code ec;
+        if (endsWithNoCase(file, ".vrt") || !fs::is_regular_file(file, ec)) {
+            continue; // checked as it is expanded; refused where its caller finds it missing
+        }
+        const RasterInfo info = RasterSource::describe(file);
+        const ValueScaling own = b < info.scaling.size() ? info.scaling[b] : ValueScaling{};
+        if (!(own == declared)) {
+            fail(where, bandName + " declares scale " + numberText(declared.scale) + " and offset " +
+                            numberText(declared.offset) + " (<Scale>, <Offset>), but " + file + " declares scale " +
+                            numberText(own.scale) + " and offset " + numberText(own.offset) +
+                            ": only sources that declare the band's own are read");
+        }
+        if (unit.metres > 0.0) {
+            const std::optional<Georeference>& g = info.georeference;
+            const double metres = g && g->heightUnit && g->heightUnit->metres > 0.0 ? g->heightUnit->metres
+                                  : g && g->projected                             ? g->unitInMetres
+                                                                                  : 1.0;
+            if (std::fabs(metres / unit.metres - 1.0) > 1e-12) {
+                fail(where, bandName + " declares heights in " + unit.name + " (<UnitType>" + unitText + "</UnitType>), but " +
+                                file + "'s are in units of " + numberText(metres) +
+                                " m: only sources of the band's own unit are read");
+            }
+        }
+    }
+}
+
 } // namespace
 
 std::vector<std::string> vrtSourceFiles(const std::string& path, const std::string& where) {
@@ -167,6 +224,7 @@ std::vector<std::string> vrtSourceFiles(const std::string& path, const std::stri
         if (const std::string* subClass = child.attribute("subClass")) {
             fail(where, band + " is a " + *subClass + " (subClass): derived and warped bands are not read");
         }
+        const size_t first = files.size();
         for (const XmlElement& source : child.children) {
             if (equalNoCase(source.name, "SimpleSource") || equalNoCase(source.name, "ComplexSource")) {
                 files.push_back(sourceFile(source, directory, where, band, bandNumber));
@@ -176,6 +234,8 @@ std::vector<std::string> vrtSourceFiles(const std::string& path, const std::stri
                 fail(where, band + ": a <" + source.name + ">: only <SimpleSource> and <ComplexSource> are read");
             }
         }
+        checkDeclaredValues(child, std::vector<std::string>(files.begin() + static_cast<std::ptrdiff_t>(first), files.end()),
+                            bandNumber, where, band);
     }
     if (files.empty()) {
         fail(where, "no source file (no <SimpleSource> or <ComplexSource> in a <VRTRasterBand>)");

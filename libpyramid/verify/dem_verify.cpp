@@ -231,10 +231,11 @@ DemVerifyReport verifyDem(const std::string& file, const std::string& sourcePath
 DemVerifyReport verifyDem(const std::string& file, const RasterSource& source, const DemVerifyOptions& options) {
     const WholePyramid whole = wholePyramid(file);
     const ResidualHeader& h = whole.header;
-    std::optional<double> nodata = options.nodata;
-    if (!nodata && !options.ignoreDeclaredNodata) {
-        nodata = source.info().nodata;
-    }
+    DemEncodeOptions read; // the band and nodata, chosen as the encoder chooses them
+    read.band = options.band;
+    read.nodata = options.nodata;
+    read.ignoreDeclaredNodata = options.ignoreDeclaredNodata;
+    const std::optional<double> nodata = checkBandAndNodata(source.info(), read, source.path());
     const int64_t N = static_cast<int64_t>(h.tileSize >> h.minLevel) << h.maxLevel;
     const DemGeometry geometry = makeDemGeometry(source.info().width, source.info().height, N, options.stretch, source.path());
     const DemSampler sampler(source, geometry, options.band, nodata, h.tileSize >> h.minLevel);

@@ -80,6 +80,14 @@ void write(const std::string& path, int width, int height, int channels, int bit
         }
         TIFFSetField(tif, TIFFTAG_GDAL_NODATA, tags.gdalNodata.c_str());
     }
+    if (!tags.gdalMetadata.empty()) {
+        if (!TIFFFindField(tif, TIFFTAG_GDAL_METADATA, TIFF_ANY)) {
+            static const TIFFFieldInfo gdalMetadata = {TIFFTAG_GDAL_METADATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0,
+                                                       const_cast<char*>("GDALMetadata")};
+            TIFFMergeFieldInfo(tif, &gdalMetadata, 1);
+        }
+        TIFFSetField(tif, TIFFTAG_GDAL_METADATA, tags.gdalMetadata.c_str());
+    }
     if (!tags.tiepoints.empty()) {
         TIFFSetField(tif, TIFFTAG_GEOTIEPOINTS, static_cast<uint16_t>(tags.tiepoints.size()), tags.tiepoints.data());
     }

@@ -17,6 +17,7 @@ struct GeoTiffTags {
     std::vector<double> pixelScale;                      // ModelPixelScale: sx, sy, sz
     std::vector<double> transformation;                  // ModelTransformation: 16 values, row by row
     std::string gdalNodata;                              // GDAL_NODATA (tag 42113) text, if not empty
+    std::string gdalMetadata;                            // GDAL_METADATA (tag 42112) XML, if not empty
     int tileSize = 0;                                    // square tiles of this side (a multiple of 16); 0: strips
 };
 

@@ -129,6 +129,12 @@ std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncod
                            std::to_string(input.channels) + ")");
     }
     if (options.nodata || options.ignoreDeclaredNodata) {
+        // Reading keeps the file's own nodata value as stored and converts every other sample: a
+        // value chosen here would be compared with converted heights, and the file's with none.
+        if (!sameNodata(options.nodata, input.nodata) && heightsConverted(input, options.band)) {
+            failOption("nodata", where + "'s heights are read converted (a scale, an offset or another unit), and only "
+                                         "the file's own nodata value is kept as stored: declare the value in the file instead");
+        }
         return options.nodata;
     }
     return input.nodata;
@@ -203,6 +209,14 @@ DemReport encodeDemFrom(const RasterSource& raster, const std::vector<std::strin
 
 } // namespace
 
+nlohmann::json valueScalingJson(const RasterInfo& info, int band) {
+    const auto b = static_cast<size_t>(band);
+    if (b >= info.scaling.size() || info.scaling[b].identity()) {
+        return nullptr;
+    }
+    return {{"scale", info.scaling[b].scale}, {"offset", info.scaling[b].offset}, {"from", "GDAL metadata"}};
+}
+
 nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int band, std::optional<double> nodata) {
     nlohmann::json nodataJson = nullptr;
     if (nodata) {
@@ -216,6 +230,7 @@ nlohmann::json demInputJson(const std::string& path, const RasterInfo& info, int
             {"format", info.formatName},
             {"band", band + 1},
             {"nodata", nodataJson},
+            {"values", valueScalingJson(info, band)},
             {"heights", info.georeference ? heightUnitJson(*info.georeference) : nlohmann::json()}};
 }
 

@@ -75,7 +75,9 @@ struct DemReport : ResidualPyramidReport {
 
 // The height band and nodata value the options select in an input: throws OptionError("band")
 // when the input has no such band; the nodata value is the option's, else what the file declares
-// (unless options.ignoreDeclaredNodata), else none.
+// (unless options.ignoreDeclaredNodata), else none. A value other than the file's own on a band
+// whose heights are read converted (heightsConverted: a scale, an offset or another unit) throws
+// OptionError("nodata"): reading keeps only the file's own nodata value as stored.
 std::optional<double> checkBandAndNodata(const RasterInfo& input, const DemEncodeOptions& options,
                                          const std::string& where);
 
@@ -102,6 +104,10 @@ nlohmann::json toJson(const DemReport& report);
 // intervals per input interval ("resampling"), whether the original runtime reads the tiles,
 // and the rule in one sentence.
 nlohmann::json toJson(const DemTileFit& fit);
+
+// The band's scale and offset (RasterInfo::scaling) as the reports' "values": {"scale",
+// "offset", "from"}, or null where its values are as stored.
+nlohmann::json valueScalingJson(const RasterInfo& info, int band);
 
 // The "input" object of the DEM reports: path, size, channels, sample type, format, band (from
 // 1) and the nodata value used (null, a number, or "nan", "inf", "-inf": JSON has neither NaN
