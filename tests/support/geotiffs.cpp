@@ -49,6 +49,19 @@ void setTransformation(GeoTiffTags& tags, const std::array<double, 6>& t) {
 
 namespace {
 
+// One of GDAL's ASCII tags (GDAL_NODATA, GDAL_METADATA), unless `text` is empty; libtiff builds
+// without the tag's definition learn it here, as GDAL declares it.
+void setGdalText(TIFF* tif, uint32_t tag, const char* name, const std::string& text) {
+    if (text.empty()) {
+        return;
+    }
+    if (!TIFFFindField(tif, tag, TIFF_ANY)) {
+        const TIFFFieldInfo info = {tag, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0, const_cast<char*>(name)};
+        TIFFMergeFieldInfo(tif, &info, 1);
+    }
+    TIFFSetField(tif, tag, text.c_str());
+}
+
 void write(const std::string& path, int width, int height, int channels, int bits, int format, const void* values,
            const GeoTiffTags& tags, uint16_t extraSample = EXTRASAMPLE_UNASSALPHA) {
     TIFF* tif = XTIFFOpen(path.c_str(), "w");
@@ -71,23 +84,8 @@ void write(const std::string& path, int width, int height, int channels, int bit
     } else {
         TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, 16u);
     }
-    if (!tags.gdalNodata.empty()) {
-        // libtiff builds without GDAL's tag learn it here, as GDAL declares it.
-        if (!TIFFFindField(tif, TIFFTAG_GDAL_NODATA, TIFF_ANY)) {
-            static const TIFFFieldInfo gdalNodata = {TIFFTAG_GDAL_NODATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0,
-                                                     const_cast<char*>("GDALNoDataValue")};
-            TIFFMergeFieldInfo(tif, &gdalNodata, 1);
-        }
-        TIFFSetField(tif, TIFFTAG_GDAL_NODATA, tags.gdalNodata.c_str());
-    }
-    if (!tags.gdalMetadata.empty()) {
-        if (!TIFFFindField(tif, TIFFTAG_GDAL_METADATA, TIFF_ANY)) {
-            static const TIFFFieldInfo gdalMetadata = {TIFFTAG_GDAL_METADATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0,
-                                                       const_cast<char*>("GDALMetadata")};
-            TIFFMergeFieldInfo(tif, &gdalMetadata, 1);
-        }
-        TIFFSetField(tif, TIFFTAG_GDAL_METADATA, tags.gdalMetadata.c_str());
-    }
+    setGdalText(tif, TIFFTAG_GDAL_NODATA, "GDALNoDataValue", tags.gdalNodata);
+    setGdalText(tif, TIFFTAG_GDAL_METADATA, "GDALMetadata", tags.gdalMetadata);
     if (!tags.tiepoints.empty()) {
         TIFFSetField(tif, TIFFTAG_GEOTIEPOINTS, static_cast<uint16_t>(tags.tiepoints.size()), tags.tiepoints.data());
     }
