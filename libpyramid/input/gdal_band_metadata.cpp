@@ -30,54 +30,69 @@ int sampleOf(const XmlElement& item) {
     return n && *n >= 0.0 && *n < 65536.0 && *n == std::floor(*n) ? static_cast<int>(*n) : -1;
 }
 
-double numberOf(const XmlElement& item, const char* what, int band, const std::string& path) {
-    const std::string text = trim(item.text);
+double numberOf(const std::string& text, const char* what, int band, const std::string& path,
+                const std::string& source) {
     const std::optional<double> v = tryParseNumber(text);
-    if (!v || (std::string_view(what) == "scale" && *v == 0.0)) {
-        fail(path, std::string(kTag) + ": band " + std::to_string(band + 1) + "'s " + what + " '" + text + "' is not " +
-                       (std::string_view(what) == "scale" ? "a finite non-zero number" : "a finite number"));
+    const bool scale = std::string_view(what) == "scale";
+    if (!v || (scale && *v == 0.0)) {
+        fail(path, source + "band " + std::to_string(band + 1) + "'s " + what + " '" + text + "' is not " +
+                       (scale ? "a finite non-zero number" : "a finite number"));
     }
     return *v;
 }
 
 } // namespace
 
-GdalBandMetadata parseGdalMetadata(std::string_view xml, int bands, const std::string& path) {
-    XmlElement root;
-    try {
-        root = parseXml(xml);
-    } catch (const MalformedXml& e) {
-        fail(path, std::string(kTag) + ": malformed XML (" + e.problem + ")");
-    }
+GdalBandMetadata bandMetadataOf(const std::vector<BandValueTexts>& bands, const std::string& path,
+                                const std::string& source) {
     GdalBandMetadata m;
-    std::vector<ValueScaling> scaling(static_cast<size_t>(std::max(bands, 0)));
+    std::vector<ValueScaling> scaling(bands.size());
     bool scaled = false;
-    int unitBand = -1;
-    for (const XmlElement* item : root.childrenNamed("Item")) {
-        const std::string* role = item->attribute("role");
-        const int band = sampleOf(*item);
-        if (!role || band < 0 || band >= bands) {
-            continue;
+    for (size_t b = 0; b < bands.size(); ++b) {
+        const int band = static_cast<int>(b);
+        if (!bands[b].scale.empty()) {
+            scaling[b].scale = numberOf(bands[b].scale, "scale", band, path, source);
+            scaled = true;
         }
-        ValueScaling& s = scaling[static_cast<size_t>(band)];
-        if (equalNoCase(*role, "scale")) {
-            s.scale = numberOf(*item, "scale", band, path);
+        if (!bands[b].offset.empty()) {
+            scaling[b].offset = numberOf(bands[b].offset, "offset", band, path, source);
             scaled = true;
-        } else if (equalNoCase(*role, "offset")) {
-            s.offset = numberOf(*item, "offset", band, path);
-            scaled = true;
-        } else if (equalNoCase(*role, "unittype") && (unitBand < 0 || band < unitBand)) {
-            const std::string unit = trim(item->text);
-            if (!unit.empty()) {
-                m.unitType = unit;
-                unitBand = band;
-            }
+        }
+        if (m.unitType.empty()) {
+            m.unitType = bands[b].unit;
         }
     }
     if (scaled) {
         m.scaling = std::move(scaling);
     }
     return m;
+}
+
+GdalBandMetadata parseGdalMetadata(std::string_view xml, int bands, const std::string& path) {
+    const std::string source = std::string(kTag) + ": ";
+    XmlElement root;
+    try {
+        root = parseXml(xml);
+    } catch (const MalformedXml& e) {
+        fail(path, source + "malformed XML (" + e.problem + ")");
+    }
+    std::vector<BandValueTexts> texts(static_cast<size_t>(std::max(bands, 0)));
+    for (const XmlElement* item : root.childrenNamed("Item")) {
+        const std::string* role = item->attribute("role");
+        const int band = sampleOf(*item);
+        if (!role || band < 0 || band >= bands) {
+            continue;
+        }
+        BandValueTexts& t = texts[static_cast<size_t>(band)];
+        std::string* into = equalNoCase(*role, "scale")      ? &t.scale
+                            : equalNoCase(*role, "offset")   ? &t.offset
+                            : equalNoCase(*role, "unittype") ? &t.unit
+                                                             : nullptr;
+        if (into) {
+            *into = trim(item->text);
+        }
+    }
+    return bandMetadataOf(texts, path, source);
 }
 
 GdalBandMetadata readGdalBandMetadata(void* tif, int bands, const std::string& path) {

@@ -22,6 +22,18 @@ struct GdalBandMetadata {
     std::string unitType;              // band 1's UNITTYPE (else the first band's that has one); "" without
 };
 
+// A band's scale, offset and unit as text, each "" where the band has none (GDAL's metadata tag,
+// or a PAM file's <PAMRasterBand>: sidecar_georeference.hpp).
+struct BandValueTexts {
+    std::string scale, offset, unit;
+};
+
+// The band metadata of those texts (band 1 first). Throws (fail, naming `path` and `source`, the
+// part of it they come from) on a scale that is not a finite non-zero number or an offset that is
+// not finite: values read with a scale that cannot be known would be wrong heights.
+GdalBandMetadata bandMetadataOf(const std::vector<BandValueTexts>& bands, const std::string& path,
+                                const std::string& source);
+
 // The band metadata of the tag's text, for a raster of `bands` bands (items of other bands are
 // ignored, as GDAL ignores them). Throws (fail, naming `path`) on XML that is not well-formed, a
 // scale that is not a finite non-zero number or an offset that is not finite: values read with a

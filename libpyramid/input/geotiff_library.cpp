@@ -57,7 +57,14 @@ Loaded load() {
            lookUp(handle, "proj_crs_get_coordinate_system", g.projCrsGetCoordinateSystem, l.why) &&
            lookUp(handle, "proj_cs_get_axis_info", g.projCsGetAxisInfo, l.why) &&
            lookUp(handle, "proj_uom_get_info_from_database", g.projUomGetInfoFromDatabase, l.why) &&
-           lookUp(handle, "proj_destroy", g.projDestroy, l.why);
+           lookUp(handle, "proj_destroy", g.projDestroy, l.why) && lookUp(handle, "proj_create", g.projCreate, l.why) &&
+           lookUp(handle, "proj_identify", g.projIdentify, l.why) &&
+           lookUp(handle, "proj_list_get_count", g.projListGetCount, l.why) &&
+           lookUp(handle, "proj_list_get", g.projListGet, l.why) &&
+           lookUp(handle, "proj_list_destroy", g.projListDestroy, l.why) &&
+           lookUp(handle, "proj_int_list_destroy", g.projIntListDestroy, l.why) &&
+           lookUp(handle, "proj_get_id_auth_name", g.projGetIdAuthName, l.why) &&
+           lookUp(handle, "proj_get_id_code", g.projGetIdCode, l.why);
     return l; // the handle stays open for the process's life
 }
 

@@ -5,7 +5,8 @@
 // headers are used as they are; only the functions are looked up.
 //
 // PROJ, which libgeotiff looks EPSG codes up with (and which loads with it), is asked directly for
-// what libgeotiff has no call for: the unit of a vertical CRS (height_unit.hpp). Its functions are
+// what libgeotiff has no call for: the unit of a vertical CRS (height_unit.hpp), the EPSG code of
+// a CRS written as WKT (sidecar_georeference.hpp). Its functions are
 // looked up in the same handle, so they too load only with libgeotiff.
 #pragma once
 #include <geotiff/geo_normalize.h>
@@ -43,6 +44,15 @@ struct GeoTiffLibrary {
     decltype(&::proj_cs_get_axis_info) projCsGetAxisInfo = nullptr;
     decltype(&::proj_uom_get_info_from_database) projUomGetInfoFromDatabase = nullptr;
     decltype(&::proj_destroy) projDestroy = nullptr;
+    // A WKT CRS's EPSG code (sidecar_georeference.hpp).
+    decltype(&::proj_create) projCreate = nullptr;
+    decltype(&::proj_identify) projIdentify = nullptr;
+    decltype(&::proj_list_get_count) projListGetCount = nullptr;
+    decltype(&::proj_list_get) projListGet = nullptr;
+    decltype(&::proj_list_destroy) projListDestroy = nullptr;
+    decltype(&::proj_int_list_destroy) projIntListDestroy = nullptr;
+    decltype(&::proj_get_id_auth_name) projGetIdAuthName = nullptr;
+    decltype(&::proj_get_id_code) projGetIdCode = nullptr;
 };
 
 // The library (loaded once, thread-safe), or nullptr with `why` set (one clause: what could not

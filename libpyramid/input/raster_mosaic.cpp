@@ -19,7 +19,8 @@ namespace {
 // The georeferencing a mosaic places a file by, checked.
 const Georeference& placedBy(const std::string& path, const RasterInfo& info) {
     if (!info.georeference) {
-        fail(path, "has no georeferencing: a mosaic places each file by its own");
+        fail(path, "has no georeferencing (no GeoTIFF tags, nor a world file with a CRS or a PAM .aux.xml beside it "
+                   "that places it in an EPSG CRS): a mosaic places each file by its own");
     }
     const Georeference& g = *info.georeference;
     if (!g.problem.empty()) {

@@ -12,6 +12,7 @@
 #include "libpyramid/input/georeference.hpp"
 #include "libpyramid/input/jpeg_raster_reader.hpp"
 #include "libpyramid/input/png_raster_reader.hpp"
+#include "libpyramid/input/sidecar_georeference.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
 
 namespace pyramid {
@@ -68,18 +69,20 @@ void checkRegularFile(const std::string& path) {
 
 RasterInfo RasterSource::describe(const std::string& path) {
     checkRegularFile(path);
-    if (std::optional<RasterInfo> tiff = readPlainTiffInfo(path)) {
-        return *tiff;
-    }
     // PNG and JPEG from their headers: opening one would decode it, and an interlaced or
     // progressive image must fit the budget, which a description does not need.
-    if (std::optional<RasterInfo> png = describePngRaster(path)) {
-        return *png;
+    std::optional<RasterInfo> info = readPlainTiffInfo(path);
+    if (!info) {
+        info = describePngRaster(path);
     }
-    if (std::optional<RasterInfo> jpeg = describeJpegRaster(path)) {
-        return *jpeg;
+    if (!info) {
+        info = describeJpegRaster(path);
     }
-    return open(path, 1)->info();
+    if (!info) {
+        return open(path, 1)->info();
+    }
+    addSidecarDescription(*info, path);
+    return *info;
 }
 
 std::unique_ptr<RasterSource> RasterSource::open(const std::string& path, int cacheMegabytes) {
@@ -134,6 +137,9 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
     }
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
         fail(path, "empty image");
+    }
+    if (!tiffInfo) { // a description has them already
+        addSidecarDescription(info, path);
     }
     impl.heightScale = info.georeference ? info.georeference->heightsToGround() : 1.0;
     impl.scaling = info.scaling;
