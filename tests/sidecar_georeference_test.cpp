@@ -74,6 +74,7 @@ TEST(SidecarGeoreference, EpsgCodesOfWkt) {
     EXPECT_EQ(epsgOfWkt("PROJCRS[\"WGS 84 / UTM zone 10N\",BASEGEOGCRS[\"WGS 84\",ID[\"EPSG\",4326]],"
                         "CONVERSION[\"UTM zone 10N\",ID[\"EPSG\",16010]],ID[\"EPSG\",32610]]"),
               32610);
+    EXPECT_EQ(epsgOfWkt("GEOGCRS[\"WGS 84\",ID[\"EPSG\",4326,URI[\"urn:ogc:def:crs:EPSG::4326\"]]]"), 4326);
     EXPECT_EQ(epsgOfWkt(kUtmEsri), 32610); // identified by PROJ
     EXPECT_EQ(epsgOfWkt("LOCAL_CS[\"a plan\"]"), 0);
     EXPECT_EQ(epsgOfWkt("not a CRS"), 0);

@@ -205,8 +205,10 @@ int epsgOfWkt(const std::string& wkt) {
                 (wkt[end] == '[' || wkt[end] == '(')) {
                 const size_t close = wkt.find_first_of("])", end);
                 const std::string inside = wkt.substr(end + 1, close == std::string::npos ? 0 : close - end - 1);
-                const size_t comma = inside.find(',');
-                std::string name = trim(inside.substr(0, comma)), code = comma == std::string::npos ? "" : trim(inside.substr(comma + 1));
+                const size_t comma = inside.find(','); // the name, the code, then maybe a version or a URI
+                const size_t next = comma == std::string::npos ? comma : inside.find(',', comma + 1);
+                std::string name = trim(inside.substr(0, comma));
+                std::string code = comma == std::string::npos ? "" : trim(inside.substr(comma + 1, next - comma - 1));
                 const auto unquote = [](std::string& s) {
                     if (s.size() >= 2 && s.front() == '"' && s.back() == '"') {
                         s = s.substr(1, s.size() - 2);
