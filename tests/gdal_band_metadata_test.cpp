@@ -45,15 +45,6 @@ test::GeoTiffTags tagsWith(const std::string& metadata) {
     return tags;
 }
 
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
-
 TEST(GdalBandMetadata, ReadsEachBandsScaleOffsetAndUnit) {
     const std::string xml = "<GDALMetadata>\n"
                             "  <Item name=\"AREA_OR_POINT\">Area</Item>\n"
@@ -84,7 +75,7 @@ TEST(GdalBandMetadata, ReadsEachBandsScaleOffsetAndUnit) {
 
 TEST(GdalBandMetadata, TagsThatCannotBeReadAreRefusedNamingTheFile) {
     const auto refusal = [](const std::string& xml) {
-        return messageOf([&] { parseGdalMetadata(xml, 1, "dem.tif"); });
+        return test::errorMessage([&] { parseGdalMetadata(xml, 1, "dem.tif"); });
     };
     EXPECT_NE(refusal("<GDALMetadata><Item sample=\"0\" role=\"scale\">0.5</GDALMetadata>").find("dem.tif: GDAL metadata (TIFF tag 42112): malformed XML"), std::string::npos);
     EXPECT_EQ(refusal(gdalMetadata("0", "0")), "dem.tif: GDAL metadata (TIFF tag 42112): band 1's scale '0' is not a finite non-zero number");
@@ -94,7 +85,7 @@ TEST(GdalBandMetadata, TagsThatCannotBeReadAreRefusedNamingTheFile) {
     // A file's tag is refused as the file is described.
     test::TempDir dir;
     test::writeGeoTiffInt16(dir.file("bad.tif"), 2, 2, {1, 2, 3, 4}, tagsWith(gdalMetadata("x", "0")));
-    EXPECT_NE(messageOf([&] { RasterSource::describe(dir.file("bad.tif")); }).find("bad.tif: GDAL metadata"), std::string::npos);
+    EXPECT_NE(test::errorMessage([&] { RasterSource::describe(dir.file("bad.tif")); }).find("bad.tif: GDAL metadata"), std::string::npos);
 }
 
 TEST(GdalBandMetadata, HeightsAreTheStoredSamplesScaledAndOffset) {
@@ -128,7 +119,7 @@ TEST(GdalBandMetadata, HeightsAreTheStoredSamplesScaledAndOffset) {
     // A value the scaling lands on the nodata value is refused, not taken for a gap.
     test::writeGeoTiffInt16(dir.file("lands.tif"), 2, 2, {0, 1, 2, 3}, tagsWith(gdalMetadata("1", "-32770")));
     const auto lands = RasterSource::open(dir.file("lands.tif"));
-    EXPECT_NE(messageOf([&] { lands->readFloat(0, 0, 2, 2, 0, read.data()); })
+    EXPECT_NE(test::errorMessage([&] { lands->readFloat(0, 0, 2, 2, 0, read.data()); })
                   .find("lands.tif: the sample 2 at pixel (0, 1) is the height -32768, the nodata value"),
               std::string::npos);
 
@@ -220,10 +211,10 @@ TEST(GdalBandMetadata, AVrtBandDeclaresWhatItsSourcesDeclare) {
     std::vector<float> read(4);
     same->readFloat(0, 0, 2, 2, 0, read.data());
     EXPECT_EQ(read, (std::vector<float>{-99.5f, -99.0f, -98.5f, -98.0f}));
-    EXPECT_NE(messageOf([&] { expandInputs(vrt("other.vrt", "<Scale>2</Scale>")); })
+    EXPECT_NE(test::errorMessage([&] { expandInputs(vrt("other.vrt", "<Scale>2</Scale>")); })
                   .find("other.vrt: band 1 declares scale 2 and offset 0 (<Scale>, <Offset>), but "),
               std::string::npos);
-    EXPECT_NE(messageOf([&] {
+    EXPECT_NE(test::errorMessage([&] {
                   expandInputs(vrt("feet.vrt", "<Offset>-100</Offset><Scale>0.5</Scale><UnitType>ft</UnitType>"));
               }).find("feet.vrt: band 1 declares heights in foot (<UnitType>ft</UnitType>), but "),
               std::string::npos);

@@ -49,15 +49,6 @@ const char* const kGeographicWkt1 =
 
 void writeText(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
-
 // Heights 100..1100 as 16-bit samples, a 65 x 65 grid.
 std::vector<uint16_t> heights() {
     const std::vector<float> h = test::syntheticHeights(65, 65, 500.0f);
@@ -152,7 +143,7 @@ TEST(SidecarGeoreference, SidecarsThatPlaceNothingOrCannotBeReadAreNamed) {
     writeText(dir.file("b.wld"), "30 0 0 -30 501965 4999985");
     // No CRS: the file stays unplaced, as without its world file; a mosaic of such is refused.
     EXPECT_FALSE(RasterSource::describe(dir.file("a.png")).georeference);
-    EXPECT_NE(messageOf([&] { RasterSource::openMosaic({dir.file("a.png"), dir.file("b.png")}); })
+    EXPECT_NE(test::errorMessage([&] { RasterSource::openMosaic({dir.file("a.png"), dir.file("b.png")}); })
                   .find("a.png: has no georeferencing (no GeoTIFF tags, nor a world file with a CRS"),
               std::string::npos);
     // With a CRS each, the two join side by side.
@@ -161,17 +152,17 @@ TEST(SidecarGeoreference, SidecarsThatPlaceNothingOrCannotBeReadAreNamed) {
     EXPECT_EQ(RasterSource::openMosaic({dir.file("a.png"), dir.file("b.png")})->info().width, 130);
 
     writeText(dir.file("a.wld"), "30 0 0 -30 500015");
-    EXPECT_EQ(messageOf([&] { RasterSource::describe(dir.file("a.png")); }),
+    EXPECT_EQ(test::errorMessage([&] { RasterSource::describe(dir.file("a.png")); }),
               dir.file("a.wld") + ": a world file holds 6 numbers, not 5");
     writeText(dir.file("a.wld"), "30 0 0 0 500015 4999985");
-    EXPECT_EQ(messageOf([&] { RasterSource::describe(dir.file("a.png")); }),
+    EXPECT_EQ(test::errorMessage([&] { RasterSource::describe(dir.file("a.png")); }),
               dir.file("a.wld") + ": its transform is singular: it places no pixel");
     // A CRS of no EPSG code (a local plan, a body of the IAU's): unplaced, as before.
     writeText(dir.file("a.wld"), "30 0 0 -30 500015 4999985");
     writeText(dir.file("a.prj"), "LOCAL_CS[\"a plan\"]");
     EXPECT_FALSE(RasterSource::describe(dir.file("a.png")).georeference);
     writeText(dir.file("b.png.aux.xml"), "<PAMDataset><GeoTransform>1,2</PAMDataset>");
-    EXPECT_NE(messageOf([&] { RasterSource::describe(dir.file("b.png")); }).find(dir.file("b.png.aux.xml") + ": malformed XML"),
+    EXPECT_NE(test::errorMessage([&] { RasterSource::describe(dir.file("b.png")); }).find(dir.file("b.png.aux.xml") + ": malformed XML"),
               std::string::npos);
 }
 

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "formats/error.hpp"
+
 namespace pyramid::test {
 
 std::string dataPath(const std::string& relative) { return std::string(PYRAMID_TEST_DATA) + "/" + relative; }
@@ -87,6 +89,15 @@ uint64_t bytesUnder(const std::string& root) {
         bytes += e.is_regular_file() ? e.file_size() : 0;
     }
     return bytes;
+}
+
+std::string errorMessage(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
 }
 
 } // namespace pyramid::test

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -43,6 +44,8 @@ std::string shellQuoted(const std::string& s);
 size_t lines(const std::string& s);
 
 bool fileExists(const std::string& path);
+// The message of the pyramid::Error (or OptionError) that `f` throws; "" when it throws none.
+std::string errorMessage(const std::function<void()>& f);
 std::string readFile(const std::string& path);
 std::vector<uint8_t> bytesOf(const std::string& path); // readFile's bytes
 // Every regular file under `root` (hidden ones included), by its path relative to `root`, with
