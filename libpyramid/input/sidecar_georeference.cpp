@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -179,6 +181,10 @@ std::optional<Georeference> placed(const std::string& wkt, const std::array<doub
 
 } // namespace
 
+namespace {
+int identifiedByProj(const std::string& wkt);
+} // namespace
+
 int epsgOfWkt(const std::string& wkt) {
     // The root's own AUTHORITY["EPSG", "N"] (WKT1) or ID["EPSG", N] (WKT2): the last one at depth 1.
     int found = 0, depth = 0;
@@ -227,6 +233,24 @@ int epsgOfWkt(const std::string& wkt) {
     if (found != 0) {
         return found;
     }
+    // PROJ's identification, once per text in a process: a mosaic of a thousand tiles has a
+    // thousand copies of one .prj, and each file is described before it is opened.
+    static std::mutex mutex;
+    static std::map<std::string, int> identified;
+    const std::lock_guard lock(mutex);
+    if (const auto it = identified.find(wkt); it != identified.end()) {
+        return it->second;
+    }
+    const int code = identifiedByProj(wkt);
+    identified.emplace(wkt, code);
+    return code;
+}
+
+namespace {
+
+// The EPSG code PROJ identifies a WKT CRS as (its first candidate, at a confidence of 70 % or
+// more), or 0.
+int identifiedByProj(const std::string& wkt) {
     std::string why;
     const GeoTiffLibrary* lib = geoTiffLibrary(why);
     if (!lib) {
@@ -259,6 +283,8 @@ int epsgOfWkt(const std::string& wkt) {
     }
     return code;
 }
+
+} // namespace
 
 void addSidecarDescription(RasterInfo& info, const std::string& path) {
     const std::string pamPath = path + ".aux.xml";
