@@ -1,8 +1,9 @@
 // Hostile bytes through the input readers (libpyramid/input/): the dispatcher opens the input
-// as TIFF (strips, tiles, huge strips, BigTIFF, every predictor, an internal mask) or PNG, with a small cache so
-// that the block cache's recycling, the strip stream and the scratch files are exercised, then
-// reads a few windows of every channel from two threads. Images declaring more than 2^22
-// samples are only described (reading them whole would be the fuzzer's time, not a finding).
+// as TIFF (strips, tiles, huge strips, BigTIFF, every predictor, an internal mask), PNG or ESRI
+// ASCII grid, with a small cache so that the block cache's recycling, the strip stream and the
+// scratch files are exercised, then reads a few windows of every channel from two threads.
+// Images declaring more than 2^22 samples are only described (reading them whole would be the
+// fuzzer's time, not a finding).
 #include <algorithm>
 #include <cstdint>
 #include <thread>

@@ -111,9 +111,9 @@ TEST(InputList, DirectoryWithoutTiffsIsRefused) {
     const std::string empty = dir.file("empty");
     const std::string others = dir.file("others");
     fs::create_directories(empty);
-    touch({others + "/x.png", others + "/.y.tif", others + "/sub/z.tif"});
-    EXPECT_EQ(errorOf({empty}), empty + ": the directory holds no .tif, .tiff or .hgt file");
-    EXPECT_EQ(errorOf({others}), others + ": the directory holds no .tif, .tiff or .hgt file");
+    touch({others + "/x.png", others + "/x.hdr", others + "/.y.tif", others + "/sub/z.tif", others + "/sub/z.asc"});
+    EXPECT_EQ(errorOf({empty}), empty + ": the directory holds no .tif, .tiff, .hgt, .asc, .bil or .flt file");
+    EXPECT_EQ(errorOf({others}), others + ": the directory holds no .tif, .tiff, .hgt, .asc, .bil or .flt file");
 }
 
 TEST(InputList, GlobPatternsAreExpandedSorted) {

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "formats/error.hpp"
@@ -37,7 +38,7 @@ Out* copyPixels(const T* from, size_t count, int channels, int c0, int c1, Out* 
 
 DecodedRows::DecodedRows(std::string path, const RasterInfo& info, int cacheMegabytes, int heldBack)
     : path_(std::move(path)), info_(info), heldBack_(heldBack) {
-    const size_t sampleBytes = info.type == SampleType::UInt8 ? 1 : 2;
+    const size_t sampleBytes = info.type == SampleType::UInt8 ? 1 : info.type == SampleType::Float32 ? 4 : 2;
     rowBytes_ = static_cast<size_t>(info.width) * static_cast<size_t>(info.channels) * sampleBytes;
     const size_t budget = static_cast<size_t>(std::max(cacheMegabytes, 1)) << 20;
     if (imageBytes() > budget) {
@@ -175,9 +176,18 @@ void DecodedRows::copyWindow(int x0, int y0, int x1, int y1, int c0, int c1, Out
     thread_local std::vector<uint8_t> buffer;
     const size_t count = static_cast<size_t>(x1 - x0);
     for (int y = y0; y < y1; ++y) {
-        out = info_.type == SampleType::UInt8
-                  ? copyPixels(rowSpan<uint8_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out)
-                  : copyPixels(rowSpan<uint16_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
+        switch (info_.type) {
+        case SampleType::UInt8:
+            out = copyPixels(rowSpan<uint8_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
+            break;
+        case SampleType::Float32:
+            if constexpr (std::is_same_v<Out, float>) {
+                out = copyPixels(rowSpan<float>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
+            }
+            break;
+        default:
+            out = copyPixels(rowSpan<uint16_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
+        }
     }
 }
 
@@ -186,6 +196,9 @@ void DecodedRows::readFloat(int x0, int y0, int x1, int y1, int channel, float* 
 }
 
 void DecodedRows::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
+    if (info_.type == SampleType::Float32) {
+        fail(path_, "holds float32 values, not 8 or 16-bit colours");
+    }
     copyWindow(x0, y0, x1, y1, c0, c1, out);
 }
 

@@ -26,6 +26,17 @@ using input_list_detail::trim;
 
 bool isVrtName(const std::string& path) { return endsWithNoCase(path, ".vrt"); }
 
+// What a directory contributes: the files terrain tiles come as (GeoTIFF, SRTM height files, ESRI
+// ASCII and .hdr-labelled grids; any case).
+bool isGridFileName(const std::string& name) {
+    for (const char* ext : {".tif", ".tiff", ".hgt", ".asc", ".bil", ".flt"}) {
+        if (endsWithNoCase(name, ext)) {
+            return true;
+        }
+    }
+    return false;
+}
+
 bool hasGlobCharacters(const std::string& text) { return text.find_first_of("*?[") != std::string::npos; }
 
 // TEXT with glob(3)'s special characters escaped, so that it matches only itself.
@@ -122,7 +133,7 @@ private:
         }
     }
 
-    // The directory's .tif, .tiff and .hgt entries (no hidden ones, no subdirectories), by name.
+    // The directory's rasters of terrain tiles (isGridFileName; no hidden ones, no subdirectories), by name.
     void addDirectory(const std::string& path, const std::string& origin) {
         const std::string where = within(origin, path);
         std::vector<std::string> names;
@@ -133,8 +144,7 @@ private:
         }
         for (; it != fs::directory_iterator(); it.increment(ec)) {
             const std::string name = it->path().filename().string();
-            if (name.empty() || name[0] == '.' || !(endsWithNoCase(name, ".tif") || endsWithNoCase(name, ".tiff") ||
-                                                     endsWithNoCase(name, ".hgt"))) {
+            if (name.empty() || name[0] == '.' || !isGridFileName(name)) {
                 continue;
             }
             std::error_code typeError;
@@ -147,7 +157,7 @@ private:
             fail(where, "cannot list the directory: " + ec.message());
         }
         if (names.empty()) {
-            fail(where, "the directory holds no .tif, .tiff or .hgt file");
+            fail(where, "the directory holds no .tif, .tiff, .hgt, .asc, .bil or .flt file");
         }
         std::sort(names.begin(), names.end());
         for (const std::string& name : names) {

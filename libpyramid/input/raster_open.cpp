@@ -9,7 +9,10 @@
 
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
+#include "libpyramid/input/ascii_grid_reader.hpp"
+#include "libpyramid/input/esri_grid_header.hpp"
 #include "libpyramid/input/georeference.hpp"
+#include "libpyramid/input/hgt_grid.hpp"
 #include "libpyramid/input/jpeg_raster_reader.hpp"
 #include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
@@ -52,6 +55,12 @@ void RasterSource::Impl::readModule(int x0, int y0, int x1, int y1, int c0, int 
 
 namespace {
 
+// The raw grid `path` is, by its name (.hgt) or the header beside it (.hdr); nothing for another.
+std::optional<RawGrid> rawGridOf(const std::string& path) {
+    std::optional<RawGrid> grid = hgtGrid(path);
+    return grid ? grid : esriHeaderGrid(path);
+}
+
 void checkRegularFile(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) {
@@ -73,10 +82,18 @@ RasterInfo RasterSource::describe(const std::string& path) {
     // progressive image must fit the budget, which a description does not need.
     std::optional<RasterInfo> info = readPlainTiffInfo(path);
     if (!info) {
+        if (const std::optional<RawGrid> grid = rawGridOf(path)) {
+            info = grid->info;
+        }
+    }
+    if (!info) {
         info = describePngRaster(path);
     }
     if (!info) {
         info = describeJpegRaster(path);
+    }
+    if (!info) {
+        info = describeAsciiGrid(path);
     }
     if (!info) {
         return open(path, 1)->info();
@@ -120,10 +137,12 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
             impl.mask = TiffMaskReader::open(path, info.width, info.height, cacheMegabytes);
             info.mask = impl.mask != nullptr;
         }
-    } else if ((impl.hgt = HgtRasterReader::open(path))) {
-        info = impl.hgt->info();
+    } else if (const std::optional<RawGrid> grid = rawGridOf(path)) {
+        impl.raw = RawGridReader::open(path, *grid);
+        info = impl.raw->info();
     } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
-               (impl.decoded = openJpegRaster(path, cacheMegabytes))) {
+               (impl.decoded = openJpegRaster(path, cacheMegabytes)) ||
+               (impl.decoded = openAsciiGrid(path, cacheMegabytes))) {
         info = impl.decoded->info();
     } else {
         info = impl.viaModule().info();

@@ -1,5 +1,5 @@
 // The readers behind a RasterSource (raster_source.hpp): for a file, the direct readers that know
-// it (a TIFF's rows or blocks, an SRTM .hgt file's rows, a PNG or JPEG file decoded whole) or else
+// it (a TIFF's rows or blocks, a raw grid's rows, a PNG, JPEG or ASCII grid file decoded whole) or else
 // the image I/O module (image_io_module.hpp); for a mosaic, its files; or pixels a caller
 // computes. Which readers a file gets, and a file's description, are raster_open.cpp's; the reads
 // through whichever is set, raster_source.cpp's.
@@ -9,11 +9,11 @@
 #include <string>
 
 #include "libpyramid/input/decoded_rows.hpp"
-#include "libpyramid/input/hgt_raster_reader.hpp"
 #include "libpyramid/input/image_io_module.hpp"
 #include "libpyramid/input/raster_info.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "libpyramid/input/raw_grid_reader.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
 #include "libpyramid/input/tiff_mask_reader.hpp"
 #include "libpyramid/input/tiff_pixel_reader.hpp"
@@ -31,8 +31,8 @@ struct RasterSource::Impl {
     std::unique_ptr<TiffPixelReader> floats; // uncompressed float32 TIFF: one pread per row
     std::unique_ptr<TiffBlockReader> blocks; // lossless grey, grey+alpha, RGB(A) TIFF: libtiff, block by block
     std::unique_ptr<TiffPixelReader> pixels; // uncompressed 8/16-bit TIFF: one pread per row
-    std::unique_ptr<HgtRasterReader> hgt;    // SRTM .hgt heights: one pread per row
-    std::unique_ptr<DecodedRows> decoded;    // 8/16-bit PNG or 8-bit JPEG, decoded whole
+    std::unique_ptr<RawGridReader> raw;      // SRTM .hgt, ESRI .hdr-labelled grids: one pread per row
+    std::unique_ptr<DecodedRows> decoded;    // 8/16-bit PNG, 8-bit JPEG or an ASCII grid, decoded whole
     std::unique_ptr<TiffMaskReader> mask;    // a TIFF's transparency mask (RasterInfo::mask), beside its reader
     std::unique_ptr<RasterMosaic> mosaic;    // or many files on one grid, each read as above
     std::shared_ptr<const RasterPixels> computed; // or pixels a caller computes

@@ -11,7 +11,6 @@
 #include "formats/error.hpp"
 #include "libpyramid/input/decoded_rows.hpp"
 #include "libpyramid/input/height_values.hpp"
-#include "libpyramid/input/hgt_raster_reader.hpp"
 #include "libpyramid/input/raster_mosaic.hpp"
 #include "libpyramid/input/raster_open.hpp"
 #include "libpyramid/input/tiff_block_reader.hpp"
@@ -145,8 +144,8 @@ void RasterSource::readFloatAsStored(int x0, int y0, int x1, int y1, int channel
         impl.blocks->read(x0, y0, x1, y1, channel, channel + 1, out);
         return;
     }
-    if (impl.hgt) {
-        if (!impl.hgt->readFloat(x0, y0, x1, y1, out)) {
+    if (impl.raw) {
+        if (!impl.raw->readFloat(x0, y0, x1, y1, channel, out)) {
             failRead(path_);
         }
         return;
@@ -309,8 +308,14 @@ void RasterSource::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, ui
         impl.decoded->readUInt16(x0, y0, x1, y1, c0, c1, out);
         return;
     }
-    if (impl.hgt) {
-        fail(path_, "holds signed 16-bit heights, not 8 or 16-bit colours");
+    if (impl.raw) {
+        if (!impl.raw->readUInt16(x0, y0, x1, y1, c0, c1, out)) {
+            if (info_.type != SampleType::UInt8 && info_.type != SampleType::UInt16) {
+                fail(path_, std::string("holds ") + sampleTypeName(info_.type) + " samples, not 8 or 16-bit colours");
+            }
+            failRead(path_);
+        }
+        return;
     }
     const size_t count = static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0) * static_cast<size_t>(c1 - c0);
     if (impl.blocks && (info_.type == SampleType::UInt8 || info_.type == SampleType::UInt16)) {
@@ -345,12 +350,14 @@ void RasterSource::readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uin
         }
         return;
     }
-    if (impl.mosaic || impl.computed) {
+    if (impl.mosaic || impl.computed || impl.raw) {
         std::vector<uint16_t> words(rowValues * static_cast<size_t>(y1 - y0));
         if (impl.mosaic) {
             impl.mosaic->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
-        } else {
+        } else if (impl.computed) {
             impl.computed->readUInt16(x0, y0, x1, y1, c0, c1, words.data());
+        } else if (!impl.raw->readUInt16(x0, y0, x1, y1, c0, c1, words.data())) {
+            failRead(path_);
         }
         for (int y = y0; y < y1; ++y) {
             const uint16_t* from = words.data() + static_cast<size_t>(y - y0) * rowValues;

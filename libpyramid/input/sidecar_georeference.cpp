@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/esri_prj.hpp"
 #include "libpyramid/input/gdal_band_metadata.hpp"
 #include "libpyramid/input/geotiff_library.hpp"
 #include "libpyramid/input/input_list_text.hpp"
@@ -157,14 +158,35 @@ Pam readPam(const std::string& text, const std::string& where, int channels) {
     return pam;
 }
 
-// The raster placed by `t` in the CRS that `wkt` names, read from `where`; nothing for a CRS of no
+// The text of FILE.prj (or FILE.PRJ) beside `path`, trimmed, and its name in `where`; nothing
+// when there is none.
+std::optional<std::string> prjText(const std::string& path, std::string& where) {
+    for (const char* ext : {".prj", ".PRJ"}) {
+        where = fs::path(path).replace_extension(ext).string();
+        if (const std::optional<std::string> text = readSidecar(where)) {
+            return trim(*text);
+        }
+    }
+    return std::nullopt;
+}
+
+// The raster placed by `t` in the CRS that `wkt` (or an old-style .prj: esri_prj.hpp) names, read
+// from `where`; nothing for a CRS of no
 // EPSG code, or one that is not a projected or geographic CRS (the file is then unplaced, as it
 // was without its sidecars: a planet's map of the Moon in an IAU CRS is still a whole globe).
-std::optional<Georeference> placed(const std::string& wkt, const std::array<double, 6>& t, const std::string& where) {
+std::optional<Georeference> placed(const std::string& wkt, std::array<double, 6> t, const std::string& where) {
     if (t[1] * t[5] - t[2] * t[4] == 0.0) {
         fail(where, "its transform is singular: it places no pixel");
     }
-    const int epsg = epsgOfWkt(wkt);
+    int epsg = 0;
+    if (const std::optional<OldStylePrj> old = readOldStylePrj(wkt)) {
+        epsg = old->epsg;
+        for (double& v : t) {
+            v /= old->unitsPerCrsUnit;
+        }
+    } else {
+        epsg = epsgOfWkt(wkt);
+    }
     if (epsg == 0) {
         return std::nullopt;
     }
@@ -286,6 +308,17 @@ int identifiedByProj(const std::string& wkt) {
 
 } // namespace
 
+std::optional<Georeference> sidecarCrsPlacement(const std::string& path, const std::array<double, 6>& transform) {
+    std::string where;
+    if (const std::optional<std::string> prj = prjText(path, where)) {
+        return placed(*prj, transform, where);
+    }
+    const std::string pamPath = path + ".aux.xml";
+    const std::optional<std::string> pamText = readSidecar(pamPath);
+    const Pam pam = pamText ? readPam(*pamText, pamPath, 1) : Pam{};
+    return pam.srs.empty() ? std::nullopt : placed(pam.srs, transform, pamPath);
+}
+
 void addSidecarDescription(RasterInfo& info, const std::string& path) {
     const std::string pamPath = path + ".aux.xml";
     const std::optional<std::string> pamText = readSidecar(pamPath);
@@ -303,8 +336,9 @@ void addSidecarDescription(RasterInfo& info, const std::string& path) {
             }
         }
         if (transform && where != pamPath) {
-            if (const std::optional<std::string> prj = readSidecar(fs::path(path).replace_extension(".prj").string())) {
-                wkt = trim(*prj);
+            std::string prjName;
+            if (const std::optional<std::string> prj = prjText(path, prjName)) {
+                wkt = *prj;
             }
         }
         if (transform && !wkt.empty()) {

@@ -9,6 +9,8 @@
 //     the extension and a "w"), with the CRS of FILE.prj (ESRI or OGC WKT), else the PAM file's.
 // The PAM file's transform comes before the world file's, as GDAL takes them.
 #pragma once
+#include <array>
+#include <optional>
 #include <string>
 
 #include "libpyramid/input/raster_info.hpp"
@@ -21,6 +23,12 @@ namespace pyramid {
 // scaling and heights' unit. Throws (fail, naming the sidecar) on one that cannot be read: text
 // that is not six numbers, XML that is not well-formed, a singular transform.
 void addSidecarDescription(RasterInfo& info, const std::string& path);
+
+// A raster whose own header places its pixels by `transform` (GDAL's order: x0, dx, rx, y0, ry,
+// dy) but names no CRS (an ESRI grid): placed in the CRS of FILE.prj (WKT, or ESRI's old keyword
+// lines: esri_prj.hpp), else of the PAM file's <SRS>; nothing without one of the EPSG database.
+// Throws as addSidecarDescription.
+std::optional<Georeference> sidecarCrsPlacement(const std::string& path, const std::array<double, 6>& transform);
 
 // The EPSG code of a CRS written as WKT (WKT1, WKT2 or ESRI's): the code its root names
 // (AUTHORITY["EPSG", N] or ID["EPSG", N]), else the one PROJ identifies it as with a confidence of

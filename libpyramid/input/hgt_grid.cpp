@@ -1,18 +1,10 @@
-#include "libpyramid/input/hgt_raster_reader.hpp"
-
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include "libpyramid/input/hgt_grid.hpp"
 
 #include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <vector>
 
 #include "formats/error.hpp"
-#include "formats/file_io.hpp"
 
 namespace pyramid {
 
@@ -58,9 +50,9 @@ bool cellOf(const std::string& stem, int& latitude, int& longitude) {
 
 } // namespace
 
-std::unique_ptr<HgtRasterReader> HgtRasterReader::open(const std::string& path) {
+std::optional<RawGrid> hgtGrid(const std::string& path) {
     if (!endsWithHgt(path)) {
-        return nullptr;
+        return std::nullopt;
     }
     const std::string name = std::filesystem::path(path).filename().string();
     int latitude = 0, longitude = 0;
@@ -68,23 +60,19 @@ std::unique_ptr<HgtRasterReader> HgtRasterReader::open(const std::string& path) 
         fail(path, "an SRTM height file's name must begin with its south-west corner, such as N46W122.hgt "
                    "(latitude N or S 00-89, longitude E or W 000-179)");
     }
-    std::unique_ptr<HgtRasterReader> r(new HgtRasterReader());
-    r->path_ = path;
-    r->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (r->fd_ < 0) {
-        fail(path, std::string("cannot open: ") + std::strerror(errno));
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) {
+        fail(path, "cannot read: " + ec.message());
     }
-    struct stat st {};
-    if (fstat(r->fd_, &st) != 0) {
-        fail(path, std::string("cannot read: ") + std::strerror(errno));
-    }
-    const auto bytes = static_cast<uint64_t>(st.st_size);
+    const auto bytes = static_cast<uint64_t>(size);
     const auto side = static_cast<uint64_t>(std::llround(std::sqrt(static_cast<double>(bytes / 2))));
     if (bytes < 8 || side * side * 2 != bytes || side > 0x7fffffffu) {
         fail(path, "an SRTM height file holds a square of 16-bit heights (1201 x 1201 or 3601 x 3601): " +
                        std::to_string(bytes) + " bytes is none");
     }
-    RasterInfo& info = r->info_;
+    RawGrid grid;
+    RasterInfo& info = grid.info;
     info.width = info.height = static_cast<int>(side);
     info.channels = 1;
     info.type = SampleType::Int16;
@@ -101,30 +89,10 @@ std::unique_ptr<HgtRasterReader> HgtRasterReader::open(const std::string& path) 
     g.pixelToCrs = {longitude - step / 2, step, 0.0, latitude + 1 + step / 2, 0.0, -step};
     g.pixelIsPoint = true;
     info.georeference = g;
-    return r;
-}
-
-HgtRasterReader::~HgtRasterReader() {
-    if (fd_ >= 0) {
-        ::close(fd_);
-    }
-}
-
-bool HgtRasterReader::readFloat(int x0, int y0, int x1, int y1, float* out) const {
-    const auto width = static_cast<size_t>(x1 - x0);
-    thread_local std::vector<uint8_t> row;
-    row.resize(width * 2);
-    for (int y = y0; y < y1; ++y) {
-        const uint64_t offset = (static_cast<uint64_t>(y) * static_cast<uint64_t>(info_.width) + static_cast<uint64_t>(x0)) * 2;
-        if (!readFully(fd_, row.data(), row.size(), offset)) {
-            return false;
-        }
-        float* to = out + static_cast<size_t>(y - y0) * width;
-        for (size_t x = 0; x < width; ++x) {
-            to[x] = static_cast<float>(static_cast<int16_t>(static_cast<uint16_t>((row[2 * x] << 8) | row[2 * x + 1])));
-        }
-    }
-    return true;
+    grid.layout.rowBytes = side * 2;
+    grid.layout.pixelBytes = 2;
+    grid.layout.bigEndian = true;
+    return grid;
 }
 
 } // namespace pyramid
