@@ -103,6 +103,10 @@ TEST(EsriGrid, AsciiGridsAsTheirWritersLayThemOut) {
     ASSERT_TRUE(a->info().georeference);
     EXPECT_EQ(a->info().georeference->epsg, 4326);
     EXPECT_EQ(a->info().georeference->pixelToCrs, (std::array<double, 6>{10.0, 1.0, 0.0, 22.0, 0.0, -1.0}));
+    // A .hdr of the same name beside it is another file's (a.bil's): the ASCII grid is read.
+    writeText(dir.file("a.hdr"), "nrows 1\nncols 1\nnbits 16\n");
+    EXPECT_EQ(readAll(*RasterSource::open(dir.file("a.asc")))[0], 1.5f);
+    EXPECT_EQ(RasterSource::describe(dir.file("a.asc")).formatName, "aaigrid");
     // Without a .prj the grid is unplaced (as any file without a CRS).
     writeText(dir.file("b.asc"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n7\n");
     EXPECT_FALSE(RasterSource::describe(dir.file("b.asc")).georeference);

@@ -80,12 +80,9 @@ RasterInfo RasterSource::describe(const std::string& path) {
     checkRegularFile(path);
     // PNG and JPEG from their headers: opening one would decode it, and an interlaced or
     // progressive image must fit the budget, which a description does not need.
+    // Raw grids last: they have no signature, and a .hdr beside a file may be another's (r.asc
+    // beside r.bil and its r.hdr).
     std::optional<RasterInfo> info = readPlainTiffInfo(path);
-    if (!info) {
-        if (const std::optional<RawGrid> grid = rawGridOf(path)) {
-            info = grid->info;
-        }
-    }
     if (!info) {
         info = describePngRaster(path);
     }
@@ -94,6 +91,11 @@ RasterInfo RasterSource::describe(const std::string& path) {
     }
     if (!info) {
         info = describeAsciiGrid(path);
+    }
+    if (!info) {
+        if (const std::optional<RawGrid> grid = rawGridOf(path)) {
+            info = grid->info;
+        }
     }
     if (!info) {
         return open(path, 1)->info();
@@ -137,13 +139,13 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
             impl.mask = TiffMaskReader::open(path, info.width, info.height, cacheMegabytes);
             info.mask = impl.mask != nullptr;
         }
-    } else if (const std::optional<RawGrid> grid = rawGridOf(path)) {
-        impl.raw = RawGridReader::open(path, *grid);
-        info = impl.raw->info();
     } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
                (impl.decoded = openJpegRaster(path, cacheMegabytes)) ||
                (impl.decoded = openAsciiGrid(path, cacheMegabytes))) {
         info = impl.decoded->info();
+    } else if (const std::optional<RawGrid> grid = rawGridOf(path)) { // as describe(): last
+        impl.raw = RawGridReader::open(path, *grid);
+        info = impl.raw->info();
     } else {
         info = impl.viaModule().info();
         if (!info.nodata && info.formatName == "tiff") {
