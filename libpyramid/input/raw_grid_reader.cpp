@@ -7,6 +7,7 @@
 #include <bit>
 #include <cerrno>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "formats/error.hpp"
@@ -35,24 +36,31 @@ int bytesOf(SampleType type) {
     }
 }
 
-// The sample of type T stored at `at`, in the file's byte order.
-template <typename T>
-T sampleAt(const uint8_t* at, bool bigEndian) {
+template <typename Bits>
+Bits swapped(Bits b) {
+    if constexpr (sizeof(Bits) == 2) {
+        return __builtin_bswap16(b);
+    } else if constexpr (sizeof(Bits) == 4) {
+        return __builtin_bswap32(b);
+    } else if constexpr (sizeof(Bits) == 8) {
+        return __builtin_bswap64(b);
+    } else {
+        return b;
+    }
+}
+
+// `count` samples of type T, `stride` bytes apart from `row`, in the file's byte order (this
+// machine's is little-endian: x86 and ARM Linux), converted to Out by value.
+template <typename T, typename Out>
+void convertRow(const uint8_t* row, size_t count, uint64_t stride, bool bigEndian, Out* out) {
+    static_assert(std::endian::native == std::endian::little);
     using Bits = std::conditional_t<sizeof(T) == 1, uint8_t,
                                     std::conditional_t<sizeof(T) == 2, uint16_t,
                                                        std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
-    Bits bits = 0;
-    for (size_t k = 0; k < sizeof(T); ++k) {
-        const Bits byte = at[bigEndian ? k : sizeof(T) - 1 - k];
-        bits = static_cast<Bits>((sizeof(T) == 1 ? Bits{0} : static_cast<Bits>(bits << 8)) | byte);
-    }
-    return std::bit_cast<T>(bits);
-}
-
-template <typename T, typename Out>
-void convertRow(const uint8_t* row, size_t count, uint64_t stride, bool bigEndian, Out* out) {
     for (size_t x = 0; x < count; ++x) {
-        out[x] = static_cast<Out>(sampleAt<T>(row + x * stride, bigEndian));
+        Bits bits;
+        std::memcpy(&bits, row + x * stride, sizeof(Bits));
+        out[x] = static_cast<Out>(std::bit_cast<T>(bigEndian ? swapped(bits) : bits));
     }
 }
 
