@@ -2,7 +2,8 @@
 # preprocessDem's memory and time on the input layouts real DEMs ship in: the same synthetic
 # heights as an uncompressed TIFF, tiled Deflate with the floating-point predictor (a COG's
 # layout), LZW strips, Deflate strips of one row, one Deflate strip for the whole image,
-# BigTIFF tiles, and a 16-bit PNG. A benchmark, run on demand (never a test).
+# BigTIFF tiles, ESRI's ASCII grid and BIL, and a 16-bit PNG. A benchmark, run on demand (never
+# a test).
 #
 #   bench/input_bench.sh          results in $WORK (default /tmp/pyramid-input-bench)
 #
@@ -42,10 +43,12 @@ for size in $SIZES; do
     for layout in tiled-deflate-p3 lzw-strips deflate-rows one-strip bigtiff-tiled; do
         [ -f "$layout-$size.tif" ] || "$BUILD/bench/tiff_layouts" "dem-$size.tif" "$layout-$size.tif" "$layout"
     done
+    [ -f "ascii-grid-$size.asc" ] || "$BUILD/bench/tiff_layouts" "dem-$size.tif" "ascii-grid-$size.asc" ascii-grid
+    [ -f "bil-$size.bil" ] || "$BUILD/bench/tiff_layouts" "dem-$size.tif" "bil-$size.bil" bil
     # Heights 0..4000 m as 16-bit values (x 0.0001 x 65535: about 6.5 per metre).
     [ -f "png16-$size.png" ] || oiiotool "dem-$size.tif" --mulc 0.0001 -d uint16 -o "png16-$size.png"
     for input in "dem-$size.tif" tiled-deflate-p3-$size.tif lzw-strips-$size.tif deflate-rows-$size.tif \
-        one-strip-$size.tif bigtiff-tiled-$size.tif png16-$size.png; do
+        one-strip-$size.tif bigtiff-tiled-$size.tif ascii-grid-$size.asc bil-$size.bil png16-$size.png; do
         for tool in ours peer; do
             program=$DEM
             if [ "$tool" = peer ]; then

@@ -7,7 +7,9 @@
 // lzw-strips (LZW, 16 rows per strip, floating-point predictor), deflate-rows (Deflate strips of
 // one row), zstd-tiled (512 x 512 tiles), bigtiff-tiled (BigTIFF, 256 x 256 Deflate tiles),
 // int16-deflate (heights rounded to int16, 256 x 256 tiles, horizontal predictor), one-strip
-// (Deflate, the whole image in a single strip).
+// (Deflate, the whole image in a single strip); and ESRI's grids, which are no TIFFs:
+// ascii-grid (OUTPUT.asc, each float32 in the 9 digits that give it back) and bil (OUTPUT.bil,
+// float32 little-endian, with OUTPUT.hdr beside it).
 #include <tiffio.h>
 
 #include <algorithm>
@@ -50,6 +52,39 @@ bool layoutNamed(const std::string& name, uint32_t height, Layout& l) {
     return true;
 }
 
+// ESRI's grids of the input's rows, 1 m cells: a text of the values, or their bytes with a .hdr.
+int writeEsriGrid(TIFF* in, uint32_t width, uint32_t height, const std::string& path, bool ascii) {
+    FILE* out = std::fopen(path.c_str(), "wb");
+    if (!out) {
+        return 1;
+    }
+    if (ascii) {
+        std::fprintf(out, "ncols %u\nnrows %u\nxllcorner 0\nyllcorner 0\ncellsize 1\n", width, height);
+    } else {
+        const std::string hdr = path.substr(0, path.size() - 4) + ".hdr";
+        FILE* h = std::fopen(hdr.c_str(), "wb");
+        if (!h) {
+            return 1;
+        }
+        std::fprintf(h, "BYTEORDER I\nLAYOUT BIL\nNROWS %u\nNCOLS %u\nNBITS 32\nPIXELTYPE FLOAT\n", height, width);
+        std::fclose(h);
+    }
+    std::vector<float> row(width);
+    for (uint32_t y = 0; y < height; ++y) {
+        if (TIFFReadScanline(in, row.data(), y) < 0) {
+            return 1;
+        }
+        if (!ascii) {
+            std::fwrite(row.data(), 4, width, out);
+            continue;
+        }
+        for (uint32_t x = 0; x < width; ++x) {
+            std::fprintf(out, x + 1 < width ? "%.9g " : "%.9g\n", static_cast<double>(row[x]));
+        }
+    }
+    return std::fclose(out) == 0 ? 0 : 1;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -70,6 +105,11 @@ int main(int argc, char** argv) {
     if (bits != 32 || format != SAMPLEFORMAT_IEEEFP || TIFFIsTiled(in)) {
         std::fprintf(stderr, "%s: not a striped float32 TIFF\n", argv[1]);
         return 1;
+    }
+    if (std::string(argv[3]) == "ascii-grid" || std::string(argv[3]) == "bil") {
+        const int rc = writeEsriGrid(in, width, height, argv[2], std::string(argv[3]) == "ascii-grid");
+        TIFFClose(in);
+        return rc;
     }
     Layout l;
     if (!layoutNamed(argv[3], height, l)) {
