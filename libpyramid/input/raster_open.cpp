@@ -10,6 +10,7 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "libpyramid/input/ascii_grid_reader.hpp"
+#include "libpyramid/input/envi_header.hpp"
 #include "libpyramid/input/esri_grid_header.hpp"
 #include "libpyramid/input/georeference.hpp"
 #include "libpyramid/input/hgt_grid.hpp"
@@ -55,10 +56,14 @@ void RasterSource::Impl::readModule(int x0, int y0, int x1, int y1, int c0, int 
 
 namespace {
 
-// The raw grid `path` is, by its name (.hgt) or the header beside it (.hdr); nothing for another.
+// The raw grid `path` is, by its name (.hgt) or the header beside it (ESRI's or ENVI's .hdr);
+// nothing for another.
 std::optional<RawGrid> rawGridOf(const std::string& path) {
     std::optional<RawGrid> grid = hgtGrid(path);
-    return grid ? grid : esriHeaderGrid(path);
+    if (!grid) {
+        grid = esriHeaderGrid(path);
+    }
+    return grid ? grid : enviGrid(path);
 }
 
 void checkRegularFile(const std::string& path) {

@@ -187,18 +187,7 @@ std::optional<Georeference> placed(const std::string& wkt, std::array<double, 6>
     } else {
         epsg = epsgOfWkt(wkt);
     }
-    if (epsg == 0) {
-        return std::nullopt;
-    }
-    Georeference g;
-    try {
-        g = georeferenceOfCrs("EPSG:" + std::to_string(epsg));
-    } catch (const OptionError&) {
-        return std::nullopt;
-    }
-    g.pixelToCrs = t;
-    g.pixelIsPoint = false;
-    return g;
+    return placedInEpsgCrs(epsg, t, where);
 }
 
 } // namespace
@@ -307,6 +296,29 @@ int identifiedByProj(const std::string& wkt) {
 }
 
 } // namespace
+
+std::optional<Georeference> placedInEpsgCrs(int epsg, const std::array<double, 6>& transform, const std::string& where) {
+    if (transform[1] * transform[5] - transform[2] * transform[4] == 0.0) {
+        fail(where, "its transform is singular: it places no pixel");
+    }
+    if (epsg == 0) {
+        return std::nullopt;
+    }
+    Georeference g;
+    try {
+        g = georeferenceOfCrs("EPSG:" + std::to_string(epsg));
+    } catch (const OptionError&) {
+        return std::nullopt;
+    }
+    g.pixelToCrs = transform;
+    g.pixelIsPoint = false;
+    return g;
+}
+
+std::optional<Georeference> placedInWktCrs(const std::string& wkt, const std::array<double, 6>& transform,
+                                           const std::string& where) {
+    return placed(wkt, transform, where);
+}
 
 std::optional<Georeference> sidecarCrsPlacement(const std::string& path, const std::array<double, 6>& transform) {
     std::string where;

@@ -30,6 +30,15 @@ void addSidecarDescription(RasterInfo& info, const std::string& path);
 // Throws as addSidecarDescription.
 std::optional<Georeference> sidecarCrsPlacement(const std::string& path, const std::array<double, 6>& transform);
 
+// A raster placed by `transform` in the CRS that `wkt` names (WKT, or ESRI's old keyword lines), read
+// from `where` (an ENVI header's coordinate system string); nothing as above. Throws naming `where`
+// for a singular transform.
+std::optional<Georeference> placedInWktCrs(const std::string& wkt, const std::array<double, 6>& transform,
+                                           const std::string& where);
+
+// The same in the CRS of EPSG code `epsg` (0: none).
+std::optional<Georeference> placedInEpsgCrs(int epsg, const std::array<double, 6>& transform, const std::string& where);
+
 // The EPSG code of a CRS written as WKT (WKT1, WKT2 or ESRI's): the code its root names
 // (AUTHORITY["EPSG", N] or ID["EPSG", N]), else the one PROJ identifies it as with a confidence of
 // at least 70 %; 0 when there is none.
