@@ -7,23 +7,16 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "formats/error.hpp"
 #include "libpyramid/input/raster_source.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/sidecar_files.hpp"
 
 namespace pyramid {
 namespace {
-
-void writeText(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                                static_cast<std::streamsize>(bytes.size()));
-}
 
 TEST(EnviGrid, GdalsEnviFileReadsAsItsTiff) {
     const auto dem = RasterSource::open(test::samplePath("dem.tif"));
@@ -49,11 +42,11 @@ TEST(EnviGrid, HeadersOfOtherWriters) {
     // PATH.hdr beside a data file, big-endian uint16 bands interleaved by line after a header
     // of 4 bytes, the reference pixel at the first pixel's centre (1.5, 1.5), a map info of its
     // own CRS (UTM zone 10 South), the nodata value.
-    writeText(dir.file("x.dat.hdr"), "ENVI\ndescription = {two\n  lines}\nsamples = 2\nlines = 1\nbands = 2\n"
+    test::writeText(dir.file("x.dat.hdr"), "ENVI\ndescription = {two\n  lines}\nsamples = 2\nlines = 1\nbands = 2\n"
                                      "header offset = 4\ndata type = 12\ninterleave = bil\nbyte order = 1\n"
                                      "map info = {UTM, 1.5, 1.5, 300015, 7000015, 30, 30, 10, South, WGS-84, units=Meters}\n"
                                      "data ignore value = 65535\n");
-    writeBytes(dir.file("x.dat"), {9, 9, 9, 9, 0x01, 0x02, 0xff, 0xff, 0x00, 0x07, 0x00, 0x08});
+    test::writeBytes(dir.file("x.dat"), {9, 9, 9, 9, 0x01, 0x02, 0xff, 0xff, 0x00, 0x07, 0x00, 0x08});
     const auto x = RasterSource::open(dir.file("x.dat"));
     EXPECT_EQ(x->info().type, SampleType::UInt16);
     std::vector<uint16_t> v(4);
@@ -65,8 +58,8 @@ TEST(EnviGrid, HeadersOfOtherWriters) {
     EXPECT_EQ(x->info().georeference->pixelToCrs, (std::array<double, 6>{300000.0, 30.0, 0.0, 7000030.0, 0.0, -30.0}));
 
     // Bands interleaved by pixel, float32 little-endian; no map info: unplaced.
-    writeText(dir.file("p.hdr"), "ENVI\nsamples = 2\nlines = 1\nbands = 2\ndata type = 4\ninterleave = bip\n");
-    writeBytes(dir.file("p.img"), {0, 0, 0x80, 0x3f, 0, 0, 0, 0x40, 0, 0, 0x40, 0x40, 0, 0, 0x80, 0x40});
+    test::writeText(dir.file("p.hdr"), "ENVI\nsamples = 2\nlines = 1\nbands = 2\ndata type = 4\ninterleave = bip\n");
+    test::writeBytes(dir.file("p.img"), {0, 0, 0x80, 0x3f, 0, 0, 0, 0x40, 0, 0, 0x40, 0x40, 0, 0, 0x80, 0x40});
     const auto p = RasterSource::open(dir.file("p.img"));
     float second[2] = {};
     p->readFloat(0, 0, 2, 1, 1, second);
@@ -77,9 +70,9 @@ TEST(EnviGrid, HeadersOfOtherWriters) {
 
 TEST(EnviGrid, HeadersNamingWhatIsNotReadAreRefused) {
     test::TempDir dir;
-    writeBytes(dir.file("a.img"), std::vector<uint8_t>(64, 0));
+    test::writeBytes(dir.file("a.img"), std::vector<uint8_t>(64, 0));
     const auto refusal = [&](const std::string& header) {
-        writeText(dir.file("a.hdr"), "ENVI\n" + header);
+        test::writeText(dir.file("a.hdr"), "ENVI\n" + header);
         return test::errorMessage([&] { RasterSource::open(dir.file("a.img")); });
     };
     const std::string where = dir.file("a.hdr") + ": ";

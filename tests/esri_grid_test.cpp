@@ -9,11 +9,8 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
@@ -21,16 +18,10 @@
 #include "libpyramid/input/raster_source.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/sidecar_files.hpp"
 
 namespace pyramid {
 namespace {
-
-void writeText(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                                static_cast<std::streamsize>(bytes.size()));
-}
 
 std::vector<float> readAll(const RasterSource& source, int channel = 0) {
     const RasterInfo& info = source.info();
@@ -81,21 +72,16 @@ TEST(EsriGrid, GdalsAsciiGridAndBilReadAsTheirTiff) {
     encodeDem(test::dataPath("gdal/window.asc"), dir.file("asc.dat"), o);
     encodeDem(dir.file("window.tif"), dir.file("tif.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("asc.dat")), test::readFile(dir.file("tif.dat")));
-    auto placement = [&](const std::string& name) {
-        nlohmann::json j = nlohmann::json::parse(test::readFile(dir.file(name + ".georef.json")));
-        j.erase("pyramid");
-        return j;
-    };
-    EXPECT_EQ(placement("asc.dat"), placement("tif.dat"));
+    EXPECT_EQ(test::placementOf(dir.file("asc.dat")), test::placementOf(dir.file("tif.dat")));
 }
 
 TEST(EsriGrid, AsciiGridsAsTheirWritersLayThemOut) {
     test::TempDir dir;
     // Keywords in any case, the centre of the lower-left cell, values across lines as they
     // come (not one row a line), signs, exponents, CRLF, the nodata value.
-    writeText(dir.file("a.asc"), "NCOLS 3\r\nNROWS 2\r\nXLLCENTER 10.5\r\nYLLCENTER 20.5\r\nCELLSIZE 1\r\n"
+    test::writeText(dir.file("a.asc"), "NCOLS 3\r\nNROWS 2\r\nXLLCENTER 10.5\r\nYLLCENTER 20.5\r\nCELLSIZE 1\r\n"
                                  "NODATA_VALUE -9999\r\n 1.5 +2 -3e2\r\n4 -9999\r\n 6.25\r\n");
-    writeText(dir.file("a.prj"), "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
+    test::writeText(dir.file("a.prj"), "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
                                  "PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433],AUTHORITY[\"EPSG\",\"4326\"]]");
     const auto a = RasterSource::open(dir.file("a.asc"));
     EXPECT_EQ(readAll(*a), (std::vector<float>{1.5f, 2.0f, -300.0f, 4.0f, -9999.0f, 6.25f}));
@@ -104,11 +90,11 @@ TEST(EsriGrid, AsciiGridsAsTheirWritersLayThemOut) {
     EXPECT_EQ(a->info().georeference->epsg, 4326);
     EXPECT_EQ(a->info().georeference->pixelToCrs, (std::array<double, 6>{10.0, 1.0, 0.0, 22.0, 0.0, -1.0}));
     // A .hdr of the same name beside it is another file's (a.bil's): the ASCII grid is read.
-    writeText(dir.file("a.hdr"), "nrows 1\nncols 1\nnbits 16\n");
+    test::writeText(dir.file("a.hdr"), "nrows 1\nncols 1\nnbits 16\n");
     EXPECT_EQ(readAll(*RasterSource::open(dir.file("a.asc")))[0], 1.5f);
     EXPECT_EQ(RasterSource::describe(dir.file("a.asc")).formatName, "aaigrid");
     // Without a .prj the grid is unplaced (as any file without a CRS).
-    writeText(dir.file("b.asc"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n7\n");
+    test::writeText(dir.file("b.asc"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n7\n");
     EXPECT_FALSE(RasterSource::describe(dir.file("b.asc")).georeference);
 
     // A grid larger than the cache budget is decoded into a scratch file: the same values.
@@ -121,7 +107,7 @@ TEST(EsriGrid, AsciiGridsAsTheirWritersLayThemOut) {
             text += std::to_string(v) + (x == 599 ? "\n" : " ");
         }
     }
-    writeText(dir.file("big.asc"), text);
+    test::writeText(dir.file("big.asc"), text);
     EXPECT_EQ(readAll(*RasterSource::open(dir.file("big.asc"), 1)), expected); // 1.4 MB > 1 MB
     EXPECT_EQ(readAll(*RasterSource::open(dir.file("big.asc"), 64)), expected);
 }
@@ -130,7 +116,7 @@ TEST(EsriGrid, AsciiGridsThatDoNotHoldTheirHeadersValuesAreRefused) {
     test::TempDir dir;
     const std::string header = "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
     const auto readError = [&](const std::string& name, const std::string& values) {
-        writeText(dir.file(name), header + values);
+        test::writeText(dir.file(name), header + values);
         return test::errorMessage([&] { readAll(*RasterSource::open(dir.file(name))); });
     };
     EXPECT_EQ(readError("few.asc", "1 2 3\n4 5\n"),
@@ -140,10 +126,10 @@ TEST(EsriGrid, AsciiGridsThatDoNotHoldTheirHeadersValuesAreRefused) {
     EXPECT_EQ(readError("word.asc", "1 2 3\n4 x5 6\n"), dir.file("word.asc") + ": row 1, column 1: \"x5\" is not a number");
     EXPECT_EQ(readError("huge.asc", "1 2 3\n4 5 1e39\n"),
               dir.file("huge.asc") + ": row 1, column 2: \"1e39\" is beyond float32's range");
-    writeText(dir.file("rows.asc"), "ncols 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n");
+    test::writeText(dir.file("rows.asc"), "ncols 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::describe(dir.file("rows.asc")); }),
               dir.file("rows.asc") + ": an ASCII grid's header needs nrows, a whole number from 1");
-    writeText(dir.file("cell.asc"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize -1\n1\n");
+    test::writeText(dir.file("cell.asc"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize -1\n1\n");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::describe(dir.file("cell.asc")); }),
               dir.file("cell.asc") + ": the cell size must be positive, not -1");
 }
@@ -192,8 +178,8 @@ TEST(EsriGrid, HdrGridsOfEveryLayoutAndWriter) {
         if (layout != "BSQ") {
             hdr += "TOTALROWBYTES 30\n";
         }
-        writeText(dir.file(name + ".hdr"), hdr);
-        writeBytes(dir.file(name + ".bil"), bands(layout, 6, layout == "BSQ" ? 0 : 6));
+        test::writeText(dir.file(name + ".hdr"), hdr);
+        test::writeBytes(dir.file(name + ".bil"), bands(layout, 6, layout == "BSQ" ? 0 : 6));
         const auto s = RasterSource::open(dir.file(name + ".bil"));
         EXPECT_EQ(s->info().type, SampleType::UInt16) << layout;
         EXPECT_EQ(s->info().channels, 3) << layout;
@@ -206,12 +192,12 @@ TEST(EsriGrid, HdrGridsOfEveryLayoutAndWriter) {
     }
 
     // ArcGIS's float grid: .flt, byteorder LSBFIRST, the lower-left corner, its nodata.
-    writeText(dir.file("f.hdr"), "ncols 2\nnrows 2\nxllcorner 300000\nyllcorner 4000000\ncellsize 10\n"
+    test::writeText(dir.file("f.hdr"), "ncols 2\nnrows 2\nxllcorner 300000\nyllcorner 4000000\ncellsize 10\n"
                                  "NODATA_value -9999\nbyteorder LSBFIRST\n");
     const std::vector<float> fv = {1.25f, -9999.0f, 3.5f, 1e-3f};
     std::vector<uint8_t> fb(16);
     std::memcpy(fb.data(), fv.data(), 16); // this machine's order is little-endian
-    writeBytes(dir.file("f.flt"), fb);
+    test::writeBytes(dir.file("f.flt"), fb);
     const auto f = RasterSource::open(dir.file("f.flt"));
     EXPECT_EQ(f->info().type, SampleType::Float32);
     EXPECT_EQ(readAll(*f), fv);
@@ -219,14 +205,14 @@ TEST(EsriGrid, HdrGridsOfEveryLayoutAndWriter) {
 
     // GTOPO30: NBITS 16 without PIXELTYPE and a negative NODATA (signed, as GDAL reads it), the
     // old-style .prj in capitals, the upper-left pixel's centre.
-    writeText(dir.file("W140N40.HDR"), "BYTEORDER M\nLAYOUT BIL\nNROWS 2\nNCOLS 2\nNBANDS 1\nNBITS 16\n"
+    test::writeText(dir.file("W140N40.HDR"), "BYTEORDER M\nLAYOUT BIL\nNROWS 2\nNCOLS 2\nNBANDS 1\nNBITS 16\n"
                                        "BANDROWBYTES 4\nTOTALROWBYTES 4\nBANDGAPBYTES 0\nNODATA -9999\n"
                                        "ULXMAP -139.99583333333334\nULYMAP 39.99583333333333\n"
                                        "XDIM 0.00833333333333\nYDIM 0.00833333333333\n");
-    writeText(dir.file("W140N40.PRJ"), "Projection    GEOGRAPHIC\nDatum         WGS84\nZunits        METERS\n"
+    test::writeText(dir.file("W140N40.PRJ"), "Projection    GEOGRAPHIC\nDatum         WGS84\nZunits        METERS\n"
                                        "Units         DD\nSpheroid      WGS84\nXshift        0.0000000000\n"
                                        "Yshift        0.0000000000\nParameters\n");
-    writeBytes(dir.file("W140N40.DEM"), {0xd8, 0xf1, 0x00, 0x10, 0x12, 0x34, 0xff, 0xfe});
+    test::writeBytes(dir.file("W140N40.DEM"), {0xd8, 0xf1, 0x00, 0x10, 0x12, 0x34, 0xff, 0xfe});
     const auto g = RasterSource::open(dir.file("W140N40.DEM"));
     EXPECT_EQ(g->info().type, SampleType::Int16);
     EXPECT_EQ(readAll(*g), (std::vector<float>{-9999.0f, 16.0f, 4660.0f, -2.0f}));
@@ -237,38 +223,38 @@ TEST(EsriGrid, HdrGridsOfEveryLayoutAndWriter) {
 
     // Old-style .prj of a UTM zone (NAD83) and of seconds of arc; no NBITS nor PIXELTYPE: the
     // type is the file's size per sample (4 bytes: float32, as GDAL guesses).
-    writeText(dir.file("u.hdr"), "nrows 1\nncols 1\nbyteorder I\nulxmap 500005\nulymap 4000005\nxdim 10\nydim 10\n");
-    writeText(dir.file("u.prj"), "Projection UTM\nZone 10\nDatum NAD83\nUnits METERS\nParameters\n");
-    writeBytes(dir.file("u.bil"), {0x00, 0x00, 0x20, 0x41});
+    test::writeText(dir.file("u.hdr"), "nrows 1\nncols 1\nbyteorder I\nulxmap 500005\nulymap 4000005\nxdim 10\nydim 10\n");
+    test::writeText(dir.file("u.prj"), "Projection UTM\nZone 10\nDatum NAD83\nUnits METERS\nParameters\n");
+    test::writeBytes(dir.file("u.bil"), {0x00, 0x00, 0x20, 0x41});
     const auto u = RasterSource::open(dir.file("u.bil"));
     EXPECT_EQ(u->info().type, SampleType::Float32);
     EXPECT_EQ(readAll(*u), std::vector<float>{10.0f});
     EXPECT_EQ(u->info().georeference->epsg, 26910);
-    writeText(dir.file("s.hdr"), "nrows 1\nncols 1\nnbits 8\nulxmap 1800\nulymap 5400\nxdim 3600\nydim 3600\n");
-    writeText(dir.file("s.prj"), "Projection GEOGRAPHIC\nDatum WGS84\nUnits DS\nParameters\n");
-    writeBytes(dir.file("s.bil"), {7});
+    test::writeText(dir.file("s.hdr"), "nrows 1\nncols 1\nnbits 8\nulxmap 1800\nulymap 5400\nxdim 3600\nydim 3600\n");
+    test::writeText(dir.file("s.prj"), "Projection GEOGRAPHIC\nDatum WGS84\nUnits DS\nParameters\n");
+    test::writeBytes(dir.file("s.bil"), {7});
     EXPECT_EQ(RasterSource::describe(dir.file("s.bil")).georeference->pixelToCrs,
               (std::array<double, 6>{0.0, 1.0, 0.0, 2.0, 0.0, -1.0}));
 }
 
 TEST(EsriGrid, HdrGridsThatDoNotFitTheirDataAreRefused) {
     test::TempDir dir;
-    writeText(dir.file("a.hdr"), "nrows 2\nncols 2\nnbits 16\n");
-    writeBytes(dir.file("a.bil"), {1, 2, 3, 4, 5, 6});
+    test::writeText(dir.file("a.hdr"), "nrows 2\nncols 2\nnbits 16\n");
+    test::writeBytes(dir.file("a.bil"), {1, 2, 3, 4, 5, 6});
     EXPECT_EQ(test::errorMessage([&] { RasterSource::open(dir.file("a.bil")); }),
               dir.file("a.bil") + ": holds 6 bytes, too few for 2 x 2 samples of 1 band(s) of uint16 as its header "
                                   "lays them out");
-    writeText(dir.file("a.hdr"), "nrows 2\nncols 2\nnbits 4\n");
+    test::writeText(dir.file("a.hdr"), "nrows 2\nncols 2\nnbits 4\n");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::open(dir.file("a.bil")); }),
               dir.file("a.hdr") + ": NBITS 4 with PIXELTYPE unset: samples of 8, 16 or 32 bits (64 for floats) are read");
-    writeText(dir.file("a.hdr"), "nrows 2\nncols 2\nlayout BIX\n");
+    test::writeText(dir.file("a.hdr"), "nrows 2\nncols 2\nlayout BIX\n");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::open(dir.file("a.bil")); }),
               dir.file("a.hdr") + ": LAYOUT BIX: BIL, BIP or BSQ are read");
-    writeText(dir.file("a.hdr"), "nrows 2\nncols 2.5\n");
+    test::writeText(dir.file("a.hdr"), "nrows 2\nncols 2.5\n");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::open(dir.file("a.bil")); }),
               dir.file("a.hdr") + ": ncols must be a whole number from 1, not 2.5");
     // Heights are no colours.
-    writeText(dir.file("a.hdr"), "nrows 1\nncols 1\nnbits 16\npixeltype signedint\n");
+    test::writeText(dir.file("a.hdr"), "nrows 1\nncols 1\nnbits 16\npixeltype signedint\n");
     std::vector<uint16_t> v(1);
     EXPECT_EQ(test::errorMessage([&] { RasterSource::open(dir.file("a.bil"))->readUInt16(0, 0, 1, 1, 0, 1, v.data()); }),
               dir.file("a.bil") + ": holds int16 samples, not 8 or 16-bit colours");
@@ -277,11 +263,11 @@ TEST(EsriGrid, HdrGridsThatDoNotFitTheirDataAreRefused) {
 TEST(EsriGrid, ADirectoryOfAsciiTilesIsAMosaic) {
     test::TempDir dir;
     // Two 3 x 2 tiles side by side, on one 1 m grid.
-    writeText(dir.file("w.asc"), "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 5 6\n");
-    writeText(dir.file("e.asc"), "ncols 3\nnrows 2\nxllcorner 3\nyllcorner 0\ncellsize 1\n7 8 9\n10 11 12\n");
+    test::writeText(dir.file("w.asc"), "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 5 6\n");
+    test::writeText(dir.file("e.asc"), "ncols 3\nnrows 2\nxllcorner 3\nyllcorner 0\ncellsize 1\n7 8 9\n10 11 12\n");
     const std::string prj = "PROJCS[\"WGS 84 / UTM zone 10N\",GEOGCS[\"WGS 84\"],AUTHORITY[\"EPSG\",\"32610\"]]";
-    writeText(dir.file("w.prj"), prj);
-    writeText(dir.file("e.prj"), prj);
+    test::writeText(dir.file("w.prj"), prj);
+    test::writeText(dir.file("e.prj"), prj);
     const InputList inputs = expandInputs({dir.path()});
     ASSERT_EQ(inputs.paths.size(), 2u);
     const auto mosaic = RasterSource::openMosaic(inputs.paths);

@@ -7,12 +7,9 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
@@ -20,6 +17,7 @@
 #include "libpyramid/input/sidecar_georeference.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/sidecar_files.hpp"
 #include "tests/support/rasters.hpp"
 
 namespace pyramid {
@@ -46,8 +44,6 @@ const char* const kGeographicWkt1 =
     "AUTHORITY[\"EPSG\",\"6326\"]],PRIMEM[\"Greenwich\",0,AUTHORITY[\"EPSG\",\"8901\"]],UNIT[\"degree\","
     "0.0174532925199433,AUTHORITY[\"EPSG\",\"9122\"]],AXIS[\"Latitude\",NORTH],AXIS[\"Longitude\",EAST],"
     "AUTHORITY[\"EPSG\",\"4326\"]]";
-
-void writeText(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 // Heights 100..1100 as 16-bit samples, a 65 x 65 grid.
 std::vector<uint16_t> heights() {
@@ -76,8 +72,8 @@ TEST(SidecarGeoreference, AWorldFileAndPrjPlaceAPngAsItsGeoTiff) {
     const std::vector<uint16_t> v = heights();
     // The PNG: a world file (the top-left pixel's centre) and ESRI's .prj.
     test::writeImage(dir.file("dem.png"), 65, 65, 1, v, true);
-    writeText(dir.file("dem.pgw"), "30.0\n0.0\n0.0\n-30.0\n500015.0\n4999985.0\n");
-    writeText(dir.file("dem.prj"), kUtmEsri);
+    test::writeText(dir.file("dem.pgw"), "30.0\n0.0\n0.0\n-30.0\n500015.0\n4999985.0\n");
+    test::writeText(dir.file("dem.prj"), kUtmEsri);
     // The GeoTIFF: the same samples, its corner at (500000, 5000000).
     test::writeGeoTiffInt16(dir.file("dem.tif"), 65, 65, std::vector<int16_t>(v.begin(), v.end()),
                             test::projectedTags(32610, 500000.0, 5000000.0, 30.0));
@@ -94,22 +90,17 @@ TEST(SidecarGeoreference, AWorldFileAndPrjPlaceAPngAsItsGeoTiff) {
     encodeDem(dir.file("dem.png"), dir.file("png.dat"), o);
     encodeDem(dir.file("dem.tif"), dir.file("tif.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("png.dat")), test::readFile(dir.file("tif.dat")));
-    auto placement = [&](const std::string& name) {
-        nlohmann::json j = nlohmann::json::parse(test::readFile(dir.file(name + ".georef.json")));
-        j.erase("pyramid");
-        return j;
-    };
-    EXPECT_EQ(placement("png.dat"), placement("tif.dat"));
+    EXPECT_EQ(test::placementOf(dir.file("png.dat")), test::placementOf(dir.file("tif.dat")));
 
     // A GeoTIFF's own tags come first: a world file beside it changes nothing.
-    writeText(dir.file("dem.tfw"), "1\n0\n0\n-1\n0.5\n-0.5\n");
+    test::writeText(dir.file("dem.tfw"), "1\n0\n0\n-1\n0.5\n-0.5\n");
     EXPECT_EQ(RasterSource::describe(dir.file("dem.tif")).georeference->pixelToCrs[0], 500000.0);
 }
 
 TEST(SidecarGeoreference, GdalsPamFilePlacesAndDescribesAPng) {
     test::TempDir dir;
     test::writeImage(dir.file("dem.png"), 65, 65, 1, heights(), true);
-    writeText(dir.file("dem.png.aux.xml"),
+    test::writeText(dir.file("dem.png.aux.xml"),
               std::string("<PAMDataset>\n  <SRS dataAxisToSRSAxisMapping=\"2,1\">") + kGeographicWkt1 +
                   "</SRS>\n  <GeoTransform> -1.2200041666666667e+02,  8.3333333333333339e-04,  "
                   "0.0000000000000000e+00,  4.7000416666666666e+01,  0.0000000000000000e+00, "
@@ -139,29 +130,29 @@ TEST(SidecarGeoreference, SidecarsThatPlaceNothingOrCannotBeReadAreNamed) {
     const std::vector<uint16_t> v = heights();
     test::writeImage(dir.file("a.png"), 65, 65, 1, v, true);
     test::writeImage(dir.file("b.png"), 65, 65, 1, v, true);
-    writeText(dir.file("a.wld"), "30 0 0 -30 500015 4999985");
-    writeText(dir.file("b.wld"), "30 0 0 -30 501965 4999985");
+    test::writeText(dir.file("a.wld"), "30 0 0 -30 500015 4999985");
+    test::writeText(dir.file("b.wld"), "30 0 0 -30 501965 4999985");
     // No CRS: the file stays unplaced, as without its world file; a mosaic of such is refused.
     EXPECT_FALSE(RasterSource::describe(dir.file("a.png")).georeference);
     EXPECT_NE(test::errorMessage([&] { RasterSource::openMosaic({dir.file("a.png"), dir.file("b.png")}); })
                   .find("a.png: has no georeferencing (no GeoTIFF tags, nor a world file with a CRS"),
               std::string::npos);
     // With a CRS each, the two join side by side.
-    writeText(dir.file("a.prj"), kUtmWkt1);
-    writeText(dir.file("b.prj"), kUtmWkt1);
+    test::writeText(dir.file("a.prj"), kUtmWkt1);
+    test::writeText(dir.file("b.prj"), kUtmWkt1);
     EXPECT_EQ(RasterSource::openMosaic({dir.file("a.png"), dir.file("b.png")})->info().width, 130);
 
-    writeText(dir.file("a.wld"), "30 0 0 -30 500015");
+    test::writeText(dir.file("a.wld"), "30 0 0 -30 500015");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::describe(dir.file("a.png")); }),
               dir.file("a.wld") + ": a world file holds 6 numbers, not 5");
-    writeText(dir.file("a.wld"), "30 0 0 0 500015 4999985");
+    test::writeText(dir.file("a.wld"), "30 0 0 0 500015 4999985");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::describe(dir.file("a.png")); }),
               dir.file("a.wld") + ": its transform is singular: it places no pixel");
     // A CRS of no EPSG code (a local plan, a body of the IAU's): unplaced, as before.
-    writeText(dir.file("a.wld"), "30 0 0 -30 500015 4999985");
-    writeText(dir.file("a.prj"), "LOCAL_CS[\"a plan\"]");
+    test::writeText(dir.file("a.wld"), "30 0 0 -30 500015 4999985");
+    test::writeText(dir.file("a.prj"), "LOCAL_CS[\"a plan\"]");
     EXPECT_FALSE(RasterSource::describe(dir.file("a.png")).georeference);
-    writeText(dir.file("b.png.aux.xml"), "<PAMDataset><GeoTransform>1,2</PAMDataset>");
+    test::writeText(dir.file("b.png.aux.xml"), "<PAMDataset><GeoTransform>1,2</PAMDataset>");
     EXPECT_NE(test::errorMessage([&] { RasterSource::describe(dir.file("b.png")); }).find(dir.file("b.png.aux.xml") + ": malformed XML"),
               std::string::npos);
 }

@@ -14,6 +14,7 @@
 #include "formats/error.hpp"
 #include "libpyramid/input/esri_grid_header.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -29,13 +30,6 @@ const std::set<std::string>& headerKeywords() {
     static const std::set<std::string> k = {"ncols",     "nrows",     "xllcorner", "xllcenter", "yllcorner",
                                             "yllcenter", "cellsize",  "dx",        "dy",        "nodata_value"};
     return k;
-}
-
-std::string lower(std::string s) {
-    for (char& c : s) {
-        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    }
-    return s;
 }
 
 struct Header {
@@ -96,7 +90,7 @@ std::optional<Header> readHeader(const std::string& path) {
         for (; k < lineEnd && !isBlank(text[k]); ++k) {
             value += text[k];
         }
-        key = lower(key);
+        key = lowerAsciiText(key);
         if (!headerKeywords().count(key)) {
             if (keys.empty()) {
                 return std::nullopt; // not an ASCII grid

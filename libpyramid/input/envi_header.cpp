@@ -20,13 +20,6 @@ namespace {
 
 constexpr uintmax_t kMaxHeaderBytes = 1 << 20; // wavelength lists of hyperspectral bands stay below
 
-std::string lower(std::string s) {
-    for (char& c : s) {
-        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    }
-    return s;
-}
-
 std::string trimmed(const std::string& s) {
     const size_t a = s.find_first_not_of(" \t\r\n");
     const size_t b = s.find_last_not_of(" \t\r\n");
@@ -35,7 +28,7 @@ std::string trimmed(const std::string& s) {
 
 // The header of `path` (FILE.hdr, else PATH.hdr) when it is ENVI's, and its name.
 std::optional<std::string> headerText(const std::string& path, std::string& name) {
-    if (lower(fs::path(path).extension().string()) == ".hdr") {
+    if (lowerAsciiText(fs::path(path).extension().string()) == ".hdr") {
         return std::nullopt;
     }
     for (const std::string& candidate : {fs::path(path).replace_extension(".hdr").string(), path + ".hdr"}) {
@@ -67,7 +60,7 @@ std::map<std::string, std::string> keysOf(const std::string& text) {
             at = lineEnd;
             continue;
         }
-        const std::string key = lower(trimmed(text.substr(at, eq - at)));
+        const std::string key = lowerAsciiText(trimmed(text.substr(at, eq - at)));
         size_t valueStart = text.find_first_not_of(" \t", eq + 1);
         size_t end = 0;
         std::string value;
@@ -117,8 +110,8 @@ uint64_t whole(const std::map<std::string, std::string>& keys, const std::string
 
 // The EPSG code of map info's own CRS (its projection name, zone, hemisphere and datum); 0 for another.
 int epsgOfMapInfo(const std::vector<std::string>& m) {
-    const std::string projection = lower(m[0]);
-    const auto datumAt = [&](size_t k) { return k < m.size() ? lower(m[k]) : std::string(); };
+    const std::string projection = lowerAsciiText(m[0]);
+    const auto datumAt = [&](size_t k) { return k < m.size() ? lowerAsciiText(m[k]) : std::string(); };
     if (projection == "geographic lat/lon") {
         const std::string datum = datumAt(7);
         return datum == "wgs-84" ? 4326 : datum == "north america 1983" ? 4269 : datum == "north america 1927" ? 4267 : 0;
@@ -129,7 +122,7 @@ int epsgOfMapInfo(const std::vector<std::string>& m) {
             return 0;
         }
         const int z = static_cast<int>(*zone);
-        const bool south = lower(m[8]) == "south";
+        const bool south = lowerAsciiText(m[8]) == "south";
         const std::string datum = datumAt(9);
         if (datum == "wgs-84") {
             return (south ? 32700 : 32600) + z;
@@ -184,7 +177,7 @@ std::optional<RawGrid> enviGrid(const std::string& path) {
         fail(where, "byte order = " + std::to_string(order) + ": 0 (little-endian) or 1 (big-endian)");
     }
     l.bigEndian = order == 1;
-    const std::string interleave = keys.count("interleave") ? lower(keys.at("interleave")) : "bsq";
+    const std::string interleave = keys.count("interleave") ? lowerAsciiText(keys.at("interleave")) : "bsq";
     if (interleave == "bsq") {
         l.pixelBytes = size;
         l.rowBytes = width * size;
@@ -218,7 +211,7 @@ std::optional<RawGrid> enviGrid(const std::string& path) {
             n[k] = *v;
         }
         for (const std::string& item : m) {
-            if (lower(item).rfind("rotation", 0) == 0) {
+            if (lowerAsciiText(item).rfind("rotation", 0) == 0) {
                 fail(where, "map info's rotation is not read: give the raster unrotated");
             }
         }

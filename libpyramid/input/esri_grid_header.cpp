@@ -19,16 +19,9 @@ namespace {
 
 constexpr uintmax_t kMaxHeaderBytes = 64 << 10;
 
-std::string lower(std::string s) {
-    for (char& c : s) {
-        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    }
-    return s;
-}
-
 // The header beside `path`, and its name; nothing when there is none.
 std::optional<std::string> headerText(const std::string& path, std::string& name) {
-    const std::string ext = lower(fs::path(path).extension().string());
+    const std::string ext = lowerAsciiText(fs::path(path).extension().string());
     if (ext == ".hdr" || ext.empty()) {
         return std::nullopt;
     }
@@ -60,7 +53,7 @@ EsriKeys keysOf(const std::string& text) {
         std::istringstream words(line);
         std::string key, value;
         if (words >> key >> value) {
-            keys.emplace(lower(key), value);
+            keys.emplace(lowerAsciiText(key), value);
         }
     }
     return keys;
@@ -131,7 +124,7 @@ std::optional<std::array<double, 6>> esriTransform(const EsriKeys& keys, int row
 std::optional<RawGrid> esriHeaderGrid(const std::string& path) {
     std::string where;
     const std::optional<std::string> text = headerText(path, where);
-    if (!text || lower(text->substr(0, 4)) == "envi") {
+    if (!text || lowerAsciiText(text->substr(0, 4)) == "envi") {
         return std::nullopt;
     }
     const EsriKeys keys = keysOf(*text);
@@ -161,7 +154,7 @@ std::optional<RawGrid> esriHeaderGrid(const std::string& path) {
             pixelType = perSample == 4 ? 'F' : pixelType;
         }
     }
-    if (pixelType == 'N' && lower(fs::path(path).extension().string()) == ".flt") {
+    if (pixelType == 'N' && lowerAsciiText(fs::path(path).extension().string()) == ".flt") {
         pixelType = 'F';
     }
     if (pixelType == 'N' && info.nodata && *info.nodata < 0) {
@@ -184,10 +177,10 @@ std::optional<RawGrid> esriHeaderGrid(const std::string& path) {
     // Where each sample lies.
     const uint64_t size = static_cast<uint64_t>(bits / 8);
     const auto width = static_cast<uint64_t>(info.width), bands = static_cast<uint64_t>(info.channels);
-    const std::string layout = keys.count("layout") ? lower(keys.at("layout")) : "bil";
+    const std::string layout = keys.count("layout") ? lowerAsciiText(keys.at("layout")) : "bil";
     RawGridLayout& l = grid.layout;
     l.offset = byteCount(keys, "skipbytes", 0, where);
-    const std::string order = keys.count("byteorder") ? lower(keys.at("byteorder")) : "m";
+    const std::string order = keys.count("byteorder") ? lowerAsciiText(keys.at("byteorder")) : "m";
     l.bigEndian = !(order[0] == 'i' || order[0] == 'l');
     if (layout == "bil") {
         l.pixelBytes = size;

@@ -59,6 +59,14 @@ inline std::optional<std::vector<uint8_t>> bytesOfHex(std::string_view text) {
 // ASCII letters lowered; every other byte as it is (no locale).
 inline char lowerAscii(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
+// `s` with its ASCII capitals in lower case (keywords of headers written in any case).
+inline std::string lowerAsciiText(std::string s) {
+    for (char& c : s) {
+        c = lowerAscii(c);
+    }
+    return s;
+}
+
 inline bool equalNoCase(std::string_view a, std::string_view b) {
     return a.size() == b.size() &&
            std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return lowerAscii(x) == lowerAscii(y); });
