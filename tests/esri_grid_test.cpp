@@ -119,13 +119,18 @@ TEST(EsriGrid, AsciiGridsThatDoNotHoldTheirHeadersValuesAreRefused) {
         test::writeText(dir.file(name), header + values);
         return test::errorMessage([&] { readAll(*RasterSource::open(dir.file(name))); });
     };
-    EXPECT_EQ(readError("few.asc", "1 2 3\n4 5\n"),
+    EXPECT_EQ(readError("few.asc", "10 20 30\n40 50\n"),
               dir.file("few.asc") + ": ends after 5 of the 3 x 2 values its header gives");
     EXPECT_EQ(readError("more.asc", "1 2 3\n4 5 6\n7\n"),
               dir.file("more.asc") + ": holds more values than the 3 x 2 its header gives");
     EXPECT_EQ(readError("word.asc", "1 2 3\n4 x5 6\n"), dir.file("word.asc") + ": row 1, column 1: \"x5\" is not a number");
     EXPECT_EQ(readError("huge.asc", "1 2 3\n4 5 1e39\n"),
               dir.file("huge.asc") + ": row 1, column 2: \"1e39\" is beyond float32's range");
+    // A header giving more values than its file's bytes can hold: refused at once, before a row
+    // of 2^31 - 1 values is allocated.
+    test::writeText(dir.file("wide.asc"), "ncols 2147483647\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n");
+    EXPECT_EQ(test::errorMessage([&] { RasterSource::open(dir.file("wide.asc")); }),
+              dir.file("wide.asc") + ": holds 66 bytes, too few for the 2147483647 x 1 values its header gives");
     test::writeText(dir.file("rows.asc"), "ncols 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n");
     EXPECT_EQ(test::errorMessage([&] { RasterSource::describe(dir.file("rows.asc")); }),
               dir.file("rows.asc") + ": an ASCII grid's header needs nrows, a whole number from 1");

@@ -1,6 +1,7 @@
 #include "libpyramid/input/ascii_grid_reader.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -60,6 +61,13 @@ public:
         }
     }
     void seek(size_t offset) const { ::lseek(fd_, static_cast<off_t>(offset), SEEK_SET); }
+    uint64_t size(const std::string& path) const {
+        struct stat st {};
+        if (fstat(fd_, &st) != 0) {
+            fail(path, std::string("cannot read: ") + std::strerror(errno));
+        }
+        return static_cast<uint64_t>(st.st_size);
+    }
 
 private:
     int fd_;
@@ -121,6 +129,14 @@ std::optional<Header> readHeader(const std::string& path) {
     info.type = SampleType::Float32;
     info.formatName = "aaigrid";
     info.nodata = esriNumber(keys, "nodata_value", path);
+    // Each value takes a character and a separator (the last none): a header giving more values
+    // than its file can hold is refused before any row is allocated.
+    const double values = static_cast<double>(info.width) * info.height;
+    const double bytes = static_cast<double>(file.size(path)) - static_cast<double>(at);
+    if (bytes < 2.0 * values - 1.0) {
+        fail(path, "holds " + std::to_string(file.size(path)) + " bytes, too few for the " +
+                       std::to_string(info.width) + " x " + std::to_string(info.height) + " values its header gives");
+    }
     if (const std::optional<std::array<double, 6>> t = esriTransform(keys, info.height, path)) {
         info.georeference = sidecarCrsPlacement(path, *t);
     }

@@ -6,7 +6,8 @@
 // up to 2^24), as the text is decoded once, whole, by DecodedRows (decoded_rows.hpp: in memory or
 // a scratch file, on a thread of its own while the rows decoded so far are read). A value that
 // is no number, or beyond float32's range, and a file that holds fewer or more values than its
-// header gives, are errors naming the file (and the row and column).
+// header gives, are errors naming the file (and the row and column); a header giving more values
+// than the file's bytes could hold is refused as it is read, before any row is allocated.
 #pragma once
 #include <memory>
 #include <optional>
