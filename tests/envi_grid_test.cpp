@@ -84,6 +84,9 @@ TEST(EnviGrid, HeadersNamingWhatIsNotReadAreRefused) {
     EXPECT_EQ(refusal("samples = 2\nlines = 2\ndata type = 1\nmap info = {UTM, 1, 1, 0, 0, 1, 1, 10, North, WGS-84, "
                       "rotation=30}\n"),
               where + "map info's rotation is not read: give the raster unrotated");
+    // A braced value across lines is quoted on one line.
+    EXPECT_EQ(refusal("samples = 2\nlines = 2\ndata type = 1\nmap info = {UTM, 1, 1,\n x, 0, 1, 1}\n"),
+              where + "map info = {UTM, 1, 1,  x, 0, 1, 1}: items 2 to 7 must be numbers");
     EXPECT_EQ(refusal("samples = 16\nlines = 2\nbands = 3\ndata type = 2\n"),
               dir.file("a.img") + ": holds 64 bytes, too few for 16 x 2 samples of 3 band(s) of int16 as its header "
                                   "lays them out");

@@ -46,7 +46,15 @@ std::optional<std::string> headerText(const std::string& path, std::string& name
     return std::nullopt;
 }
 
-// key (lower case, spaces kept) -> value (braces removed), a braced value across lines.
+// `text` on one line (a braced value may span several), for a message.
+std::string oneLine(std::string text) {
+    for (char& c : text) {
+        c = (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
+    }
+    return text;
+}
+
+// key (lower case, spaces kept) -> value (braces removed, on one line), a braced value across lines.
 std::map<std::string, std::string> keysOf(const std::string& text) {
     std::map<std::string, std::string> keys;
     size_t at = text.find('\n');
@@ -72,7 +80,7 @@ std::map<std::string, std::string> keysOf(const std::string& text) {
             end = text.find('\n', eq);
             value = text.substr(eq + 1, (end == std::string::npos ? text.size() : end) - eq - 1);
         }
-        keys[key] = trimmed(value);
+        keys[key] = trimmed(oneLine(value));
         at = end;
     }
     return keys;
