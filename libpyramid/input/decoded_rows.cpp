@@ -185,6 +185,11 @@ void DecodedRows::copyWindow(int x0, int y0, int x1, int y1, int c0, int c1, Out
                 out = copyPixels(rowSpan<float>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
             }
             break;
+        case SampleType::Int16:
+            if constexpr (std::is_same_v<Out, float>) {
+                out = copyPixels(rowSpan<int16_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
+            }
+            break;
         default:
             out = copyPixels(rowSpan<uint16_t>(y, x0, x1, buffer), count, info_.channels, c0, c1, out);
         }
@@ -196,8 +201,9 @@ void DecodedRows::readFloat(int x0, int y0, int x1, int y1, int channel, float* 
 }
 
 void DecodedRows::readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const {
-    if (info_.type == SampleType::Float32) {
-        fail(path_, "holds float32 values, not 8 or 16-bit colours");
+    if (info_.type == SampleType::Float32 || info_.type == SampleType::Int16) {
+        fail(path_, std::string("holds ") + (info_.type == SampleType::Int16 ? "signed 16-bit" : "float32") +
+                        " values, not 8 or 16-bit colours");
     }
     copyWindow(x0, y0, x1, y1, c0, c1, out);
 }

@@ -6,9 +6,10 @@
 // work. In memory, the rows come in blocks of 2 MB, given back once the reads are past them
 // (releaseRowsAbove). The last rows are held back until the decoder has read and checked the
 // rest of the file, so that a damaged end fails the reads that would have used it. Samples are
-// interleaved 8 or 16-bit values, or float32 (an ASCII grid's), host order, row 0 north. The
-// formats' readers (png_raster_reader.hpp, jpeg_raster_reader.hpp, ascii_grid_reader.hpp) only
-// decode.
+// interleaved 8 or 16-bit values, int16 (DTED's heights) or float32 (an ASCII grid's), host
+// order, row 0 north. The
+// formats' readers (png_raster_reader.hpp, jpeg_raster_reader.hpp, ascii_grid_reader.hpp,
+// dted_reader.hpp) only decode.
 #pragma once
 #include <atomic>
 #include <climits>
@@ -38,8 +39,8 @@ public:
         virtual void finish() = 0;              // after the last row: the rest of the file
     };
 
-    // An image of `info` (UInt8, UInt16 or Float32 samples) of which the last `heldBack` rows are
-    // published only once the decoder has finished. Held in memory when it fits
+    // An image of `info` (UInt8, UInt16, Int16 or Float32 samples) of which the last `heldBack`
+    // rows are published only once the decoder has finished. Held in memory when it fits
     // `cacheMegabytes`, else in a scratch file.
     DecodedRows(std::string path, const RasterInfo& info, int cacheMegabytes, int heldBack);
     ~DecodedRows(); // stops the decoding thread, if it still runs
@@ -61,7 +62,7 @@ public:
     // until rows [y0, y1) are decoded, and throws the decoder's Error when the image cannot be
     // decoded that far.
     void readFloat(int x0, int y0, int x1, int y1, int channel, float* out) const;
-    // Not of float32 samples (fail).
+    // Not of int16 or float32 samples (fail).
     void readUInt16(int x0, int y0, int x1, int y1, int c0, int c1, uint16_t* out) const;
     // 8-bit images only (false otherwise).
     bool readUInt8(int x0, int y0, int x1, int y1, int c0, int c1, uint8_t* out, std::ptrdiff_t rowStride) const;

@@ -29,7 +29,7 @@ bool isVrtName(const std::string& path) { return endsWithNoCase(path, ".vrt"); }
 // What a directory contributes: the files terrain tiles come as (GeoTIFF, SRTM height files, ESRI
 // ASCII and .hdr-labelled grids; any case).
 bool isGridFileName(const std::string& name) {
-    for (const char* ext : {".tif", ".tiff", ".hgt", ".asc", ".bil", ".flt"}) {
+    for (const char* ext : {".tif", ".tiff", ".hgt", ".asc", ".bil", ".flt", ".dt0", ".dt1", ".dt2"}) {
         if (endsWithNoCase(name, ext)) {
             return true;
         }
@@ -157,7 +157,7 @@ private:
             fail(where, "cannot list the directory: " + ec.message());
         }
         if (names.empty()) {
-            fail(where, "the directory holds no .tif, .tiff, .hgt, .asc, .bil or .flt file");
+            fail(where, "the directory holds no .tif, .tiff, .hgt, .dt0-2, .asc, .bil or .flt file");
         }
         std::sort(names.begin(), names.end());
         for (const std::string& name : names) {

@@ -10,6 +10,7 @@
 #include "formats/error.hpp"
 #include "formats/pyramid_kind.hpp"
 #include "libpyramid/input/ascii_grid_reader.hpp"
+#include "libpyramid/input/dted_reader.hpp"
 #include "libpyramid/input/envi_header.hpp"
 #include "libpyramid/input/esri_grid_header.hpp"
 #include "libpyramid/input/georeference.hpp"
@@ -98,6 +99,9 @@ RasterInfo RasterSource::describe(const std::string& path) {
         info = describeAsciiGrid(path);
     }
     if (!info) {
+        info = describeDted(path);
+    }
+    if (!info) {
         if (const std::optional<RawGrid> grid = rawGridOf(path)) {
             info = grid->info;
         }
@@ -146,7 +150,8 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
         }
     } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
                (impl.decoded = openJpegRaster(path, cacheMegabytes)) ||
-               (impl.decoded = openAsciiGrid(path, cacheMegabytes))) {
+               (impl.decoded = openAsciiGrid(path, cacheMegabytes)) ||
+               (impl.decoded = openDted(path, cacheMegabytes))) {
         info = impl.decoded->info();
     } else if (const std::optional<RawGrid> grid = rawGridOf(path)) { // as describe(): last
         impl.raw = RawGridReader::open(path, *grid);
