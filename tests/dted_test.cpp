@@ -207,6 +207,9 @@ TEST(Dted, DamagedFilesAreRefused) {
     l.longitude = "0346000E";
     EXPECT_EQ(refusal(dtedBytes(l, word)),
               path + ": its UHL record's longitude of origin \"0346000E\" is not DDDMMSS and E or W");
+    l.longitude = "034\n000\xe9";
+    EXPECT_EQ(refusal(dtedBytes(l, word)), // the file's bytes quoted printably: one line
+              path + ": its UHL record's longitude of origin \"034\\x0a000\\xe9\" is not DDDMMSS and E or W");
     l = DtedLayout{};
     l.intervals = "0000NA  ";
     EXPECT_EQ(refusal(dtedBytes(l, word)),

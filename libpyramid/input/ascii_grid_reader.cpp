@@ -171,7 +171,7 @@ public:
             const std::from_chars_result r = std::from_chars(first, last, v);
             if (r.ec != std::errc() || r.ptr != last) {
                 fail(path_, "row " + std::to_string(row_) + ", column " + std::to_string(x) + ": \"" +
-                                std::string(word) + "\" is " +
+                                printableText(word) + "\" is " +
                                 (r.ec == std::errc::result_out_of_range ? "beyond float32's range" : "not a number"));
             }
             out[x] = v;

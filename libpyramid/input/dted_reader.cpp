@@ -13,6 +13,7 @@
 #include "formats/error.hpp"
 #include "formats/file_io.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
+#include "libpyramid/support/text.hpp"
 
 namespace pyramid {
 
@@ -65,7 +66,7 @@ double originDegrees(const char* text, const char* positive, const char* negativ
     const char h = text[7];
     const double degrees = d + m / 60.0 + s / 3600.0;
     if (d < 0 || m < 0 || s < 0 || m > 59 || s > 59 || (h != positive[0] && h != negative[0]) || degrees > limit) {
-        fail(path, std::string("its UHL record's ") + what + " of origin \"" + std::string(text, 8) +
+        fail(path, std::string("its UHL record's ") + what + " of origin \"" + printableText(std::string_view(text, 8)) +
                        "\" is not DDDMMSS and " + positive + " or " + negative);
     }
     return h == negative[0] ? -degrees : degrees;
@@ -107,11 +108,12 @@ std::optional<Header> readHeader(const std::string& path) {
     info.width = digitsValue(&uhl[47], 4);
     info.height = digitsValue(&uhl[51], 4);
     if (dx < 1 || dy < 1) {
-        fail(path, "its UHL record's intervals \"" + std::string(&uhl[20], 8) +
+        fail(path, "its UHL record's intervals \"" + printableText(std::string_view(&uhl[20], 8)) +
                        "\" are not two numbers of tenths of a second from 1");
     }
     if (info.width < 1 || info.height < 1) {
-        fail(path, "its UHL record's counts of longitude lines and latitude points \"" + std::string(&uhl[47], 8) +
+        fail(path, "its UHL record's counts of longitude lines and latitude points \"" +
+                       printableText(std::string_view(&uhl[47], 8)) +
                        "\" are not two numbers from 1");
     }
     info.channels = 1;
@@ -131,7 +133,7 @@ std::optional<Header> readHeader(const std::string& path) {
     if (datumName == "WGS72") {
         epsg = 4322;
     } else if (datumName != "WGS84" && datumName != "     ") {
-        fail(path, "its DSI record's horizontal datum \"" + datumName + "\" is neither WGS84 nor WGS72");
+        fail(path, "its DSI record's horizontal datum \"" + printableText(datumName) + "\" is neither WGS84 nor WGS72");
     }
     // The posts are points: sample (x, y) is the point (lon + x dx, lat + (height - 1 - y) dy).
     const double stepX = dx / 36000.0, stepY = dy / 36000.0;

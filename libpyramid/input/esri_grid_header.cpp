@@ -87,7 +87,7 @@ std::optional<double> esriNumber(const EsriKeys& keys, const std::string& key, c
     }
     const std::optional<double> v = tryParseNumber(it->second);
     if (!v || !std::isfinite(*v)) {
-        fail(where, key + " \"" + it->second + "\" is not a number");
+        fail(where, key + " \"" + printableText(it->second) + "\" is not a number");
     }
     return v;
 }

@@ -1,4 +1,5 @@
-// Text: numbers as the library's messages and reports print them, and names compared without
+// Text: numbers as the library's messages and reports print them, a file's bytes quoted in them,
+// and names compared without
 // regard to ASCII case (file extensions, tags, prefixes such as "EPSG:").
 #pragma once
 #include <algorithm>
@@ -24,6 +25,24 @@ inline std::string exactNumberText(double x) {
     char text[32];
     const auto end = std::to_chars(text, text + sizeof text, x).ptr;
     return std::string(text, end);
+}
+
+// A file's bytes quoted in a message: printable ASCII as it is, any other byte as \xNN, so that
+// the message stays one line of text whatever the file holds.
+inline std::string printableText(std::string_view bytes) {
+    static constexpr char digits[] = "0123456789abcdef";
+    std::string text;
+    for (const char c : bytes) {
+        const auto b = static_cast<unsigned char>(c);
+        if (b >= 0x20 && b < 0x7f) {
+            text += c;
+        } else {
+            text += "\\x";
+            text += digits[b >> 4];
+            text += digits[b & 15];
+        }
+    }
+    return text;
 }
 
 // Bytes as lowercase hexadecimal ("0aff"), and back; nullopt for text that is not such.
