@@ -1,9 +1,5 @@
 #include "libpyramid/input/dted_reader.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -24,22 +20,6 @@ constexpr uint64_t kHeaderBytes = 3428; // UHL, DSI and ACC: 80 + 648 + 2700
 constexpr uint64_t kDsiDatum = 80 + 144; // the DSI's horizontal datum, from the UHL
 constexpr size_t kBandBytes = size_t{4} << 20; // the heights read at a time
 constexpr int kVoid = -32767;
-
-class Fd {
-public:
-    explicit Fd(const std::string& path) : fd_(::open(path.c_str(), O_RDONLY | O_CLOEXEC)) {
-        if (fd_ < 0) {
-            fail(path, std::string("cannot open: ") + std::strerror(errno));
-        }
-    }
-    ~Fd() { ::close(fd_); }
-    Fd(const Fd&) = delete;
-    Fd& operator=(const Fd&) = delete;
-    int get() const { return fd_; }
-
-private:
-    int fd_;
-};
 
 struct Header {
     RasterInfo info;
@@ -74,16 +54,12 @@ double originDegrees(const char* text, const char* positive, const char* negativ
 
 // The header, when the file begins with a UHL record (after tape labels).
 std::optional<Header> readHeader(const std::string& path) {
-    const Fd fd(path);
-    struct stat st {};
-    if (fstat(fd.get(), &st) != 0) {
-        fail(path, std::string("cannot read: ") + std::strerror(errno));
-    }
-    const auto size = static_cast<uint64_t>(st.st_size);
+    const InputFile file(path);
+    const uint64_t size = file.size();
     std::array<char, kLabelBytes> uhl{};
     uint64_t at = 0;
     for (;; at += kLabelBytes) {
-        if (at + kLabelBytes > size || !readFully(fd.get(), uhl.data(), kLabelBytes, at)) {
+        if (at + kLabelBytes > size || !file.readAt(uhl.data(), kLabelBytes, at)) {
             return std::nullopt;
         }
         if (std::memcmp(uhl.data(), "UHL1", 4) == 0) {
@@ -95,8 +71,8 @@ std::optional<Header> readHeader(const std::string& path) {
     }
     std::array<char, 5> datum{};
     std::array<char, 3> dsi{}, acc{};
-    if (size < at + kHeaderBytes || !readFully(fd.get(), dsi.data(), 3, at + kLabelBytes) ||
-        !readFully(fd.get(), acc.data(), 3, at + 728) || !readFully(fd.get(), datum.data(), 5, at + kDsiDatum) ||
+    if (size < at + kHeaderBytes || !file.readAt(dsi.data(), 3, at + kLabelBytes) ||
+        !file.readAt(acc.data(), 3, at + 728) || !file.readAt(datum.data(), 5, at + kDsiDatum) ||
         std::memcmp(dsi.data(), "DSI", 3) != 0 || std::memcmp(acc.data(), "ACC", 3) != 0) {
         fail(path, "a DTED file's UHL record must be followed by its DSI and ACC records (648 and 2700 bytes)");
     }
@@ -151,7 +127,7 @@ std::optional<Header> readHeader(const std::string& path) {
 class DtedDecoder : public DecodedRows::Decoder {
 public:
     DtedDecoder(std::string path, const Header& header)
-        : path_(std::move(path)), fd_(path_), header_(header), width_(header.info.width),
+        : path_(std::move(path)), file_(path_), header_(header), width_(header.info.width),
           height_(header.info.height), sums_(static_cast<size_t>(width_), 0),
           checksums_(static_cast<size_t>(width_), 0) {
         bandRows_ = static_cast<int>(std::clamp<size_t>(kBandBytes / (2 * static_cast<size_t>(width_)), 1,
@@ -186,7 +162,7 @@ private:
         const uint64_t samples = 8 + 2 * j0 - from; // where point j0 lies in column_
         for (int x = 0; x < width_; ++x) {
             const uint64_t record = header_.dataOffset + static_cast<uint64_t>(x) * header_.recordBytes;
-            if (!readFully(fd_.get(), column_.data(), column_.size(), record + from)) {
+            if (!file_.readAt(column_.data(), column_.size(), record + from)) {
                 fail(path_, errno != 0 ? std::string("cannot read: ") + std::strerror(errno)
                                        : std::string("was cut short while it was read"));
             }
@@ -237,7 +213,7 @@ private:
     }
 
     std::string path_;
-    Fd fd_;
+    InputFile file_;
     Header header_;
     int width_, height_;
     int bandRows_ = 1;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "formats/error.hpp"
+#include "formats/tiff_memory.hpp"
 #include "libpyramid/input/geotiff_library.hpp"
 #include "libpyramid/input/geotiff_projection.hpp"
 #include "libpyramid/input/height_unit.hpp"
@@ -235,21 +236,43 @@ std::optional<Georeference> georeferenceOf(GeoTiffTags tags) {
 
 } // namespace
 
-std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
+namespace {
+
+GeoTiffTags geoTiffTags(TIFF* tif) {
     GeoTiffTags tags;
-    if (TIFF* tif = openTiffQuietly(path, "rm")) { // no map: only tags are read
-        tags.keys = tiffShorts(tif, kTagKeyDirectory);
-        tags.doubles = tiffDoubles(tif, kTagDoubleParams);
-        tags.text = tiffText(tif, kTagAsciiParams);
-        tags.matrix = tiffDoubles(tif, kTagTransformation);
-        tags.ties = tiffDoubles(tif, kTagTiepoints);
-        tags.scale = tiffDoubles(tif, kTagPixelScale);
-        TIFFClose(tif);
-    }
+    tags.keys = tiffShorts(tif, kTagKeyDirectory);
+    tags.doubles = tiffDoubles(tif, kTagDoubleParams);
+    tags.text = tiffText(tif, kTagAsciiParams);
+    tags.matrix = tiffDoubles(tif, kTagTransformation);
+    tags.ties = tiffDoubles(tif, kTagTiepoints);
+    tags.scale = tiffDoubles(tif, kTagPixelScale);
+    return tags;
+}
+
+std::optional<Georeference> georeferenceOfTags(GeoTiffTags tags) {
     if (tags.keys.size() < 4) {
         return std::nullopt; // no GeoKey directory: libgeotiff is not even loaded
     }
     return georeferenceOf(std::move(tags));
+}
+
+} // namespace
+
+std::optional<Georeference> readGeoTiffGeoreference(const std::string& path) {
+    GeoTiffTags tags;
+    if (TIFF* tif = openTiffQuietly(path, "rm")) { // no map: only tags are read
+        tags = geoTiffTags(tif);
+        TIFFClose(tif);
+    }
+    return georeferenceOfTags(std::move(tags));
+}
+
+std::optional<Georeference> readGeoTiffGeoreference(const std::vector<uint8_t>& tiff) {
+    MemoryStream stream;
+    stream.data = tiff.data();
+    stream.size = tiff.size();
+    const TiffHandle handle(stream, "rm", static_cast<tmsize_t>(tiff.size()) + (1 << 16));
+    return handle.get() ? georeferenceOfTags(geoTiffTags(handle.get())) : std::nullopt;
 }
 
 Georeference georeferenceOfCrs(const std::string& text) {

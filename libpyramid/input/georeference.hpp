@@ -16,9 +16,11 @@
 // this file only describes.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace pyramid {
 
@@ -92,6 +94,9 @@ struct Georeference {
 // directory (a tiepoint without a CRS places nothing). Never throws; a georeferencing that
 // cannot be used has `problem` set.
 std::optional<Georeference> readGeoTiffGeoreference(const std::string& path);
+// The same of a TIFF held in memory (the GeoTIFF a JPEG 2000 file's GeoJP2 box carries); nullopt
+// also when the bytes are no TIFF.
+std::optional<Georeference> readGeoTiffGeoreference(const std::vector<uint8_t>& tiff);
 
 // The CRS a user names ("EPSG:32610", "epsg:4326"), looked up in the EPSG database through
 // libgeotiff, as a file declaring that code alone would be read (pixelToCrs the identity).

@@ -15,6 +15,7 @@
 #include "libpyramid/input/esri_grid_header.hpp"
 #include "libpyramid/input/georeference.hpp"
 #include "libpyramid/input/hgt_grid.hpp"
+#include "libpyramid/input/jpeg2000_boxes.hpp"
 #include "libpyramid/input/jpeg_raster_reader.hpp"
 #include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
@@ -157,6 +158,8 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
         impl.raw = RawGridReader::open(path, *grid);
         info = impl.raw->info();
     } else {
+        // A JPEG 2000 file's signed samples are refused before OpenImageIO decodes them.
+        const std::optional<Jpeg2000Boxes> jpeg2000 = readJpeg2000Boxes(path);
         info = impl.viaModule().info();
         if (!info.nodata && info.formatName == "tiff") {
             info.nodata = geoTiffNodata(path);
@@ -164,6 +167,12 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
         if (info.formatName == "tiff") {
             info.georeference = readGeoTiffGeoreference(path);
             addGdalBandMetadata(info, path);
+        }
+        if (jpeg2000 && !jpeg2000->geoTiff.empty()) {
+            info.georeference = readGeoTiffGeoreference(jpeg2000->geoTiff);
+            if (!info.georeference) {
+                fail(path, "its GeoJP2 box holds no GeoTIFF with GeoKeys");
+            }
         }
     }
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
