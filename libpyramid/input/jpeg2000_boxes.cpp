@@ -15,7 +15,7 @@ constexpr std::array<uint8_t, 12> kJp2Signature = {0, 0, 0, 12, 'j', 'P', ' ', '
 constexpr std::array<uint8_t, 4> kCodestreamStart = {0xff, 0x4f, 0xff, 0x51}; // SOC, then SIZ
 constexpr std::array<uint8_t, 16> kGeoJp2 = {0xb1, 0x4b, 0xf8, 0xbd, 0x08, 0x3d, 0x4b, 0x43,
                                              0xa5, 0xae, 0x8c, 0xd7, 0xd5, 0xa6, 0xce, 0x03};
-constexpr uint64_t kLargestGeoTiff = uint64_t{1} << 20;
+constexpr uint64_t kLargestBox = uint64_t{1} << 20;
 
 uint64_t bigEndian(const uint8_t* p, int bytes) {
     uint64_t v = 0;
@@ -44,6 +44,65 @@ void checkSamples(const InputFile& file, uint64_t at, const std::string& path) {
     }
 }
 
+// `bytes` at `at`, the contents of a box of `what`; refused beyond 1 MB, which no GeoTIFF of one
+// pixel or GML document of a grid comes near. Empty when they cannot be read.
+std::vector<uint8_t> contentsOf(const InputFile& file, uint64_t at, uint64_t bytes, const char* what,
+                                const std::string& path) {
+    if (bytes > kLargestBox) {
+        fail(path, std::string("its ") + what + " box holds " + std::to_string(bytes) + " bytes, more than such a box takes");
+    }
+    std::vector<uint8_t> v(static_cast<size_t>(bytes));
+    if (!file.readAt(v.data(), v.size(), at)) {
+        v.clear();
+    }
+    return v;
+}
+
+// The boxes in bytes [at, end) of the file, each a length (8 bytes more when it is 1; 0: to the
+// end) and a type; `asoc` boxes (GMLJP2's) are walked into, to `depth` 3. A box that runs past
+// its end ends the walk: OpenImageIO names a damaged file.
+void walkBoxes(const InputFile& file, uint64_t at, uint64_t end, int depth, Jpeg2000Boxes& boxes,
+               const std::string& path) {
+    std::string label; // of the last `lbl ` box at this level
+    while (at + 8 <= end) {
+        std::array<uint8_t, 32> box{};
+        const auto got = static_cast<size_t>(std::min<uint64_t>(box.size(), end - at));
+        if (!file.readAt(box.data(), got, at)) {
+            return;
+        }
+        uint64_t length = bigEndian(box.data(), 4), header = 8;
+        if (length == 1) {
+            if (got < 16) {
+                return;
+            }
+            length = bigEndian(&box[8], 8);
+            header = 16;
+        } else if (length == 0) {
+            length = end - at;
+        }
+        if (length < header || length > end - at) {
+            return;
+        }
+        const std::string type(reinterpret_cast<const char*>(&box[4]), 4);
+        const uint64_t contents = at + header, bytes = length - header;
+        if (type == "jp2c" && depth == 0) {
+            checkSamples(file, contents + 2, path);
+        } else if (type == "uuid" && depth == 0 && bytes >= 16 && got >= header + 16 &&
+                   std::memcmp(&box[header], kGeoJp2.data(), kGeoJp2.size()) == 0) {
+            boxes.geoTiff = contentsOf(file, contents + 16, bytes - 16, "GeoJP2", path);
+        } else if (type == "asoc" && depth < 3) {
+            walkBoxes(file, contents, contents + bytes, depth + 1, boxes, path);
+        } else if (type == "lbl " && bytes < 256) {
+            const std::vector<uint8_t> text = contentsOf(file, contents, bytes, "label", path);
+            label.assign(text.begin(), std::find(text.begin(), text.end(), uint8_t{0})); // to a NUL, if any
+        } else if (type == "xml " && label == "gml.root-instance" && boxes.gml.empty()) {
+            const std::vector<uint8_t> text = contentsOf(file, contents, bytes, "GMLJP2", path);
+            boxes.gml.assign(text.begin(), std::find(text.begin(), text.end(), uint8_t{0})); // GDAL ends it with a NUL
+        }
+        at += length;
+    }
+}
+
 } // namespace
 
 std::optional<Jpeg2000Boxes> readJpeg2000Boxes(const std::string& path) {
@@ -60,45 +119,7 @@ std::optional<Jpeg2000Boxes> readJpeg2000Boxes(const std::string& path) {
     if (head != kJp2Signature) {
         return std::nullopt;
     }
-    // The top-level boxes, each a length (8 bytes more when it is 1; 0: to the end of the file)
-    // and a type. A box that runs past the end ends the walk: OpenImageIO names a damaged file.
-    const uint64_t size = file.size();
-    for (uint64_t at = head.size(); at + 8 <= size;) {
-        std::array<uint8_t, 32> box{};
-        const size_t got = static_cast<size_t>(std::min<uint64_t>(box.size(), size - at));
-        if (!file.readAt(box.data(), got, at)) {
-            break;
-        }
-        uint64_t length = bigEndian(box.data(), 4), header = 8;
-        if (length == 1) {
-            if (got < 16) {
-                break;
-            }
-            length = bigEndian(&box[8], 8);
-            header = 16;
-        } else if (length == 0) {
-            length = size - at;
-        }
-        if (length < header || length > size - at) {
-            break;
-        }
-        const std::string type(reinterpret_cast<const char*>(&box[4]), 4);
-        if (type == "jp2c") {
-            checkSamples(file, at + header + 2, path);
-        } else if (type == "uuid" && length >= header + 16 && got >= header + 16 &&
-                   std::memcmp(&box[header], kGeoJp2.data(), kGeoJp2.size()) == 0) {
-            const uint64_t bytes = length - header - 16;
-            if (bytes > kLargestGeoTiff) {
-                fail(path, "its GeoJP2 box holds " + std::to_string(bytes) +
-                               " bytes, more than the GeoTIFF of one pixel it carries can take");
-            }
-            boxes.geoTiff.resize(static_cast<size_t>(bytes));
-            if (!file.readAt(boxes.geoTiff.data(), boxes.geoTiff.size(), at + header + 16)) {
-                boxes.geoTiff.clear();
-            }
-        }
-        at += length;
-    }
+    walkBoxes(file, head.size(), file.size(), 0, boxes, path);
     return boxes;
 }
 

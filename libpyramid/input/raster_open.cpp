@@ -14,6 +14,7 @@
 #include "libpyramid/input/envi_header.hpp"
 #include "libpyramid/input/esri_grid_header.hpp"
 #include "libpyramid/input/georeference.hpp"
+#include "libpyramid/input/gml_jp2.hpp"
 #include "libpyramid/input/hgt_grid.hpp"
 #include "libpyramid/input/jpeg2000_boxes.hpp"
 #include "libpyramid/input/jpeg_raster_reader.hpp"
@@ -173,6 +174,8 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
             if (!info.georeference) {
                 fail(path, "its GeoJP2 box holds no GeoTIFF with GeoKeys");
             }
+        } else if (jpeg2000 && !jpeg2000->gml.empty()) {
+            info.georeference = gmlJp2Placement(jpeg2000->gml, path);
         }
     }
     if (info.width < 1 || info.height < 1 || info.channels < 1) {
