@@ -15,9 +15,12 @@ namespace {
 
 // Rows published to the readers at once: fewer wake-ups than one by one.
 constexpr int kRowsPerStep = 16;
-// The rows in memory come in blocks of at least this size (whole rows), each given back on its
-// own once the reads are past it (releaseRowsAbove): huge pages (pixel_memory.hpp), and freed
-// blocks the heap can serve the run's next allocations from.
+// The rows in memory come in blocks of at most this size (the whole rows it holds; one row when
+// a row is larger), each given back on its own once the reads are past it (releaseRowsAbove):
+// huge pages (pixel_memory.hpp), and freed blocks the heap can serve the run's next allocations
+// from. At most, not at least: each block starts on a huge page, so a block a few bytes over 2 MB
+// took two, and the heap's small allocations that fell in the second's rest touched it all (the
+// peak was about twice the image: 103 MiB for a 26 MB DTED file, 62 MiB since).
 constexpr size_t kChunkBytes = size_t{2} << 20;
 
 // Channels [c0, c1) of `count` interleaved pixels of `channels` samples, each converted to Out
@@ -44,7 +47,7 @@ DecodedRows::DecodedRows(std::string path, const RasterInfo& info, int cacheMega
     if (imageBytes() > budget) {
         scratch_ = std::make_unique<ScratchFile>(path_);
     } else {
-        const size_t rowsPerChunk = (kChunkBytes + rowBytes_ - 1) / std::max<size_t>(rowBytes_, 1);
+        const size_t rowsPerChunk = std::max<size_t>(1, kChunkBytes / std::max<size_t>(rowBytes_, 1));
         chunkRows_ = static_cast<int>(std::clamp<size_t>(rowsPerChunk, 1, static_cast<size_t>(std::max(info.height, 1))));
         for (int y = 0; y < info.height; y += chunkRows_) {
             chunks_.push_back(makePixelMemory(rowBytes_ * static_cast<size_t>(std::min(chunkRows_, info.height - y))));

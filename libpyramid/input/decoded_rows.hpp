@@ -3,7 +3,7 @@
 // row into a scratch file (scratch_file.hpp) read back by window, so that memory stays bounded
 // whatever the image's size. A thread of its own decodes while the caller already reads the
 // rows decoded so far (a read waits for the rows it needs): one core decodes while the others
-// work. In memory, the rows come in blocks of 2 MB, given back once the reads are past them
+// work. In memory, the rows come in blocks of at most 2 MB, given back once the reads are past them
 // (releaseRowsAbove). The last rows are held back until the decoder has read and checked the
 // rest of the file, so that a damaged end fails the reads that would have used it. Samples are
 // interleaved 8 or 16-bit values, int16 (DTED's heights) or float32 (an ASCII grid's), host
@@ -88,7 +88,7 @@ private:
     size_t rowBytes_ = 0;
     // The decoded samples, left uninitialised (never read before decoded): zero-filling them
     // first would make the opening thread fault in every page of a large image before decoding.
-    // In blocks of chunkRows_ rows (about 2 MB), each given back on its own (releaseRowsAbove).
+    // In blocks of chunkRows_ rows (at most 2 MB, or one row), each given back on its own (releaseRowsAbove).
     std::vector<PixelMemory> chunks_;
     int chunkRows_ = 1;
     int released_ = 0; // under mutex_: chunks [0, released_) are given back
