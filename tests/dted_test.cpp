@@ -17,6 +17,7 @@
 #include "libpyramid/input/raster_source.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/sidecar_files.hpp"
+#include "tests/support/small_dem.hpp"
 
 namespace pyramid {
 namespace {
@@ -53,10 +54,7 @@ TEST(Dted, GdalsLevel0FileReadsAsItsTiff) {
 
     // The GeoTIFF's pyramid, byte for byte.
     test::TempDir dir;
-    DemEncodeOptions o;
-    o.tileSize = 32;
-    o.rootTileSize = 8;
-    o.maxLevel = 3;
+    DemEncodeOptions o = test::smallDemOptions();
     encodeDem(test::dataPath("gdal/n46.dt0"), dir.file("dted.dat"), o);
     encodeDem(test::dataPath("gdal/n46-dt0.tif"), dir.file("tif.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("dted.dat")), test::readFile(dir.file("tif.dat")));

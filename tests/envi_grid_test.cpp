@@ -12,6 +12,7 @@
 
 #include "formats/error.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "tests/support/gdal_window.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/sidecar_files.hpp"
 
@@ -19,12 +20,7 @@ namespace pyramid {
 namespace {
 
 TEST(EnviGrid, GdalsEnviFileReadsAsItsTiff) {
-    const auto dem = RasterSource::open(test::samplePath("dem.tif"));
-    std::vector<float> window(65 * 65);
-    dem->readFloat(100, 100, 165, 165, 0, window.data());
-    for (float& v : window) {
-        v = static_cast<float>(std::lround(v)); // GDAL's -ot Int16
-    }
+    const std::vector<float> window = test::gdalWindow(true); // GDAL's -ot Int16
     const auto envi = RasterSource::open(test::dataPath("gdal/window-envi.img"));
     EXPECT_EQ(envi->info().formatName, "envi");
     EXPECT_EQ(envi->info().type, SampleType::Int16);
@@ -33,8 +29,7 @@ TEST(EnviGrid, GdalsEnviFileReadsAsItsTiff) {
     EXPECT_EQ(v, window);
     ASSERT_TRUE(envi->info().georeference);
     EXPECT_EQ(envi->info().georeference->epsg, 32610);
-    EXPECT_EQ(envi->info().georeference->pixelToCrs,
-              (std::array<double, 6>{500000.0, 40.0, 0.0, 5200000.0, 0.0, -40.0}));
+    EXPECT_EQ(envi->info().georeference->pixelToCrs, test::kGdalWindowPlace);
 }
 
 TEST(EnviGrid, HeadersOfOtherWriters) {

@@ -16,9 +16,11 @@
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/input/input_list.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "tests/support/gdal_window.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/sidecar_files.hpp"
+#include "tests/support/small_dem.hpp"
 
 namespace pyramid {
 namespace {
@@ -30,19 +32,9 @@ std::vector<float> readAll(const RasterSource& source, int channel = 0) {
     return v;
 }
 
-// samples/dem.tif's pixels 100..164, which GDAL wrote as tests/data/gdal/window.asc (float32) and
-// window-int16.bil (rounded to int16), placed at (500000, 5200000) in EPSG:32610, 40 m cells.
-std::vector<float> demWindow() {
-    const auto dem = RasterSource::open(test::samplePath("dem.tif"));
-    std::vector<float> w(65 * 65);
-    dem->readFloat(100, 100, 165, 165, 0, w.data());
-    return w;
-}
-
-const std::array<double, 6> kWindowPlace = {500000.0, 40.0, 0.0, 5200000.0, 0.0, -40.0};
-
 TEST(EsriGrid, GdalsAsciiGridAndBilReadAsTheirTiff) {
-    const std::vector<float> window = demWindow();
+    // GDAL's window.asc (float32) and window-int16.bil (rounded to int16).
+    const std::vector<float> window = test::gdalWindow();
     const auto asc = RasterSource::open(test::dataPath("gdal/window.asc"));
     EXPECT_EQ(asc->info().formatName, "aaigrid");
     EXPECT_EQ(asc->info().type, SampleType::Float32);
@@ -50,25 +42,18 @@ TEST(EsriGrid, GdalsAsciiGridAndBilReadAsTheirTiff) {
     const auto bil = RasterSource::open(test::dataPath("gdal/window-int16.bil"));
     EXPECT_EQ(bil->info().formatName, "ehdr");
     EXPECT_EQ(bil->info().type, SampleType::Int16);
-    std::vector<float> rounded(window.size());
-    for (size_t k = 0; k < window.size(); ++k) {
-        rounded[k] = static_cast<float>(std::lround(window[k]));
-    }
-    EXPECT_EQ(readAll(*bil), rounded);
+    EXPECT_EQ(readAll(*bil), test::gdalWindow(true));
     for (const RasterSource* s : {asc.get(), bil.get()}) {
         ASSERT_TRUE(s->info().georeference) << s->path();
         EXPECT_EQ(s->info().georeference->epsg, 32610); // ESRI's WKT in the .prj, identified by PROJ
-        EXPECT_EQ(s->info().georeference->pixelToCrs, kWindowPlace);
-        EXPECT_EQ(RasterSource::describe(s->path()).georeference->pixelToCrs, kWindowPlace);
+        EXPECT_EQ(s->info().georeference->pixelToCrs, test::kGdalWindowPlace);
+        EXPECT_EQ(RasterSource::describe(s->path()).georeference->pixelToCrs, test::kGdalWindowPlace);
     }
 
     // The pyramid and placement of a GeoTIFF of the same samples, byte for byte.
     test::TempDir dir;
     test::writeGeoTiff(dir.file("window.tif"), 65, 65, window, test::projectedTags(32610, 500000.0, 5200000.0, 40.0));
-    DemEncodeOptions o;
-    o.tileSize = 32;
-    o.rootTileSize = 8;
-    o.maxLevel = 3;
+    DemEncodeOptions o = test::smallDemOptions();
     encodeDem(test::dataPath("gdal/window.asc"), dir.file("asc.dat"), o);
     encodeDem(dir.file("window.tif"), dir.file("tif.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("asc.dat")), test::readFile(dir.file("tif.dat")));

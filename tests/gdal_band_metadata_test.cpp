@@ -23,6 +23,7 @@
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
+#include "tests/support/small_dem.hpp"
 
 namespace pyramid {
 namespace {
@@ -160,10 +161,7 @@ TEST(GdalBandMetadata, AScaledDemBuildsThePyramidOfItsHeightsAndSaysSo) {
     }
     test::writeGeoTiffInt16(dir.file("scaled.tif"), 65, 65, stored, tagsWith(gdalMetadata("0.5", "-100")));
     test::writeGeoTiff(dir.file("heights.tif"), 65, 65, values, tagsWith(""));
-    DemEncodeOptions o;
-    o.tileSize = 32;
-    o.rootTileSize = 8;
-    o.maxLevel = 3;
+    DemEncodeOptions o = test::smallDemOptions();
     const DemReport r = encodeDem(dir.file("scaled.tif"), dir.file("scaled.dat"), o);
     encodeDem(dir.file("heights.tif"), dir.file("heights.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("scaled.dat")), test::readFile(dir.file("heights.dat")));

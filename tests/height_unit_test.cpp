@@ -20,6 +20,7 @@
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
+#include "tests/support/small_dem.hpp"
 
 namespace pyramid {
 namespace {
@@ -105,10 +106,7 @@ TEST(HeightUnit, AFeetDemBuildsTheMetresPyramidAndSaysSo) {
     test::GeoTiffTags plain = tagsOf(ftUS);
     plain.shortKeys.pop_back();
     test::writeGeoTiff(dir.file("metres.tif"), 65, 65, converted, plain);
-    DemEncodeOptions o;
-    o.tileSize = 32;
-    o.rootTileSize = 8;
-    o.maxLevel = 3;
+    DemEncodeOptions o = test::smallDemOptions();
     const DemReport r = encodeDem(dir.file("feet.tif"), dir.file("feet.dat"), o);
     encodeDem(dir.file("metres.tif"), dir.file("metres.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("feet.dat")), test::readFile(dir.file("metres.dat")));

@@ -15,9 +15,11 @@
 #include "formats/error.hpp"
 #include "libpyramid/encode/dem/dem_encoder.hpp"
 #include "libpyramid/input/raster_source.hpp"
+#include "tests/support/gdal_window.hpp"
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/sidecar_files.hpp"
+#include "tests/support/small_dem.hpp"
 
 namespace pyramid {
 namespace {
@@ -32,12 +34,7 @@ std::string errorOf(const std::string& path) {
 }
 
 TEST(Jpeg2000, GdalsLosslessJp2ReadsAsItsTiff) {
-    const auto dem = RasterSource::open(test::samplePath("dem.tif"));
-    std::vector<float> window(65 * 65);
-    dem->readFloat(100, 100, 165, 165, 0, window.data());
-    for (float& v : window) {
-        v = static_cast<float>(std::lround(v)); // GDAL's -ot UInt16
-    }
+    const std::vector<float> window = test::gdalWindow(true); // GDAL's -ot UInt16
     const std::string path = test::dataPath("gdal/window-u16.jp2");
     const auto jp2 = RasterSource::open(path);
     EXPECT_EQ(jp2->info().formatName, "jpeg2000");
@@ -46,17 +43,13 @@ TEST(Jpeg2000, GdalsLosslessJp2ReadsAsItsTiff) {
     EXPECT_EQ(v, window);
     ASSERT_TRUE(jp2->info().georeference);
     EXPECT_EQ(jp2->info().georeference->epsg, 32610);
-    const std::array<double, 6> place = {500000.0, 40.0, 0.0, 5200000.0, 0.0, -40.0};
-    EXPECT_EQ(jp2->info().georeference->pixelToCrs, place);
-    EXPECT_EQ(RasterSource::describe(path).georeference->pixelToCrs, place);
+    EXPECT_EQ(jp2->info().georeference->pixelToCrs, test::kGdalWindowPlace);
+    EXPECT_EQ(RasterSource::describe(path).georeference->pixelToCrs, test::kGdalWindowPlace);
 
     // The pyramid and placement of a GeoTIFF of the same samples, byte for byte.
     test::TempDir dir;
     test::writeGeoTiff(dir.file("window.tif"), 65, 65, window, test::projectedTags(32610, 500000.0, 5200000.0, 40.0));
-    DemEncodeOptions o;
-    o.tileSize = 32;
-    o.rootTileSize = 8;
-    o.maxLevel = 3;
+    DemEncodeOptions o = test::smallDemOptions();
     encodeDem(path, dir.file("jp2.dat"), o);
     encodeDem(dir.file("window.tif"), dir.file("tif.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("jp2.dat")), test::readFile(dir.file("tif.dat")));

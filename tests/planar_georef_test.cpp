@@ -22,6 +22,7 @@
 #include "tests/support/geotiffs.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/rasters.hpp"
+#include "tests/support/small_dem.hpp"
 
 namespace pyramid {
 namespace {
@@ -33,10 +34,7 @@ TEST(PlanarGeoreference, DemReportAndSidecar) {
     const std::vector<float> heights = test::syntheticHeights(65, 65);
     test::writeGeoTiff(dir.file("utm.tif"), 65, 65, heights, test::projectedTags(32610, x0, y0, step));
     test::writeFloatRaster(dir.file("plain.tif"), 65, 65, heights);
-    DemEncodeOptions o;
-    o.tileSize = 32;
-    o.rootTileSize = 8;
-    o.maxLevel = 3;
+    DemEncodeOptions o = test::smallDemOptions();
     const DemReport r = encodeDem(dir.file("utm.tif"), dir.file("utm.dat"), o);
     ASSERT_TRUE(r.georeference.has_value());
     const PyramidGeoreference& g = *r.georeference;

@@ -19,6 +19,7 @@
 #include "tests/support/paths.hpp"
 #include "tests/support/sidecar_files.hpp"
 #include "tests/support/rasters.hpp"
+#include "tests/support/small_dem.hpp"
 
 namespace pyramid {
 namespace {
@@ -83,10 +84,7 @@ TEST(SidecarGeoreference, AWorldFileAndPrjPlaceAPngAsItsGeoTiff) {
     EXPECT_TRUE(png.georeference->problem.empty());
     EXPECT_EQ(png.georeference->pixelToCrs, (std::array<double, 6>{500000.0, 30.0, 0.0, 5000000.0, 0.0, -30.0}));
 
-    DemEncodeOptions o;
-    o.tileSize = 32;
-    o.rootTileSize = 8;
-    o.maxLevel = 3;
+    DemEncodeOptions o = test::smallDemOptions();
     encodeDem(dir.file("dem.png"), dir.file("png.dat"), o);
     encodeDem(dir.file("dem.tif"), dir.file("tif.dat"), o);
     EXPECT_EQ(test::readFile(dir.file("png.dat")), test::readFile(dir.file("tif.dat")));
