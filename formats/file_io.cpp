@@ -1,14 +1,8 @@
 #include "formats/file_io.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
-#include <utility>
-
-#include "formats/error.hpp"
 
 namespace pyramid {
 
@@ -50,22 +44,6 @@ bool writeFully(int fd, const void* data, size_t size, uint64_t offset) {
         offset += static_cast<uint64_t>(n);
     }
     return true;
-}
-
-InputFile::InputFile(std::string path) : path_(std::move(path)), fd_(::open(path_.c_str(), O_RDONLY | O_CLOEXEC)) {
-    if (fd_ < 0) {
-        fail(path_, std::string("cannot open: ") + std::strerror(errno));
-    }
-}
-
-InputFile::~InputFile() { ::close(fd_); }
-
-uint64_t InputFile::size() const {
-    struct stat st {};
-    if (fstat(fd_, &st) != 0) {
-        fail(path_, std::string("cannot read: ") + std::strerror(errno));
-    }
-    return static_cast<uint64_t>(st.st_size);
 }
 
 } // namespace pyramid

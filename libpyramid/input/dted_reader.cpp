@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "formats/error.hpp"
-#include "formats/file_io.hpp"
+#include "formats/byte_source.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
 #include "libpyramid/support/text.hpp"
 
@@ -54,14 +54,15 @@ double originDegrees(const char* text, const char* positive, const char* negativ
 
 // The header, when the file begins with a UHL record (after tape labels).
 std::optional<Header> readHeader(const std::string& path) {
-    const InputFile file(path);
-    const uint64_t size = file.size();
+    const std::shared_ptr<const ByteSource> file = openFileSource(path);
+    const uint64_t size = file->size();
     std::array<char, kLabelBytes> uhl{};
     uint64_t at = 0;
     for (;; at += kLabelBytes) {
-        if (at + kLabelBytes > size || !file.readAt(uhl.data(), kLabelBytes, at)) {
+        if (at + kLabelBytes > size) {
             return std::nullopt;
         }
+        file->readAt(at, uhl.data(), kLabelBytes);
         if (std::memcmp(uhl.data(), "UHL1", 4) == 0) {
             break;
         }
@@ -71,9 +72,12 @@ std::optional<Header> readHeader(const std::string& path) {
     }
     std::array<char, 5> datum{};
     std::array<char, 3> dsi{}, acc{};
-    if (size < at + kHeaderBytes || !file.readAt(dsi.data(), 3, at + kLabelBytes) ||
-        !file.readAt(acc.data(), 3, at + 728) || !file.readAt(datum.data(), 5, at + kDsiDatum) ||
-        std::memcmp(dsi.data(), "DSI", 3) != 0 || std::memcmp(acc.data(), "ACC", 3) != 0) {
+    if (size >= at + kHeaderBytes) {
+        file->readAt(at + kLabelBytes, dsi.data(), 3);
+        file->readAt(at + 728, acc.data(), 3);
+        file->readAt(at + kDsiDatum, datum.data(), 5);
+    }
+    if (std::memcmp(dsi.data(), "DSI", 3) != 0 || std::memcmp(acc.data(), "ACC", 3) != 0) {
         fail(path, "a DTED file's UHL record must be followed by its DSI and ACC records (648 and 2700 bytes)");
     }
     Header h;
@@ -127,7 +131,7 @@ std::optional<Header> readHeader(const std::string& path) {
 class DtedDecoder : public DecodedRows::Decoder {
 public:
     DtedDecoder(std::string path, const Header& header)
-        : path_(std::move(path)), file_(path_), header_(header), width_(header.info.width),
+        : path_(std::move(path)), file_(openFileSource(path_)), header_(header), width_(header.info.width),
           height_(header.info.height), sums_(static_cast<size_t>(width_), 0),
           checksums_(static_cast<size_t>(width_), 0) {
         bandRows_ = static_cast<int>(std::clamp<size_t>(kBandBytes / (2 * static_cast<size_t>(width_)), 1,
@@ -162,10 +166,7 @@ private:
         const uint64_t samples = 8 + 2 * j0 - from; // where point j0 lies in column_
         for (int x = 0; x < width_; ++x) {
             const uint64_t record = header_.dataOffset + static_cast<uint64_t>(x) * header_.recordBytes;
-            if (!file_.readAt(column_.data(), column_.size(), record + from)) {
-                fail(path_, errno != 0 ? std::string("cannot read: ") + std::strerror(errno)
-                                       : std::string("was cut short while it was read"));
-            }
+            file_->readAt(record + from, column_.data(), column_.size()); // throws naming the file
             const size_t summed = column_.size() - (north ? 4 : 0);
             uint32_t& sum = sums_[static_cast<size_t>(x)];
             for (size_t k = 0; k < summed; ++k) {
@@ -213,7 +214,7 @@ private:
     }
 
     std::string path_;
-    InputFile file_;
+    std::shared_ptr<const ByteSource> file_;
     Header header_;
     int width_, height_;
     int bandRows_ = 1;

@@ -26,7 +26,7 @@ using input_list_detail::trim;
 
 bool isVrtName(const std::string& path) { return endsWithNoCase(path, ".vrt"); }
 
-// What a directory contributes: the files terrain tiles come as (GeoTIFF, SRTM height files, ESRI
+// What a directory contributes: the files terrain tiles come as (GeoTIFF, SRTM height files, DTED, ESRI
 // ASCII and .hdr-labelled grids; any case).
 bool isGridFileName(const std::string& name) {
     for (const char* ext : {".tif", ".tiff", ".hgt", ".asc", ".bil", ".flt", ".dt0", ".dt1", ".dt2"}) {

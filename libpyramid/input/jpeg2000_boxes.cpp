@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <memory>
 
 #include "formats/error.hpp"
-#include "formats/file_io.hpp"
+#include "formats/byte_source.hpp"
 
 namespace pyramid {
 
@@ -26,17 +27,23 @@ uint64_t bigEndian(const uint8_t* p, int bytes) {
 }
 
 // Refuses the file when the SIZ marker at `at` (after SOC) gives a signed component.
-void checkSamples(const InputFile& file, uint64_t at, const std::string& path) {
+void checkSamples(const ByteSource& file, uint64_t at, const std::string& path) {
     std::array<uint8_t, 40> siz{}; // FF51, Lsiz, Rsiz, 8 sizes and offsets, Csiz
-    if (!file.readAt(siz.data(), siz.size(), at) || siz[0] != 0xff || siz[1] != 0x51) {
-        return; // a codestream cut short or damaged: OpenImageIO names it
+    if (at + siz.size() > file.size()) {
+        return; // a codestream cut short: OpenImageIO names it
+    }
+    file.readAt(at, siz.data(), siz.size());
+    if (siz[0] != 0xff || siz[1] != 0x51) {
+        return; // damaged: OpenImageIO names it
     }
     const auto components = static_cast<int>(bigEndian(&siz[38], 2));
     for (int c = 0; c < components; ++c) {
-        uint8_t ssiz = 0;
-        if (!file.readAt(&ssiz, 1, at + 40 + 3 * static_cast<uint64_t>(c))) {
+        const uint64_t where = at + 40 + 3 * static_cast<uint64_t>(c);
+        if (where >= file.size()) {
             return;
         }
+        uint8_t ssiz = 0;
+        file.readAt(where, &ssiz, 1);
         if (ssiz & 0x80) {
             fail(path, "holds signed " + std::to_string((ssiz & 0x7f) + 1) +
                            "-bit JPEG 2000 samples, which OpenImageIO reads shifted: convert it to a GeoTIFF first");
@@ -45,31 +52,27 @@ void checkSamples(const InputFile& file, uint64_t at, const std::string& path) {
 }
 
 // `bytes` at `at`, the contents of a box of `what`; refused beyond 1 MB, which no GeoTIFF of one
-// pixel or GML document of a grid comes near. Empty when they cannot be read.
-std::vector<uint8_t> contentsOf(const InputFile& file, uint64_t at, uint64_t bytes, const char* what,
+// pixel or GML document of a grid comes near.
+std::vector<uint8_t> contentsOf(const ByteSource& file, uint64_t at, uint64_t bytes, const char* what,
                                 const std::string& path) {
     if (bytes > kLargestBox) {
         fail(path, std::string("its ") + what + " box holds " + std::to_string(bytes) + " bytes, more than such a box takes");
     }
     std::vector<uint8_t> v(static_cast<size_t>(bytes));
-    if (!file.readAt(v.data(), v.size(), at)) {
-        v.clear();
-    }
+    file.readAt(at, v.data(), v.size()); // within its box, within the file
     return v;
 }
 
 // The boxes in bytes [at, end) of the file, each a length (8 bytes more when it is 1; 0: to the
 // end) and a type; `asoc` boxes (GMLJP2's) are walked into, to `depth` 3. A box that runs past
 // its end ends the walk: OpenImageIO names a damaged file.
-void walkBoxes(const InputFile& file, uint64_t at, uint64_t end, int depth, Jpeg2000Boxes& boxes,
+void walkBoxes(const ByteSource& file, uint64_t at, uint64_t end, int depth, Jpeg2000Boxes& boxes,
                const std::string& path) {
     std::string label; // of the last `lbl ` box at this level
     while (at + 8 <= end) {
         std::array<uint8_t, 32> box{};
         const auto got = static_cast<size_t>(std::min<uint64_t>(box.size(), end - at));
-        if (!file.readAt(box.data(), got, at)) {
-            return;
-        }
+        file.readAt(at, box.data(), got);
         uint64_t length = bigEndian(box.data(), 4), header = 8;
         if (length == 1) {
             if (got < 16) {
@@ -106,20 +109,21 @@ void walkBoxes(const InputFile& file, uint64_t at, uint64_t end, int depth, Jpeg
 } // namespace
 
 std::optional<Jpeg2000Boxes> readJpeg2000Boxes(const std::string& path) {
-    const InputFile file(path);
+    const std::shared_ptr<const ByteSource> file = openFileSource(path);
     std::array<uint8_t, 12> head{};
-    if (!file.readAt(head.data(), head.size(), 0)) {
+    if (file->size() < head.size()) {
         return std::nullopt;
     }
+    file->readAt(0, head.data(), head.size());
     Jpeg2000Boxes boxes;
     if (std::memcmp(head.data(), kCodestreamStart.data(), kCodestreamStart.size()) == 0) {
-        checkSamples(file, 2, path);
+        checkSamples(*file, 2, path);
         return boxes;
     }
     if (head != kJp2Signature) {
         return std::nullopt;
     }
-    walkBoxes(file, head.size(), file.size(), 0, boxes, path);
+    walkBoxes(*file, head.size(), file->size(), 0, boxes, path);
     return boxes;
 }
 
