@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "formats/error.hpp"
+#include "libpyramid/input/datum_epsg.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
 #include "libpyramid/support/parse_number.hpp"
 #include "libpyramid/support/text.hpp"
@@ -121,8 +122,7 @@ int epsgOfMapInfo(const std::vector<std::string>& m) {
     const std::string projection = lowerAsciiText(m[0]);
     const auto datumAt = [&](size_t k) { return k < m.size() ? lowerAsciiText(m[k]) : std::string(); };
     if (projection == "geographic lat/lon") {
-        const std::string datum = datumAt(7);
-        return datum == "wgs-84" ? 4326 : datum == "north america 1983" ? 4269 : datum == "north america 1927" ? 4267 : 0;
+        return geographicEpsg(namedDatum(datumAt(7).c_str()));
     }
     if (projection == "utm" && m.size() >= 10) {
         const std::optional<double> zone = tryParseNumber(m[7]);
@@ -131,16 +131,7 @@ int epsgOfMapInfo(const std::vector<std::string>& m) {
         }
         const int z = static_cast<int>(*zone);
         const bool south = lowerAsciiText(m[8]) == "south";
-        const std::string datum = datumAt(9);
-        if (datum == "wgs-84") {
-            return (south ? 32700 : 32600) + z;
-        }
-        if (datum == "north america 1983" && !south && z <= 23) {
-            return 26900 + z;
-        }
-        if (datum == "north america 1927" && !south && z <= 22) {
-            return 26700 + z;
-        }
+        return utmEpsg(z, south, namedDatum(datumAt(9).c_str()));
     }
     return 0;
 }

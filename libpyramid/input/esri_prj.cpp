@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 
+#include "libpyramid/input/datum_epsg.hpp"
 #include "libpyramid/support/parse_number.hpp"
 
 namespace pyramid {
@@ -38,7 +39,7 @@ std::optional<OldStylePrj> readOldStylePrj(const std::string& text) {
     const std::string datum = keys.count("DATUM") ? keys["DATUM"] : keys["SPHEROID"];
     OldStylePrj prj;
     if (projection->second == "GEOGRAPHIC") {
-        prj.epsg = datum == "WGS84" ? 4326 : datum == "NAD83" ? 4269 : datum == "NAD27" ? 4267 : 0;
+        prj.epsg = geographicEpsg(namedDatum(datum.c_str()));
         const std::string units = keys["UNITS"];
         if (units == "DS") {
             prj.unitsPerCrsUnit = 3600.0;
@@ -55,13 +56,7 @@ std::optional<OldStylePrj> readOldStylePrj(const std::string& text) {
         }
         const int z = static_cast<int>(*zone < 0 ? -*zone : *zone);
         const bool south = *zone < 0 || *yshift == 10000000.0;
-        if (datum == "WGS84") {
-            prj.epsg = (south ? 32700 : 32600) + z;
-        } else if (!south && datum == "NAD83" && z <= 23) {
-            prj.epsg = 26900 + z;
-        } else if (!south && datum == "NAD27" && z <= 22) {
-            prj.epsg = 26700 + z;
-        }
+        prj.epsg = utmEpsg(z, south, namedDatum(datum.c_str()));
     }
     return prj;
 }

@@ -15,6 +15,7 @@
 #include "libpyramid/input/esri_grid_header.hpp"
 #include "libpyramid/input/georeference.hpp"
 #include "libpyramid/input/gml_jp2.hpp"
+#include "libpyramid/input/hfa_reader.hpp"
 #include "libpyramid/input/hgt_grid.hpp"
 #include "libpyramid/input/jpeg2000_boxes.hpp"
 #include "libpyramid/input/jpeg_raster_reader.hpp"
@@ -104,6 +105,9 @@ RasterInfo RasterSource::describe(const std::string& path) {
         info = describeDted(path);
     }
     if (!info) {
+        info = describeHfa(path);
+    }
+    if (!info) {
         if (const std::optional<RawGrid> grid = rawGridOf(path)) {
             info = grid->info;
         }
@@ -153,7 +157,7 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
     } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
                (impl.decoded = openJpegRaster(path, cacheMegabytes)) ||
                (impl.decoded = openAsciiGrid(path, cacheMegabytes)) ||
-               (impl.decoded = openDted(path, cacheMegabytes))) {
+               (impl.decoded = openDted(path, cacheMegabytes)) || (impl.decoded = openHfa(path, cacheMegabytes))) {
         info = impl.decoded->info();
     } else if (const std::optional<RawGrid> grid = rawGridOf(path)) { // as describe(): last
         impl.raw = RawGridReader::open(path, *grid);
