@@ -22,6 +22,7 @@
 #include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
+#include "libpyramid/input/xyz_grid_reader.hpp"
 
 namespace pyramid {
 
@@ -108,6 +109,9 @@ RasterInfo RasterSource::describe(const std::string& path) {
         info = describeHfa(path);
     }
     if (!info) {
+        info = describeXyzGrid(path);
+    }
+    if (!info) {
         if (const std::optional<RawGrid> grid = rawGridOf(path)) {
             info = grid->info;
         }
@@ -157,7 +161,8 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
     } else if ((impl.decoded = openPngRaster(path, cacheMegabytes)) ||
                (impl.decoded = openJpegRaster(path, cacheMegabytes)) ||
                (impl.decoded = openAsciiGrid(path, cacheMegabytes)) ||
-               (impl.decoded = openDted(path, cacheMegabytes)) || (impl.decoded = openHfa(path, cacheMegabytes))) {
+               (impl.decoded = openDted(path, cacheMegabytes)) || (impl.decoded = openHfa(path, cacheMegabytes)) ||
+               (impl.decoded = openXyzGrid(path, cacheMegabytes))) {
         info = impl.decoded->info();
     } else if (const std::optional<RawGrid> grid = rawGridOf(path)) { // as describe(): last
         impl.raw = RawGridReader::open(path, *grid);
