@@ -24,12 +24,7 @@ TEST(EnviGrid, GdalsEnviFileReadsAsItsTiff) {
     const auto envi = RasterSource::open(test::dataPath("gdal/window-envi.img"));
     EXPECT_EQ(envi->info().formatName, "envi");
     EXPECT_EQ(envi->info().type, SampleType::Int16);
-    std::vector<float> v(window.size());
-    envi->readFloat(0, 0, 65, 65, 0, v.data());
-    EXPECT_EQ(v, window);
-    ASSERT_TRUE(envi->info().georeference);
-    EXPECT_EQ(envi->info().georeference->epsg, 32610);
-    EXPECT_EQ(envi->info().georeference->pixelToCrs, test::kGdalWindowPlace);
+    test::expectGdalWindow(*envi, window);
 }
 
 TEST(EnviGrid, HeadersOfOtherWriters) {

@@ -68,12 +68,7 @@ TEST(Hfa, GdalsFilesReadAsTheirTiff) {
         EXPECT_EQ(img->info().formatName, "hfa");
         EXPECT_EQ(img->info().type, SampleType::Int16);
         EXPECT_EQ(img->info().nodata, -9999.0);
-        std::vector<float> v(window.size());
-        img->readFloat(0, 0, 65, 65, 0, v.data());
-        EXPECT_EQ(v, window);
-        ASSERT_TRUE(img->info().georeference);
-        EXPECT_EQ(img->info().georeference->epsg, 32610);
-        EXPECT_EQ(img->info().georeference->pixelToCrs, test::kGdalWindowPlace);
+        test::expectGdalWindow(*img, window);
         EXPECT_EQ(RasterSource::describe(path).georeference->pixelToCrs, test::kGdalWindowPlace);
 
         // The pyramid and placement of a GeoTIFF of the same samples, byte for byte.

@@ -38,12 +38,7 @@ TEST(Jpeg2000, GdalsLosslessJp2ReadsAsItsTiff) {
     const std::string path = test::dataPath("gdal/window-u16.jp2");
     const auto jp2 = RasterSource::open(path);
     EXPECT_EQ(jp2->info().formatName, "jpeg2000");
-    std::vector<float> v(window.size());
-    jp2->readFloat(0, 0, 65, 65, 0, v.data());
-    EXPECT_EQ(v, window);
-    ASSERT_TRUE(jp2->info().georeference);
-    EXPECT_EQ(jp2->info().georeference->epsg, 32610);
-    EXPECT_EQ(jp2->info().georeference->pixelToCrs, test::kGdalWindowPlace);
+    test::expectGdalWindow(*jp2, window);
     EXPECT_EQ(RasterSource::describe(path).georeference->pixelToCrs, test::kGdalWindowPlace);
 
     // The pyramid and placement of a GeoTIFF of the same samples, byte for byte.

@@ -66,12 +66,7 @@ TEST(XyzGrid, RowsEitherWayReadAsTheirTiff) {
         const auto xyz = RasterSource::open(path);
         EXPECT_EQ(xyz->info().formatName, "xyz");
         EXPECT_FALSE(xyz->info().nodata);
-        std::vector<float> v(window.size());
-        xyz->readFloat(0, 0, 65, 65, 0, v.data());
-        EXPECT_EQ(v, window);
-        ASSERT_TRUE(xyz->info().georeference);
-        EXPECT_EQ(xyz->info().georeference->epsg, 32610);
-        EXPECT_EQ(xyz->info().georeference->pixelToCrs, test::kGdalWindowPlace);
+        test::expectGdalWindow(*xyz, window);
         encodeDem(path, dir.file("xyz.dat"), o);
         EXPECT_EQ(test::readFile(dir.file("xyz.dat")), test::readFile(dir.file("tif.dat")));
         EXPECT_EQ(test::placementOf(dir.file("xyz.dat")), test::placementOf(dir.file("tif.dat")));

@@ -2,6 +2,8 @@
 // hold as GDAL wrote them (tests/data/gdal/README.md), and where they place it: (500000, 5200000)
 // in EPSG:32610, 40 m cells.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <vector>
@@ -25,6 +27,17 @@ inline std::vector<float> gdalWindow(bool rounded = false) {
         }
     }
     return w;
+}
+
+// `source` holds the window's samples (`window`, as gdalWindow gives them), placed where
+// tests/data/gdal/'s files place it (EPSG:32610, kGdalWindowPlace).
+inline void expectGdalWindow(const RasterSource& source, const std::vector<float>& window) {
+    std::vector<float> v(window.size());
+    source.readFloat(0, 0, 65, 65, 0, v.data());
+    EXPECT_EQ(v, window);
+    ASSERT_TRUE(source.info().georeference);
+    EXPECT_EQ(source.info().georeference->epsg, 32610);
+    EXPECT_EQ(source.info().georeference->pixelToCrs, kGdalWindowPlace);
 }
 
 } // namespace pyramid::test
