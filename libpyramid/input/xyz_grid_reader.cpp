@@ -272,8 +272,12 @@ public:
             std::array<std::string_view, 8> f;
             while (lines.next(line, offset)) {
                 ++lineNumber;
-                if (fieldsOf(line, f) == 0) {
+                const size_t n = fieldsOf(line, f);
+                if (n == 0) {
                     continue;
+                }
+                if (n <= std::max({grid_.column[0], grid_.column[1], grid_.column[2]})) {
+                    fail(path_, lineName(lineNumber) + " has changed since the file was scanned: it holds too few fields");
                 }
                 const double x = number(f[grid_.column[0]], path_, lineNumber, "x");
                 const double c = (x - grid_.x0) / grid_.dx;
