@@ -2,7 +2,8 @@
 // lines, north first with spaces or south first with commas, CRLF and a header naming its
 // columns in another order, reads back its heights, placed by its .prj as the GeoTIFF of them,
 // and builds the GeoTIFF's pyramid; missing cells and `nan` heights are NaN, declared nodata; a
-// file that is no regular grid of rows is refused in one line naming the file and the line.
+// file written again is scanned again (the scans are kept by path, size and time); a file that
+// is no regular grid of rows is refused in one line naming the file and the line.
 #include <gtest/gtest.h>
 
 #include <charconv>
@@ -101,6 +102,20 @@ TEST(XyzGrid, MissingCellsAndNanHeightsAreNodata) {
         }
     }
     EXPECT_FALSE(xyz->info().georeference); // no .prj
+}
+
+TEST(XyzGrid, AFileWrittenAgainIsScannedAgain) {
+    test::TempDir dir;
+    const std::string p = dir.file("again.xyz");
+    test::writeText(p, "0 1 1\n1 1 2\n2 1 3\n0 0 4\n1 0 5\n2 0 6\n");
+    EXPECT_EQ(RasterSource::describe(p).width, 3);
+    EXPECT_EQ(RasterSource::open(p)->info().width, 3);
+    test::writeText(p, "0 1 1\n1 1 2\n0 0 4\n1 0 5\n");
+    EXPECT_EQ(RasterSource::describe(p).width, 2);
+    const auto xyz = RasterSource::open(p);
+    std::vector<float> v(4);
+    xyz->readFloat(0, 0, 2, 2, 0, v.data());
+    EXPECT_EQ(v, (std::vector<float>{1, 2, 4, 5}));
 }
 
 TEST(XyzGrid, FilesThatAreNoGridOfRowsAreRefused) {

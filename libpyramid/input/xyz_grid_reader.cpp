@@ -4,7 +4,10 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <filesystem>
 #include <limits>
+#include <list>
+#include <mutex>
 #include <vector>
 
 #include "formats/byte_source.hpp"
@@ -247,6 +250,42 @@ std::optional<Grid> scan(const std::string& path) {
     return g;
 }
 
+// scan's result, kept for the file's next description or opening (a mosaic describes each file
+// and then opens it: the first pass, half a file's work, would be made two to four times). Keyed
+// by the file's path, size and modification time; the last kScansKept files' grids are kept (a
+// row takes 32 bytes: a few hundred KB a file).
+constexpr size_t kScansKept = 16;
+
+std::optional<Grid> scanOnce(const std::string& path) {
+    static std::mutex mutex;
+    static std::list<std::pair<std::string, std::shared_ptr<const Grid>>> kept; // most recent first
+    if (!endsWithNoCase(path, ".xyz")) {
+        return std::nullopt;
+    }
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    const auto time = std::filesystem::last_write_time(path, ec);
+    const std::string key = path + '\n' + std::to_string(size) + '\n' + std::to_string(time.time_since_epoch().count());
+    if (!ec) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        for (auto it = kept.begin(); it != kept.end(); ++it) {
+            if (it->first == key) {
+                kept.splice(kept.begin(), kept, it);
+                return *it->second;
+            }
+        }
+    }
+    std::optional<Grid> g = scan(path);
+    if (g && !ec) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        kept.emplace_front(key, std::make_shared<const Grid>(*g));
+        if (kept.size() > kScansKept) {
+            kept.pop_back();
+        }
+    }
+    return g;
+}
+
 // The second pass: each row's lines parsed once, north first.
 class XyzDecoder : public DecodedRows::Decoder {
 public:
@@ -311,12 +350,12 @@ private:
 } // namespace
 
 std::optional<RasterInfo> describeXyzGrid(const std::string& path) {
-    const std::optional<Grid> g = scan(path);
+    const std::optional<Grid> g = scanOnce(path);
     return g ? std::optional<RasterInfo>(g->info) : std::nullopt;
 }
 
 std::unique_ptr<DecodedRows> openXyzGrid(const std::string& path, int cacheMegabytes) {
-    std::optional<Grid> g = scan(path);
+    std::optional<Grid> g = scanOnce(path);
     if (!g) {
         return nullptr;
     }
