@@ -69,7 +69,7 @@ private:
 };
 
 // Up to `count` fields of a line separated by spaces, tabs, commas or semicolons; their number.
-size_t fieldsOf(std::string_view line, std::array<std::string_view, 8>& fields) {
+size_t fieldsOf(std::string_view line, std::array<std::string_view, 8>& fields) { // up to 8
     size_t n = 0, k = 0;
     while (k < line.size() && n < fields.size()) {
         while (k < line.size() && (line[k] == ' ' || line[k] == '\t' || line[k] == ',' || line[k] == ';')) {
@@ -84,6 +84,25 @@ size_t fieldsOf(std::string_view line, std::array<std::string_view, 8>& fields) 
         }
     }
     return n;
+}
+
+using Fields = std::array<std::string_view, 8>;
+
+// Calls `take(fields, count, line, offset)` for each line of bytes [from, to) that holds a field:
+// its fields, their count, its number (from `firstLine`) and where it begins.
+template <typename Take>
+void forEachLine(const ByteSource& file, uint64_t from, uint64_t to, int64_t firstLine, Take take) {
+    Lines lines(file, from, to);
+    std::string_view line;
+    uint64_t offset = 0;
+    int64_t lineNumber = firstLine - 1;
+    Fields f;
+    while (lines.next(line, offset)) {
+        ++lineNumber;
+        if (const size_t n = fieldsOf(line, f); n != 0) {
+            take(f, n, lineNumber, offset);
+        }
+    }
 }
 
 struct Row {
@@ -141,20 +160,11 @@ std::optional<Grid> scan(const std::string& path) {
     }
     const std::shared_ptr<const ByteSource> file = openFileSource(path);
     Grid g;
-    Lines lines(*file, 0, file->size());
-    std::string_view line;
-    uint64_t offset = 0;
-    int64_t lineNumber = 0, points = 0;
+    int64_t points = 0;
     bool header = true, nan = false;
     double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, lastX = 0.0;
     double dx = std::numeric_limits<double>::infinity(), dy = dx;
-    std::array<std::string_view, 8> f;
-    while (lines.next(line, offset)) {
-        ++lineNumber;
-        const size_t n = fieldsOf(line, f);
-        if (n == 0) {
-            continue;
-        }
+    forEachLine(*file, 0, file->size(), 1, [&](const Fields& f, size_t n, int64_t lineNumber, uint64_t offset) {
         if (header && (n < 3 || !readNumberText(f[0]) || !readNumberText(f[1]))) {
             header = false; // a header line: its names, where it has them
             std::array<int, 3> found = {-1, -1, -1};
@@ -166,7 +176,7 @@ std::optional<Grid> scan(const std::string& path) {
             if (found[0] >= 0 && found[1] >= 0 && found[2] >= 0) {
                 g.column = {static_cast<size_t>(found[0]), static_cast<size_t>(found[1]), static_cast<size_t>(found[2])};
             }
-            continue;
+            return;
         }
         header = false;
         const size_t needed = *std::max_element(g.column.begin(), g.column.end()) + 1;
@@ -204,7 +214,7 @@ std::optional<Grid> scan(const std::string& path) {
         lastX = x;
         xmin = std::min(xmin, x);
         xmax = std::max(xmax, x);
-    }
+    });
     if (points == 0) {
         fail(path, "holds no line of x, y and height");
     }
@@ -304,17 +314,7 @@ public:
         const int64_t k = fileRow_[static_cast<size_t>(y_++)];
         if (k >= 0) {
             const Row& r = grid_.rows[static_cast<size_t>(k)];
-            Lines lines(*file_, r.offset, r.end);
-            std::string_view line;
-            uint64_t offset = 0;
-            int64_t lineNumber = r.firstLine - 1;
-            std::array<std::string_view, 8> f;
-            while (lines.next(line, offset)) {
-                ++lineNumber;
-                const size_t n = fieldsOf(line, f);
-                if (n == 0) {
-                    continue;
-                }
+            forEachLine(*file_, r.offset, r.end, r.firstLine, [&](const Fields& f, size_t n, int64_t lineNumber, uint64_t) {
                 if (n <= std::max({grid_.column[0], grid_.column[1], grid_.column[2]})) {
                     fail(path_, lineName(lineNumber) + " has changed since the file was scanned: it holds too few fields");
                 }
@@ -332,7 +332,7 @@ public:
                     fail(path_, lineName(lineNumber) + ": its height lies beyond float32's range");
                 }
                 row[static_cast<size_t>(std::lround(c))] = static_cast<float>(*v);
-            }
+            });
         }
         std::copy_n(reinterpret_cast<const uint8_t*>(row.data()), width * sizeof(float), bytes);
     }
