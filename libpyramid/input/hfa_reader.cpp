@@ -114,9 +114,9 @@ std::optional<Georeference> placement(const HfaFile& f, const HfaNode& layer, co
     const std::optional<HfaValue> zone = d.field(projection->type, p, "proZone");
     const std::optional<HfaValue> params = d.field(projection->type, p, "proParams");
     NamedDatum datum = NamedDatum::Other;
-    if (const std::optional<HfaNode> datumHfaNode = f.child(*projection, "Datum")) {
-        const std::vector<uint8_t> bytes = f.data(*datumHfaNode);
-        if (const std::optional<HfaValue> name = d.field(datumHfaNode->type, bytes, "datumname")) {
+    if (const std::optional<HfaNode> datumNode = f.child(*projection, "Datum")) {
+        const std::vector<uint8_t> bytes = f.data(*datumNode);
+        if (const std::optional<HfaValue> name = d.field(datumNode->type, bytes, "datumname")) {
             datum = namedDatum(d.text(*name).c_str());
         }
     }
