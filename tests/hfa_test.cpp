@@ -2,14 +2,17 @@
 // and run-length compressed, read back its samples, nodata and placement and build the pyramid of
 // a GeoTIFF of them; without the ESRI WKT (ProjectionX) the projection parameters and datum place
 // a file alike (UTM and geographic), and an unknown datum leaves it unplaced; imagery's three
-// layers interleave as the GeoTIFF's channels; blocks decode as the format lays them out (packed
-// pixels, runs, values of 0 to 32 bits, the low bits of signed values); damaged files are
-// refused, each in one line naming the file.
+// layers interleave as the GeoTIFF's channels, in windows across blocks read by many threads;
+// blocks decode as the format lays them out (packed pixels, runs, values of 0 to 32 bits, the low
+// bits of signed values); damaged files are refused, each in one line naming the file.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "formats/error.hpp"
@@ -127,6 +130,57 @@ TEST(Hfa, ImageryLayersAreTheChannels) {
     img->readUInt16(0, 0, 70, 50, 0, 3, a.data());
     tif->readUInt16(0, 0, 70, 50, 0, 3, b.data());
     EXPECT_EQ(a, b);
+}
+
+// Windows of many shapes across the blocks' edges (GDAL's 64 x 64 blocks: two across), read by
+// eight threads at once, each as the GeoTIFF crop's: as floats per channel, as 16-bit and 8-bit
+// ranges of channels, and rows stored bottom up.
+TEST(Hfa, WindowsAcrossBlocksFromManyThreadsReadAsTheTiff) {
+    const auto img = RasterSource::open(test::dataPath("gdal/bluemarble-rle.img"), 1);
+    const auto tif = RasterSource::open(test::dataPath("gdal/bluemarble-crop.tif"));
+    struct Window {
+        int x0, y0, x1, y1;
+    };
+    std::vector<Window> windows;
+    for (int x0 : {0, 30, 63, 64, 69}) {
+        for (int y0 : {0, 17, 49}) {
+            for (const auto& [w, h] : {std::pair{1, 1}, std::pair{7, 33}, std::pair{70, 50}}) {
+                windows.push_back({x0, y0, std::min(70, x0 + w), std::min(50, y0 + h)});
+            }
+        }
+    }
+    const auto differences = [&](const Window& w, int c0, int c1) {
+        const size_t n = static_cast<size_t>(w.x1 - w.x0) * static_cast<size_t>(w.y1 - w.y0);
+        const auto row = static_cast<std::ptrdiff_t>(w.x1 - w.x0) * (c1 - c0);
+        int found = 0;
+        std::vector<float> fa(n), fb(n);
+        img->readFloat(w.x0, w.y0, w.x1, w.y1, c0, fa.data());
+        tif->readFloat(w.x0, w.y0, w.x1, w.y1, c0, fb.data());
+        found += fa != fb;
+        std::vector<uint16_t> ua(n * static_cast<size_t>(c1 - c0)), ub(ua.size());
+        img->readUInt16(w.x0, w.y0, w.x1, w.y1, c0, c1, ua.data());
+        tif->readUInt16(w.x0, w.y0, w.x1, w.y1, c0, c1, ub.data());
+        found += ua != ub;
+        std::vector<uint8_t> ba(ua.size()), bb(ua.size());
+        img->readUInt8(w.x0, w.y0, w.x1, w.y1, c0, c1, ba.data() + (ba.size() - static_cast<size_t>(row)), -row);
+        tif->readUInt8(w.x0, w.y0, w.x1, w.y1, c0, c1, bb.data() + (bb.size() - static_cast<size_t>(row)), -row);
+        found += ba != bb;
+        return found;
+    };
+    std::atomic<int> found{0};
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 8; ++t) {
+        threads.emplace_back([&, t] {
+            for (size_t k = 0; k < windows.size(); ++k) {
+                const Window& w = windows[(k + static_cast<size_t>(t) * 5) % windows.size()];
+                found += differences(w, t % 3, 3) + differences(w, 0, 1 + t % 3);
+            }
+        });
+    }
+    for (std::thread& t : threads) {
+        t.join();
+    }
+    EXPECT_EQ(found.load(), 0);
 }
 
 std::vector<uint8_t> compressedBlock(uint32_t minimum, int32_t runs, int bits, const std::vector<uint8_t>& counts,
