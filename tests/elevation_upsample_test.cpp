@@ -1,8 +1,10 @@
-// The elevation upsample against values computed by hand from doc/format.md, and the coarse
-// mesh's rows (CoarseMesh::mixRow) against its definition vertex by vertex.
+// The elevation upsample against values computed by hand from doc/format.md, stored residuals
+// added as their served floats bit for bit, and the coarse mesh's rows (CoarseMesh::mixRow)
+// against its definition vertex by vertex.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -55,6 +57,53 @@ TEST(ElevationUpsample, AddsResidualAfterPrediction) {
 
 // mixRow gives, bit for bit, coarseMix at each at(u, v): every render grid a tile of 192 allows,
 // both quadrants, values whose sums round (so another order of operations would show).
+// Stored residuals added as the producer serves them (upsampleAndAddResiduals) give upsampleAndAdd
+// of the served floats bit for bit: whole windows and windows cut short on the right and at the
+// top (zeros there), negative scales (whose zero residuals serve -0.0), none at all, and
+// predictions of -0.0 (+0.0 once a zero is added).
+TEST(ElevationUpsample, StoredResidualsAddAsTheirServedFloats) {
+    for (const int n : {4, 24, 192}) {
+        const int side = n + 5;
+        const auto s = static_cast<size_t>(side);
+        std::vector<float> parent(s * s);
+        uint32_t seed = 12345;
+        const auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+        for (size_t k = 0; k < parent.size(); ++k) {
+            parent[k] = k % 7 == 0 ? -0.0f : static_cast<float>(static_cast<int>(next() >> 20) - 2048) * 0.37f;
+        }
+        const int tile = side + 3; // the stored tile, wider than the window
+        std::vector<int16_t> stored(static_cast<size_t>(tile) * static_cast<size_t>(tile));
+        for (int16_t& r : stored) {
+            r = static_cast<int16_t>(static_cast<int>(next() >> 16) % 2001 - 1000);
+        }
+        for (size_t k = 0; k < stored.size(); k += 5) {
+            stored[k] = 0;
+        }
+        struct Case {
+            int columns, rows;
+            float scale;
+        };
+        for (const Case& c : {Case{side, side, 0.25f}, Case{side - 3, side, -1.5f}, Case{side, side - 2, 3.0f},
+                              Case{1, 7, -0.1f}, Case{0, 0, 1.0f}}) {
+            SCOPED_TRACE(testing::Message() << "n " << n << " columns " << c.columns << " rows " << c.rows);
+            const ResidualWindow w{&stored[2 + 1 * static_cast<size_t>(tile)], static_cast<size_t>(tile), c.columns,
+                                   c.rows, c.scale};
+            std::vector<float> served(s * s, 0.0f);
+            for (int j = 0; j < c.rows; ++j) {
+                for (int i = 0; i < c.columns; ++i) {
+                    served[static_cast<size_t>(i) + static_cast<size_t>(j) * s] =
+                        static_cast<float>(w.first[static_cast<size_t>(i) + static_cast<size_t>(j) * w.stride]) * c.scale;
+                }
+            }
+            const int px = quadrantOffset(1, n), py = quadrantOffset(1, n);
+            upsampleAndAdd(parent.data(), s, n, px, py, served.data(), s);
+            std::vector<float> fused(s * s, 7.0f); // nothing of it is read
+            upsampleAndAddResiduals(parent.data(), s, n, px, py, w, fused.data(), s);
+            ASSERT_EQ(std::memcmp(fused.data(), served.data(), s * s * sizeof(float)), 0);
+        }
+    }
+}
+
 TEST(CoarseMesh, RowsAreTheMeshAtEachVertex) {
     const int n = 192, side = n + 5;
     std::vector<float> zm(static_cast<size_t>(side) * side);

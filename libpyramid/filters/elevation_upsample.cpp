@@ -1,5 +1,6 @@
 #include "libpyramid/filters/elevation_upsample.hpp"
 
+#include <algorithm>
 #include <vector>
 
 #include "formats/vector_clones.hpp"
@@ -53,14 +54,16 @@ void addRow(const float* even, const float* odd, int odds, float* row) {
     row[2 * odds] = even[odds] + row[2 * odds];
 }
 
-} // namespace
-
-PYRAMID_VECTOR_CLONES
-void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int py, float* out,
-                    size_t outStride) {
-    // predictElevation's four cases, split by row and column parity so that the loops carry no
-    // per-sample branch or index arithmetic (this runs on every sample the encoder and the CPU
-    // producers touch). Each sample keeps predictElevation's operations in its order.
+// The predictions of a child tile's rows, one row at a time: predictElevation's four cases,
+// split by row and column parity so that the loops carry no per-sample branch or index
+// arithmetic (this runs on every sample the encoder and the CPU producers touch). Each sample
+// keeps predictElevation's operations in its order. Row j's predictions are computed into `even`
+// (columns 0, 2 .. n + 4) and `odd` (columns 1, 3 .. n + 3), contiguously, so that the compiler
+// computes several at once; then `add(j, even, odd, odds)` stores the row. Inlined into each
+// caller's clones.
+template <typename Add>
+[[gnu::always_inline]] inline void predictRows(const float* parent, size_t parentStride, int n, int px, int py,
+                                               const Add& add) {
     float weight[4][4];
     for (int dj = 0; dj < 4; ++dj) {
         for (int di = 0; di < 4; ++di) {
@@ -68,16 +71,12 @@ void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int
         }
     }
     const int last = n + 4; // even: columns 0, 2 .. last and 1, 3 .. last - 1
-    // A row's predictions are computed into `even` and `odd` first, contiguously, so that the
-    // compiler computes several at once (each still with its own operations in order), then
-    // added to the row (addRow).
     const int odds = (last + 1) / 2;
     thread_local std::vector<float> lines;
     lines.resize(2 * static_cast<size_t>(odds) + 1);
     float* even = lines.data();
     float* odd = even + odds + 1;
     for (int j = 0; j <= last; ++j) {
-        float* row = out + static_cast<size_t>(j) * outStride;
         const size_t y = static_cast<size_t>(j / 2 + py);
         if ((j & 1) == 0) {
             // r[c]: parent row y, column c + px (c = i / 2). Even columns are the parent's samples.
@@ -85,7 +84,7 @@ void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int
             for (int c = 0; c < odds; ++c) {
                 odd[c] = interpolate4(r[c - 1], r[c], r[c + 1], r[c + 2]);
             }
-            addRow(r, odd, odds, row);
+            add(j, r, odd, odds);
             continue;
         }
         // p[d][c]: parent row y - 1 + d, column c + px.
@@ -105,8 +104,44 @@ void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int
             }
             odd[c] = z;
         }
-        addRow(even, odd, odds, row);
+        add(j, even, odd, odds);
     }
+}
+
+// addRow with the residuals read as stored: row[i] = prediction + float(r[i]) * scale for
+// i < columns, prediction + 0 beyond (both rounded as upsampleAndAdd's sum of the served value).
+PYRAMID_VECTOR_CLONES
+void addResidualRow(const float* even, const float* odd, int odds, const int16_t* r, int columns, float scale,
+                    float* row) {
+    const int pairs = std::min(odds, columns / 2);
+    for (int c = 0; c < pairs; ++c) {
+        row[2 * c] = even[c] + static_cast<float>(r[2 * c]) * scale;
+        row[2 * c + 1] = odd[c] + static_cast<float>(r[2 * c + 1]) * scale;
+    }
+    for (int i = 2 * pairs; i <= 2 * odds; ++i) {
+        const float served = i < columns ? static_cast<float>(r[i]) * scale : 0.0f;
+        row[i] = ((i & 1) != 0 ? odd[i / 2] : even[i / 2]) + served;
+    }
+}
+
+} // namespace
+
+PYRAMID_VECTOR_CLONES
+void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int py, float* out,
+                    size_t outStride) {
+    predictRows(parent, parentStride, n, px, py, [&](int j, const float* even, const float* odd, int odds) {
+        addRow(even, odd, odds, out + static_cast<size_t>(j) * outStride);
+    });
+}
+
+PYRAMID_VECTOR_CLONES
+void upsampleAndAddResiduals(const float* parent, size_t parentStride, int n, int px, int py,
+                             const ResidualWindow& r, float* out, size_t outStride) {
+    predictRows(parent, parentStride, n, px, py, [&](int j, const float* even, const float* odd, int odds) {
+        const bool stored = j < r.rows && r.columns > 0;
+        addResidualRow(even, odd, odds, stored ? r.first + static_cast<size_t>(j) * r.stride : nullptr,
+                       stored ? r.columns : 0, r.scale, out + static_cast<size_t>(j) * outStride);
+    });
 }
 
 } // namespace pyramid

@@ -5,6 +5,7 @@
 // Tiles are (n+5) x (n+5) float32 samples, row-major, row 0 = bottom, 2-sample borders.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 
 #include "formats/residual_file.hpp" // quadrantOffset, the rule of the parent sample under a child
 
@@ -27,5 +28,26 @@ float predictElevation(const float* parent, size_t parentStride, int px, int py,
 // reconstructed elevations on return.
 void upsampleAndAdd(const float* parent, size_t parentStride, int n, int px, int py,
                     float* out, size_t outStride);
+
+} // namespace pyramid
+
+namespace pyramid {
+
+// A window of stored residuals, as a producer serves them: row j < rows holds `columns` residuals
+// at first + j * stride, each served as float(r) * scale (one rounding); every other sample of
+// the window (columns >= columns, rows >= rows) is 0.
+struct ResidualWindow {
+    const int16_t* first = nullptr;
+    size_t stride = 0;
+    int columns = 0;
+    int rows = 0;
+    float scale = 1.0f;
+};
+
+// upsampleAndAdd of the residuals `r` would serve, without writing them to `out` first:
+// out[i + j*outStride] = predictElevation(...) + (float(r) * scale, or 0), the same operations in
+// the same order, bit for bit.
+void upsampleAndAddResiduals(const float* parent, size_t parentStride, int n, int px, int py,
+                             const ResidualWindow& r, float* out, size_t outStride);
 
 } // namespace pyramid

@@ -103,18 +103,22 @@ struct ElevationProducer::Impl {
         // ((tx mod 2^k) * n, (ty mod 2^k) * n). Beyond every file, or left out of the file that
         // holds it (ResidualProducer::hasTile): no residual (R = 0).
         const int rtx = tx >> k, rty = ty >> k;
-        if (residuals->hasTile(level, rtx, rty)) {
-            residuals->window(level, rtx, rty, (tx & ((1 << k) - 1)) * n, (ty & ((1 << k) - 1)) * n, side, z.data(),
-                              static_cast<size_t>(side));
-        } else {
-            std::fill(z.begin(), z.end(), 0.0f);
-        }
+        const int x0 = (tx & ((1 << k) - 1)) * n, y0 = (ty & ((1 << k) - 1)) * n;
+        const bool stored = residuals->hasTile(level, rtx, rty);
         if (level == 0) {
+            if (stored) {
+                residuals->window(level, rtx, rty, x0, y0, side, z.data(), static_cast<size_t>(side));
+            } else {
+                std::fill(z.begin(), z.end(), 0.0f);
+            }
             tile->zc = z;
         } else {
+            // The parent first: its residual tile is decoded before this one's, which the stored
+            // window then holds (ResidualProducer::storedWindow).
             const std::shared_ptr<const ElevationTile> parent = produce(level - 1, tx / 2, ty / 2);
-            upsampleAndAdd(parent->zf.data(), static_cast<size_t>(side), n, quadrantOffset(tx, n),
-                           quadrantOffset(ty, n), z.data(), static_cast<size_t>(side));
+            const ResidualWindow r = stored ? residuals->storedWindow(level, rtx, rty, x0, y0, side) : ResidualWindow{};
+            upsampleAndAddResiduals(parent->zf.data(), static_cast<size_t>(side), n, quadrantOffset(tx, n),
+                                    quadrantOffset(ty, n), r, z.data(), static_cast<size_t>(side));
             coarseElevations(*parent, n, gridSize, tx, ty, z, tile->zc);
         }
         return cache.insert({level, tx, ty}, std::move(tile));

@@ -65,10 +65,11 @@ struct ResidualProducer::Impl {
         return deepestStorer(files, level, tx, ty, rel) >= 0;
     }
 
-    // Scaled residuals of absolute file tile (level, tx, ty), its samples [x0, x0 + side) x
-    // [y0, y0 + side), into `out` (rows `stride` apart): zeros past the tile's own samples, and
-    // everywhere where the tile is left out (an empty byte range). Returns the samples per side.
-    int load(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t stride) const {
+    // The residuals of absolute file tile (level, tx, ty), its samples [x0, x0 + side) x
+    // [y0, y0 + side), as stored (ResidualWindow: none past the tile's own samples, nor where the
+    // tile is left out, an empty byte range), held in this thread's last tile. `samples` is set
+    // to the tile's samples per side.
+    ResidualWindow stored(int level, int tx, int ty, int x0, int y0, int side, int& samples) const {
         RelativeTile rel;
         const int k = deepestHolder(files, level, tx, ty, rel);
         if (k < 0) {
@@ -76,14 +77,17 @@ struct ResidualProducer::Impl {
                                    " in any file");
         }
         const ResidualFileReader& f = *files[static_cast<size_t>(k)];
-        const float scale = scales[static_cast<size_t>(k)];
         const int s = f.header().tileSamples(rel.level);
-        const bool stored = storesTile(f, rel);
+        samples = s;
+        ResidualWindow w;
+        w.scale = scales[static_cast<size_t>(k)];
+        if (!storesTile(f, rel)) {
+            return w;
+        }
         thread_local LastTile last;
-        const std::vector<int16_t>& r = last.residuals;
         const bool held = last.producer == id && last.file == static_cast<size_t>(k) && last.level == rel.level &&
                           last.tx == rel.tx && last.ty == rel.ty;
-        if (stored && !held) {
+        if (!held) {
             last.producer = 0; // nothing held until the tile is decoded (a failed read leaves none)
             last.residuals.resize(static_cast<size_t>(s) * static_cast<size_t>(s));
             f.readTileInto(rel.level, rel.tx, rel.ty, last.residuals);
@@ -93,14 +97,27 @@ struct ResidualProducer::Impl {
             last.tx = rel.tx;
             last.ty = rel.ty;
         }
-        // Columns x0 .. x0 + inside - 1 and rows below s hold samples of the tile.
-        const int inside = stored ? std::clamp(s - x0, 0, side) : 0;
+        // Columns x0 .. x0 + columns - 1 and rows below s hold samples of the tile.
+        w.columns = std::clamp(s - x0, 0, side);
+        w.rows = std::clamp(s - y0, 0, side);
+        w.stride = static_cast<size_t>(s);
+        if (w.columns > 0 && w.rows > 0) {
+            w.first = &last.residuals[static_cast<size_t>(x0) + static_cast<size_t>(y0) * w.stride];
+        } else {
+            w.columns = w.rows = 0;
+        }
+        return w;
+    }
+
+    // The scaled residuals of stored(): float(r) * scale, zeros elsewhere, into `out` (rows
+    // `stride` apart). Returns the tile's samples per side.
+    int load(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t stride) const {
+        int s = 0;
+        const ResidualWindow w = stored(level, tx, ty, x0, y0, side, s);
         for (int j = 0; j < side; ++j) {
-            float* row = out + static_cast<size_t>(j) * stride;
-            const int sj = y0 + j;
-            const int n = sj < s ? inside : 0;
-            const int16_t* src = n > 0 ? &r[static_cast<size_t>(x0) + static_cast<size_t>(sj) * static_cast<size_t>(s)] : nullptr;
-            scaleRow(src, n, scale, side, row);
+            const int n = j < w.rows ? w.columns : 0;
+            scaleRow(n > 0 ? w.first + static_cast<size_t>(j) * w.stride : nullptr, n, w.scale, side,
+                     out + static_cast<size_t>(j) * stride);
         }
         return s;
     }
@@ -218,6 +235,14 @@ std::vector<float> ResidualProducer::tile(int level, int tx, int ty) const {
     }
     std::vector<float> other;
     return std::move(impl_->root(out, other));
+}
+
+ResidualWindow ResidualProducer::storedWindow(int level, int tx, int ty, int x0, int y0, int side) const {
+    if (level == 0 && impl_->delta > 0) {
+        fail(path(), "the root of a producer with delta > 0 folds several levels: it has no stored window");
+    }
+    int samples = 0;
+    return impl_->stored(level + impl_->delta, tx, ty, x0, y0, side, samples);
 }
 
 void ResidualProducer::window(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t outStride) const {

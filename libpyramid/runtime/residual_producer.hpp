@@ -14,6 +14,7 @@
 
 #include "formats/byte_source.hpp"
 #include "formats/residual_file.hpp"
+#include "libpyramid/filters/elevation_upsample.hpp"
 
 namespace pyramid {
 
@@ -62,6 +63,10 @@ public:
     // Samples [x0, x0 + side) x [y0, y0 + side) of tile(level, tx, ty) into `out`, rows
     // `outStride` apart: what the elevation producers read, without a whole tile's copy.
     void window(int level, int tx, int ty, int x0, int y0, int side, float* out, size_t outStride) const;
+    // The same window's residuals as stored, unscaled (ResidualWindow says how they are served),
+    // for upsampleAndAddResiduals: no copy at all. Valid until this thread's next call into a
+    // residual producer. Not of the root with delta > 0 (several levels folded: fails).
+    ResidualWindow storedWindow(int level, int tx, int ty, int x0, int y0, int side) const;
 
 private:
     struct Impl;
