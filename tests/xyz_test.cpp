@@ -60,7 +60,15 @@ TEST(XyzGrid, RowsEitherWayReadAsTheirTiff) {
     test::writeText(dir.file("south.XYZ"), windowXyz(window, true, "Height,Easting,Northing\r\n", [](auto& x, auto& y, auto& z) {
                         return z + "," + x + "," + y + "\r\n";
                     }));
-    for (const char* name : {"north.xyz", "south.XYZ"}) {
+    // Separators of every width, so that fields begin, end and run across the 16 and 64-byte
+    // pieces the reader splits a line into.
+    int k = 0;
+    test::writeText(dir.file("padded.xyz"), windowXyz(window, false, "", [&k](auto& x, auto& y, auto& z) {
+                        ++k;
+                        return std::string(static_cast<size_t>(k % 70), ' ') + x + std::string(static_cast<size_t>(1 + k * 7 % 61), '\t') +
+                               y + " ;," + std::string(static_cast<size_t>(k * 3 % 67), ' ') + z + std::string(static_cast<size_t>(k % 5), ';') + "\n";
+                    }));
+    for (const char* name : {"north.xyz", "south.XYZ", "padded.xyz"}) {
         SCOPED_TRACE(name);
         const std::string path = dir.file(name);
         test::writeText(path.substr(0, path.size() - 4) + ".prj", prj);
