@@ -81,6 +81,9 @@ TEST(EsriGrid, AsciiGridsAsTheirWritersLayThemOut) {
     // Without a .prj the grid is unplaced (as any file without a CRS).
     test::writeText(dir.file("b.asc"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n7\n");
     EXPECT_FALSE(RasterSource::describe(dir.file("b.asc")).georeference);
+    // The last value ends the file, with no line's end after it.
+    test::writeText(dir.file("c.asc"), "ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 +2.5e1");
+    EXPECT_EQ(readAll(*RasterSource::open(dir.file("c.asc"))), (std::vector<float>{1.0f, 25.0f}));
 
     // A grid larger than the cache budget is decoded into a scratch file: the same values.
     std::string text = "ncols 600\nnrows 600\nxllcorner 0\nyllcorner 0\ncellsize 30\n";
@@ -109,6 +112,8 @@ TEST(EsriGrid, AsciiGridsThatDoNotHoldTheirHeadersValuesAreRefused) {
     EXPECT_EQ(readError("more.asc", "1 2 3\n4 5 6\n7\n"),
               dir.file("more.asc") + ": holds more values than the 3 x 2 its header gives");
     EXPECT_EQ(readError("word.asc", "1 2 3\n4 x5 6\n"), dir.file("word.asc") + ": row 1, column 1: \"x5\" is not a number");
+    EXPECT_EQ(readError("tail.asc", "1 2 3\n4 5x 6\n"), dir.file("tail.asc") + ": row 1, column 1: \"5x\" is not a number");
+    EXPECT_EQ(readError("end.asc", "1 2 3\n4 5 6e"), dir.file("end.asc") + ": row 1, column 2: \"6e\" is not a number");
     EXPECT_EQ(readError("huge.asc", "1 2 3\n4 5 1e39\n"),
               dir.file("huge.asc") + ": row 1, column 2: \"1e39\" is beyond float32's range");
     // A header giving more values than its file's bytes can hold: refused at once, before a row
