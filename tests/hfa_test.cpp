@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <thread>
 #include <utility>
@@ -64,7 +65,7 @@ TEST(Hfa, GdalsFilesReadAsTheirTiff) {
     test::writeGeoTiff(dir.file("window.tif"), 65, 65, window, test::projectedTags(32610, 500000.0, 5200000.0, 40.0));
     DemEncodeOptions o = test::smallDemOptions();
     encodeDem(dir.file("window.tif"), dir.file("tif.dat"), o);
-    for (const char* name : {"gdal/window-i16.img", "gdal/window-i16-rle.img"}) {
+    for (const char* name : {"gdal/window-i16.img", "gdal/window-i16-rle.img", "gdal/window-i16-spill.img"}) {
         SCOPED_TRACE(name);
         const std::string path = test::dataPath(name);
         const auto img = RasterSource::open(path);
@@ -113,21 +114,31 @@ TEST(Hfa, ProjectionParametersPlaceAFileWithoutItsWkt) {
     EXPECT_FALSE(RasterSource::open(dir.file("other.img"))->info().georeference);
 }
 
+void expectBlueMarbleCrop(const RasterSource& img);
+
 TEST(Hfa, ImageryLayersAreTheChannels) {
-    const auto img = RasterSource::open(test::dataPath("gdal/bluemarble-rle.img"));
+    // Compressed blocks in the .img, and blocks stacked in a spill file (.ige), layer by layer.
+    for (const char* name : {"gdal/bluemarble-rle.img", "gdal/bluemarble-spill.img"}) {
+        SCOPED_TRACE(name);
+        expectBlueMarbleCrop(*RasterSource::open(test::dataPath(name)));
+    }
+}
+
+// The three layers of GDAL's Imagine files of bluemarble-crop.tif read as its channels.
+void expectBlueMarbleCrop(const RasterSource& img) {
     const auto tif = RasterSource::open(test::dataPath("gdal/bluemarble-crop.tif"));
-    ASSERT_EQ(img->info().channels, 3);
-    EXPECT_EQ(img->info().type, SampleType::UInt8);
-    ASSERT_EQ(img->info().width, 70);
-    ASSERT_EQ(img->info().height, 50);
+    ASSERT_EQ(img.info().channels, 3);
+    EXPECT_EQ(img.info().type, SampleType::UInt8);
+    ASSERT_EQ(img.info().width, 70);
+    ASSERT_EQ(img.info().height, 50);
     for (int c = 0; c < 3; ++c) {
         std::vector<float> a(70 * 50), b(70 * 50);
-        img->readFloat(0, 0, 70, 50, c, a.data());
+        img.readFloat(0, 0, 70, 50, c, a.data());
         tif->readFloat(0, 0, 70, 50, c, b.data());
         EXPECT_EQ(a, b) << "channel " << c;
     }
     std::vector<uint16_t> a(70 * 50 * 3), b(70 * 50 * 3);
-    img->readUInt16(0, 0, 70, 50, 0, 3, a.data());
+    img.readUInt16(0, 0, 70, 50, 0, 3, a.data());
     tif->readUInt16(0, 0, 70, 50, 0, 3, b.data());
     EXPECT_EQ(a, b);
 }
@@ -181,6 +192,51 @@ TEST(Hfa, WindowsAcrossBlocksFromManyThreadsReadAsTheTiff) {
         t.join();
     }
     EXPECT_EQ(found.load(), 0);
+}
+
+// A spill file (.ige) that is missing, is no spill file, or is cut short before its validity map or
+// within its blocks, and a layer placed outside its stack: each refused in one line naming the
+// file at fault.
+TEST(Hfa, DamagedSpillFilesAreRefused) {
+    test::TempDir dir;
+    const std::vector<uint8_t> img = test::bytesOf(test::dataPath("gdal/window-i16-spill.img"));
+    const std::vector<uint8_t> ige = test::bytesOf(test::dataPath("gdal/window-i16-spill.ige"));
+    const std::string p = dir.file("window-i16-spill.img"), spill = dir.file("window-i16-spill.ige");
+    const auto read = [&](const std::vector<uint8_t>& spillBytes) {
+        test::writeBytes(p, img);
+        test::writeBytes(spill, spillBytes);
+        return test::errorMessage([&] {
+            const auto source = RasterSource::open(p);
+            std::vector<float> v(65 * 65);
+            source->readFloat(0, 0, 65, 65, 0, v.data());
+        });
+    };
+    EXPECT_EQ(read(ige), "");
+
+    test::writeBytes(p, img);
+    std::filesystem::remove(spill);
+    EXPECT_EQ(errorOf(p), p + ": its layer \"Layer_1\" keeps its pixels in the spill file " + spill + ", which is missing");
+
+    std::vector<uint8_t> b = ige;
+    b[0] = 'X';
+    EXPECT_EQ(read(b), spill + ": is no ERDAS Imagine spill file: it does not begin with ERDAS_IMG_EXTERNAL_RASTER");
+
+    b.assign(ige.begin(), ige.begin() + 60); // past the validity map's header, short of its row
+    EXPECT_EQ(read(b).rfind(spill + ": is too short for the block validity map of layer \"Layer_1\"", 0), 0u) << read(b);
+
+    b.assign(ige.begin(), ige.end() - 100); // the last block cut short
+    EXPECT_EQ(read(b), spill + ": layer \"Layer_1\"'s block 3 lies beyond the end of the file (" +
+                           std::to_string(ige.size() - 100) + " bytes): a file cut short or damaged");
+
+    // The layer's place in the stack (layerStackIndex, after the file name, the two offsets and
+    // the count) beyond the stack's one layer.
+    std::vector<uint8_t> bad = img;
+    const size_t node = le32(bad, entryOf(bad, "ExternalRasterDMS") + 16);
+    const uint32_t name = le32(bad, node); // the file name's characters, after its count and pointer
+    put32(bad, node + 8 + name + 20, 1);
+    test::writeBytes(p, bad);
+    test::writeBytes(spill, ige);
+    EXPECT_EQ(errorOf(p), p + ": its layer \"Layer_1\"'s spill file node gives it place 1 among 1 stacked layers");
 }
 
 std::vector<uint8_t> compressedBlock(uint32_t minimum, int32_t runs, int bits, const std::vector<uint8_t>& counts,
@@ -277,8 +333,7 @@ TEST(Hfa, DamagedFilesAreRefused) {
     EXPECT_EQ(refusal("x.img", b), p + ": its layer \"Layer_1\" holds complex pixels, which are no heights or colours");
 
     EXPECT_EQ(refusal("x.img", renamed(good, "RasterDMS", "ExternalRasterDMS")),
-              p + ": its layer \"Layer_1\" keeps its pixels in a spill file (.ige), which this reader does not read: "
-                  "convert the file to a GeoTIFF first");
+              p + ": its layer \"Layer_1\"'s spill file node (ExternalRasterDMS) names no file");
 
     b = good;
     put32(b, dms + 14, 3); // three blocks listed where the layer has four

@@ -18,6 +18,14 @@
 
 namespace pyramid {
 
+// Where a layer's block lies: its bytes in the file that holds them (offset and size), whether the
+// file wrote it (else it is nodata) and whether it is run-length compressed.
+struct HfaBlockPlace {
+    uint64_t offset = 0;
+    uint32_t size = 0;
+    bool valid = false, compressed = false;
+};
+
 // HFA's pixel types, in its order.
 enum class HfaPixel { U1, U2, U4, U8, S8, U16, S16, U32, S32, F32, F64, C64, C128 };
 

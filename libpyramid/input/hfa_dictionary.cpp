@@ -345,4 +345,14 @@ std::optional<double> HfaDictionary::firstBaseValue(const HfaValue& v) const {
     }
 }
 
+std::string HfaDictionary::stringField(const std::string& type, std::span<const uint8_t> data,
+                                       const std::string& name) const {
+    const std::optional<HfaValue> v = field(type, data, name);
+    if (!v || v->count < 1 || (v->field->type != 'x' && v->field->type != 'o')) {
+        return {};
+    }
+    const std::optional<HfaValue> s = field(v->field->object, object(*v), "string");
+    return s ? text(*s) : std::string();
+}
+
 } // namespace pyramid

@@ -55,6 +55,9 @@ public:
     int64_t integer(const HfaValue& v, int k = 0) const;
     double number(const HfaValue& v, int k = 0) const;
     std::string text(const HfaValue& v) const;
+    // Field `name` of `type` as a string: an Emif_String object (`x{0:pcstring,}Emif_String` or
+    // `oEmif_String`); empty when there is none.
+    std::string stringField(const std::string& type, std::span<const uint8_t> data, const std::string& name) const;
     std::span<const uint8_t> object(const HfaValue& v, int k = 0) const;
     // The bytes of an object item of fixed size (no pointer or base data inside), else nothing.
     std::optional<size_t> fixedSize(const std::string& type) const;

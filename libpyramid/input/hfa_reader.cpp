@@ -13,6 +13,7 @@
 #include "libpyramid/input/hfa_blocks.hpp"
 #include "libpyramid/input/hfa_dictionary.hpp"
 #include "libpyramid/input/hfa_file.hpp"
+#include "libpyramid/input/hfa_spill.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
 #include "libpyramid/support/text.hpp"
 
@@ -22,16 +23,12 @@ namespace {
 
 constexpr uint64_t kMaxBlockBytes = uint64_t{64} << 20;  // a block, stored or decoded
 
-struct Block {
-    uint32_t offset = 0, size = 0;
-    bool valid = false, compressed = false;
-};
-
 struct Layer {
     std::string name;
     HfaPixel pixel = HfaPixel::U8;
     int width = 0, height = 0, blockWidth = 0, blockHeight = 0, blocksAcross = 0;
-    std::vector<Block> blocks;
+    std::string file; // that holds the blocks: the .img, or its spill file
+    std::vector<HfaBlockPlace> blocks;
     std::optional<double> nodata;
 };
 
@@ -39,17 +36,6 @@ struct Header {
     RasterInfo info;
     std::vector<Layer> layers;
 };
-
-// A string field: an Emif_String object (`x{0:pcstring,}Emif_String`) named `name` of `type`.
-std::string stringField(const HfaDictionary& d, const std::string& type, std::span<const uint8_t> bytes,
-                        const std::string& name) {
-    const std::optional<HfaValue> v = d.field(type, bytes, name);
-    if (!v || v->count < 1 || (v->field->type != 'x' && v->field->type != 'o')) {
-        return {};
-    }
-    const std::optional<HfaValue> s = d.field(v->field->object, d.object(*v), "string");
-    return s ? d.text(*s) : std::string();
-}
 
 // The ESRI WKT of a ProjectionX node (Eprj_MapProjection842): a MIF object of its own dictionary.
 std::string peString(const HfaFile& f, const HfaNode& n, const std::string& path) {
@@ -61,14 +47,14 @@ std::string peString(const HfaFile& f, const HfaNode& n, const std::string& path
     }
     const std::string mif = projection->field->object;
     const std::span<const uint8_t> object = d.object(*projection);
-    const std::string type = stringField(d, mif, object, "type");
-    const std::string dictionary = stringField(d, mif, object, "MIFDictionary");
+    const std::string type = d.stringField(mif, object, "type");
+    const std::string dictionary = d.stringField(mif, object, "MIFDictionary");
     const std::optional<HfaValue> bytes = d.field(mif, object, "MIFObject");
     if (type.empty() || dictionary.empty() || !bytes) {
         return {};
     }
     const HfaDictionary inner(dictionary, path);
-    return stringField(inner, type, bytes->bytes.first(std::min<size_t>(bytes->bytes.size(), bytes->count)), "coordSys");
+    return inner.stringField(type, bytes->bytes.first(std::min<size_t>(bytes->bytes.size(), bytes->count)), "coordSys");
 }
 
 // The layer's placement: Map_Info in the CRS of ProjectionX or of Projection and its Datum.
@@ -129,6 +115,36 @@ std::optional<Georeference> placement(const HfaFile& f, const HfaNode& layer, co
     return epsg ? placedInEpsgCrs(epsg, t, path) : std::nullopt;
 }
 
+// The blocks a RasterDMS node lists (Edms_State's block info), in the .img itself.
+void readBlockList(const HfaFile& f, const HfaNode& dms, const std::string& path, const std::string& where,
+                   uint64_t blocks, Layer& l) {
+    const HfaDictionary& d = f.dictionary();
+    const std::vector<uint8_t> state = f.data(dms);
+    const std::optional<HfaValue> info = d.field(dms.type, state, "blockinfo");
+    if (!info || static_cast<uint64_t>(info->count) != blocks) {
+        fail(path, where + " lists " + std::to_string(info ? info->count : 0) + " blocks, not the " +
+                       std::to_string(blocks) + " its size in blocks of " + std::to_string(l.blockWidth) + " x " +
+                       std::to_string(l.blockHeight) + " makes");
+    }
+    const std::string& type = info->field->object;
+    const auto integer = [&](std::span<const uint8_t> o, const char* name) {
+        const std::optional<HfaValue> v = d.field(type, o, name);
+        if (!v) {
+            fail(path, where + "'s blocks have no " + name);
+        }
+        return d.integer(*v);
+    };
+    l.file = path;
+    l.blocks.resize(static_cast<size_t>(blocks));
+    for (size_t k = 0; k < l.blocks.size(); ++k) {
+        const std::span<const uint8_t> o = d.object(*info, static_cast<int>(k));
+        l.blocks[k].offset = static_cast<uint32_t>(integer(o, "offset"));
+        l.blocks[k].size = static_cast<uint32_t>(integer(o, "size"));
+        l.blocks[k].valid = integer(o, "logvalid") != 0;
+        l.blocks[k].compressed = integer(o, "compressionType") != 0;
+    }
+}
+
 Layer readLayer(const HfaFile& f, const HfaNode& n, const std::string& path) {
     const HfaDictionary& d = f.dictionary();
     const std::vector<uint8_t> data = f.data(n);
@@ -164,25 +180,17 @@ Layer readLayer(const HfaFile& f, const HfaNode& n, const std::string& path) {
     const uint64_t blocks = static_cast<uint64_t>(l.blocksAcross) * static_cast<uint64_t>((height + bh - 1) / bh);
     const std::optional<HfaNode> dms = f.child(n, "RasterDMS");
     if (!dms) {
-        fail(path, where + (f.child(n, "ExternalRasterDMS") ? " keeps its pixels in a spill file (.ige), which this "
-                                                               "reader does not read: convert the file to a GeoTIFF first"
-                                                             : " has no RasterDMS node of pixel blocks"));
-    }
-    const std::vector<uint8_t> state = f.data(*dms);
-    const std::optional<HfaValue> info = d.field(dms->type, state, "blockinfo");
-    if (!info || static_cast<uint64_t>(info->count) != blocks) {
-        fail(path, where + " lists " + std::to_string(info ? info->count : 0) + " blocks, not the " +
-                       std::to_string(blocks) + " its size in blocks of " + std::to_string(bw) + " x " +
-                       std::to_string(bh) + " makes");
-    }
-    l.blocks.resize(static_cast<size_t>(blocks));
-    for (size_t k = 0; k < l.blocks.size(); ++k) {
-        const std::span<const uint8_t> o = d.object(*info, static_cast<int>(k));
-        const std::string& type = info->field->object;
-        l.blocks[k].offset = static_cast<uint32_t>(integer(type, o, "offset"));
-        l.blocks[k].size = static_cast<uint32_t>(integer(type, o, "size"));
-        l.blocks[k].valid = integer(type, o, "logvalid") != 0;
-        l.blocks[k].compressed = integer(type, o, "compressionType") != 0;
+        const std::optional<HfaNode> external = f.child(n, "ExternalRasterDMS");
+        if (!external) {
+            fail(path, where + " has no RasterDMS node of pixel blocks");
+        }
+        HfaSpillBlocks spill = readHfaSpill(f, *external, path, where, l.pixel, l.blocksAcross,
+                                            static_cast<int>((height + bh - 1) / bh),
+                                            static_cast<size_t>(bw) * static_cast<size_t>(bh));
+        l.file = std::move(spill.path);
+        l.blocks = std::move(spill.blocks);
+    } else {
+        readBlockList(f, *dms, path, where, blocks, l);
     }
     if (const std::optional<HfaNode> nodata = f.child(n, "Eimg_NonInitializedValue")) {
         const std::vector<uint8_t> bytes = f.data(*nodata);
@@ -239,8 +247,13 @@ size_t sampleBytes(SampleType t) { return t == SampleType::UInt8 ? 1 : t == Samp
 class HfaDecoder : public DecodedRows::Decoder {
 public:
     HfaDecoder(std::string path, Header header)
-        : path_(std::move(path)), file_(openFileSource(path_)), header_(std::move(header)),
-          bytes_(sampleBytes(header_.info.type)) {
+        : path_(std::move(path)), header_(std::move(header)), bytes_(sampleBytes(header_.info.type)) {
+        for (const Layer& layer : header_.layers) { // each layer's file: the .img, or a spill file
+            const auto same = [&](const Layer& other) { return other.file == layer.file; };
+            const auto first = std::find_if(header_.layers.begin(), header_.layers.end(), same);
+            files_.push_back(&*first == &layer ? openFileSource(layer.file)
+                                               : files_[static_cast<size_t>(first - header_.layers.begin())]);
+        }
         const Layer& l = header_.layers.front();
         rowBytes_ = static_cast<size_t>(l.width) * header_.layers.size() * bytes_;
         band_.resize(rowBytes_ * static_cast<size_t>(l.blockHeight));
@@ -267,7 +280,7 @@ private:
             const size_t pixels = static_cast<size_t>(l.blockWidth) * static_cast<size_t>(l.blockHeight);
             for (int bx = 0; bx < l.blocksAcross; ++bx) {
                 const size_t k = static_cast<size_t>(by) * static_cast<size_t>(l.blocksAcross) + static_cast<size_t>(bx);
-                decodeBlock(l, l.blocks[k], k, pixels);
+                decodeBlock(l, *files_[c], l.blocks[k], k, pixels);
                 const int x0 = bx * l.blockWidth, columns = std::min(l.blockWidth, l.width - x0);
                 for (int r = 0; r < rows; ++r) {
                     const uint8_t* from = &block_[static_cast<size_t>(r) * static_cast<size_t>(l.blockWidth) * bytes_];
@@ -284,7 +297,7 @@ private:
         }
     }
 
-    void decodeBlock(const Layer& l, const Block& b, size_t k, size_t pixels) {
+    void decodeBlock(const Layer& l, const ByteSource& file, const HfaBlockPlace& b, size_t k, size_t pixels) {
         if (!b.valid) {
             fillHfaBlock(l.pixel, l.nodata, pixels, block_.data());
             return;
@@ -292,22 +305,22 @@ private:
         const std::string name = "layer \"" + printableText(l.name) + "\"'s block " + std::to_string(k);
         const size_t needed = hfaStoredBytes(l.pixel, pixels);
         if (b.compressed ? b.size > kMaxBlockBytes : b.size < needed) {
-            fail(path_, name + " holds " + std::to_string(b.size) + " bytes, not the " +
-                            (b.compressed ? "at most 64 MB of a compressed block" : std::to_string(needed) + " of its pixels"));
+            fail(l.file, name + " holds " + std::to_string(b.size) + " bytes, not the " +
+                             (b.compressed ? "at most 64 MB of a compressed block" : std::to_string(needed) + " of its pixels"));
         }
         const uint64_t bytes = b.compressed ? b.size : needed;
-        if (b.offset + bytes > file_->size()) {
-            fail(path_, name + " lies beyond the end of the file (" + std::to_string(file_->size()) +
-                            " bytes): a file cut short or damaged");
+        if (b.offset > file.size() || file.size() - b.offset < bytes) {
+            fail(l.file, name + " lies beyond the end of the file (" + std::to_string(file.size()) +
+                             " bytes): a file cut short or damaged");
         }
         stored_.resize(static_cast<size_t>(bytes));
-        file_->readAt(b.offset, stored_.data(), stored_.size()); // throws naming the file
-        decodeHfaBlock(l.pixel, b.compressed, stored_, pixels, block_.data(), path_, name);
+        file.readAt(b.offset, stored_.data(), stored_.size()); // throws naming the file
+        decodeHfaBlock(l.pixel, b.compressed, stored_, pixels, block_.data(), l.file, name);
     }
 
     std::string path_;
-    std::shared_ptr<const ByteSource> file_;
     Header header_;
+    std::vector<std::shared_ptr<const ByteSource>> files_; // each layer's
     size_t bytes_;
     size_t rowBytes_ = 0;
     int row_ = 0;

@@ -8,8 +8,8 @@
 //   - `ProjectionX`'s ESRI WKT (what ArcGIS and GDAL write), else `Projection` and its `Datum`:
 //     geographic or UTM (its zone, the hemisphere by the sign of the fourth parameter) on WGS 84,
 //     NAD83 or NAD27 (datum_epsg.hpp); another CRS leaves the file to its sidecars.
-// A layer kept in a spill file (`ExternalRasterDMS`, `.ige`) is refused naming the file, as are
-// layers that differ in size or type and complex pixels.
+// A layer kept in a spill file (`ExternalRasterDMS`, `.ige`) is read from it (hfa_spill.hpp).
+// Layers that differ in size or type and complex pixels are refused naming the file.
 //
 // The blocks are read a row of blocks at a time (one pread a block and band), decoded, and
 // given whole, north first, to DecodedRows (decoded_rows.hpp: in memory within the input cache,
