@@ -73,7 +73,8 @@ void addInputOptions(CLI::App& app, InputArgs& args, const char* inputHelp) {
     app.add_option("INPUT", args.inputs,
                    std::string(inputHelp) +
                        ". Several inputs make a mosaic, each file placed by its own georeferencing: files, "
-                       "directories (their .tif, .hgt, .dt0-2, .img, .xyz, .asc, .bil and .flt files), globs, GDAL VRT mosaics (.vrt)");
+                       "directories (their .tif, .hgt, .dt0-2, .img, .xyz, .dem, .asc, .bil and .flt files), globs, GDAL VRT mosaics "
+                       "(.vrt)");
     app.add_option("--input-list", args.list,
                    "A text file naming more inputs, one per line (# comments; paths relative to the list)");
     app.add_option("--priority", args.priority,

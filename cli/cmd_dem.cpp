@@ -15,7 +15,7 @@ CommandRunner setupDemCommand(CLI::App& app) {
     auto args = std::make_shared<DemArgs>();
     auto target = std::make_shared<PlanarTargetArgs>();
     addDemOptions(app, args,
-                  "Elevation raster (GeoTIFF, SRTM .hgt, DTED, ERDAS Imagine .img, XYZ text, ESRI ASCII or .hdr-labelled grid, ENVI "
+                  "Elevation raster (GeoTIFF, SRTM .hgt, DTED, ERDAS Imagine .img, XYZ text, USGS DEM, ESRI ASCII or .hdr-labelled grid, ENVI "
                   "raster, or any format OpenImageIO reads)",
                   "Residual pyramid file to write (e.g. DEM.dat)",
                   "The file's maxLevel, counted from the root tile (default: the smallest pyramid whose finest level holds "

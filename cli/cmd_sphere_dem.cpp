@@ -20,7 +20,7 @@ CommandRunner setupSphereDemCommand(CLI::App& app) {
     auto name = std::make_shared<std::string>("DEM");
     auto fill = std::make_shared<std::string>("smooth");
     addDemOptions(app, args,
-                  "Elevation map: a GeoTIFF (or SRTM .hgt, DTED, ERDAS Imagine, XYZ text, ESRI grid, ENVI raster) where its "
+                  "Elevation map: a GeoTIFF (or SRTM .hgt, DTED, ERDAS Imagine, XYZ text, USGS DEM, ESRI grid, ENVI raster) where its "
                   "georeferencing places it, else equirectangular with column 0 at longitude -180 (or the extent's west), row 0 at "
                   "the north; pixel centres",
                   "Directory to write NAME1.dat .. NAME6.dat into",

@@ -97,16 +97,16 @@ TEST(InputList, DirectoryGivesItsTiffsAndHeightFilesSortedByName) {
     touch({t + "/b.tif", t + "/A.TIFF", t + "/c.Tif", t + "/a.tif", t + "/notes.txt", t + "/x.png", t + "/tif",
            t + "/a.tif.aux.xml", t + "/.hidden.tif", t + "/._b.tif", t + "/sub.tif/inner.tif", t + "/deeper/z.tif",
            t + "/N46W122.hgt", t + "/N46W122.hgt.aux.xml", t + "/n46.dt2", t + "/N47.DT1", t + "/n48.dt3",
-           t + "/ned.img", t + "/ned.img.aux.xml", t + "/ned.rrd", t + "/ned.ige", t + "/dgm1.xyz", t + "/dgm1.prj"});
+           t + "/ned.img", t + "/ned.img.aux.xml", t + "/ned.rrd", t + "/ned.ige", t + "/dgm1.xyz", t + "/dgm1.prj", t + "/quad.DEM", t + "/quad.dem.aux.xml"});
     // Byte order: capitals first, whatever the locale.
-    const Paths expected{t + "/A.TIFF", t + "/N46W122.hgt", t + "/N47.DT1", t + "/a.tif",  t + "/b.tif",
-                         t + "/c.Tif",  t + "/dgm1.xyz",    t + "/n46.dt2", t + "/ned.img"};
+    const Paths expected{t + "/A.TIFF", t + "/N46W122.hgt", t + "/N47.DT1", t + "/a.tif",    t + "/b.tif",
+                         t + "/c.Tif",  t + "/dgm1.xyz",    t + "/n46.dt2", t + "/ned.img", t + "/quad.DEM"};
     EXPECT_EQ(expandInputs({t}).paths, expected);
     EXPECT_EQ(expandInputs({t + "/"}).paths, expected);
     // A file named before the directory keeps its place; the directory does not repeat it.
     EXPECT_EQ(expandInputs({t + "/b.tif", t}).paths,
               (Paths{t + "/b.tif", t + "/A.TIFF", t + "/N46W122.hgt", t + "/N47.DT1", t + "/a.tif", t + "/c.Tif",
-                     t + "/dgm1.xyz", t + "/n46.dt2", t + "/ned.img"}));
+                     t + "/dgm1.xyz", t + "/n46.dt2", t + "/ned.img", t + "/quad.DEM"}));
 }
 
 TEST(InputList, DirectoryWithoutTiffsIsRefused) {
@@ -115,8 +115,8 @@ TEST(InputList, DirectoryWithoutTiffsIsRefused) {
     const std::string others = dir.file("others");
     fs::create_directories(empty);
     touch({others + "/x.png", others + "/x.hdr", others + "/.y.tif", others + "/sub/z.tif", others + "/sub/z.asc"});
-    EXPECT_EQ(errorOf({empty}), empty + ": the directory holds no .tif, .tiff, .hgt, .dt0-2, .img, .xyz, .asc, .bil or .flt file");
-    EXPECT_EQ(errorOf({others}), others + ": the directory holds no .tif, .tiff, .hgt, .dt0-2, .img, .xyz, .asc, .bil or .flt file");
+    EXPECT_EQ(errorOf({empty}), empty + ": the directory holds no .tif, .tiff, .hgt, .dt0-2, .img, .xyz, .dem, .asc, .bil or .flt file");
+    EXPECT_EQ(errorOf({others}), others + ": the directory holds no .tif, .tiff, .hgt, .dt0-2, .img, .xyz, .dem, .asc, .bil or .flt file");
 }
 
 TEST(InputList, GlobPatternsAreExpandedSorted) {

@@ -27,9 +27,9 @@ using input_list_detail::trim;
 bool isVrtName(const std::string& path) { return endsWithNoCase(path, ".vrt"); }
 
 // What a directory contributes: the files terrain tiles come as (GeoTIFF, SRTM height files, DTED, ERDAS
-// Imagine, XYZ text, ESRI ASCII and .hdr-labelled grids; any case).
+// Imagine, XYZ text, USGS DEMs (and GTOPO30's .dem), ESRI ASCII and .hdr-labelled grids; any case).
 bool isGridFileName(const std::string& name) {
-    for (const char* ext : {".tif", ".tiff", ".hgt", ".asc", ".bil", ".flt", ".dt0", ".dt1", ".dt2", ".img", ".xyz"}) {
+    for (const char* ext : {".tif", ".tiff", ".hgt", ".asc", ".bil", ".flt", ".dt0", ".dt1", ".dt2", ".img", ".xyz", ".dem"}) {
         if (endsWithNoCase(name, ext)) {
             return true;
         }
@@ -157,7 +157,7 @@ private:
             fail(where, "cannot list the directory: " + ec.message());
         }
         if (names.empty()) {
-            fail(where, "the directory holds no .tif, .tiff, .hgt, .dt0-2, .img, .xyz, .asc, .bil or .flt file");
+            fail(where, "the directory holds no .tif, .tiff, .hgt, .dt0-2, .img, .xyz, .dem, .asc, .bil or .flt file");
         }
         std::sort(names.begin(), names.end());
         for (const std::string& name : names) {

@@ -22,6 +22,7 @@
 #include "libpyramid/input/png_raster_reader.hpp"
 #include "libpyramid/input/sidecar_georeference.hpp"
 #include "libpyramid/input/tiff_raster_info.hpp"
+#include "libpyramid/input/usgs_dem_reader.hpp"
 #include "libpyramid/input/xyz_grid_reader.hpp"
 
 namespace pyramid {
@@ -112,6 +113,9 @@ RasterInfo RasterSource::describe(const std::string& path) {
         info = describeXyzGrid(path);
     }
     if (!info) {
+        info = describeUsgsDem(path);
+    }
+    if (!info) {
         if (const std::optional<RawGrid> grid = rawGridOf(path)) {
             info = grid->info;
         }
@@ -162,7 +166,8 @@ std::unique_ptr<RasterSource> RasterSource::openDescribed(const std::string& pat
                (impl.decoded = openJpegRaster(path, cacheMegabytes)) ||
                (impl.decoded = openAsciiGrid(path, cacheMegabytes)) ||
                (impl.decoded = openDted(path, cacheMegabytes)) || (impl.decoded = openHfa(path, cacheMegabytes)) ||
-               (impl.decoded = openXyzGrid(path, cacheMegabytes))) {
+               (impl.decoded = openXyzGrid(path, cacheMegabytes)) ||
+               (impl.decoded = openUsgsDem(path, cacheMegabytes))) {
         info = impl.decoded->info();
     } else if (const std::optional<RawGrid> grid = rawGridOf(path)) { // as describe(): last
         impl.raw = RawGridReader::open(path, *grid);
