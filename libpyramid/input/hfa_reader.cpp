@@ -246,8 +246,7 @@ size_t sampleBytes(SampleType t) { return t == SampleType::UInt8 ? 1 : t == Samp
 // A row of blocks at a time: every layer's blocks, decoded and interleaved into rows.
 class HfaDecoder : public DecodedRows::Decoder {
 public:
-    HfaDecoder(std::string path, Header header)
-        : path_(std::move(path)), header_(std::move(header)), bytes_(sampleBytes(header_.info.type)) {
+    explicit HfaDecoder(Header header) : header_(std::move(header)), bytes_(sampleBytes(header_.info.type)) {
         for (const Layer& layer : header_.layers) { // each layer's file: the .img, or a spill file
             const auto same = [&](const Layer& other) { return other.file == layer.file; };
             const auto first = std::find_if(header_.layers.begin(), header_.layers.end(), same);
@@ -318,7 +317,6 @@ private:
         decodeHfaBlock(l.pixel, b.compressed, stored_, pixels, block_.data(), l.file, name);
     }
 
-    std::string path_;
     Header header_;
     std::vector<std::shared_ptr<const ByteSource>> files_; // each layer's
     size_t bytes_;
@@ -342,7 +340,7 @@ std::unique_ptr<DecodedRows> openHfa(const std::string& path, int cacheMegabytes
         return nullptr;
     }
     auto rows = std::make_unique<DecodedRows>(path, h->info, cacheMegabytes, 1);
-    rows->start(std::make_unique<HfaDecoder>(path, std::move(*h)));
+    rows->start(std::make_unique<HfaDecoder>(std::move(*h)));
     return rows;
 }
 
